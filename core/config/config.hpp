@@ -1,0 +1,116 @@
+// The validated ccdlane configuration (interfaces.md "Configuration"): one schema for the
+// daemon and every tool. Values are in the units of the file (mm, degrees).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geometry/camera_model.hpp"
+
+namespace ccdlane {
+
+// The unknowns a problem may leave free (solver.md "Unknowns").
+enum class FreeParam : std::uint8_t { psi, theta, phi, H, f, y0, m, c };
+constexpr int kFreeParamCount = 8;
+
+class FreeSet {
+ public:
+  constexpr FreeSet() = default;
+  constexpr bool has(FreeParam p) const { return (bits_ >> static_cast<int>(p)) & 1u; }
+  constexpr void add(FreeParam p) { bits_ |= static_cast<std::uint8_t>(1u << static_cast<int>(p)); }
+  constexpr void remove(FreeParam p) { bits_ &= static_cast<std::uint8_t>(~(1u << static_cast<int>(p))); }
+  constexpr bool operator==(const FreeSet&) const = default;
+
+ private:
+  std::uint8_t bits_ = 0;
+};
+
+const char* free_param_name(FreeParam p);                 // "psi", "theta", ...
+std::optional<FreeParam> free_param_from_name(const std::string& name);
+
+enum class SolverMode { reprojection, paper };
+
+// A Gaussian prior N(mean, sigma^2) on one quantity, in the file's units.
+struct Prior {
+  double mean = 0.0;
+  double sigma = 0.0;
+};
+
+struct AttitudeDeg {
+  double psi_deg = 0.0;
+  double theta_deg = 0.0;
+  double phi_deg = 0.0;
+};
+
+struct SolverConfig {
+  SolverMode mode = SolverMode::reprojection;
+  FreeSet free = default_free();
+  double pixel_sigma = 0.5;
+  int max_iterations = 50;
+  std::string picks;  // optional picks file, resolved relative to the config file
+
+  static FreeSet default_free();
+};
+
+struct PriorConfig {
+  std::optional<Prior> psi_deg, theta_deg, phi_deg, H_mm, f_mm, lane_width_mm;
+};
+
+struct LineInit {
+  double y0_mm = 0.0;
+  double m = 0.0;
+  double c_per_mm = 0.0;
+};
+
+struct GyroConfig {
+  double sigma_deg = 0.5;  // std. dev. of its roll and pitch, used as priors
+  std::string device;      // "" = no gyro, "emulated", or a serial device path
+};
+
+enum class SourceKind { synth, frames, v4l2, aravis };
+
+struct SourceConfig {
+  SourceKind kind = SourceKind::synth;
+  std::string device = "/dev/video0";
+  std::string camera;
+  std::string path;
+  double rate_hz = 30.0;
+  bool loop = false;
+};
+
+struct LcmConfig {
+  std::string url = "udpm://239.255.76.67:7667?ttl=0";
+  std::string prefix = "CCDLANE_";
+};
+
+struct RealtimeConfig {
+  bool mlock = false;
+  int capture_priority = 0;
+  int processing_priority = 0;
+  std::vector<int> cpus;
+};
+
+struct Config {
+  std::string path;  // where it was loaded from ("" for built-in defaults)
+  CameraSpec camera;
+  double f_mm = 5.05;
+  double H_mm = 1400.0;
+  AttitudeDeg attitude;
+  SolverConfig solver;
+  PriorConfig prior;
+  std::vector<LineInit> lines;
+  GyroConfig gyro;
+  SourceConfig source;
+  LcmConfig lcm;
+  RealtimeConfig realtime;
+
+  // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
+  CameraPose nominal_pose() const;
+};
+
+// The reference camera of geometry.md (DH-HV2003UC), used when no config is given.
+Config default_config();
+
+}  // namespace ccdlane

@@ -1,0 +1,349 @@
+// TOML -> Config with strict checking: every key must be known, of the right type and
+// of a possible value; the first problem is reported with file, line and key.
+#include "core/config/config_loader.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+namespace ccdlane {
+namespace {
+
+// Reads the keys of one table, remembering which it consumed so that whatever is left
+// over can be reported as unknown.
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string name, const std::string& file)
+      : table_(table), name_(std::move(name)), file_(file) {}
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    std::ostringstream out;
+    out << file_;
+    const auto& src = node ? node->source() : table_.source();
+    if (src.begin.line > 0) out << ':' << src.begin.line;
+    out << ": " << qualified(key) << ": " << what;
+    throw ConfigError(out.str());
+  }
+
+  std::string qualified(const std::string& key) const { return name_.empty() ? key : name_ + "." + key; }
+
+  const toml::node* take(const std::string& key) {
+    seen_.insert(key);
+    return table_.get(key);
+  }
+
+  void number(const std::string& key, double& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (auto v = n->value<double>(); v && (n->is_floating_point() || n->is_integer())) {
+      if (!std::isfinite(*v)) fail(n, key, "must be a finite number");
+      out = *v;
+      return;
+    }
+    fail(n, key, std::string("must be a number, got ") + type_name(*n));
+  }
+
+  void integer(const std::string& key, int& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_integer()) fail(n, key, std::string("must be an integer, got ") + type_name(*n));
+    const auto v = *n->value<std::int64_t>();
+    if (v < -1'000'000'000 || v > 1'000'000'000) fail(n, key, "is out of range");
+    out = static_cast<int>(v);
+  }
+
+  void boolean(const std::string& key, bool& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_boolean()) fail(n, key, std::string("must be true or false, got ") + type_name(*n));
+    out = *n->value<bool>();
+  }
+
+  void string(const std::string& key, std::string& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_string()) fail(n, key, std::string("must be a string, got ") + type_name(*n));
+    out = *n->value<std::string>();
+  }
+
+  // A [mean, sigma] pair with sigma > 0.
+  void prior(const std::string& key, std::optional<Prior>& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number())
+      fail(n, key, "must be [mean, sigma], two numbers");
+    Prior p{*(*a)[0].value<double>(), *(*a)[1].value<double>()};
+    if (!std::isfinite(p.mean) || !std::isfinite(p.sigma) || !(p.sigma > 0.0))
+      fail(n, key, "needs a finite mean and a sigma > 0");
+    out = p;
+  }
+
+  const toml::node* node(const std::string& key) const { return table_.get(key); }
+  const toml::table& table() const { return table_; }
+
+  // Every key not taken is unknown: a misspelt key must not silently become a default.
+  void reject_unknown() const {
+    for (auto&& [key, value] : table_) {
+      const std::string k(key.str());
+      if (!seen_.count(k)) fail(&value, k, "unknown key");
+    }
+  }
+
+  static const char* type_name(const toml::node& n) {
+    switch (n.type()) {
+      case toml::node_type::string: return "a string";
+      case toml::node_type::integer: return "an integer";
+      case toml::node_type::floating_point: return "a number";
+      case toml::node_type::boolean: return "a boolean";
+      case toml::node_type::array: return "an array";
+      case toml::node_type::table: return "a table";
+      default: return "a date or time";
+    }
+  }
+
+ private:
+  const toml::table& table_;
+  std::string name_;
+  const std::string& file_;
+  std::set<std::string> seen_;
+};
+
+// Positive and finite, with a message naming the key.
+void require(bool ok, const TableReader& r, const std::string& key, const std::string& what) {
+  if (!ok) r.fail(r.node(key), key, what);
+}
+
+std::string format_number(double v) {
+  std::ostringstream out;
+  out.precision(10);
+  out << v;
+  return out.str();
+}
+
+void read_camera(TableReader& r, Config& c) {
+  CameraSpec& cam = c.camera;
+  r.number("U_mm", cam.U_mm);
+  r.number("V_mm", cam.V_mm);
+  r.number("Uc_mm", cam.Uc_mm);
+  r.number("Vc_mm", cam.Vc_mm);
+  r.integer("Nu", cam.Nu);
+  r.integer("Nv", cam.Nv);
+  r.number("f_mm", c.f_mm);
+  const bool has_cx = r.node("cx") != nullptr, has_cy = r.node("cy") != nullptr;
+  r.number("cx", cam.cx);
+  r.number("cy", cam.cy);
+  r.number("k_px2", cam.k_px2);
+  r.reject_unknown();
+
+  const std::pair<const char*, double> sizes[] = {
+      {"U_mm", cam.U_mm}, {"V_mm", cam.V_mm}, {"Uc_mm", cam.Uc_mm}, {"Vc_mm", cam.Vc_mm}};
+  for (const auto& [key, value] : sizes) require(value > 0.0, r, key, "must be > 0, got " + format_number(value));
+  require(cam.Nu >= 2, r, "Nu", "must be at least 2, got " + std::to_string(cam.Nu));
+  require(cam.Nv >= 2, r, "Nv", "must be at least 2, got " + std::to_string(cam.Nv));
+  require(cam.Uc_mm < cam.U_mm, r, "Uc_mm", "a cell cannot be as wide as the chip (U_mm = " + format_number(cam.U_mm) + ")");
+  require(cam.Vc_mm < cam.V_mm, r, "Vc_mm", "a cell cannot be as tall as the chip (V_mm = " + format_number(cam.V_mm) + ")");
+  require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + 1e-9), r, "Nu",
+          "Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  require(cam.Vc_mm * cam.Nv <= cam.V_mm * (1.0 + 1e-9), r, "Nv",
+          "Nv cells of Vc_mm do not fit on a chip V_mm tall");
+  require(c.f_mm > 0.0, r, "f_mm", "must be > 0, got " + format_number(c.f_mm));
+  if (!has_cx) cam.cx = CameraSpec::default_cx(cam.Nu);
+  if (!has_cy) cam.cy = CameraSpec::default_cy(cam.Nv);
+  require(cam.cx >= 0.5 && cam.cx <= cam.Nu + 0.5, r, "cx", "principal point must lie on the chip (0.5 .. Nu+0.5)");
+  require(cam.cy >= 0.5 && cam.cy <= cam.Nv + 0.5, r, "cy", "principal point must lie on the chip (0.5 .. Nv+0.5)");
+  // The division model is one-to-one over the picture only while k r^2 stays inside
+  // (-1, 1) at the corners: beyond, barrel pixels have no ideal point and pincushion
+  // pixels fold back onto ones nearer the centre.
+  const double corner2 = std::pow(std::max(cam.cx - 0.5, cam.Nu + 0.5 - cam.cx), 2) +
+                         std::pow(std::max(cam.cy - 0.5, cam.Nv + 0.5 - cam.cy), 2);
+  require(std::abs(cam.k_px2) * corner2 < 1.0, r, "k_px2",
+          "distortion this strong makes the image corners ambiguous (|k_px2| * r_corner^2 must be < 1)");
+}
+
+void read_mount(TableReader& r, Config& c) {
+  r.number("yM_mm", c.camera.yM_mm);
+  r.number("zM_mm", c.camera.zM_mm);
+  r.number("H_mm", c.H_mm);
+  r.reject_unknown();
+  require(c.H_mm > 0.0, r, "H_mm", "the camera must be above the road (H_mm > 0), got " + format_number(c.H_mm));
+}
+
+void read_attitude(TableReader& r, Config& c) {
+  r.number("psi_deg", c.attitude.psi_deg);
+  r.number("theta_deg", c.attitude.theta_deg);
+  r.number("phi_deg", c.attitude.phi_deg);
+  r.reject_unknown();
+  require(std::abs(c.attitude.psi_deg) < 90.0, r, "psi_deg", "must be within (-90, 90) degrees");
+  require(std::abs(c.attitude.theta_deg) < 90.0, r, "theta_deg", "must be within (-90, 90) degrees");
+  require(std::abs(c.attitude.phi_deg) <= 180.0, r, "phi_deg", "must be within [-180, 180] degrees");
+}
+
+void read_solver(TableReader& r, Config& c) {
+  std::string mode = "reprojection";
+  r.string("mode", mode);
+  if (mode == "reprojection") c.solver.mode = SolverMode::reprojection;
+  else if (mode == "paper") c.solver.mode = SolverMode::paper;
+  else r.fail(r.node("mode"), "mode", "must be \"reprojection\" or \"paper\", got \"" + mode + "\"");
+
+  if (const toml::node* n = r.take("free")) {
+    const toml::array* a = n->as_array();
+    if (!a) r.fail(n, "free", "must be an array of names (psi theta phi H f y0 m c)");
+    FreeSet set;
+    for (const toml::node& e : *a) {
+      const auto name = e.value<std::string>();
+      const auto p = name ? free_param_from_name(*name) : std::nullopt;
+      if (!p) r.fail(&e, "free", "unknown parameter " + (name ? "\"" + *name + "\"" : std::string("(not a string)")) +
+                                     "; expected any of psi theta phi H f y0 m c");
+      set.add(*p);
+    }
+    c.solver.free = set;
+  }
+  r.number("pixel_sigma", c.solver.pixel_sigma);
+  r.integer("max_iterations", c.solver.max_iterations);
+  r.string("picks", c.solver.picks);
+  r.reject_unknown();
+  require(c.solver.pixel_sigma > 0.0, r, "pixel_sigma", "must be > 0");
+  require(c.solver.max_iterations >= 1 && c.solver.max_iterations <= 10000, r, "max_iterations",
+          "must be between 1 and 10000");
+}
+
+void read_prior(TableReader& r, Config& c) {
+  r.prior("psi_deg", c.prior.psi_deg);
+  r.prior("theta_deg", c.prior.theta_deg);
+  r.prior("phi_deg", c.prior.phi_deg);
+  r.prior("H_mm", c.prior.H_mm);
+  r.prior("f_mm", c.prior.f_mm);
+  r.prior("lane_width_mm", c.prior.lane_width_mm);
+  r.reject_unknown();
+}
+
+void read_line(TableReader& r, Config& c) {
+  LineInit line;
+  r.number("y0_mm", line.y0_mm);
+  r.number("m", line.m);
+  r.number("c_per_mm", line.c_per_mm);
+  r.reject_unknown();
+  c.lines.push_back(line);
+}
+
+void read_gyro(TableReader& r, Config& c) {
+  r.number("sigma_deg", c.gyro.sigma_deg);
+  r.string("device", c.gyro.device);
+  r.reject_unknown();
+  require(c.gyro.sigma_deg > 0.0, r, "sigma_deg", "must be > 0");
+}
+
+void read_source(TableReader& r, Config& c) {
+  std::string kind = "synth";
+  r.string("kind", kind);
+  if (kind == "synth") c.source.kind = SourceKind::synth;
+  else if (kind == "frames") c.source.kind = SourceKind::frames;
+  else if (kind == "v4l2") c.source.kind = SourceKind::v4l2;
+  else if (kind == "aravis") c.source.kind = SourceKind::aravis;
+  else r.fail(r.node("kind"), "kind", "must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"" + kind + "\"");
+  r.string("device", c.source.device);
+  r.string("camera", c.source.camera);
+  r.string("path", c.source.path);
+  r.number("rate_hz", c.source.rate_hz);
+  r.boolean("loop", c.source.loop);
+  r.reject_unknown();
+  require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
+  require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
+          "a \"frames\" source needs path = the frame directory");
+}
+
+void read_lcm(TableReader& r, Config& c) {
+  r.string("url", c.lcm.url);
+  r.string("prefix", c.lcm.prefix);
+  r.reject_unknown();
+}
+
+void read_realtime(TableReader& r, Config& c) {
+  r.boolean("mlock", c.realtime.mlock);
+  r.integer("capture_priority", c.realtime.capture_priority);
+  r.integer("processing_priority", c.realtime.processing_priority);
+  if (const toml::node* n = r.take("cpus")) {
+    const toml::array* a = n->as_array();
+    if (!a) r.fail(n, "cpus", "must be an array of CPU numbers");
+    for (const toml::node& e : *a) {
+      if (!e.is_integer() || *e.value<std::int64_t>() < 0 || *e.value<std::int64_t>() > 1023)
+        r.fail(&e, "cpus", "must hold CPU numbers 0..1023");
+      c.realtime.cpus.push_back(static_cast<int>(*e.value<std::int64_t>()));
+    }
+  }
+  r.reject_unknown();
+  require(c.realtime.capture_priority >= 0 && c.realtime.capture_priority <= 99, r, "capture_priority",
+          "must be a SCHED_FIFO priority 0..99");
+  require(c.realtime.processing_priority >= 0 && c.realtime.processing_priority <= 99, r, "processing_priority",
+          "must be a SCHED_FIFO priority 0..99");
+}
+
+using SectionReader = void (*)(TableReader&, Config&);
+struct Section {
+  const char* name;
+  SectionReader read;
+};
+constexpr Section kSections[] = {
+    {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
+    {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
+    {"realtime", read_realtime},
+};
+
+}  // namespace
+
+Config parse_config(std::string_view toml_text, const std::string& source_name) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream out;
+    out << source_name << ':' << e.source().begin.line << ": " << e.description();
+    throw ConfigError(out.str());
+  }
+
+  Config c = default_config();
+  c.path = source_name;
+  TableReader top(root, "", source_name);
+  // [camera] before [mount] matters only for defaults; each table is read exactly once.
+  for (const Section& s : kSections) {
+    const toml::node* n = top.take(s.name);
+    if (!n) {
+      if (std::string(s.name) == "camera") {  // defaults still need their derived values
+        toml::table empty;
+        TableReader r(empty, s.name, source_name);
+        s.read(r, c);
+      }
+      continue;
+    }
+    const toml::table* t = n->as_table();
+    if (!t) top.fail(n, s.name, "must be a table ([" + std::string(s.name) + "])");
+    TableReader r(*t, s.name, source_name);
+    s.read(r, c);
+  }
+  if (const toml::node* n = top.take("lines")) {
+    const toml::array* a = n->as_array();
+    if (!a || !a->is_array_of_tables()) top.fail(n, "lines", "must be [[lines]] tables");
+    int index = 0;
+    for (const toml::node& e : *a) {
+      TableReader r(*e.as_table(), "lines[" + std::to_string(index++) + "]", source_name);
+      read_line(r, c);
+    }
+  }
+  top.reject_unknown();
+  return c;
+}
+
+Config load_config_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot read the configuration file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ConfigError(path + ": error while reading the configuration file");
+  return parse_config(text.str(), path);
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,20 @@
+// The camera attitude matrix T = Rz(psi) Ry(theta) Rx(phi) P of geometry.md, with derivatives.
+#pragma once
+
+#include "core/geometry/types.hpp"
+
+namespace ccdlane {
+
+// Yaw, pitch, roll of the camera in radians (geometry.md "Attitude").
+struct Attitude {
+  double psi = 0.0;    // yaw, positive turns the view left
+  double theta = 0.0;  // pitch, positive tips the view down to the road
+  double phi = 0.0;    // roll about the viewing direction
+};
+
+// The matrix mapping film-frame components to fixed-frame components. Each optional
+// out-parameter receives the element-wise derivative of T with respect to that angle.
+Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi = nullptr, Mat3* dT_dtheta = nullptr,
+                     Mat3* dT_dphi = nullptr);
+
+}  // namespace ccdlane

@@ -1,0 +1,32 @@
+// How subcommands of the `ccdlane` tool plug in, and the errors they report.
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace ccdlane::cli {
+
+// Bad usage or bad input: one line on stderr, exit status 2 (interfaces.md).
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A subcommand registers its options on `sub` and returns the action to run once the
+// command line has been parsed. The action returns the exit status.
+using CommandAction = std::function<int()>;
+using CommandSetup = CommandAction (*)(CLI::App& sub);
+
+struct Command {
+  const char* name;
+  const char* summary;
+  CommandSetup setup;
+};
+
+// Parses a whole-string number; throws UsageError naming the argument otherwise.
+double parse_number(const std::string& text, const std::string& what);
+
+}  // namespace ccdlane::cli

@@ -1,0 +1,55 @@
+// `ccdlane`: the command-line front end. Each subcommand lives in its own file; this one
+// holds the table of them and turns errors into one line and an exit status.
+#include <iostream>
+
+#include "core/config/config_loader.hpp"
+#include "tools/ccdlane/command.hpp"
+
+namespace ccdlane::cli {
+CommandAction setup_project(CLI::App& sub);
+CommandAction setup_ground(CLI::App& sub);
+
+namespace {
+constexpr Command kCommands[] = {
+    {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
+    {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
+};
+}  // namespace
+}  // namespace ccdlane::cli
+
+int main(int argc, char** argv) {
+  using namespace ccdlane::cli;
+  CLI::App app{"ccdlane: lane attitude and lane lines from one camera with a known CCD geometry"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(CCDLANE_VERSION));
+  CommandAction action;
+  for (const Command& c : kCommands) {
+    CLI::App* sub = app.add_subcommand(c.name, c.summary);
+    CommandAction a = c.setup(*sub);
+    sub->callback([&action, a] { action = a; });
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ccdlane: " << e.what() << " (see ccdlane --help)\n";
+    return 2;
+  }
+  try {
+    return action ? action() : 2;
+  } catch (const UsageError& e) {
+    std::cerr << "ccdlane: " << e.what() << '\n';
+    return 2;
+  } catch (const ccdlane::ConfigError& e) {
+    std::cerr << "ccdlane: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ccdlane: " << e.what() << '\n';
+    return 1;
+  }
+}
