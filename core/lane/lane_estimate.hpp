@@ -1,0 +1,54 @@
+// The per-frame result of the pipeline (interfaces.md "Per-frame result"): what replay
+// prints as JSON Lines and the daemon publishes over LCM, field for field.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/solver/lane_solver.hpp"
+
+namespace ccdlane {
+
+enum class Departure : std::uint8_t { none, left, right };
+const char* to_string(Departure d);  // "none", "left", "right"
+
+// Why a frame gave no usable estimate (ok = false).
+enum class EstimateFailure : std::uint8_t {
+  none,
+  no_frame,          // the frame could not be read (replay) or was damaged
+  too_few_marks,     // detection found fewer picks than the problem needs
+  no_lane,           // no line on one side of the vehicle: no lane to be in
+  solver_failed,     // the solver stopped without converging or rejected its input
+  rank_deficient,    // the picks do not determine the free parameters
+};
+const char* to_string(EstimateFailure f);
+
+struct EstimatedLine {
+  int id = 0;               // stable while the line stays in view
+  double y0_mm = 0.0;
+  double m = 0.0;
+  double c_per_mm = 0.0;
+  int marks = 0;            // picks on this line
+  double confidence = 0.0;  // 0..1
+  double sigma_y0_mm = kUndetermined;
+};
+
+struct LaneEstimate {
+  std::uint64_t frame = 0;  // source sequence number (replay: 0-based row of frames.csv)
+  std::int64_t t_ns = 0;    // the frame's timestamp
+  bool ok = false;
+  EstimateFailure reason = EstimateFailure::none;
+  double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0;
+  double sigma_psi_deg = kUndetermined, sigma_theta_deg = kUndetermined, sigma_phi_deg = kUndetermined;
+  int num_lines = 0;  // ordered left to right as seen from the vehicle (largest y0 first)
+  std::array<EstimatedLine, kMaxLaneLines> lines{};
+  double lane_width_mm = 0.0;
+  double lateral_offset_mm = 0.0;  // positive: vehicle left of the lane centre
+  double heading_deg = 0.0;        // positive: vehicle turned left of the lane
+  Departure departure = Departure::none;
+  double rms_px = 0.0;
+  int iterations = 0;
+  std::int64_t latency_us = 0;  // frame timestamp (or processing start) to result
+};
+
+}  // namespace ccdlane
