@@ -153,12 +153,16 @@ void Gx1Emulator::run() {
       next_due_ns_ = monotonic_ns() + period_ns_;
     }
     if (const int ms = stall_request_ms_.exchange(0); ms > 0) {
-      {
-        std::lock_guard lock(mutex_);
-        ++counters_.stalls;
+      stalled_until_ns_ = now + ms * kNsPerMs;
+      std::lock_guard lock(mutex_);
+      ++counters_.stalls;
+    }
+    if (stalled_until_ns_ != 0) {  // deaf and mute, but stop() still works
+      if (now < stalled_until_ns_) {
+        sleep_until_ns(std::min(stalled_until_ns_, now + kIdleWaitNs));
+        continue;
       }
-      sleep_until_ns(now + ms * kNsPerMs);
-      now = monotonic_ns();
+      stalled_until_ns_ = 0;
       next_due_ns_ = now + period_ns_;  // a stalled sensor does not burst afterwards
     }
 

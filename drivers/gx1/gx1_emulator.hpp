@@ -127,6 +127,7 @@ class Gx1Emulator {
   std::size_t command_size_ = 0, command_length_ = 0;
   std::int64_t next_due_ns_ = 0;
   std::int64_t hung_until_ns_ = 0;
+  std::int64_t stalled_until_ns_ = 0;
   bool hung_ = false;
 
   // Requests from other threads.

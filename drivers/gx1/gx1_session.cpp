@@ -73,8 +73,10 @@ int Gx1Session::open(UniqueFd fd) {
 
 void Gx1Session::close() {
   if (port_.is_open() && options_.continuous &&
-      (state() == SessionState::streaming || state() == SessionState::configuring))
-    (void)send(encode_continuous_stop());  // leave the sensor quiet for the next user
+      (state() == SessionState::streaming || state() == SessionState::configuring)) {
+    // Leave the sensor quiet for the next user; closing could discard unsent bytes.
+    if (send(encode_continuous_stop()) == 0) (void)port_.drain_output();
+  }
   port_.close();
   set_state(SessionState::closed);
 }

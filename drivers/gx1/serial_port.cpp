@@ -160,6 +160,11 @@ int SerialPort::flush() {
   return tcflush(fd_.get(), TCIOFLUSH) == 0 ? 0 : -errno;
 }
 
+int SerialPort::drain_output() {
+  if (!is_tty_) return 0;
+  return tcdrain(fd_.get()) == 0 ? 0 : -errno;
+}
+
 ReadResult SerialPort::read_some(std::span<std::uint8_t> into, int timeout_ms) {
   ReadResult r;
   if (!fd_) {

@@ -73,6 +73,8 @@ class SerialPort {
 
   // Discards received-but-unread and written-but-unsent bytes (tcflush TCIOFLUSH).
   int flush();
+  // Waits until written bytes have left (tcdrain): a few ms at most with no flow control.
+  int drain_output();
 
   // Recovery after the device went away. reopen_with_backoff() tries open() once the
   // current delay has passed (-EAGAIN before that) and lengthens the delay after a
