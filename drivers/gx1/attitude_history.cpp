@@ -37,28 +37,33 @@ Gx1Angles interpolate_angles(const Gx1Angles& a, const Gx1Angles& b, double frac
           interpolate_angle(a.yaw_deg, b.yaw_deg, fraction)};
 }
 
+// The sequence lock without standalone fences (which ThreadSanitizer cannot model):
+// every slot store is a release and every slot load an acquire, so a reader that sees
+// any value of a write also sees the odd sequence number stored before it (Boehm,
+// "Can seqlocks get along with programming language memory models?", 2012). On x86
+// these are plain moves.
 void AttitudeHistory::push(const Gx1Sample& sample) {
+  constexpr auto release = std::memory_order_release;
   const std::uint64_t n = count_.load(std::memory_order_relaxed);
   const std::int64_t t = n > 0 && sample.t_ns < last_t_ns_ ? last_t_ns_ : sample.t_ns;
   last_t_ns_ = t;
   const std::uint64_t seq = sequence_.load(std::memory_order_relaxed);
   sequence_.store(seq + 1, std::memory_order_relaxed);
-  std::atomic_thread_fence(std::memory_order_release);  // readers see "odd" before any slot change
   Slot& s = slots_[n % kCapacity];
-  s.t_ns.store(t, std::memory_order_relaxed);
-  s.ticks.store(sample.ticks, std::memory_order_relaxed);
-  s.roll.store(sample.angles.roll_deg, std::memory_order_relaxed);
-  s.pitch.store(sample.angles.pitch_deg, std::memory_order_relaxed);
-  s.yaw.store(sample.angles.yaw_deg, std::memory_order_relaxed);
-  count_.store(n + 1, std::memory_order_release);
-  sequence_.store(seq + 2, std::memory_order_release);
+  s.t_ns.store(t, release);
+  s.ticks.store(sample.ticks, release);
+  s.roll.store(sample.angles.roll_deg, release);
+  s.pitch.store(sample.angles.pitch_deg, release);
+  s.yaw.store(sample.angles.yaw_deg, release);
+  count_.store(n + 1, release);
+  sequence_.store(seq + 2, release);
 }
 
 Gx1Sample AttitudeHistory::load(std::uint64_t index) const {
+  constexpr auto acquire = std::memory_order_acquire;
   const Slot& s = slots_[index % kCapacity];
-  return {s.t_ns.load(std::memory_order_relaxed), static_cast<std::uint16_t>(s.ticks.load(std::memory_order_relaxed)),
-          {s.roll.load(std::memory_order_relaxed), s.pitch.load(std::memory_order_relaxed),
-           s.yaw.load(std::memory_order_relaxed)}};
+  return {s.t_ns.load(acquire), static_cast<std::uint16_t>(s.ticks.load(acquire)),
+          {s.roll.load(acquire), s.pitch.load(acquire), s.yaw.load(acquire)}};
 }
 
 // Runs `read` until it ran while no write was in progress and none started meanwhile.
@@ -68,7 +73,6 @@ auto AttitudeHistory::read_consistent(Read read) const {
     const std::uint64_t before = sequence_.load(std::memory_order_acquire);
     if (before & 1) continue;
     auto result = read();
-    std::atomic_thread_fence(std::memory_order_acquire);
     if (sequence_.load(std::memory_order_relaxed) == before) return result;
   }
 }
@@ -79,7 +83,7 @@ bool AttitudeHistory::sample(std::uint64_t index, Gx1Sample& out) const {
     Gx1Sample sample;
   };
   const Result r = read_consistent([&] {
-    const std::uint64_t n = count_.load(std::memory_order_relaxed);
+    const std::uint64_t n = count_.load(std::memory_order_acquire);
     if (index >= n || n - index > kCapacity) return Result{false, {}};
     return Result{true, load(index)};
   });
@@ -90,7 +94,7 @@ bool AttitudeHistory::sample(std::uint64_t index, Gx1Sample& out) const {
 AttitudeQuery AttitudeHistory::attitude_at(std::int64_t t_ns, std::int64_t max_age_ns) const {
   return read_consistent([&] {
     AttitudeQuery q;
-    const std::uint64_t n = count_.load(std::memory_order_relaxed);
+    const std::uint64_t n = count_.load(std::memory_order_acquire);
     if (n == 0) return q;  // no_data
     const std::uint64_t first = n > kCapacity ? n - kCapacity : 0;
     if (t_ns < t_of(first)) {

@@ -67,7 +67,7 @@ class AttitudeHistory {
   };
   Gx1Sample load(std::uint64_t index) const;
   std::int64_t t_of(std::uint64_t index) const {
-    return slots_[index % kCapacity].t_ns.load(std::memory_order_relaxed);
+    return slots_[index % kCapacity].t_ns.load(std::memory_order_acquire);
   }
   template <typename Read>
   auto read_consistent(Read read) const;

@@ -130,8 +130,8 @@ void Gx1Emulator::run() {
   while (!stop_) {
     std::int64_t now = monotonic_ns();
     if (const int ms = hangup_request_ms_.exchange(-1); ms >= 0) {
-      master_.reset();  // the slave side sees POLLHUP, then read() == 0
-      remove_link();    // like udev removing /dev/ttyUSB0
+      remove_link();    // like udev removing /dev/ttyUSB0 (first: whoever sees the
+      master_.reset();  // hang-up must not find the old path); readers see POLLHUP, read() == 0
       hung_ = true;
       hung_until_ns_ = now + ms * kNsPerMs;
       command_size_ = 0;
@@ -355,8 +355,8 @@ void Gx1Emulator::stream_packet(std::int64_t now) {
     sent.intact = false;
   }
   const bool split = due(f.split_every, 0);
-  if (!write_bytes(frame.span(), split)) sent.intact = false;
   sent.t_ns = monotonic_ns();
+  if (!write_bytes(frame.span(), split)) sent.intact = false;
 
   std::lock_guard lock(mutex_);
   counters_.garbage_bytes += garbage;

@@ -52,7 +52,7 @@ struct EmulatorOptions {
 // One streamed packet as the emulator wrote it.
 struct SentPacket {
   std::uint64_t number = 0;  // k, 1-based
-  std::int64_t t_ns = 0;     // CLOCK_MONOTONIC when its write finished
+  std::int64_t t_ns = 0;     // CLOCK_MONOTONIC just before its first byte was written
   Reply reply;               // what it encodes (before any flipped bit)
   bool intact = true;        // false: a bit was flipped, or the write was cut short
 };

@@ -158,7 +158,7 @@ TEST(Gx1Emulator, HangsUpAndReappearsBehindItsLink) {
 
   SerialPort port(link);
   ASSERT_EQ(port.open(), 0);
-  emu.hang_up(300);
+  emu.hang_up(1000);
   std::uint8_t buf[16];
   ReadResult r;
   for (int i = 0; i < 20 && r.status != ReadStatus::hangup; ++i) r = port.read_some(buf, 50);
@@ -168,7 +168,7 @@ TEST(Gx1Emulator, HangsUpAndReappearsBehindItsLink) {
   port.close();
 
   int rc = -1;
-  for (int i = 0; i < 100 && rc != 0; ++i) {
+  for (int i = 0; i < 150 && rc != 0; ++i) {
     sleep_until_ns(monotonic_ns() + 20'000'000);
     rc = port.open();
   }
