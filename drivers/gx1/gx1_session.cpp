@@ -43,25 +43,19 @@ Gx1Session::~Gx1Session() { close(); }
 
 int Gx1Session::open() {
   set_state(SessionState::opening);
-  if (const int rc = port_.open(); rc < 0) {
-    log_line(log_, "gx1 %s: cannot open: %s", device().c_str(), std::strerror(-rc));
-    set_state(SessionState::closed);
-    return rc;
-  }
-  const int rc = configure();
-  if (rc < 0) {
-    port_.close();
-    set_state(SessionState::closed);
-  }
-  return rc;
+  return configure_opened(port_.open(), "cannot open");
 }
 
 int Gx1Session::open(UniqueFd fd) {
   set_state(SessionState::opening);
-  if (const int rc = port_.adopt(std::move(fd)); rc < 0) {
-    log_line(log_, "gx1 %s: cannot use the given fd: %s", device().c_str(), std::strerror(-rc));
+  return configure_opened(port_.adopt(std::move(fd)), "cannot use the given fd");
+}
+
+int Gx1Session::configure_opened(int open_result, const char* failure) {
+  if (open_result < 0) {
+    log_line(log_, "gx1 %s: %s: %s", device().c_str(), failure, std::strerror(-open_result));
     set_state(SessionState::closed);
-    return rc;
+    return open_result;
   }
   const int rc = configure();
   if (rc < 0) {

@@ -91,6 +91,7 @@ class Gx1Session {
   const SessionOptions& options() const { return options_; }
 
  private:
+  int configure_opened(int open_result, const char* failure);
   int configure();
   int handshake();
   int drain();

@@ -159,6 +159,14 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
   EXPECT_EQ(rate.exit_status, 2);
   EXPECT_NE(rate.err.find("--rate"), std::string::npos);
 
+  const test::ProcessResult stall = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--stall-ms", "-5"});
+  EXPECT_EQ(stall.exit_status, 2);
+  EXPECT_NE(stall.err.find("--stall-ms"), std::string::npos);
+
+  const test::ProcessResult count = test::run_process({CCDLANE_TOOL, "gx1", "/dev/null", "--count", "-1"});
+  EXPECT_EQ(count.exit_status, 2);
+  EXPECT_NE(count.err.find("--count"), std::string::npos);
+
   const test::ProcessResult hangup = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--hangup-every", "1"});
   EXPECT_EQ(hangup.exit_status, 2);
   EXPECT_NE(hangup.err.find("--link"), std::string::npos);

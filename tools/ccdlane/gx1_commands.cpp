@@ -129,6 +129,7 @@ gx1::AttitudeScript attitude_from(const std::string& text) {
 
 int run_emulate(const EmulateArgs& args) {
   if (!(args.rate_hz > 0.0 && args.rate_hz <= 1000.0)) throw UsageError("--rate: must be in (0, 1000] Hz");
+  if (args.stall_ms < 0 || args.hangup_ms < 0) throw UsageError("--stall-ms, --hangup-ms: must be 0 or more");
   if (args.hangup_every_s > 0.0 && args.link.empty())
     throw UsageError("--hangup-every: needs --link (the pty path changes when the device comes back)");
   gx1::EmulatorOptions o;
