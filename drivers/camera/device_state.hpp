@@ -9,6 +9,7 @@
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 namespace ccdlane {
@@ -67,6 +68,19 @@ class ProblemText {
     va_list args;
     va_start(args, fmt);
     std::vsnprintf(text_, sizeof text_, fmt, args);
+    va_end(args);
+  }
+  // Adds "; " and the text to what is there.
+  __attribute__((format(printf, 2, 3))) void append(const char* fmt, ...) {
+    std::size_t at = std::strlen(text_);
+    if (at > 0 && at + 2 < sizeof text_) {
+      text_[at++] = ';';
+      text_[at++] = ' ';
+      text_[at] = '\0';
+    }
+    va_list args;
+    va_start(args, fmt);
+    std::vsnprintf(text_ + at, sizeof text_ - at, fmt, args);
     va_end(args);
   }
   void clear() { text_[0] = '\0'; }

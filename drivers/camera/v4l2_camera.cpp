@@ -224,7 +224,7 @@ bool V4l2Camera::set_frame_rate() {
   v4l2_streamparm parm{};
   parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   if (device_.ioctl(VIDIOC_G_PARM, &parm) < 0 || !(parm.parm.capture.capability & V4L2_CAP_TIMEPERFRAME)) {
-    if (settings_.fps > 0) notes_.set("no frame rate control: the device sets the rate");
+    if (settings_.fps > 0) notes_.append("no frame rate control: the device sets the rate");
     return true;
   }
   if (settings_.fps > 0) {
@@ -297,14 +297,14 @@ bool V4l2Camera::apply_controls() {
         return false;
       if (write_control(q, *settings_.exposure_us / 100.0, "exposure (100 us units)") < 0) return false;
     } else {
-      notes_.set("no exposure control: exposure left to the device");
+      notes_.append("no exposure control: exposure left to the device");
     }
   }
   if (settings_.gain) {
     if (find_control(V4L2_CID_GAIN, nullptr, q) || find_control(V4L2_CID_ANALOGUE_GAIN, nullptr, q)) {
       if (write_control(q, *settings_.gain, "gain") < 0) return false;
     } else {
-      notes_.set("%s%sno gain control: gain left to the device", notes_.c_str(), notes_.empty() ? "" : "; ");
+      notes_.append("no gain control: gain left to the device");
     }
   }
   for (const auto& [name, text] : settings_.controls) {
