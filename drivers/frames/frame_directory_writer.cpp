@@ -10,7 +10,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "drivers/frames/frames_csv.hpp"
 #include "drivers/frames/pgm.hpp"
 
 namespace ccdlane {

@@ -11,6 +11,7 @@
 
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/image/image_view.hpp"
+#include "drivers/frames/frame_directory_error.hpp"
 
 namespace ccdlane {
 

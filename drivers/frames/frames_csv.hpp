@@ -5,21 +5,14 @@
 
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "core/geometry/gx1_attitude.hpp"
+#include "drivers/frames/frame_directory_error.hpp"
 
 namespace ccdlane {
-
-// A frame directory that cannot be used at all (no frames.csv, no file or t_ns column,
-// a directory that cannot be written). The message names the file and the reason.
-class FrameDirectoryError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct FrameRow {
   std::size_t index = 0;  // 0-based data row of frames.csv: the frame number
