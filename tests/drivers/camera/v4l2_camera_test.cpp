@@ -66,17 +66,24 @@ class V4l2CameraTest : public ::testing::Test {
   return ::testing::AssertionSuccess();
 }
 
-void expect_stream_intact(V4l2Camera& cam, FramePool& pool, int frames) {
+// Returns the sequence gaps seen: frames the fake had no free buffer for (a loaded
+// machine can starve the consumer for a few frame periods).
+std::uint64_t expect_stream_intact(V4l2Camera& cam, FramePool& pool, int frames) {
+  std::uint64_t gaps = 0;
   std::uint64_t last = 0;
   std::int64_t last_t = 0;
   for (int n = 0; n < frames; ++n) {
     const int i = pool.borrow();
-    ASSERT_GE(i, 0);
+    if (i < 0) {
+      ADD_FAILURE() << "pool exhausted";
+      return gaps;
+    }
     FrameMeta& meta = pool.meta(i);
-    ASSERT_EQ(cam.capture(pool.view(i), meta, 1000), CaptureStatus::frame) << cam.last_problem();
+    EXPECT_EQ(cam.capture(pool.view(i), meta, 1000), CaptureStatus::frame) << cam.last_problem();
     EXPECT_TRUE(frame_is_intact(pool.view(i), meta.sequence));
     if (n > 0) {
       EXPECT_GT(meta.sequence, last);
+      gaps += meta.sequence - last - 1;
       EXPECT_GT(meta.t_ns, last_t);
     }
     const std::int64_t age = monotonic_ns() - meta.t_ns;  // the fake's capture time is monotonic
@@ -84,8 +91,9 @@ void expect_stream_intact(V4l2Camera& cam, FramePool& pool, int frames) {
     EXPECT_LT(age, 1'000'000'000);
     last = meta.sequence;
     last_t = meta.t_ns;
-    ASSERT_TRUE(pool.give_back(i));
+    EXPECT_TRUE(pool.give_back(i));
   }
+  return gaps;
 }
 
 TEST_F(V4l2CameraTest, StreamsIntactGreyFrames) {
@@ -96,12 +104,14 @@ TEST_F(V4l2CameraTest, StreamsIntactGreyFrames) {
   EXPECT_NE(cam.describe().find("800x600 GREY 60 fps, 4 buffers"), std::string::npos) << cam.describe();
   EXPECT_DOUBLE_EQ(fake->frame_rate(), 60.0);
   FramePool pool({.count = 3, .width = cam.width(), .height = cam.height(), .format = cam.format()});
-  expect_stream_intact(cam, pool, 30);
+  const std::uint64_t gaps = expect_stream_intact(cam, pool, 30);
   EXPECT_EQ(cam.counters().frames, 30u);
-  EXPECT_EQ(cam.counters().dropped, 0u);
+  EXPECT_EQ(cam.counters().dropped, gaps);
   EXPECT_EQ(cam.counters().errors, 0u);
   cam.close();
   EXPECT_EQ(cam.state(), DeviceState::closed);
+  // The kernel sends FUSE's RELEASE in the background after close().
+  for (int i = 0; i < 100 && fake->open_count() != 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_EQ(fake->open_count(), 0);
 }
 
@@ -211,7 +221,10 @@ TEST_F(V4l2CameraTest, RestartsAStalledStream) {
   FrameMeta meta;
   ASSERT_EQ(next_frame(cam, pool.view(0), meta, 2000), CaptureStatus::frame);
   fake->stall_until_restart();
-  EXPECT_EQ(cam.capture(pool.view(0), meta, 100), CaptureStatus::timeout);  // not yet a stall
+  // Frames finished before the stall may still come; then nothing, short of a stall.
+  CaptureStatus quiet = CaptureStatus::frame;
+  for (int i = 0; i < 10 && quiet == CaptureStatus::frame; ++i) quiet = cam.capture(pool.view(0), meta, 100);
+  EXPECT_EQ(quiet, CaptureStatus::timeout);
   ASSERT_EQ(next_frame(cam, pool.view(0), meta, 3000), CaptureStatus::frame) << cam.last_problem();
   EXPECT_EQ(fake->streamon_count(), 2);
   EXPECT_EQ(cam.counters().reconnects, 1u);
