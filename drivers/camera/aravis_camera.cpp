@@ -44,12 +44,6 @@ std::int64_t clock_ns(clockid_t clock) {
   return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
 
-void sleep_until(std::int64_t t_ns) {
-  timespec ts{static_cast<time_t>(t_ns / 1'000'000'000), static_cast<long>(t_ns % 1'000'000'000)};
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
-
 // Frames missing between two ids. GigE Vision 1.x ids are 16 bits and skip 0 when they
 // wrap; anything else going backwards is a restart, not a loss.
 std::uint64_t frames_between(std::uint64_t last, std::uint64_t id) {
@@ -307,16 +301,13 @@ CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& met
         problem_.set("aravis:%s: not open", id_.c_str());
         return CaptureStatus::error;
       case DeviceState::recovering:
-        if (now >= backoff_.due_ns()) {
-          if (bring_up()) {
-            ++counters_.reconnects;
-            continue;
-          }
-          state_ = DeviceState::recovering;
-          backoff_.failed(monotonic_ns());
-        }
-        if (monotonic_ns() >= deadline) return CaptureStatus::recovering;
-        sleep_until(std::min(backoff_.due_ns(), deadline));
+        if (!reopen_until(backoff_, deadline, [this] {
+              if (bring_up()) return true;
+              state_ = DeviceState::recovering;
+              return false;
+            }))
+          return CaptureStatus::recovering;
+        ++counters_.reconnects;
         continue;
       case DeviceState::streaming:
         break;

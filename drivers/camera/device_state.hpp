@@ -5,6 +5,8 @@
 
 #include <time.h>
 
+#include <cerrno>
+
 #include <algorithm>
 #include <cstdarg>
 #include <cstdint>
@@ -31,6 +33,12 @@ inline std::int64_t monotonic_ns() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+inline void sleep_until(std::int64_t t_ns) {
+  timespec ts{static_cast<time_t>(t_ns / 1'000'000'000), static_cast<long>(t_ns % 1'000'000'000)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
 }
 
 // When the next reopen attempt is due: the delay doubles after each failure, from min to
@@ -60,6 +68,20 @@ class ReopenBackoff {
   std::int64_t delay_ns_ = 100'000'000;
   std::int64_t due_ns_ = 0;
 };
+
+// The recovering state of a capture() call: tries `bring_up` whenever the backoff says
+// so, sleeping in between. True once it succeeds; false when `deadline_ns` comes first.
+template <class BringUp>
+bool reopen_until(ReopenBackoff& backoff, std::int64_t deadline_ns, BringUp&& bring_up) {
+  for (;;) {
+    if (monotonic_ns() >= backoff.due_ns()) {
+      if (bring_up()) return true;
+      backoff.failed(monotonic_ns());
+    }
+    if (monotonic_ns() >= deadline_ns) return false;
+    sleep_until(std::min(backoff.due_ns(), deadline_ns));
+  }
+}
 
 // One line of text in a fixed buffer: set on the capture path without allocating.
 class ProblemText {

@@ -68,12 +68,6 @@ bool same_control_name(const char* a, const char* b) {
 
 std::int64_t timeval_ns(const timeval& tv) { return std::int64_t{tv.tv_sec} * 1'000'000'000 + std::int64_t{tv.tv_usec} * 1000; }
 
-void sleep_until(std::int64_t t_ns) {
-  timespec ts{static_cast<time_t>(t_ns / 1'000'000'000), static_cast<long>(t_ns % 1'000'000'000)};
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
-
 }  // namespace
 
 V4l2Camera::V4l2Camera(std::string device_path, CameraSettings settings)
@@ -468,16 +462,13 @@ CaptureStatus V4l2Camera::capture(const MutableImageView& into, FrameMeta& meta,
         problem_.set("v4l2:%s: not open", path_.c_str());
         return CaptureStatus::error;
       case DeviceState::recovering:
-        if (now >= backoff_.due_ns()) {
-          if (bring_up()) {
-            ++counters_.reconnects;
-            continue;
-          }
-          state_ = DeviceState::recovering;
-          backoff_.failed(now);
-        }
-        if (now >= deadline) return CaptureStatus::recovering;
-        sleep_until(std::min(backoff_.due_ns(), deadline));
+        if (!reopen_until(backoff_, deadline, [this] {
+              if (bring_up()) return true;
+              state_ = DeviceState::recovering;
+              return false;
+            }))
+          return CaptureStatus::recovering;
+        ++counters_.reconnects;
         continue;
       case DeviceState::streaming:
         break;
