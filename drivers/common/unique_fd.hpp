@@ -1,4 +1,4 @@
-// A move-only owner of one file descriptor: closes it exactly once.
+// A move-only owner of a POSIX file descriptor: closed exactly once, never leaked.
 #pragma once
 
 #include <unistd.h>
@@ -9,31 +9,26 @@ namespace ccdlane {
 
 class UniqueFd {
  public:
-  UniqueFd() noexcept = default;
-  explicit UniqueFd(int fd) noexcept : fd_(fd) {}
+  UniqueFd() = default;
+  explicit UniqueFd(int fd) : fd_(fd) {}
   ~UniqueFd() { reset(); }
-
   UniqueFd(UniqueFd&& other) noexcept : fd_(other.release()) {}
   UniqueFd& operator=(UniqueFd&& other) noexcept {
-    reset(other.release());
+    if (this != &other) reset(other.release());
     return *this;
   }
   UniqueFd(const UniqueFd&) = delete;
   UniqueFd& operator=(const UniqueFd&) = delete;
 
-  int get() const noexcept { return fd_; }
-  bool is_valid() const noexcept { return fd_ >= 0; }
-  explicit operator bool() const noexcept { return is_valid(); }
-
-  // Gives up ownership without closing; the caller now owns the descriptor.
-  [[nodiscard]] int release() noexcept { return std::exchange(fd_, -1); }
-
-  // Closes the owned descriptor (if any) and takes `fd`. close() errors are ignored on
-  // purpose: on Linux the descriptor is gone either way, and retrying could close a
-  // descriptor another thread has just been given.
-  void reset(int fd = -1) noexcept {
+  int get() const { return fd_; }
+  bool valid() const { return fd_ >= 0; }
+  explicit operator bool() const { return valid(); }
+  // Gives up ownership without closing.
+  int release() { return std::exchange(fd_, -1); }
+  // Closes the current descriptor (if any) and takes `fd`.
+  void reset(int fd = -1) {
     const int old = std::exchange(fd_, fd);
-    if (old >= 0 && old != fd) ::close(old);
+    if (old >= 0) ::close(old);
   }
 
  private:

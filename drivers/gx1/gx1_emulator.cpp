@@ -15,7 +15,7 @@
 #include <cstring>
 #include <numbers>
 
-#include "drivers/gx1/monotonic_clock.hpp"
+#include "drivers/common/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
@@ -140,12 +140,12 @@ void Gx1Emulator::run() {
     }
     if (hung_) {
       if (now < hung_until_ns_) {
-        sleep_until_ns(std::min(hung_until_ns_, now + kIdleWaitNs));
+        sleep_until(std::min(hung_until_ns_, now + kIdleWaitNs));
         continue;
       }
       if (const int rc = create_pty(); rc < 0) {
         log_line(log_, "gx1-emulator: cannot create a pty: %s", std::strerror(-rc));
-        sleep_until_ns(now + 100 * kNsPerMs);
+        sleep_until(now + 100 * kNsPerMs);
         continue;
       }
       hung_ = false;
@@ -159,7 +159,7 @@ void Gx1Emulator::run() {
     }
     if (stalled_until_ns_ != 0) {  // deaf and mute, but stop() still works
       if (now < stalled_until_ns_) {
-        sleep_until_ns(std::min(stalled_until_ns_, now + kIdleWaitNs));
+        sleep_until(std::min(stalled_until_ns_, now + kIdleWaitNs));
         continue;
       }
       stalled_until_ns_ = 0;
@@ -176,7 +176,7 @@ void Gx1Emulator::run() {
         for (ssize_t i = 0; i < n; ++i) handle_byte(buf[static_cast<std::size_t>(i)], now);
       } else if (p.revents & POLLHUP) {
         // No slave open: the master polls as hung up until someone opens it.
-        sleep_until_ns(std::min(now + kIdleWaitNs, now + wait_ns));
+        sleep_until(std::min(now + kIdleWaitNs, now + wait_ns));
       }
     }
     now = monotonic_ns();
@@ -356,14 +356,23 @@ void Gx1Emulator::stream_packet(std::int64_t now) {
   }
   const bool split = due(f.split_every, 0);
   sent.t_ns = monotonic_ns();
-  if (!write_bytes(frame.span(), split)) sent.intact = false;
-
-  std::lock_guard lock(mutex_);
-  counters_.garbage_bytes += garbage;
-  counters_.flipped += flip ? 1 : 0;
-  counters_.split += split ? 1 : 0;
-  if (!sent.intact && !flip) ++counters_.dropped;
-  if (sent_.size() < options_.record_limit) sent_.push_back(sent);
+  // Recorded before it is written: whatever a reader has received is already in sent().
+  std::size_t record = options_.record_limit;
+  {
+    std::lock_guard lock(mutex_);
+    counters_.garbage_bytes += garbage;
+    counters_.flipped += flip ? 1 : 0;
+    counters_.split += split ? 1 : 0;
+    if (sent_.size() < options_.record_limit) {
+      record = sent_.size();
+      sent_.push_back(sent);
+    }
+  }
+  if (!write_bytes(frame.span(), split) && sent.intact) {
+    std::lock_guard lock(mutex_);
+    ++counters_.dropped;
+    if (record < sent_.size()) sent_[record].intact = false;
+  }
 }
 
 // Writes all of `bytes` unless the line will not take them (nobody reading and the pty
@@ -380,7 +389,7 @@ bool Gx1Emulator::write_bytes(std::span<const std::uint8_t> bytes, bool split) {
       done += static_cast<std::size_t>(n);
       if (pieces > 1) {
         --pieces;
-        sleep_until_ns(monotonic_ns() + kNsPerMs);
+        sleep_until(monotonic_ns() + kNsPerMs);
       }
       continue;
     }

@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "drivers/gx1/monotonic_clock.hpp"
+#include "drivers/common/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
@@ -20,59 +20,43 @@ void bump(std::atomic<std::uint64_t>& counter, std::uint64_t by = 1) {
 
 }  // namespace
 
-const char* to_string(SessionState state) {
-  switch (state) {
-    case SessionState::closed:
-      return "closed";
-    case SessionState::opening:
-      return "opening";
-    case SessionState::configuring:
-      return "configuring";
-    case SessionState::streaming:
-      return "streaming";
-    case SessionState::recovering:
-      return "recovering";
-  }
-  return "?";
-}
-
 Gx1Session::Gx1Session(std::string device, SessionOptions options, LogSink log)
     : options_(options), log_(log), port_(std::move(device), std::move(log), options.backoff) {}
 
 Gx1Session::~Gx1Session() { close(); }
 
 int Gx1Session::open() {
-  set_state(SessionState::opening);
+  set_state(DeviceState::opening);
   return configure_opened(port_.open(), "cannot open");
 }
 
 int Gx1Session::open(UniqueFd fd) {
-  set_state(SessionState::opening);
+  set_state(DeviceState::opening);
   return configure_opened(port_.adopt(std::move(fd)), "cannot use the given fd");
 }
 
 int Gx1Session::configure_opened(int open_result, const char* failure) {
   if (open_result < 0) {
     log_line(log_, "gx1 %s: %s: %s", device().c_str(), failure, std::strerror(-open_result));
-    set_state(SessionState::closed);
+    set_state(DeviceState::closed);
     return open_result;
   }
   const int rc = configure();
   if (rc < 0) {
     port_.close();
-    set_state(SessionState::closed);
+    set_state(DeviceState::closed);
   }
   return rc;
 }
 
 void Gx1Session::close() {
   if (port_.is_open() && options_.continuous &&
-      (state() == SessionState::streaming || state() == SessionState::configuring)) {
+      (state() == DeviceState::streaming || state() == DeviceState::configuring)) {
     // Leave the sensor quiet for the next user; closing could discard unsent bytes.
     if (send(encode_continuous_stop()) == 0) (void)port_.drain_output();
   }
   port_.close();
-  set_state(SessionState::closed);
+  set_state(DeviceState::closed);
 }
 
 int Gx1Session::send(const Frame& frame) { return port_.write_all(frame.span(), kCommandWriteTimeoutMs); }
@@ -90,7 +74,7 @@ void Gx1Session::parse(std::span<const std::uint8_t> bytes, OnReply on_reply) {
 // Bounded retries of the whole handshake: a stop that was lost, a reply that was
 // damaged, or a sensor still finishing a stream all heal on the next attempt.
 int Gx1Session::configure() {
-  set_state(SessionState::configuring);
+  set_state(DeviceState::configuring);
   int rc = -ETIMEDOUT;
   for (int attempt = 0; attempt < options_.configure_attempts; ++attempt) {
     rc = handshake();
@@ -115,7 +99,7 @@ int Gx1Session::configure() {
     parser_.confirm_resync(false);  // a polled reply has no follower to confirm it
   }
   last_sample_ns_ = monotonic_ns();
-  set_state(SessionState::streaming);
+  set_state(DeviceState::streaming);
   publish_counters();
   return 0;
 }
@@ -185,10 +169,10 @@ int Gx1Session::await_reply(std::uint8_t header, Reply& out) {
 int Gx1Session::poll_once(int timeout_ms) {
   int n = 0;
   switch (state()) {
-    case SessionState::streaming:
+    case DeviceState::streaming:
       n = stream_step(timeout_ms);
       break;
-    case SessionState::recovering:
+    case DeviceState::recovering:
       n = recover_step(timeout_ms);
       break;
     default:
@@ -270,14 +254,14 @@ void Gx1Session::lose(const char* what, int error) {
   port_.back_off(monotonic_ns());
   parser_.reset();
   reopen_failure_reported_ = false;
-  set_state(SessionState::recovering);
+  set_state(DeviceState::recovering);
 }
 
 int Gx1Session::recover_step(int timeout_ms) {
   const std::int64_t now = monotonic_ns();
   const int rc = port_.reopen_with_backoff(now);
   if (rc == -EAGAIN) {
-    sleep_until_ns(std::min(port_.next_attempt_ns(), now + std::int64_t{std::max(timeout_ms, 0)} * kNsPerMs));
+    sleep_until(std::min(port_.next_attempt_ns(), now + std::int64_t{std::max(timeout_ms, 0)} * kNsPerMs));
     return 0;
   }
   if (rc < 0) {
@@ -290,7 +274,7 @@ int Gx1Session::recover_step(int timeout_ms) {
   }
   if (configure() < 0) {
     port_.back_off(monotonic_ns());
-    set_state(SessionState::recovering);
+    set_state(DeviceState::recovering);
     return 0;
   }
   port_.reset_backoff();

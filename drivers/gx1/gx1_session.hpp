@@ -11,21 +11,12 @@
 #include <span>
 #include <string>
 
+#include "drivers/common/device_state.hpp"
 #include "drivers/gx1/attitude_history.hpp"
 #include "drivers/gx1/gx1_protocol.hpp"
 #include "drivers/gx1/serial_port.hpp"
 
 namespace ccdlane::gx1 {
-
-// open -> configure -> stream -> recover (STYLE.md item 9).
-enum class SessionState : std::uint8_t {
-  closed,       // not opened, closed, or the first open failed
-  opening,      // opening the port
-  configuring,  // stopping a stream, draining, asking firmware and serial number
-  streaming,    // samples arrive (continuous mode, or one poll at a time)
-  recovering,   // the device went away or stopped answering: reopening with backoff
-};
-const char* to_string(SessionState state);
 
 struct SessionOptions {
   std::uint8_t stream_command = cmd::stab_euler;  // 0x0E, or 0x31 when rates are wanted
@@ -80,8 +71,9 @@ class Gx1Session {
   // Stops continuous mode (best effort) and closes.
   void close();
 
-  // Any thread.
-  SessionState state() const { return state_.load(std::memory_order_acquire); }
+  // Any thread. closed: never opened, closed, or the first open failed; recovering: the
+  // device went away or stopped answering and is being reopened with backoff.
+  DeviceState state() const { return state_.load(std::memory_order_acquire); }
   AttitudeQuery attitude_at(std::int64_t t_ns) const { return history_.attitude_at(t_ns, options_.max_age_ns); }
   const AttitudeHistory& history() const { return history_; }
   std::uint16_t firmware() const { return firmware_.load(std::memory_order_relaxed); }
@@ -101,7 +93,7 @@ class Gx1Session {
   int recover_step(int timeout_ms);
   int ingest(std::span<const std::uint8_t> bytes, std::int64_t t_read_ns);
   void lose(const char* what, int error);
-  void set_state(SessionState s) { state_.store(s, std::memory_order_release); }
+  void set_state(DeviceState s) { state_.store(s, std::memory_order_release); }
   void publish_counters();
   template <typename OnReply>
   void parse(std::span<const std::uint8_t> bytes, OnReply on_reply);
@@ -112,7 +104,7 @@ class Gx1Session {
   ReplyParser parser_;
   AttitudeHistory history_;
   std::array<std::uint8_t, 512> read_buf_{};
-  std::atomic<SessionState> state_{SessionState::closed};
+  std::atomic<DeviceState> state_{DeviceState::closed};
   std::atomic<std::uint16_t> firmware_{0};
   std::atomic<std::uint16_t> serial_number_{0};
   std::int64_t last_sample_ns_ = 0;

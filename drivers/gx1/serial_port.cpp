@@ -13,7 +13,6 @@
 #include <cerrno>
 #include <cstring>
 
-#include "drivers/gx1/monotonic_clock.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
@@ -33,7 +32,9 @@ int remaining_ms(std::int64_t deadline_ns) {
 }  // namespace
 
 SerialPort::SerialPort(std::string path, LogSink log, BackoffOptions backoff)
-    : path_(std::move(path)), log_(std::move(log)), backoff_(backoff) {}
+    : path_(std::move(path)), log_(std::move(log)) {
+  backoff_.configure(backoff.initial_ms, backoff.max_ms);
+}
 
 SerialPort::~SerialPort() { close(); }
 
@@ -236,7 +237,7 @@ int SerialPort::write_all(std::span<const std::uint8_t> bytes, int timeout_ms) {
 
 int SerialPort::reopen_with_backoff(std::int64_t now_ns) {
   if (is_open()) return 0;
-  if (now_ns < next_attempt_ns_) return -EAGAIN;
+  if (now_ns < next_attempt_ns()) return -EAGAIN;
   const int rc = open();
   if (rc < 0) back_off(now_ns);
   return rc;
@@ -244,13 +245,14 @@ int SerialPort::reopen_with_backoff(std::int64_t now_ns) {
 
 void SerialPort::back_off(std::int64_t now_ns) {
   close();
-  backoff_ms_ = backoff_ms_ == 0 ? backoff_.initial_ms : std::min(2 * backoff_ms_, backoff_.max_ms);
-  next_attempt_ns_ = now_ns + std::int64_t{backoff_ms_} * 1'000'000;
+  if (backing_off_) {
+    backoff_.failed(now_ns);
+  } else {
+    backoff_.start(now_ns);
+    backing_off_ = true;
+  }
 }
 
-void SerialPort::reset_backoff() {
-  backoff_ms_ = 0;
-  next_attempt_ns_ = 0;
-}
+void SerialPort::reset_backoff() { backing_off_ = false; }
 
 }  // namespace ccdlane::gx1

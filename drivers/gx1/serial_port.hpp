@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "drivers/common/device_state.hpp"
 #include "drivers/common/unique_fd.hpp"
 #include "drivers/gx1/driver_log.hpp"
 
@@ -59,7 +60,7 @@ class SerialPort {
   // descriptor that is not a terminal is used as a plain byte stream (logged once).
   int adopt(UniqueFd fd);
   void close();
-  bool is_open() const { return fd_.is_valid(); }
+  bool is_open() const { return fd_.valid(); }
   int fd() const { return fd_.get(); }
   const std::string& path() const { return path_; }
 
@@ -84,8 +85,8 @@ class SerialPort {
   int reopen_with_backoff(std::int64_t now_ns);
   void back_off(std::int64_t now_ns);
   void reset_backoff();
-  // When the next reopen attempt is due (CLOCK_MONOTONIC ns).
-  std::int64_t next_attempt_ns() const { return next_attempt_ns_; }
+  // When the next reopen attempt is due (CLOCK_MONOTONIC ns; 0: at once).
+  std::int64_t next_attempt_ns() const { return backing_off_ ? backoff_.due_ns() : 0; }
 
   const SerialCounters& counters() const { return counters_; }
 
@@ -100,13 +101,12 @@ class SerialPort {
 
   std::string path_;
   LogSink log_;
-  BackoffOptions backoff_;
+  ReopenBackoff backoff_;
+  bool backing_off_ = false;  // a failure since the last reset_backoff(): attempts wait
   UniqueFd fd_;
   bool is_tty_ = true;
   bool modem_lines_reported_ = false;
   bool not_a_tty_reported_ = false;
-  int backoff_ms_ = 0;
-  std::int64_t next_attempt_ns_ = 0;
   SerialCounters counters_;
 };
 

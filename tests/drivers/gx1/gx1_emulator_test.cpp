@@ -13,7 +13,7 @@
 #include <numbers>
 #include <vector>
 
-#include "drivers/gx1/monotonic_clock.hpp"
+#include "drivers/common/device_state.hpp"
 #include "drivers/gx1/serial_port.hpp"
 #include "tests/drivers/gx1/sent_packets_check.hpp"
 
@@ -169,7 +169,7 @@ TEST(Gx1Emulator, HangsUpAndReappearsBehindItsLink) {
 
   int rc = -1;
   for (int i = 0; i < 150 && rc != 0; ++i) {
-    sleep_until_ns(monotonic_ns() + 20'000'000);
+    sleep_until(monotonic_ns() + 20'000'000);
     rc = port.open();
   }
   ASSERT_EQ(rc, 0) << "the device came back behind the same path";

@@ -5,49 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <cstdlib>
-#include <new>
 #include <string>
 
+#include "drivers/common/device_state.hpp"
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
-#include "drivers/gx1/monotonic_clock.hpp"
-
-namespace {
-thread_local bool counting = false;
-std::atomic<long> allocations{0};
-
-void* counted_alloc(std::size_t n) {
-  if (counting) ++allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-}  // namespace
-
-void* operator new(std::size_t n) { return counted_alloc(n); }
-void* operator new[](std::size_t n) { return counted_alloc(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (counting) ++allocations;
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
-
-// Counts allocations made by this thread while alive.
-struct CountAllocations {
-  long start = allocations.load();
-  CountAllocations() { counting = true; }
-  ~CountAllocations() { counting = false; }
-  long count() const { return allocations.load() - start; }
-};
 
 TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
   const std::string link = testing::TempDir() + "/gx1-no-alloc-" + std::to_string(getpid());
@@ -67,11 +35,11 @@ TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
   Gx1Session session(link, so, [&log_lines](const char*) { ++log_lines; });
   ASSERT_EQ(session.open(), 0);  // may allocate; nothing after it may
 
-  long allocated = 0;
+  std::size_t allocated = 0;
   int queries_ok = 0;
   bool hung_up = false;
   {
-    CountAllocations guard;
+    const test::AllocationScope guard;  // this (the gyro) thread only
     const std::int64_t end = monotonic_ns() + 1500 * kMs;
     while (monotonic_ns() < end) {
       session.poll_once(20);
@@ -84,7 +52,7 @@ TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
     allocated = guard.count();
   }
   const SessionCounters c = session.counters();
-  EXPECT_EQ(allocated, 0);
+  EXPECT_EQ(allocated, 0u);
   EXPECT_EQ(c.reopens, 1u) << "the reopen path was exercised";
   EXPECT_GT(c.bad_checksums, 0u) << "the resync path was exercised";
   EXPECT_GT(c.samples, 150u);
@@ -93,10 +61,10 @@ TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
 }
 
 TEST(Gx1SessionNoAlloc, TheCounterWorks) {
-  CountAllocations guard;
-  auto* p = new int(3);
-  delete p;
-  EXPECT_EQ(guard.count(), 1);
+  const test::AllocationScope guard;
+  void* p = ::operator new(16);  // a call, not a new-expression: the compiler may not elide it
+  ::operator delete(p);
+  EXPECT_EQ(guard.count(), 1u);
 }
 
 }  // namespace

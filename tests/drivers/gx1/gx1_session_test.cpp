@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "drivers/gx1/gx1_emulator.hpp"
-#include "drivers/gx1/monotonic_clock.hpp"
+#include "drivers/common/device_state.hpp"
 #include "tests/drivers/gx1/sent_packets_check.hpp"
 
 namespace ccdlane::gx1 {
@@ -83,7 +83,7 @@ TEST_F(Gx1SessionTest, StreamsExactlyWhatWasSentAtTheEmulatorsRate) {
   ASSERT_EQ(emu.start(), 0);
   Gx1Session session(link_, quick_session(), log_.sink());
   ASSERT_EQ(session.open(), 0);
-  EXPECT_EQ(session.state(), SessionState::streaming);
+  EXPECT_EQ(session.state(), DeviceState::streaming);
   EXPECT_EQ(session.firmware(), 3102);
   EXPECT_EQ(session.serial_number(), 1234);
 
@@ -131,8 +131,8 @@ TEST_F(Gx1SessionTest, StreamsExactlyWhatWasSentAtTheEmulatorsRate) {
   EXPECT_NEAR(std::remainder(q.angles.roll_deg - (a.angles.roll_deg + b.angles.roll_deg) / 2, 360.0), 0.0, 0.01);
 
   session.close();
-  EXPECT_EQ(session.state(), SessionState::closed);
-  for (int i = 0; i < 50 && emu.counters().stops < 2; ++i) sleep_until_ns(monotonic_ns() + 10 * kMs);
+  EXPECT_EQ(session.state(), DeviceState::closed);
+  for (int i = 0; i < 50 && emu.counters().stops < 2; ++i) sleep_until(monotonic_ns() + 10 * kMs);
   EXPECT_EQ(emu.counters().stops, 2u) << "stopped on open and on close";
 }
 
@@ -187,7 +187,7 @@ TEST_F(Gx1SessionTest, StopsAndDrainsAStreamLeftRunning) {
   o.left_streaming = cmd::stab_euler;  // a crashed process left it streaming
   Gx1Emulator emu(o);
   ASSERT_EQ(emu.start(), 0);
-  sleep_until_ns(monotonic_ns() + 300 * kMs);  // stale packets pile up in the pty
+  sleep_until(monotonic_ns() + 300 * kMs);  // stale packets pile up in the pty
   ASSERT_GT(emu.counters().packets, 50u);
 
   Gx1Session session(link_, quick_session(), log_.sink());
@@ -221,11 +221,11 @@ TEST_F(Gx1SessionTest, ReopensAfterAHangUpAndResumes) {
   emu.hang_up(400);  // unplugged for 0.4 s
   bool saw_recovering = false;
   const auto during = run(session, 4000, [&] {
-    saw_recovering |= session.state() == SessionState::recovering;
-    return saw_recovering && session.state() == SessionState::streaming;
+    saw_recovering |= session.state() == DeviceState::recovering;
+    return saw_recovering && session.state() == DeviceState::streaming;
   });
   EXPECT_TRUE(saw_recovering);
-  ASSERT_EQ(session.state(), SessionState::streaming);
+  ASSERT_EQ(session.state(), DeviceState::streaming);
   const auto after = run(session, 300);
   ASSERT_GT(after.size(), 10u);
   EXPECT_EQ(test::expect_exactly_the_intact_packets(as_received(after), emu.sent()), after.size());
@@ -254,7 +254,7 @@ TEST_F(Gx1SessionTest, AStalledSensorIsReconfigured) {
   ASSERT_EQ(session.open(), 0);
   ASSERT_GT(run(session, 200).size(), 5u);
   emu.stall(500);
-  run(session, 3000, [&] { return session.counters().stream_timeouts > 0 && session.state() == SessionState::streaming; });
+  run(session, 3000, [&] { return session.counters().stream_timeouts > 0 && session.state() == DeviceState::streaming; });
   const auto after = run(session, 300);
   ASSERT_GT(after.size(), 10u);
   EXPECT_GE(session.counters().stream_timeouts, 1u);
@@ -300,7 +300,7 @@ TEST_F(Gx1SessionTest, ASilentDeviceFailsOpenWithinTheBound) {
   so.configure_attempts = 2;
   Gx1Session session(link_, so, log_.sink());
   EXPECT_EQ(session.open(), -ETIMEDOUT);
-  EXPECT_EQ(session.state(), SessionState::closed);
+  EXPECT_EQ(session.state(), DeviceState::closed);
   EXPECT_EQ(session.counters().configure_failures, 2u);
   EXPECT_EQ(session.poll_once(10), -ENOTCONN);
   Gx1Session missing(link_ + "-missing", so, log_.sink());

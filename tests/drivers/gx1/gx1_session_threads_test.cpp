@@ -12,7 +12,7 @@
 
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
-#include "drivers/gx1/monotonic_clock.hpp"
+#include "drivers/common/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
@@ -55,7 +55,7 @@ TEST(Gx1SessionThreads, GyroThreadWritesWhileTheProcessingThreadReads) {
       emu.hang_up(100);
       hung_up = true;
     }
-    sleep_until_ns(monotonic_ns() + 2 * kMs);
+    sleep_until(monotonic_ns() + 2 * kMs);
   }
   stop = true;
   gyro.join();

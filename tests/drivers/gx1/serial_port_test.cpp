@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/gx1/monotonic_clock.hpp"
+#include "drivers/common/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
