@@ -1,7 +1,5 @@
 // Proves "no allocation after open": a counting operator new watches the gyro thread
 // while it streams, queries the history, loses the device and reopens it.
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -10,15 +8,16 @@
 #include "drivers/common/device_state.hpp"
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
+#include "tests/drivers/gx1/emulated_gx1.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
-  const std::string link = testing::TempDir() + "/gx1-no-alloc-" + std::to_string(getpid());
+  const std::string link = test::test_link("no-alloc");
   EmulatorOptions eo;
   eo.link = link;
   eo.rate_hz = 200.0;
@@ -29,17 +28,14 @@ TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
   ASSERT_EQ(emu.start(), 0);
 
   std::atomic<int> log_lines{0};  // a sink that does not allocate itself
-  SessionOptions so;
-  so.drain_quiet_ms = 30;
-  so.backoff = {20, 100};
-  Gx1Session session(link, so, [&log_lines](const char*) { ++log_lines; });
+  Gx1Session session(link, test::quick_session(), [&log_lines](const char*) { ++log_lines; });
   ASSERT_EQ(session.open(), 0);  // may allocate; nothing after it may
 
   std::size_t allocated = 0;
   int queries_ok = 0;
   bool hung_up = false;
   {
-    const test::AllocationScope guard;  // this (the gyro) thread only
+    const ccdlane::test::AllocationScope guard;  // this (the gyro) thread only
     const std::int64_t end = monotonic_ns() + 1500 * kMs;
     while (monotonic_ns() < end) {
       session.poll_once(20);
@@ -61,7 +57,7 @@ TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
 }
 
 TEST(Gx1SessionNoAlloc, TheCounterWorks) {
-  const test::AllocationScope guard;
+  const ccdlane::test::AllocationScope guard;
   void* p = ::operator new(16);  // a call, not a new-expression: the compiler may not elide it
   ::operator delete(p);
   EXPECT_EQ(guard.count(), 1u);

@@ -15,12 +15,14 @@
 
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/common/device_state.hpp"
+#include "tests/drivers/gx1/emulated_gx1.hpp"
 #include "tests/drivers/gx1/sent_packets_check.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
+using test::quick_session;
 
 struct LogLines {
   std::vector<std::string> lines;
@@ -38,18 +40,10 @@ EmulatorOptions test_emulator(const std::string& link, double rate_hz) {
   return o;
 }
 
-SessionOptions quick_session() {
-  SessionOptions o;
-  o.drain_quiet_ms = 30;
-  o.backoff = {20, 200};
-  return o;
-}
-
 class Gx1SessionTest : public testing::Test {
  protected:
   void SetUp() override {
-    link_ = testing::TempDir() + "/gx1-session-test-" + std::to_string(getpid()) + "-" +
-            testing::UnitTest::GetInstance()->current_test_info()->name();
+    link_ = test::test_link(testing::UnitTest::GetInstance()->current_test_info()->name());
     ::unlink(link_.c_str());
   }
 

@@ -1,8 +1,6 @@
 // The session as the daemon drives it: a gyro thread in poll_once(), a processing
 // thread asking attitude_at() and the counters, the emulator in its own thread. Run
 // under ThreadSanitizer in CI.
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -12,25 +10,23 @@
 
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
+#include "tests/drivers/gx1/emulated_gx1.hpp"
 #include "drivers/common/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 TEST(Gx1SessionThreads, GyroThreadWritesWhileTheProcessingThreadReads) {
-  const std::string link = testing::TempDir() + "/gx1-threads-" + std::to_string(getpid());
+  const std::string link = test::test_link("threads");
   EmulatorOptions eo;
   eo.link = link;
   eo.rate_hz = 200.0;
   eo.attitude = [](double t) { return Gx1Angles{10.0, -5.0, std::remainder(170.0 + 90.0 * t, 360.0)}; };
   Gx1Emulator emu(eo);
   ASSERT_EQ(emu.start(), 0);
-  SessionOptions so;
-  so.drain_quiet_ms = 30;
-  so.backoff = {20, 100};
-  Gx1Session session(link, so, [](const char*) {});
+  Gx1Session session(link, test::quick_session(), [](const char*) {});
   ASSERT_EQ(session.open(), 0);
 
   std::atomic<bool> stop{false};
