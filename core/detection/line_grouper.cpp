@@ -156,7 +156,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
 }
 
 int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors,
-                       const GroupingParams& params, std::array<DetectedLine, kMaxDetectedLines>& lines) {
+                       const GroupingParams& params, std::array<DetectedLine, kMaxDetectedLines>& out) {
+  std::array<DetectedLine, kMaxFoundLines>& lines = found_;
   for (MarkCandidate& m : marks) m.line = -1;
   int n = 0;
   auto separated = [&](const DetectedLine& l) {
@@ -168,7 +169,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   };
 
   // 1. Where the previous frame's lines were.
-  for (std::size_t k = 0; k < priors.size() && n < kMaxDetectedLines; ++k) {
+  for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
     DetectedLine l;
     if (!fit_line(marks, priors[k], 350.0, n, params, l)) continue;
     if (!separated(l)) {
@@ -203,7 +204,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   };
   curvature_ = shared_curvature();
   revote();
-  for (int attempt = 0; attempt < 16 && n < kMaxDetectedLines; ++attempt) {
+  for (int attempt = 0; attempt < 16 && n < kMaxFoundLines; ++attempt) {
     int best = 0, bi = -1, bj = -1;
     for (int i = 1; i + 1 < kY0Bins; ++i) {
       const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
@@ -236,7 +237,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   }
 
   // 3. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
-  std::array<int, kMaxDetectedLines> order{};
+  std::array<int, kMaxFoundLines> order{};
   auto y_ref = [&](int k) { return lines[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm); };
   auto insertion_sort = [&order](int count, auto before) {
     for (int i = 1; i < count; ++i)
@@ -245,18 +246,17 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   };
   for (int k = 0; k < n; ++k) order[static_cast<std::size_t>(k)] = k;
   insertion_sort(n, [&](int a, int b) { return std::abs(y_ref(a)) < std::abs(y_ref(b)); });
-  const int kept = std::min(n, params.max_lines);
+  const int kept = std::min({n, params.max_lines, kMaxDetectedLines});
   insertion_sort(kept, [&](int a, int b) { return y_ref(a) > y_ref(b); });
-  std::array<std::int16_t, kMaxDetectedLines> new_index{};
+  std::array<std::int16_t, kMaxFoundLines> new_index{};
   new_index.fill(-1);
-  std::array<DetectedLine, kMaxDetectedLines> sorted{};
+  out = {};
   for (int k = 0; k < kept; ++k) {
-    sorted[static_cast<std::size_t>(k)] = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])];
+    out[static_cast<std::size_t>(k)] = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])];
     new_index[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = static_cast<std::int16_t>(k);
   }
   for (MarkCandidate& m : marks)
     if (m.line >= 0) m.line = new_index[static_cast<std::size_t>(m.line)];
-  lines = sorted;
   return kept;
 }
 

@@ -39,6 +39,7 @@ class LineGrouper {
   static constexpr int kY0Bins = 300;   // -15 m .. 15 m in 100 mm
   static constexpr int kSlopeBins = 41; // -0.25 .. 0.25
   static constexpr int kRansacIterations = 48;
+  static constexpr int kMaxFoundLines = 8;  // searched for, before the nearest are kept
 
  private:
   // Gathers the free (or `line`-assigned) marks in the gate around `model`, finds their
@@ -50,6 +51,7 @@ class LineGrouper {
   std::vector<std::uint16_t> votes_;  // kY0Bins x kSlopeBins
   std::vector<int> gated_;            // indices of the marks inside a line's gate
   double curvature_ = 0.0;            // c the votes are cast along
+  std::array<DetectedLine, kMaxFoundLines> found_{};
 };
 
 }  // namespace ccdlane

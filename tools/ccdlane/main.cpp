@@ -9,12 +9,14 @@ namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
+CommandAction setup_replay(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
+    {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
 };
 }  // namespace
 }  // namespace ccdlane::cli

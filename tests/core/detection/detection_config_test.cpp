@@ -19,7 +19,7 @@ TEST(DetectionConfig, DefaultsAndEveryKey) {
   const Config d = parse_config("", "empty.toml");
   EXPECT_EQ(d.detection.mark_width_mm, 130.0);
   EXPECT_EQ(d.detection.max_lines, 4);
-  EXPECT_EQ(d.detection.min_range_mm, 4000.0);
+  EXPECT_EQ(d.detection.min_range_mm, 3000.0);
   const Config c = parse_config(R"([detection]
 mark_width_mm = 150
 min_contrast = 20
@@ -42,7 +42,7 @@ departure_mm = 1000
 }
 
 TEST(DetectionConfig, StrictErrors) {
-  EXPECT_EQ(error_of("[detection]\nmax_lines = 9\n"), "d.toml:2: detection.max_lines: must be 2..8");
+  EXPECT_EQ(error_of("[detection]\nmax_lines = 5\n"), "d.toml:2: detection.max_lines: must be 2..4");
   EXPECT_EQ(error_of("[detection]\nmin_range_mm = 30000\n"),
             "d.toml:1: detection.max_range_mm: must be more than 1.5 x min_range_mm and <= 200000");
   EXPECT_EQ(error_of("[detection]\nmark_width = 100\n"), "d.toml:2: detection.mark_width: unknown key");
