@@ -6,7 +6,7 @@
 
 namespace ccdlane {
 namespace {
-constexpr double kSameLineMm = 1200.0;  // a coasting line this near a seen one is that line
+constexpr double kSameLineMm = 1000.0;  // an earlier line this near a seen one is that line
 }
 
 void LaneTracker::update(std::span<const LinePrior> lines, std::span<const int> prior_index, std::span<int> ids) {
@@ -25,7 +25,23 @@ void LaneTracker::update(std::span<const LinePrior> lines, std::span<const int> 
   if (shifts == 0 && count_ == 0) next_id_ = 0;
   for (std::size_t j = 0; j < n; ++j) {
     const int p = prior_index[j];
-    ids[j] = p >= 0 && p < count_ ? ids_[static_cast<std::size_t>(p)] : next_id_++;
+    if (p >= 0 && p < count_) {
+      ids[j] = ids_[static_cast<std::size_t>(p)];
+      continue;
+    }
+    // Not continued by detection, but where an unclaimed earlier line should now be:
+    // that line, found again.
+    int found = -1;
+    for (int k = 0; k < count_ && found < 0; ++k)
+      if (!continued[static_cast<std::size_t>(k)] &&
+          std::abs(lines_[static_cast<std::size_t>(k)].y0_mm + shift - lines[j].y0_mm) < kSameLineMm)
+        found = k;
+    if (found >= 0) {
+      continued[static_cast<std::size_t>(found)] = true;
+      ids[j] = ids_[static_cast<std::size_t>(found)];
+    } else {
+      ids[j] = next_id_++;
+    }
   }
 
   // Next frame's priors: this frame's lines, then the ones still coasting (moved with
