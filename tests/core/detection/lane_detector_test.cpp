@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/synth/road_renderer.hpp"
+#include "tests/core/synth/rendered_road.hpp"
 #include "tests/core/synth/truth_projection.hpp"
 #include "tests/support/allocation_counter.hpp"
 
@@ -70,16 +70,13 @@ std::vector<int> match(const DetectionResult& r, const SynthFrame& f) {
 }
 
 TEST(LaneDetector, FindsEveryLineWithSubPixelPicks) {
-  const Config c = highway();
-  const SynthDrive drive(c);
-  RoadRenderer renderer(c.camera, c.synth);
+  test::RenderedRoad road(highway());
+  const Config& c = road.config;
   LaneDetector det(c.camera, c.detection);
-  Frame frame(c.camera);
   double worst_rms = 0;
   for (std::uint64_t k : {0u, 13u, 40u, 77u}) {
-    const SynthFrame f = drive.frame(k);
-    renderer.render(f, frame.view);
-    const DetectionResult& r = det.detect(frame.view, f.pose, {});
+    const SynthFrame f = road.render(k);
+    const DetectionResult& r = det.detect(road.view, f.pose, {});
     ASSERT_EQ(r.num_lines, 4) << "frame " << k;
     const std::vector<int> truth = match(r, f);
     EXPECT_EQ(truth, (std::vector<int>{0, 1, 2, 3})) << "left to right";
@@ -102,19 +99,16 @@ TEST(LaneDetector, FindsEveryLineWithSubPixelPicks) {
 TEST(LaneDetector, FindsTheLinesFromAWrongPose) {
   Config c = highway();
   c.synth.shadow_depth = 0.3;
-  const SynthDrive drive(c);
-  RoadRenderer renderer(c.camera, c.synth);
+  test::RenderedRoad road(c);
   LaneDetector det(c.camera, c.detection);
-  Frame frame(c.camera);
-  const SynthFrame f = drive.frame(21);
-  renderer.render(f, frame.view);
+  const SynthFrame f = road.render(21);
   for (const Attitude err : {Attitude{0.02, 0.0, 0.0}, Attitude{0.0, 0.015, 0.0}, Attitude{0.0, -0.015, 0.0},
                              Attitude{0.0, 0.0, 0.03}}) {
     CameraPose guess = f.pose;
     guess.attitude.psi += err.psi;
     guess.attitude.theta += err.theta;
     guess.attitude.phi += err.phi;
-    const DetectionResult& r = det.detect(frame.view, guess, {});
+    const DetectionResult& r = det.detect(road.view, guess, {});
     // The own lane's lines at least; picks still on the true lines.
     ASSERT_GE(r.num_lines, 3) << err.psi << " " << err.theta << " " << err.phi;
     const PickErrors e = pick_errors(r, f, CameraModel(c.camera, f.pose), match(r, f));
@@ -129,13 +123,10 @@ TEST(LaneDetector, TwoToFourLanesCurvesAndDashes) {
     c.synth.ego_lane = lanes / 2;
     c.synth.curvature_per_mm = lanes == 3 ? 1.5e-6 : -5e-7;
     c.synth.dashed = lanes == 4 ? DashedLines::all : DashedLines::inner;
-    const SynthDrive drive(c);
-    RoadRenderer renderer(c.camera, c.synth);
+    test::RenderedRoad road(c);
     LaneDetector det(c.camera, c.detection);
-    Frame frame(c.camera);
-    const SynthFrame f = drive.frame(5);
-    renderer.render(f, frame.view);
-    const DetectionResult& r = det.detect(frame.view, f.pose, {});
+    const SynthFrame f = road.render(5);
+    const DetectionResult& r = det.detect(road.view, f.pose, {});
     // Lines that lie within the picture somewhere between 5 and 40 m.
     const CameraModel cam(c.camera, f.pose);
     int visible = 0;
@@ -153,17 +144,14 @@ TEST(LaneDetector, PriorLinesKeepTheirIdentityThroughALaneChange) {
   Config c = highway();
   c.synth.lane_change_at_s = 0.5;
   c.synth.lane_change_s = 3.0;
-  const SynthDrive drive(c);
-  RoadRenderer renderer(c.camera, c.synth);
+  test::RenderedRoad road(c);
   LaneDetector det(c.camera, c.detection);
-  Frame frame(c.camera);
   // Follow each road line by the prior chain: road line -> detection index per frame.
   std::vector<LinePrior> priors;
   std::vector<int> road_of;  // road line of each prior
   for (std::uint64_t k = 0; k < 5 * 30; k += 3) {
-    const SynthFrame f = drive.frame(k);
-    renderer.render(f, frame.view);
-    const DetectionResult& r = det.detect(frame.view, f.pose, priors);
+    const SynthFrame f = road.render(k);
+    const DetectionResult& r = det.detect(road.view, f.pose, priors);
     ASSERT_GE(r.num_lines, 3) << "frame " << k;
     const std::vector<int> truth = match(r, f);
     std::vector<int> next_road;
@@ -183,7 +171,7 @@ TEST(LaneDetector, PriorLinesKeepTheirIdentityThroughALaneChange) {
     for (int j = 0; j < r.num_lines; ++j) priors.push_back(r.lines[j].fit);
     road_of = next_road;
   }
-  EXPECT_EQ(drive.frame(5 * 30).ego_lane, 2);  // the change did happen
+  EXPECT_EQ(road.drive.frame(5 * 30).ego_lane, 2);  // the change did happen
 }
 
 TEST(LaneDetector, RejectsBarsThatAreNotOnTheRoadOrNotAlongIt) {
@@ -207,39 +195,29 @@ TEST(LaneDetector, RejectsBarsThatAreNotOnTheRoadOrNotAlongIt) {
 }
 
 TEST(LaneDetector, SixteenBitFramesGiveTheSameLines) {
-  const Config c = highway();
-  SynthConfig s = c.synth;
-  const SynthDrive drive(c);
-  RoadRenderer renderer(c.camera, s);
-  const SynthFrame f = drive.frame(8);
-  Frame f8(c.camera), f16(c.camera, PixelFormat::mono16, 12);
-  renderer.render(f, f8.view);
-  renderer.render(f, f16.view);
-  LaneDetector det(c.camera, c.detection);
-  const DetectionResult r8 = det.detect(f8.view, f.pose, {});
-  std::vector<Pick> picks8(r8.picks.begin(), r8.picks.end());
-  const DetectionResult& r16 = det.detect(f16.view, f.pose, {});
+  test::RenderedRoad road8(highway()), road16(highway(), PixelFormat::mono16, 12);
+  const SynthFrame f = road8.render(8);
+  road16.render(8);
+  LaneDetector det(road8.config.camera, road8.config.detection);
+  const DetectionResult r8 = det.detect(road8.view, f.pose, {});
+  const DetectionResult& r16 = det.detect(road16.view, f.pose, {});
   ASSERT_EQ(r16.num_lines, r8.num_lines);
   for (int j = 0; j < r8.num_lines; ++j) EXPECT_NEAR(r16.lines[j].fit.y0_mm, r8.lines[j].fit.y0_mm, 20.0);
 }
 
 TEST(LaneDetector, WrongSizedFramesGiveNothingAndDetectionAllocatesNothing) {
-  const Config c = highway();
-  const SynthDrive drive(c);
-  RoadRenderer renderer(c.camera, c.synth);
-  LaneDetector det(c.camera, c.detection);
-  Frame frame(c.camera);
-  const SynthFrame f = drive.frame(2);
-  renderer.render(f, frame.view);
-  MutableImageView small = frame.view;
+  test::RenderedRoad road(highway());
+  LaneDetector det(road.config.camera, road.config.detection);
+  const SynthFrame f = road.render(2);
+  MutableImageView small = road.view;
   small.width = 640;
   EXPECT_EQ(det.detect(small, f.pose, {}).num_lines, 0);
   EXPECT_EQ(det.detect(ImageView{}, f.pose, {}).num_lines, 0);
   const LinePrior priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
   test::AllocationScope scope;
   for (int i = 0; i < 3; ++i) {
-    EXPECT_EQ(det.detect(frame.view, f.pose, priors).num_lines, 4);
-    EXPECT_EQ(det.detect(frame.view, f.pose, {}).num_lines, 4);
+    EXPECT_EQ(det.detect(road.view, f.pose, priors).num_lines, 4);
+    EXPECT_EQ(det.detect(road.view, f.pose, {}).num_lines, 4);
   }
   EXPECT_EQ(scope.count(), 0u);
 }

@@ -9,43 +9,19 @@
 
 #include <gtest/gtest.h>
 
-#include "core/synth/road_renderer.hpp"
+#include "tests/core/synth/rendered_road.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
 
-// The reference camera at half resolution (same field of view), pitched 3 degrees down,
-// to keep the sanitizer builds quick.
 Config small_camera() {
-  Config c = default_config();
-  c.camera.Nu = 400;
-  c.camera.Nv = 300;
-  c.camera.Uc_mm = c.camera.Vc_mm = 0.0084;
-  c.camera.cx = 200.5;
-  c.camera.cy = 150.5;
-  c.camera.k_px2 = -8.3042e-7 * 4;
-  c.attitude = {0.0, 3.0, 0.0};
+  Config c = test::small_reference_camera();
   c.detection.max_picks = 160;
   return c;
 }
 
-struct Drive {
-  Config config;
-  SynthDrive drive;
-  RoadRenderer renderer;
-  std::vector<std::uint8_t> px;
-  MutableImageView view;
-  explicit Drive(const Config& c)
-      : config(c), drive(c), renderer(c.camera, c.synth), px(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv)) {
-    view = {px.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8};
-  }
-  SynthFrame render(std::uint64_t k) {
-    const SynthFrame f = drive.frame(k);
-    renderer.render(f, view);
-    return f;
-  }
-};
+using Drive = test::RenderedRoad;
 
 TEST(LaneEstimator, EveryFrameOkAndWithinTheSolversSigmasOfTheTruth) {
   Config c = small_camera();

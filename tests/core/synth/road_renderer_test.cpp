@@ -11,21 +11,15 @@
 #include <gtest/gtest.h>
 
 #include "core/geometry/camera_model.hpp"
+#include "tests/core/synth/rendered_road.hpp"
 #include "tests/core/synth/truth_projection.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
 
-// A smaller version of the reference camera (same field of view), to keep tests quick.
 Config small_camera() {
-  Config c = default_config();
-  c.camera.Nu = 400;
-  c.camera.Nv = 300;
-  c.camera.Uc_mm = c.camera.Vc_mm = 0.0084;
-  c.camera.cx = 200.5;
-  c.camera.cy = 150.5;
-  c.camera.k_px2 = -8.3042e-7 * 4;  // the same distortion at the same place in the picture
+  Config c = test::small_reference_camera();
   c.attitude = {0.8, 4.0, -1.5};
   return c;
 }
