@@ -155,7 +155,7 @@ double RoadRenderer::sky(double qx, double qy, double qz) const {
 void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) {
   const int W = camera_.Nu, H = camera_.Nv;
   const GroundProjector v(camera_, truth.pose);
-  const Vec3 &L = v.lens(), &T0 = v.t0(), &T1 = v.t1();
+  const Ray &L = v.lens(), &T0 = v.t0(), &T1 = v.t1();
   const double pu = v.pitch_u(), pv = v.pitch_v(), cx = camera_.cx, cy = camera_.cy;
   const double corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
 
@@ -186,19 +186,19 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
       const double dx = px - cx, dy = py - cy;
       const double r2 = dx * dx + dy * dy;
       double s = 1.0;
-      const Vec3 q = v.ray(px, py, &s);
+      const Ray q = v.ray(px, py, &s);
       double value;
-      if (q.z() <= 0.0) {
-        value = sky(q.x(), q.y(), q.z());
+      if (q.z <= 0.0) {
+        value = sky(q.x, q.y, q.z);
       } else {
-        const double inv_qz = 1.0 / q.z();
-        const double t = L.z() * inv_qz;
-        const double X = L.x() - t * q.x(), Y = L.y() - t * q.y();
+        const double inv_qz = 1.0 / q.z;
+        const double t = L.z * inv_qz;
+        const double X = L.x - t * q.x, Y = L.y - t * q.y;
         // Footprint: d(X, Y)/d(a, b) = -t (T_k - q T_kz / q_z), one pixel = (pu, pv).
-        const double dXa = -t * (T0.x() - q.x() * T0.z() * inv_qz) * pu * s;
-        const double dYa = -t * (T0.y() - q.y() * T0.z() * inv_qz) * pu * s;
-        const double dXb = -t * (T1.x() - q.x() * T1.z() * inv_qz) * pv * s;
-        const double dYb = -t * (T1.y() - q.y() * T1.z() * inv_qz) * pv * s;
+        const double dXa = -t * (T0.x - q.x * T0.z * inv_qz) * pu * s;
+        const double dYa = -t * (T0.y - q.y * T0.z * inv_qz) * pu * s;
+        const double dXb = -t * (T1.x - q.x * T1.z * inv_qz) * pv * s;
+        const double dYb = -t * (T1.y - q.y * T1.z * inv_qz) * pv * s;
         const double fpX = 0.5 * (std::abs(dXa) + std::abs(dXb)), fpY = 0.5 * (std::abs(dYa) + std::abs(dYb));
         const double footprint = 2.0 * std::sqrt(fpX * fpY) + 1e-9;
         value = shade_ground(X, Y, footprint);

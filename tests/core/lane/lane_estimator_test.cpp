@@ -31,7 +31,7 @@ TEST(LaneEstimator, EveryFrameOkAndWithinTheSolversSigmasOfTheTruth) {
   LaneEstimator est(c);
   int frames = 0, within = 0;
   std::vector<int> first_ids;
-  for (std::uint64_t k = 0; k < 40; k += 2) {
+  for (std::uint64_t k = 0; k < 40; k += 3) {
     const SynthFrame f = d.render(k);
     const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
     ASSERT_TRUE(e.ok) << "frame " << k << ": " << to_string(e.reason);
@@ -80,7 +80,7 @@ TEST(LaneEstimator, IdsFollowTheRoadThroughALaneChangeAndDepartureIsFlagged) {
   LaneEstimator est(c);
   int id_of_crossed = -1;  // the line between lanes 1 and 2 (road line 2)
   bool right_departure = false, left_departure = false;
-  for (std::uint64_t k = 0; k <= 150; k += 3) {
+  for (std::uint64_t k = 0; k <= 150; k += 5) {
     const SynthFrame f = d.render(k);
     const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
     ASSERT_GE(e.num_lines, 2) << "frame " << k;
