@@ -8,11 +8,13 @@
 namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
+CommandAction setup_solve(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
+    {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
 };
 }  // namespace
 }  // namespace ccdlane::cli
