@@ -32,6 +32,22 @@ CovarianceAnalysis analyse_covariance(const ReducedMatrix& N, double variance_sc
   ws.scale.resize(n);
   for (int k = 0; k < n; ++k) ws.scale[k] = N(k, k) > 0.0 ? 1.0 / std::sqrt(N(k, k)) : 0.0;
   ws.S = ws.scale.asDiagonal() * N * ws.scale.asDiagonal();
+
+  // Fast path, the usual case: lambda_min(S) >= 1 / trace(S^-1) and lambda_max(S) <=
+  // trace(S) <= n, so a small trace of the inverse proves full rank without the
+  // eigen-decomposition.
+  ws.ldlt.compute(ws.S);
+  if (ws.scale.minCoeff() > 0.0 && ws.ldlt.info() == Eigen::Success && ws.ldlt.vectorD().minCoeff() > 0.0) {
+    ws.inverse = ws.ldlt.solve(ReducedMatrix::Identity(n, n));
+    const double trace = ws.inverse.trace();
+    if (std::isfinite(trace) && trace > 0.0 && trace * n * kRankTolerance < 1.0) {
+      out.rank = n;
+      for (int k = 0; k < n; ++k) out.determined[k] = true;
+      covariance = variance_scale * (ws.scale.asDiagonal() * ws.inverse * ws.scale.asDiagonal());
+      return out;
+    }
+  }
+
   ws.eigen.compute(ws.S);
   if (ws.eigen.info() != Eigen::Success) {
     out.rank_deficient = true;
@@ -40,9 +56,7 @@ CovarianceAnalysis analyse_covariance(const ReducedMatrix& N, double variance_sc
   }
   const auto& values = ws.eigen.eigenvalues();  // ascending
   const auto& vectors = ws.eigen.eigenvectors();
-  const double largest = values[n - 1];
-  const double threshold = kRankTolerance * largest;
-  out.reciprocal_condition = largest > 0.0 ? std::max(values[0], 0.0) / largest : 0.0;
+  const double threshold = kRankTolerance * values[n - 1];
 
   int null_count = 0;
   while (null_count < n && !(values[null_count] > threshold)) ++null_count;

@@ -4,6 +4,7 @@
 
 #include <array>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "core/solver/solver_types.hpp"
@@ -11,16 +12,15 @@
 namespace ccdlane::solver {
 
 struct CovarianceWorkspace {
-  ReducedMatrix S;
+  ReducedMatrix S, inverse;
   ReducedVector scale;
+  Eigen::LDLT<ReducedMatrix> ldlt{kMaxReducedParams};
   Eigen::SelfAdjointEigenSolver<ReducedMatrix> eigen{kMaxReducedParams};
 };
 
 struct CovarianceAnalysis {
   bool rank_deficient = false;
   int rank = 0;
-  // Smallest eigenvalue of the unit-diagonal normal matrix over its largest.
-  double reciprocal_condition = 0.0;
   std::array<bool, kMaxReducedParams> determined{};
 };
 

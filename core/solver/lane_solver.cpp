@@ -47,6 +47,8 @@ int required_picks(const SolveRequest& request) {
 
 namespace {
 
+constexpr double kWarmInitialDamping = 1e-6;  // see LmOptions
+
 bool finite_prior(const std::optional<Prior>& p) {
   return !p || (std::isfinite(p->mean) && std::isfinite(p->sigma) && p->sigma > 0.0);
 }
@@ -76,7 +78,7 @@ struct LaneSolver::Impl {
         ground(x_a.size()),
         ideal(x_a.size()),
         points(x_a.size()),
-        reprojection(spec),
+        reprojection(spec, max_picks),
         paper(spec) {
     state_a.x = x_a.data();
     state_a.blocks = blocks_a.data();
@@ -168,6 +170,8 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
     std::copy(r.initial_lines.begin(), r.initial_lines.end(), current->lines.begin());
   for (std::size_t i = 0; i < picks.size(); ++i) current->x[i] = ground[i].x();
 
+  const bool warm = r.warm_start;
+  LmOptions options{r.max_iterations, kWarmInitialDamping};
   bool evaluated = false;
   LmOutcome outcome;
   if (r.mode == SolverMode::paper) {
@@ -175,12 +179,13 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
       ideal[i] = *camera.ideal_from_observed(Vec2(picks[i].px, picks[i].py));  // exists: ground point did
     paper.configure(layout, picks, std::span<const Vec2>(ideal.data(), picks.size()));
     evaluated = paper.evaluate(*current);
-    if (evaluated) outcome = levenberg_marquardt(paper, layout, picks, r.max_iterations, current, candidate, lm);
+    if (!warm) options.initial_damping = PaperResidual::kColdInitialDamping;
+    if (evaluated) outcome = levenberg_marquardt(paper, layout, picks, options, current, candidate, lm);
   } else {
     reprojection.configure(layout, picks, r.pixel_sigma, r.priors);
     evaluated = reprojection.evaluate(*current);
-    if (evaluated)
-      outcome = levenberg_marquardt(reprojection, layout, picks, r.max_iterations, current, candidate, lm);
+    if (!warm) options.initial_damping = ReprojectionResidual::kColdInitialDamping;
+    if (evaluated) outcome = levenberg_marquardt(reprojection, layout, picks, options, current, candidate, lm);
   }
   if (!evaluated || !std::isfinite(current->cost)) outcome.status = SolveStatus::numerical_failure;
   finish(r, *current, outcome);
@@ -197,13 +202,18 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
   result.num_lines = r.num_lines;
   result.lines = state.lines;
 
-  // Mark positions and the reprojection RMS (the paper's index is not in pixels, so
-  // both modes project the evaluated marks).
-  camera.set_pose(state.pose);
+  // Mark positions and the reprojection RMS: from the whitened residuals in
+  // reprojection mode; the paper's index is not in pixels, so there the marks are
+  // projected.
+  if (r.mode == SolverMode::paper) camera.set_pose(state.pose);
   double sum_sq = 0.0;
   for (std::size_t i = 0; i < picks.size(); ++i) {
     const double x = state.x[i];
     points[i] = Vec2(x, line_y(state.lines[picks[i].line], x));
+    if (r.mode == SolverMode::reprojection) {
+      sum_sq += state.blocks[i].r.squaredNorm() * r.pixel_sigma * r.pixel_sigma;
+      continue;
+    }
     const auto px = camera.pixel_from_point(Vec3(points[i].x(), points[i].y(), 0.0));
     sum_sq += px ? (*px - Vec2(picks[i].px, picks[i].py)).squaredNorm() : std::numeric_limits<double>::infinity();
   }

@@ -55,6 +55,9 @@ struct SolveRequest {
   // initial ground points of each line (solver.md): y0 and, when m is free, m from the
   // fit, otherwise m = 0; c = 0.
   std::span<const LaneLine> initial_lines;
+  // The initial pose and lines are a solution of a similar problem (the previous frame):
+  // Levenberg-Marquardt then starts close to Gauss-Newton and needs fewer iterations.
+  bool warm_start = false;
 };
 
 enum class SolveStatus : std::uint8_t {
@@ -125,7 +128,7 @@ class LaneSolver {
   LaneSolver& operator=(const LaneSolver&) = delete;
 
   // Solves; never throws. Warm start: pass the previous result's pose and lines as
-  // request.initial_pose / initial_lines.
+  // request.initial_pose / initial_lines, with request.warm_start set.
   const SolveResult& solve(const SolveRequest& request);
 
   int max_picks() const;

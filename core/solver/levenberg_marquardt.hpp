@@ -3,6 +3,7 @@
 // Every workspace is passed in, preallocated: nothing here allocates or throws.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <utility>
@@ -20,6 +21,14 @@ struct LmWorkspace {
   double* dx = nullptr;  // per pick
 };
 
+struct LmOptions {
+  int max_iterations = 50;
+  // The first lambda, relative to the unit diagonal: Madsen, Nielsen & Tingleff's tau
+  // ("Methods for non-linear least squares problems", 2004): 1e-6 when the start is
+  // believed good (a warm start), 1e-3 or even 1 otherwise.
+  double initial_damping = 1e-3;
+};
+
 struct LmOutcome {
   SolveStatus status = SolveStatus::max_iterations;
   int iterations = 0;
@@ -32,15 +41,17 @@ constexpr double kStepTolerance = 1e-12;  // |step| <= tol * (|parameters| + tol
 // Marquardt's scale-invariant damping: the reduced system is scaled to unit diagonal and
 // lambda added to it, with Nielsen's update of lambda from the gain ratio. `current`
 // holds an evaluated state on entry and the best state on return; `candidate` is scratch.
-// Model: bool evaluate(SolverState&) filling blocks, priors and cost (and, for variable
-// projection, x); kInitialDamping, the first lambda.
+// Model: bool evaluate_cost(SolverState&) filling residuals, priors and cost (and, for
+// variable projection, x), then void evaluate_jacobians(SolverState&) for the same state:
+// Jacobians are computed only for steps that are taken.
 template <class Model>
 LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::span<const Pick> picks,
-                              int max_iterations, SolverState*& current, SolverState*& candidate, LmWorkspace& ws) {
+                              const LmOptions& options, SolverState*& current, SolverState*& candidate,
+                              LmWorkspace& ws) {
   LmOutcome out;
   const int n = layout.size();
   const std::size_t num_picks = picks.size();
-  double lambda = Model::kInitialDamping, nu = 2.0;
+  double lambda = options.initial_damping, nu = 2.0;
   ws.scale.setOnes(n);
   const auto reject = [&] {
     lambda *= nu;
@@ -50,7 +61,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
     out.status = SolveStatus::converged_cost;
     return out;
   }
-  while (out.iterations < max_iterations) {
+  while (out.iterations < options.max_iterations) {
     ++out.iterations;
     build_reduced_system(layout, picks, *current, lambda, ws.N, ws.g);
     for (int k = 0; k < n; ++k) ws.scale[k] = ws.N(k, k) > 0.0 ? 1.0 / std::sqrt(ws.N(k, k)) : 1.0;
@@ -82,18 +93,20 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
     candidate->lines = current->lines;
     layout.apply_step(ws.step, candidate->pose, candidate->lines.data());
     for (std::size_t i = 0; i < num_picks; ++i) candidate->x[i] = current->x[i] + ws.dx[i];
-    if (!model.evaluate(*candidate) || !std::isfinite(candidate->cost)) {
+    if (!model.evaluate_cost(*candidate) || !std::isfinite(candidate->cost)) {
       reject();
       continue;
     }
     const double decrease = current->cost - candidate->cost;
     if (std::abs(decrease) <= kCostTolerance * current->cost) {
-      if (decrease > 0.0) std::swap(current, candidate);
+      // Converged: the current point is the optimum to within the rule, and its
+      // Jacobians (for the covariance) are at hand.
       out.status = SolveStatus::converged_cost;
       return out;
     }
     const double rho = bs.predicted_decrease > 0.0 ? decrease / bs.predicted_decrease : -1.0;
     if (rho > 0.0) {
+      model.evaluate_jacobians(*candidate);
       std::swap(current, candidate);
       const double t = 2.0 * rho - 1.0;
       lambda *= std::max(1.0 / 3.0, 1.0 - t * t * t);

@@ -11,10 +11,11 @@ namespace ccdlane::solver {
 
 class PaperResidual {
  public:
-  // The algebraic residuals are products of unknowns, and the index has spurious minima
-  // (toward yaw +-90 degrees the rays' x extent, and with it every residual, shrinks): a
-  // full Gauss-Newton first step from a cold start can land in one, so start damped.
-  static constexpr double kInitialDamping = 1.0;
+  // First lambda from a cold start (LmOptions). The algebraic residuals are products of
+  // unknowns, and the index has spurious minima (toward yaw +-90 degrees the rays' x
+  // extent, and with it every residual, shrinks): a near Gauss-Newton first step from a
+  // cold start can land in one, so start well damped.
+  static constexpr double kColdInitialDamping = 1.0;
 
   explicit PaperResidual(const CameraSpec& spec) : camera_(spec, CameraPose{}) {}
 
@@ -29,6 +30,9 @@ class PaperResidual {
   // lines (variable projection: the cost is then a function of the globals and lines
   // alone), then fills residuals, Jacobians and J. Always succeeds for finite input.
   bool evaluate(SolverState& state);
+  // The LM loop's two stages; the paper's residuals are cheap, so the first does all.
+  bool evaluate_cost(SolverState& state) { return evaluate(state); }
+  void evaluate_jacobians(SolverState&) {}
 
  private:
   CameraModel camera_;

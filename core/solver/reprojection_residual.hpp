@@ -3,19 +3,21 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "core/solver/parameter_layout.hpp"
+#include "core/solver/road_projection.hpp"
 #include "core/solver/solver_state.hpp"
 
 namespace ccdlane::solver {
 
 class ReprojectionResidual {
  public:
-  // Pixel residuals are close to linear over a frame-to-frame change: start near
-  // Gauss-Newton (Marquardt's usual 1e-3 of the unit diagonal).
-  static constexpr double kInitialDamping = 1e-3;
+  // First lambda from a cold start (LmOptions): the usual 1e-3 of the unit diagonal.
+  static constexpr double kColdInitialDamping = 1e-3;
 
-  explicit ReprojectionResidual(const CameraSpec& spec) : camera_(spec, CameraPose{}) {}
+  ReprojectionResidual(const CameraSpec& spec, int max_picks)
+      : camera_(spec, CameraPose{}), chains_(static_cast<std::size_t>(max_picks)) {}
 
   void configure(const ParameterLayout& layout, std::span<const Pick> picks, double pixel_sigma,
                  const SolverPriors& priors) {
@@ -25,12 +27,21 @@ class ReprojectionResidual {
     priors_ = &priors;
   }
 
-  // Residuals, Jacobians and cost J at `state` (its x are kept). False when some road
-  // point cannot be seen (behind the lens or beyond the distortion model's field).
-  bool evaluate(SolverState& state);
+  // Residuals and cost J at `state` (its x are kept). False when some road point cannot
+  // be seen (behind the lens or beyond the distortion model's field).
+  bool evaluate_cost(SolverState& state);
+  // The Jacobians at the state last given to evaluate_cost (from its stored chains).
+  void evaluate_jacobians(SolverState& state);
+  bool evaluate(SolverState& state) {
+    if (!evaluate_cost(state)) return false;
+    evaluate_jacobians(state);
+    return true;
+  }
 
  private:
   CameraModel camera_;
+  RoadProjection projection_;
+  std::vector<RoadProjection::Chain> chains_;  // per pick, sized at construction
   const ParameterLayout* layout_ = nullptr;
   std::span<const Pick> picks_;
   double inv_sigma_ = 1.0;

@@ -8,6 +8,7 @@
 namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
+CommandAction setup_solve(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
 CommandAction setup_replay(CLI::App& sub);
 
@@ -15,6 +16,7 @@ namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
+    {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
 };

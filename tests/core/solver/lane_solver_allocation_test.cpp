@@ -113,12 +113,6 @@ TEST(LaneSolverAllocation, CounterSeesNewAndEigenHeapAllocations) {
   }
 }
 
-FreeSet all_free() {
-  FreeSet s;
-  for (int p = 0; p < kFreeParamCount; ++p) s.add(static_cast<FreeParam>(p));
-  return s;
-}
-
 TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
   std::mt19937_64 rng(7);
   test::SceneOptions options;
@@ -140,12 +134,13 @@ TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
   base.picks = picks;
   base.num_lines = options.num_lines;
   base.initial_lines = lines;
+  base.warm_start = true;
   SolveRequest r = base;
   r.priors.theta_deg = Prior{0.0, 0.5};
   r.priors.phi_deg = Prior{0.0, 0.5};
   requests.push_back(r);  // default free set, gyro priors
   r = base;
-  r.free = all_free();
+  r.free = test::all_free();
   r.priors = {Prior{0, 1}, Prior{0, 1}, Prior{0, 1}, Prior{1400, 20}, Prior{5.05, 0.05}, Prior{3500, 150}};
   requests.push_back(r);  // everything free, every prior
   r = base;

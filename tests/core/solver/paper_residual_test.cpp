@@ -50,15 +50,8 @@ struct Fixture {
   SolverState state;
 
   explicit Fixture(std::uint64_t seed) {
-    FreeSet all;
-    for (int p = 0; p < kFreeParamCount; ++p) all.add(static_cast<FreeParam>(p));
-    layout = ParameterLayout(all, 2);
-    std::mt19937_64 rng(seed);
-    test::SceneOptions o;
-    o.num_picks = 8;
-    o.max_slope = 0.02;
-    o.max_curvature = 1e-6;
-    scene = test::make_scene(rng, o);
+    layout = ParameterLayout(test::all_free(), 2);
+    scene = test::small_curved_scene(seed);
     const CameraModel cam(scene.camera, scene.truth);
     for (const Pick& p : scene.picks) ideal.push_back(*cam.ideal_from_observed(Vec2(p.px, p.py)));
     x.assign(scene.picks.size(), 0.0);

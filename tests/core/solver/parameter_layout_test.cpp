@@ -3,14 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/core/solver/synthetic_scene.hpp"
+
 namespace ccdlane::solver {
 namespace {
 
-FreeSet free_set(std::initializer_list<FreeParam> params) {
-  FreeSet s;
-  for (FreeParam p : params) s.add(p);
-  return s;
-}
+using test::free_set;
 
 TEST(ParameterLayout, GlobalsFirstThenEachLinesKinds) {
   using enum FreeParam;

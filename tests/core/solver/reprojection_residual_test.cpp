@@ -14,27 +14,16 @@
 namespace ccdlane::solver {
 namespace {
 
-FreeSet all_free() {
-  FreeSet s;
-  for (int p = 0; p < kFreeParamCount; ++p) s.add(static_cast<FreeParam>(p));
-  return s;
-}
-
 struct Fixture {
   test::SyntheticScene scene;
   std::vector<double> x;
   std::vector<PickBlock> blocks;
-  ParameterLayout layout{all_free(), 2};
+  ParameterLayout layout{test::all_free(), 2};
   SolverPriors priors;
   SolverState state;
 
   explicit Fixture(std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    test::SceneOptions o;
-    o.num_picks = 8;
-    o.max_slope = 0.02;
-    o.max_curvature = 1e-6;
-    scene = test::make_scene(rng, o);
+    scene = test::small_curved_scene(seed);
     x = scene.x_mm;
     for (double& xi : x) xi *= 1.01;  // off the truth: residuals are not zero
     blocks.resize(x.size());
@@ -48,7 +37,7 @@ struct Fixture {
 
 TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
   Fixture f(1);
-  ReprojectionResidual model(f.scene.camera);
+  ReprojectionResidual model(f.scene.camera, 16);
   model.configure(f.layout, f.scene.picks, 0.5, f.priors);
   ASSERT_TRUE(model.evaluate(f.state));
   const CameraModel camera(f.scene.camera, f.state.pose);
@@ -68,7 +57,7 @@ TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
 TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
   for (std::uint64_t seed = 2; seed < 6; ++seed) {
     Fixture f(seed);
-    ReprojectionResidual model(f.scene.camera);
+    ReprojectionResidual model(f.scene.camera, 16);
     model.configure(f.layout, f.scene.picks, 0.5, f.priors);
     ASSERT_TRUE(model.evaluate(f.state));
     const std::vector<PickBlock> analytic = f.blocks;
@@ -133,7 +122,7 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
 TEST(ReprojectionResidual, PointBehindTheCameraFailsTheEvaluation) {
   Fixture f(7);
   f.x[3] = -5000.0;
-  ReprojectionResidual model(f.scene.camera);
+  ReprojectionResidual model(f.scene.camera, 16);
   model.configure(f.layout, f.scene.picks, 0.5, f.priors);
   EXPECT_FALSE(model.evaluate(f.state));
 }

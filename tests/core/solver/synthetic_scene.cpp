@@ -51,4 +51,25 @@ std::vector<Pick> noisy_picks(const SyntheticScene& scene, double sigma_px, std:
   return picks;
 }
 
+SyntheticScene small_curved_scene(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  SceneOptions o;
+  o.num_picks = 8;
+  o.max_slope = 0.02;
+  o.max_curvature = 1e-6;
+  return make_scene(rng, o);
+}
+
+FreeSet free_set(std::initializer_list<FreeParam> params) {
+  FreeSet s;
+  for (FreeParam p : params) s.add(p);
+  return s;
+}
+
+FreeSet all_free() {
+  FreeSet s;
+  for (int p = 0; p < kFreeParamCount; ++p) s.add(static_cast<FreeParam>(p));
+  return s;
+}
+
 }  // namespace ccdlane::test

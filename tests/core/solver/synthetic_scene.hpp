@@ -2,6 +2,8 @@
 // reference camera of geometry.md at road scale, marks projected from the truth.
 #pragma once
 
+#include <cstdint>
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -37,5 +39,12 @@ SyntheticScene make_scene(std::mt19937_64& rng, const SceneOptions& options);
 
 // Picks of `scene` with independent Gaussian noise of `sigma_px` on each coordinate.
 std::vector<Pick> noisy_picks(const SyntheticScene& scene, double sigma_px, std::mt19937_64& rng);
+
+// A small scene of 8 marks on two gently curved, slanted lines: every line parameter
+// matters, for checking residuals and Jacobians.
+SyntheticScene small_curved_scene(std::uint64_t seed);
+
+FreeSet free_set(std::initializer_list<FreeParam> params);
+FreeSet all_free();
 
 }  // namespace ccdlane::test
