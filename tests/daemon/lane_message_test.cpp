@@ -44,8 +44,11 @@ LaneEstimate sample_estimate() {
 
 // Same value, NaN equal to NaN.
 void expect_same(double a, double b, const char* what) {
-  if (std::isnan(a)) EXPECT_TRUE(std::isnan(b)) << what;
-  else EXPECT_EQ(a, b) << what;
+  if (std::isnan(a)) {
+    EXPECT_TRUE(std::isnan(b)) << what;
+  } else {
+    EXPECT_EQ(a, b) << what;
+  }
 }
 
 void expect_equal(const LaneEstimate& a, const LaneEstimate& b) {

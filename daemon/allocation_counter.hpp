@@ -1,0 +1,19 @@
+// Counts heap allocations once the daemon is ready, to prove (and report in its status)
+// that the steady state allocates nothing.
+#pragma once
+
+#include <cstdint>
+
+namespace ccdlane::allocation_counter {
+
+// Defined next to the counting operator new (allocation_counter.cpp), which only
+// ccdlaned and its tests link.
+
+// From now on every operator new (any thread) is counted.
+void start_counting();
+void stop_counting();
+
+// Allocations since start_counting().
+std::uint64_t count();
+
+}  // namespace ccdlane::allocation_counter
