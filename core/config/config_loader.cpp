@@ -262,7 +262,11 @@ void read_lcm(TableReader& r, Config& c) {
   r.string("url", c.lcm.url);
   r.string("prefix", c.lcm.prefix);
   r.reject_unknown();
-  require(!c.lcm.url.empty(), r, "url", "must name an LCM bus, e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
+  const std::string_view url = c.lcm.url;
+  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") ||
+                              url.starts_with("tcpq://") || url.starts_with("file://");
+  require(known_provider, r, "url",
+          "must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
   // LCM channel names are at most 63 bytes; leave room for the longest suffix.
   require(c.lcm.prefix.size() <= 48, r, "prefix", "must be at most 48 characters");
   const bool plain = std::all_of(c.lcm.prefix.begin(), c.lcm.prefix.end(), [](unsigned char ch) {

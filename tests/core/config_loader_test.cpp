@@ -169,7 +169,12 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
   EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),
             "test.toml:2: lcm.prefix: must be at most 48 characters");
   EXPECT_EQ(error_of("[lcm]\nurl = \"\"\n"),
-            "test.toml:2: lcm.url: must name an LCM bus, e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "\"udpm://239.255.76.67:7667?ttl=0\"");
+  EXPECT_EQ(error_of("[lcm]\nurl = \"udp://239.255.76.67:7667\"\n"),
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "\"udpm://239.255.76.67:7667?ttl=0\"");
+  EXPECT_EQ(parse_config("[lcm]\nurl = \"memq://\"\n", "m.toml").lcm.url, "memq://");
 }
 
 }  // namespace
