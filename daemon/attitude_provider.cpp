@@ -1,17 +1,10 @@
-// Names of the gyro states, as the status message and logs show them.
+// Gyro state names come from the status message's table.
 #include "daemon/attitude_provider.hpp"
+
+#include "daemon/status_names.hpp"
 
 namespace ccdlane {
 
-const char* to_string(GyroState s) {
-  switch (s) {
-    case GyroState::none: return "none";
-    case GyroState::starting: return "starting";
-    case GyroState::ok: return "ok";
-    case GyroState::stale: return "stale";
-    case GyroState::lost: return "lost";
-  }
-  return "unknown";
-}
+const char* to_string(GyroState s) { return gyro_state_name(static_cast<int>(s)); }
 
 }  // namespace ccdlane

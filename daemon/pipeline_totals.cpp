@@ -1,17 +1,10 @@
-// Names of the camera states, as the status line and logs show them.
+// Camera state names come from the status message's table.
 #include "daemon/pipeline_totals.hpp"
+
+#include "daemon/status_names.hpp"
 
 namespace ccdlane {
 
-const char* to_string(CameraState s) {
-  switch (s) {
-    case CameraState::starting: return "starting";
-    case CameraState::streaming: return "streaming";
-    case CameraState::stalled: return "stalled";
-    case CameraState::recovering: return "recovering";
-    case CameraState::ended: return "ended";
-  }
-  return "unknown";
-}
+const char* to_string(CameraState s) { return camera_state_name(static_cast<int>(s)); }
 
 }  // namespace ccdlane

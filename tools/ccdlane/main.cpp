@@ -8,11 +8,13 @@
 namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
+CommandAction setup_monitor(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
+    {"monitor", "watch ccdlaned's lane and status messages on the LCM bus", setup_monitor},
 };
 }  // namespace
 }  // namespace ccdlane::cli
