@@ -109,6 +109,9 @@ TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
 }
 
 TEST(Ccdlaned, WithoutPrivilegesRealtimeIsRefusedOnceAndItRunsAnyway) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer turns mlockall into a no-op that succeeds";
+#endif
   test::TempDir dir;
   chmod(dir.path().c_str(), 0777);  // nobody reads the config and writes its log here
   const std::string config = dir.write(
@@ -139,11 +142,16 @@ TEST(CcdlanedBus, PublishesLanesAndStatusOnUdpm) {
   struct Got {
     std::vector<lane_estimate_t> lanes;
     std::vector<status_t> statuses;
-    void lane(const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m) { lanes.push_back(*m); }
-    void status(const lcm::ReceiveBuffer*, const std::string&, const status_t* m) { statuses.push_back(*m); }
   } got;
-  bus.subscribe("CCDLANE_LANES", &Got::lane, &got);
-  bus.subscribe("CCDLANE_STATUS", &Got::status, &got);
+  // Functions, not member functions: see lcm_round_trip.cpp (UBSan false positive).
+  bus.subscribeFunction(
+      "CCDLANE_LANES",
+      +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Got* g) { g->lanes.push_back(*m); },
+      &got);
+  bus.subscribeFunction(
+      "CCDLANE_STATUS",
+      +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, Got* g) { g->statuses.push_back(*m); },
+      &got);
 
   test::TempDir dir;
   const std::string config = dir.write("ccdlane.toml", config_text(url, 50));

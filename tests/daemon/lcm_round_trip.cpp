@@ -13,19 +13,23 @@
 namespace ccdlane::test {
 namespace {
 
+// Plain functions with a context, not subscribe(&Class::method): GCC 12's UBSan reports
+// a false "invalid vptr" in LCM's member-function callback.
 struct Received {
   std::vector<lane_estimate_t> lanes;
   std::vector<status_t> statuses;
   std::vector<std::string> channels;
-  void on_lane(const lcm::ReceiveBuffer*, const std::string& channel, const lane_estimate_t* m) {
-    channels.push_back(channel);
-    lanes.push_back(*m);
-  }
-  void on_status(const lcm::ReceiveBuffer*, const std::string& channel, const status_t* m) {
-    channels.push_back(channel);
-    statuses.push_back(*m);
-  }
 };
+
+void on_lane(const lcm::ReceiveBuffer*, const std::string& channel, const lane_estimate_t* m, Received* got) {
+  got->channels.push_back(channel);
+  got->lanes.push_back(*m);
+}
+
+void on_status(const lcm::ReceiveBuffer*, const std::string& channel, const status_t* m, Received* got) {
+  got->channels.push_back(channel);
+  got->statuses.push_back(*m);
+}
 
 LaneEstimate estimate_for(std::uint64_t frame) {
   LaneEstimate e;
@@ -46,8 +50,8 @@ LaneEstimate estimate_for(std::uint64_t frame) {
 
 void lcm_round_trip(LcmPublisher& publisher, lcm::LCM& subscriber) {
   Received got;
-  subscriber.subscribe(publisher.lanes_channel(), &Received::on_lane, &got);
-  subscriber.subscribe(publisher.status_channel(), &Received::on_status, &got);
+  lcm::Subscription* lanes = subscriber.subscribeFunction(publisher.lanes_channel(), &on_lane, &got);
+  lcm::Subscription* statuses = subscriber.subscribeFunction(publisher.status_channel(), &on_status, &got);
 
   constexpr int kFrames = 20;
   // Warm up once: LCM computes type hashes and sets up its send path on first use.
@@ -86,6 +90,8 @@ void lcm_round_trip(LcmPublisher& publisher, lcm::LCM& subscriber) {
       EXPECT_EQ(got.lanes[static_cast<std::size_t>(i)].publish_utime, 2000 + i);
     }
   }
+  subscriber.unsubscribe(lanes);
+  subscriber.unsubscribe(statuses);
   ASSERT_EQ(got.statuses.size(), 2u);
   EXPECT_EQ(got.statuses[1].frames_in_total, 43);
   EXPECT_EQ(got.statuses[1].camera, "test camera");
