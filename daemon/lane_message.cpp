@@ -21,6 +21,18 @@ static_assert(M::DEPARTURE_LEFT == static_cast<int>(Departure::left));
 static_assert(M::DEPARTURE_RIGHT == static_cast<int>(Departure::right));
 constexpr int kReasonCount = M::REASON_RANK_DEFICIENT + 1;
 
+// EstimatedLine and lane_line_t name their fields alike; one copy serves both ways.
+template <typename From, typename To>
+void copy_line(const From& from, To& to) {
+  to.id = from.id;
+  to.y0_mm = from.y0_mm;
+  to.m = from.m;
+  to.c_per_mm = from.c_per_mm;
+  to.marks = from.marks;
+  to.confidence = from.confidence;
+  to.sigma_y0_mm = from.sigma_y0_mm;
+}
+
 }  // namespace
 
 void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t publish_utime, lane_estimate_t& out) {
@@ -39,19 +51,8 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   const int n = std::clamp(e.num_lines, 0, kMaxLaneLines);
   out.num_lines = static_cast<std::int8_t>(n);
   for (int i = 0; i < kMaxLaneLines; ++i) {
-    lane_line_t& l = out.lines[i];
-    if (i < n) {
-      const EstimatedLine& s = e.lines[static_cast<std::size_t>(i)];
-      l.id = s.id;
-      l.y0_mm = s.y0_mm;
-      l.m = s.m;
-      l.c_per_mm = s.c_per_mm;
-      l.marks = s.marks;
-      l.confidence = s.confidence;
-      l.sigma_y0_mm = s.sigma_y0_mm;
-    } else {
-      l = lane_line_t{};
-    }
+    if (i < n) copy_line(e.lines[static_cast<std::size_t>(i)], out.lines[i]);
+    else out.lines[i] = lane_line_t{};
   }
   out.lane_width_mm = e.lane_width_mm;
   out.lateral_offset_mm = e.lateral_offset_mm;
@@ -76,17 +77,7 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.sigma_theta_deg = m.sigma_theta_deg;
   e.sigma_phi_deg = m.sigma_phi_deg;
   e.num_lines = std::clamp(static_cast<int>(m.num_lines), 0, kMaxLaneLines);
-  for (int i = 0; i < e.num_lines; ++i) {
-    const lane_line_t& s = m.lines[i];
-    EstimatedLine& l = e.lines[static_cast<std::size_t>(i)];
-    l.id = s.id;
-    l.y0_mm = s.y0_mm;
-    l.m = s.m;
-    l.c_per_mm = s.c_per_mm;
-    l.marks = s.marks;
-    l.confidence = s.confidence;
-    l.sigma_y0_mm = s.sigma_y0_mm;
-  }
+  for (int i = 0; i < e.num_lines; ++i) copy_line(m.lines[i], e.lines[static_cast<std::size_t>(i)]);
   e.lane_width_mm = m.lane_width_mm;
   e.lateral_offset_mm = m.lateral_offset_mm;
   e.heading_deg = m.heading_deg;

@@ -53,6 +53,26 @@ struct Supervised {
         stderr_path(dir.file("stderr")),
         child({kDaemon, "--config", config_path},
               test::ChildOptions{{"NOTIFY_SOCKET=" + socket.path(), "WATCHDOG_USEC=300000"}, "", stderr_path, user}) {}
+  // SIGTERM as systemd sends it: the notifications up to STOPPING=1 (read before
+  // reaping, as systemd does), then the exit. Expects exit status 0 within 2 s.
+  struct Stop {
+    std::vector<std::string> notifications;
+    Clock::duration took;
+  };
+  Stop terminate() {
+    const auto before = Clock::now();
+    child.signal(SIGTERM);
+    Stop stop{socket.receive_until("STOPPING=1", 1000), {}};
+    const std::optional<int> exit_status = child.wait_exit(2000);
+    stop.took = Clock::now() - before;
+    EXPECT_TRUE(exit_status.has_value()) << "still running 2 s after SIGTERM";
+    if (exit_status) {
+      EXPECT_TRUE(WIFEXITED(*exit_status));
+      EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+    }
+    return stop;
+  }
+
   test::NotifySocket socket;
   std::string stderr_path;
   test::ChildProcess child;
@@ -72,17 +92,10 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
   EXPECT_EQ(status->rfind("STATUS=streaming ", 0), 0u) << *status;
   EXPECT_NE(status->find(", 0 allocations"), std::string::npos) << *status;
 
-  const auto before = Clock::now();
-  d.child.signal(SIGTERM);
-  const auto rest = d.socket.receive_until("STOPPING=1", 1000);  // drained before reaping
-  const std::optional<int> exit_status = d.child.wait_exit(2000);
-  const auto took = Clock::now() - before;
-  ASSERT_FALSE(rest.empty());
-  EXPECT_EQ(rest.back(), "STOPPING=1");
-  ASSERT_TRUE(exit_status.has_value()) << "still running 2 s after SIGTERM";
-  EXPECT_TRUE(WIFEXITED(*exit_status));
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
-  EXPECT_LT(took, std::chrono::seconds(1)) << "a requirement: clean shutdown within a second";
+  const Supervised::Stop stop = d.terminate();
+  ASSERT_FALSE(stop.notifications.empty());
+  EXPECT_EQ(stop.notifications.back(), "STOPPING=1");
+  EXPECT_LT(stop.took, std::chrono::seconds(1)) << "a requirement: clean shutdown within a second";
   const std::string log = test::read_file(d.stderr_path);
   EXPECT_EQ(count_of(log, "SIGTERM: stopping"), 1) << log;
   EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << log;
@@ -97,11 +110,7 @@ TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
   d.socket.receive_until("never", 300);
   const auto after = d.socket.receive_until("never", 500);
   EXPECT_GE(count_equal(after, "WATCHDOG=1"), 2) << "still processing after SIGHUP";
-  d.child.signal(SIGTERM);
-  d.socket.receive_until("STOPPING=1", 1000);
-  const auto exit_status = d.child.wait_exit(2000);
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  d.terminate();
   const std::string log = test::read_file(d.stderr_path);
   EXPECT_EQ(count_of(log, "SIGHUP: reloading the configuration is not supported; restart ccdlaned to apply changes"),
             1)
@@ -121,11 +130,7 @@ TEST(Ccdlaned, WithoutPrivilegesRealtimeIsRefusedOnceAndItRunsAnyway) {
   Supervised d(dir, config, /*nobody*/ 65534);
   chmod(d.socket.path().c_str(), 0777);  // nobody may send to it
   ASSERT_EQ(d.socket.receive_until("READY=1", 10000).back(), "READY=1") << test::read_file(d.stderr_path);
-  d.child.signal(SIGTERM);
-  d.socket.receive_until("STOPPING=1", 1000);
-  const auto exit_status = d.child.wait_exit(2000);
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  d.terminate();
   const std::string log = test::read_file(d.stderr_path);
   EXPECT_EQ(count_of(log, "warning: cannot lock memory (mlockall: "), 1) << log;
   EXPECT_EQ(count_of(log, "warning: SCHED_FIFO priority"), 1) << log;  // two threads refused, said once

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <optional>
 #include <cstdlib>
 #include <thread>
 #include <vector>
@@ -30,6 +31,19 @@ using test::RecordingSink;
 using test::StallingSource;
 using test::small_frames;
 
+// Runs a finite source to its end; the allocations counted after the first frame, or
+// nullopt when it did not finish in time.
+std::optional<std::uint64_t> run_to_end(Pipeline& pipeline, std::chrono::milliseconds limit = 10s) {
+  pipeline.start();
+  pipeline.run();
+  const bool finished = eventually([&] { return pipeline.finished(); }, limit);
+  const std::uint64_t allocations = allocation_counter::count();
+  pipeline.stop();
+  allocation_counter::stop_counting();
+  if (!finished) return std::nullopt;
+  return allocations;
+}
+
 struct Rig {
   RealtimeConfig realtime_config;
   RealtimeSetup realtime{realtime_config};
@@ -46,14 +60,9 @@ TEST(Pipeline, EveryFrameArrivesInOrderAndIntactWithoutAllocating) {
   options.queue_depth = 2;
   Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
   EXPECT_EQ(pipeline.pool().size(), 4);
-  pipeline.start();
-  pipeline.run();
-  ASSERT_TRUE(eventually([&] { return pipeline.finished(); }));
-  const std::uint64_t allocations = allocation_counter::count();
-  pipeline.stop();
-  allocation_counter::stop_counting();
-
-  EXPECT_EQ(allocations, 0u) << "the pipeline allocated after its first frame";
+  const auto allocations = run_to_end(pipeline);
+  ASSERT_TRUE(allocations.has_value()) << "did not finish";
+  EXPECT_EQ(*allocations, 0u) << "the pipeline allocated after its first frame";
   const PipelineTotals t = pipeline.totals();
   EXPECT_TRUE(t.ready);
   EXPECT_EQ(t.frames_in, kFrames);
@@ -86,14 +95,9 @@ TEST(Pipeline, WhenProcessingFallsBehindTheOldestFramesAreDroppedAndCountedExact
   PipelineOptions options;
   options.queue_depth = 3;
   Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
-  pipeline.start();
-  pipeline.run();
-  ASSERT_TRUE(eventually([&] { return pipeline.finished(); }, 60s));
-  const std::uint64_t allocations = allocation_counter::count();
-  pipeline.stop();
-  allocation_counter::stop_counting();
-
-  EXPECT_EQ(allocations, 0u);
+  const auto allocations = run_to_end(pipeline, 60s);
+  ASSERT_TRUE(allocations.has_value()) << "did not finish";
+  EXPECT_EQ(*allocations, 0u);
   const PipelineTotals t = pipeline.totals();
   const auto records = sink.records();
   EXPECT_EQ(t.frames_in, kFrames);
@@ -123,11 +127,7 @@ TEST(Pipeline, DamagedFramesArePublishedNotOkAndCountedByReason) {
   PipelineOptions options;
   options.queue_depth = 64;
   Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
-  pipeline.start();
-  pipeline.run();
-  ASSERT_TRUE(eventually([&] { return pipeline.finished(); }));
-  pipeline.stop();
-  allocation_counter::stop_counting();
+  ASSERT_TRUE(run_to_end(pipeline).has_value());
   const PipelineTotals t = pipeline.totals();
   const std::uint64_t damaged = processor.damaged_frames();
   EXPECT_EQ(t.frames_ok + damaged, t.frames_processed);
@@ -150,11 +150,7 @@ TEST(Pipeline, TheGyroAttitudeReachesTheProcessorOrIsCountedMissing) {
     FakeGyro gyro(has_readings);
     Rig rig;
     Pipeline pipeline(source, &gyro, processor, sink, rig.realtime, PipelineOptions{});
-    pipeline.start();
-    pipeline.run();
-    ASSERT_TRUE(eventually([&] { return pipeline.finished(); }));
-    pipeline.stop();
-    allocation_counter::stop_counting();
+    ASSERT_TRUE(run_to_end(pipeline).has_value());
     EXPECT_TRUE(gyro.ran()) << "the gyro thread ran the provider until stop";
     const PipelineTotals t = pipeline.totals();
     EXPECT_EQ(t.no_attitude, has_readings ? 0u : kFrames);
