@@ -27,6 +27,11 @@ int main(int argc, char** argv) {
                                               ", or the built-in demo when that does not exist");
   app.add_flag("--check-config", check_only, "validate the configuration and exit (0: usable, 2: not)");
   app.set_version_flag("--version", std::string(CCDLANE_VERSION));
+  app.footer(
+      "Signals: SIGTERM and SIGINT stop it cleanly within a second. SIGHUP does not reload the configuration "
+      "(that is logged, and the daemon carries on): restart it to apply a changed file.\n"
+      "Under systemd (Type=notify) it sends READY=1 after the first processed frame, WATCHDOG=1 only while "
+      "frames are processed, a one-line STATUS= every second and STOPPING=1 on shutdown.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -108,24 +108,27 @@ int run_daemon(const Config& config) {
   std::unique_ptr<AttitudeProvider> gyro;
   std::unique_ptr<FrameProcessor> processor;
   std::unique_ptr<LcmPublisher> publisher;
+  bool source_open = false, gyro_open = false;
+  // A start that fails half-way leaves no stream running and no device open.
+  const auto fail = [&](const char* category, const char* why) {
+    log_line(LogLevel::error, category, "%s", why);
+    if (gyro_open) gyro->close();
+    if (source_open) source->close();
+    return 1;
+  };
   try {
     source = make_frame_source(config);
-    if (std::string why = source->open(); !why.empty()) {
-      log_line(LogLevel::error, "camera", "%s", why.c_str());
-      return 1;
-    }
+    if (std::string why = source->open(); !why.empty()) return fail("camera", why.c_str());
+    source_open = true;
     gyro = make_attitude_provider(config);
     if (gyro) {
-      if (std::string why = gyro->open(); !why.empty()) {
-        log_line(LogLevel::error, "gyro", "%s", why.c_str());
-        return 1;
-      }
+      if (std::string why = gyro->open(); !why.empty()) return fail("gyro", why.c_str());
+      gyro_open = true;
     }
     processor = make_frame_processor(config, *source);
     publisher = std::make_unique<LcmPublisher>(config.lcm);
   } catch (const std::exception& e) {
-    log_line(LogLevel::error, "start", "%s", e.what());
-    return 1;
+    return fail("start", e.what());
   }
 
   Pipeline pipeline(*source, gyro.get(), *processor, *publisher, realtime, pipeline_options(config));
