@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/config/synth_config.hpp"
 #include "core/geometry/camera_model.hpp"
 
 namespace ccdlane {
@@ -113,6 +114,7 @@ struct Config {
   LcmConfig lcm;
   RealtimeConfig realtime;
   DaemonConfig daemon;
+  SynthConfig synth;
 
   // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
   CameraPose nominal_pose() const;
