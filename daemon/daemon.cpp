@@ -134,10 +134,10 @@ int run_daemon(const Config& config) {
   Pipeline pipeline(*source, gyro.get(), *processor, *publisher, realtime, pipeline_options(config));
   ServiceHeartbeat heartbeat(notifier);
   StatusTicker status(pipeline, gyro.get(), *publisher, notifier, source->describe(), start_ns);
-  log_line(LogLevel::info, "start", "%s; gyro %s; %d frame buffers of %zu bytes; lanes on %s, status on %s, bus %s",
-           source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pipeline.pool().size(),
-           pipeline.pool().frame_bytes(), publisher->lanes_channel().c_str(), publisher->status_channel().c_str(),
-           publisher->url().c_str());
+  const FramePoolLayout& pool = pipeline.pool().layout();
+  log_line(LogLevel::info, "start", "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s",
+           source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pool.count, pool.width, pool.height,
+           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(), publisher->url().c_str());
   if (notifier.watchdog_interval_us() > 0)
     log_line(LogLevel::info, "systemd", "watchdog every %.3f s, pinged while frames flow",
              static_cast<double>(notifier.watchdog_interval_us()) * 1e-6);

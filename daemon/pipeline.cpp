@@ -16,7 +16,16 @@
 namespace ccdlane {
 namespace {
 
-int significant_bits_of(PixelFormat format) { return format == PixelFormat::mono16 ? 16 : 8; }
+FramePoolLayout pool_layout(const FrameSource& source, int queue_depth) {
+  FramePoolLayout layout;
+  // One buffer being filled, one being processed, queue_depth waiting: with this many the
+  // capture thread always finds a free buffer after queueing one.
+  layout.count = queue_depth + 2;
+  layout.width = source.width();
+  layout.height = source.height();
+  layout.format = source.format();
+  return layout;
+}
 
 void name_this_thread(const char* name) { pthread_setname_np(pthread_self(), name); }
 
@@ -31,10 +40,7 @@ Pipeline::Pipeline(FrameSource& source, AttitudeProvider* gyro, FrameProcessor& 
       realtime_(realtime),
       options_(options),
       camera_name_(source.describe()),
-      // One buffer being filled, one being processed, queue_depth waiting: with this many
-      // the capture thread always finds a free buffer after queueing one.
-      pool_(options.queue_depth + 2, source.width(), source.height(), source.format(),
-            significant_bits_of(source.format())),
+      pool_(pool_layout(source, options.queue_depth)),
       slots_(static_cast<std::size_t>(pool_.size())),
       queued_(static_cast<std::size_t>(options.queue_depth)),
       returned_(static_cast<std::size_t>(pool_.size())),

@@ -14,13 +14,13 @@
 
 #include "daemon/attitude_provider.hpp"
 #include "daemon/doorbell.hpp"
-#include "daemon/frame_pool.hpp"
 #include "daemon/frame_processor.hpp"
 #include "daemon/lane_sink.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/pipeline_totals.hpp"
 #include "daemon/realtime.hpp"
 #include "daemon/spsc_ring.hpp"
+#include "drivers/camera/frame_pool.hpp"
 #include "drivers/camera/frame_source.hpp"
 
 namespace ccdlane {
@@ -87,6 +87,8 @@ class Pipeline {
   const PipelineOptions options_;
   const std::string camera_name_;
 
+  // The camera drivers' pool, for its storage only: buffers change hands through the
+  // two rings below, so its borrow()/give_back() are not used here.
   FramePool pool_;
   std::vector<SlotMeta> slots_;       // per buffer; written by capture, read by processing
   SpscRing<std::uint32_t> queued_;    // capture -> processing (drop-oldest)

@@ -302,7 +302,8 @@ void read_daemon(TableReader& r, Config& c) {
   r.integer("queue_depth", c.daemon.queue_depth);
   r.number("stall_timeout_s", c.daemon.stall_timeout_s);
   r.reject_unknown();
-  require(c.daemon.queue_depth >= 1 && c.daemon.queue_depth <= 64, r, "queue_depth", "must be between 1 and 64 frames");
+  // The daemon's frame pool holds queue_depth + 2 frames, at most 64.
+  require(c.daemon.queue_depth >= 1 && c.daemon.queue_depth <= 62, r, "queue_depth", "must be between 1 and 62 frames");
   require(c.daemon.stall_timeout_s >= 0.1 && c.daemon.stall_timeout_s <= 3600.0, r, "stall_timeout_s",
           "must be between 0.1 and 3600 seconds");
 }

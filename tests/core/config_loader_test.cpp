@@ -159,7 +159,8 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
   EXPECT_EQ(c.realtime.gyro_priority, 40);
   EXPECT_EQ(c.lcm.prefix, "car-7/front.");
 
-  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 0\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 64 frames");
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 0\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 63\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
   EXPECT_EQ(error_of("[daemon]\nstall_timeout_s = 0\n"),
             "test.toml:2: daemon.stall_timeout_s: must be between 0.1 and 3600 seconds");
   EXPECT_EQ(error_of("[daemon]\npool = 3\n"), "test.toml:2: daemon.pool: unknown key");

@@ -201,7 +201,7 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
   const std::string bad_value = dir.write("bad.toml", "[daemon]\nqueue_depth = 0\n");
   auto r = test::run_process({kDaemon, "--check-config", "--config", bad_value});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(r.err, "ccdlaned: " + bad_value + ":2: daemon.queue_depth: must be between 1 and 64 frames\n");
+  EXPECT_EQ(r.err, "ccdlaned: " + bad_value + ":2: daemon.queue_depth: must be between 1 and 62 frames\n");
 
   const std::string unavailable = dir.write("v4l2.toml", "[source]\nkind = \"v4l2\"\n");
   r = test::run_process({kDaemon, "--config", unavailable});  // refused before starting, too

@@ -125,7 +125,7 @@ TEST(Pipeline, DamagedFramesArePublishedNotOkAndCountedByReason) {
   TestPatternProcessor processor;
   Rig rig;
   PipelineOptions options;
-  options.queue_depth = 64;
+  options.queue_depth = 62;
   Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
   ASSERT_TRUE(run_to_end(pipeline).has_value());
   const PipelineTotals t = pipeline.totals();
