@@ -1,5 +1,7 @@
-// Replaces the global operator new/delete with ones that count while armed. Linked only
-// into ccdlaned and its tests: replacing operator new is a whole-program decision.
+// Replaces the global operator new/delete with ones that count: per thread always, and
+// process-wide while armed. The one replacement in the project (a program can have only
+// one): linked into ccdlaned, its tests, and, through tests/support, every test that
+// proves "no allocation". Replacing operator new is a whole-program decision.
 //
 // Only operator new is counted, not malloc: the daemon's own code and the C++ libraries
 // allocate through new; C libraries underneath (liblcm, libsystemd, glibc) call malloc
@@ -17,8 +19,10 @@ namespace ccdlane::allocation_counter {
 namespace {
 std::atomic<bool> g_counting{false};
 std::atomic<std::uint64_t> g_count{0};
+thread_local std::uint64_t t_count = 0;
 
 void note_allocation() noexcept {
+  ++t_count;
   if (g_counting.load(std::memory_order_relaxed)) g_count.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -44,6 +48,7 @@ void start_counting() {
 }
 void stop_counting() { g_counting.store(false, std::memory_order_release); }
 std::uint64_t count() { return g_count.load(std::memory_order_relaxed); }
+std::uint64_t in_this_thread() { return t_count; }
 
 }  // namespace ccdlane::allocation_counter
 

@@ -1,5 +1,5 @@
 // Counts heap allocations once the daemon is ready, to prove (and report in its status)
-// that the steady state allocates nothing.
+// that the steady state allocates nothing; also per thread, for tests.
 #pragma once
 
 #include <cstdint>
@@ -15,5 +15,9 @@ void stop_counting();
 
 // Allocations since start_counting().
 std::uint64_t count();
+
+// Allocations made by the calling thread since it began, counted whether armed or not
+// (tests/support's AllocationScope is built on this).
+std::uint64_t in_this_thread();
 
 }  // namespace ccdlane::allocation_counter
