@@ -21,19 +21,19 @@ std::atomic<bool> g_counting{false};
 std::atomic<std::uint64_t> g_count{0};
 thread_local std::uint64_t t_count = 0;
 
-void note_allocation() noexcept {
+void count_one() noexcept {
   ++t_count;
   if (g_counting.load(std::memory_order_relaxed)) g_count.fetch_add(1, std::memory_order_relaxed);
 }
 
 void* allocate(std::size_t size) {
-  note_allocation();
+  count_one();
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
 
 void* allocate_aligned(std::size_t size, std::align_val_t alignment) {
-  note_allocation();
+  count_one();
   const auto a = static_cast<std::size_t>(alignment);
   // aligned_alloc wants a size that is a multiple of the alignment.
   const std::size_t rounded = ((size == 0 ? 1 : size) + a - 1) / a * a;
@@ -49,6 +49,7 @@ void start_counting() {
 void stop_counting() { g_counting.store(false, std::memory_order_release); }
 std::uint64_t count() { return g_count.load(std::memory_order_relaxed); }
 std::uint64_t in_this_thread() { return t_count; }
+void note_allocation() { count_one(); }
 
 }  // namespace ccdlane::allocation_counter
 

@@ -20,4 +20,8 @@ std::uint64_t count();
 // (tests/support's AllocationScope is built on this).
 std::uint64_t in_this_thread();
 
+// Counts one allocation that did not come through operator new: for allocator wrappers
+// (tests wrap malloc & co. at link time, tests/support/malloc_counter.cpp).
+void note_allocation();
+
 }  // namespace ccdlane::allocation_counter

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 
@@ -13,7 +14,10 @@
 
 namespace ccdlane {
 
-constexpr int kMaxLaneLines = 8;  // compile-time bound on lines per problem
+// Compile-time bound on lines per problem. With every parameter free the reduced
+// (dense) system then has at most 5 + 3 * 4 = 17 unknowns, whatever the number of picks.
+constexpr int kMaxLaneLines = 4;
+constexpr int kMaxReducedParams = kPoseParams + 3 * kMaxLaneLines;
 
 // One pick: an observed (distorted) 1-based pixel of a mark on lane line `line`.
 struct Pick {
@@ -30,6 +34,8 @@ struct LaneLine {
 };
 
 // Priors in interface units (degrees, mm); empty = none. Gyro roll/pitch arrive here.
+// Used in reprojection mode only: the paper's index takes no priors (solver.md). A
+// lane-width prior needs at least two lines and is ignored with fewer.
 struct SolverPriors {
   std::optional<Prior> psi_deg, theta_deg, phi_deg, H_mm, f_mm, lane_width_mm;
 };
@@ -45,7 +51,9 @@ struct SolveRequest {
   CameraPose initial_pose;
   std::span<const Pick> picks;
   int num_lines = 0;
-  // Initial lines; empty = a straight-line fit of the initial ground points (solver.md).
+  // Initial lines (exactly num_lines of them); empty = a straight-line fit of the
+  // initial ground points of each line (solver.md): y0 and, when m is free, m from the
+  // fit, otherwise m = 0; c = 0.
   std::span<const LaneLine> initial_lines;
 };
 
@@ -67,26 +75,50 @@ struct SolveSigmas {
   double psi_deg = kUndetermined, theta_deg = kUndetermined, phi_deg = kUndetermined;
   double H_mm = kUndetermined, f_mm = kUndetermined;
   std::array<double, kMaxLaneLines> y0_mm, m, c_per_mm;  // filled with kUndetermined
+  SolveSigmas();
 };
+
+// One unknown of the reduced (dense) system: a free global, or a free kind of one line.
+struct ReducedParam {
+  FreeParam kind = FreeParam::psi;
+  int line = -1;  // the lane line for y0/m/c, -1 for globals
+};
+
+using ReducedMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxReducedParams, kMaxReducedParams>;
 
 struct SolveResult {
   SolveStatus status = SolveStatus::invalid_input;
   bool converged = false;       // a convergence rule fired (not max_iterations, not failure)
   bool rank_deficient = false;  // some free parameter is not determined by the data
-  int iterations = 0;
+  int iterations = 0;           // LM steps computed (accepted or not)
   double cost = 0.0;            // the mode's performance index J at the optimum
-  double rms_px = 0.0;          // reprojection RMS over the picks, pixels
+  double rms_px = 0.0;          // RMS over the picks of the reprojection distance, pixels
   CameraPose pose;
   int num_lines = 0;
   std::array<LaneLine, kMaxLaneLines> lines{};
   SolveSigmas sigma;
   // Evaluated mark positions, one per pick, valid until the next solve (solver storage).
   std::span<const Vec2> points_mm;
+  // The pick behind a no_ground_point or invalid_input status (index into picks), or -1.
+  int failed_pick = -1;
+  // The free parameters in the order of `covariance`, and their covariance in internal
+  // units (radians, mm) with NaN rows/columns for undetermined ones. Reprojection mode:
+  // the inverse of the reduced normal matrix at the optimum. Paper mode (algebraic
+  // residuals of unknown scale): that inverse times the residual variance estimate
+  // J / (picks - unknowns), NaN when there are no spare picks.
+  int num_free = 0;
+  std::array<ReducedParam, kMaxReducedParams> free_params{};
+  ReducedMatrix covariance;
 };
+
+// Residuals needed before a request is solvable (solver.md: fewer residuals than
+// unknowns is too_few_picks): the minimum number of picks for `request`'s free set,
+// lines and priors. Each pick brings two residuals and one unknown (its x).
+int required_picks(const SolveRequest& request);
 
 class LaneSolver {
  public:
-  // All workspaces are sized here; solve() never allocates.
+  // All workspaces are sized here; solve() never allocates. max_lines <= kMaxLaneLines.
   LaneSolver(const CameraSpec& camera, int max_picks, int max_lines = kMaxLaneLines);
   ~LaneSolver();
   LaneSolver(const LaneSolver&) = delete;
@@ -97,6 +129,11 @@ class LaneSolver {
   const SolveResult& solve(const SolveRequest& request);
 
   int max_picks() const;
+  int max_lines() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace ccdlane

@@ -10,4 +10,6 @@ std::size_t allocations_in_this_thread() {
   return static_cast<std::size_t>(allocation_counter::in_this_thread());
 }
 
+void note_allocation() { allocation_counter::note_allocation(); }
+
 }  // namespace ccdlane::test

@@ -11,6 +11,7 @@ CommandAction setup_ground(CLI::App& sub);
 CommandAction setup_monitor(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
 CommandAction setup_grab(CLI::App& sub);
+CommandAction setup_replay(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
@@ -19,6 +20,7 @@ constexpr Command kCommands[] = {
     {"monitor", "watch ccdlaned's lane and status messages on the LCM bus", setup_monitor},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
+    {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
 };
 }  // namespace
 }  // namespace ccdlane::cli

@@ -1,5 +1,6 @@
 // `ccdlane monitor`: watch ccdlaned on the bus: a compact line a second, or every lane
-// message as the JSON object `ccdlane replay` prints for a frame.
+// message as the JSON object `ccdlane replay` prints for a frame (the same function
+// prints both: the message is turned back into a LaneEstimate first).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,6 +21,7 @@
 #include "daemon/status_names.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
+#include "tools/ccdlane/lane_estimate_json.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -33,58 +35,6 @@ struct MonitorArgs {
   double seconds = 0.0;  // 0: no limit
   bool json = false;
 };
-
-const char* departure_name(Departure d) {
-  switch (d) {
-    case Departure::none: return "none";
-    case Departure::left: return "left";
-    case Departure::right: return "right";
-  }
-  return "none";
-}
-
-const char* failure_name(EstimateFailure f) {
-  switch (f) {
-    case EstimateFailure::none: return "none";
-    case EstimateFailure::no_frame: return "no_frame";
-    case EstimateFailure::too_few_marks: return "too_few_marks";
-    case EstimateFailure::no_lane: return "no_lane";
-    case EstimateFailure::solver_failed: return "solver_failed";
-    case EstimateFailure::rank_deficient: return "rank_deficient";
-  }
-  return "solver_failed";
-}
-
-// The per-frame result in the field order of interfaces.md ("Per-frame result").
-Json lane_json(const LaneEstimate& e) {
-  Json j;
-  j["frame"] = e.frame;
-  j["t_ns"] = e.t_ns;
-  j["ok"] = e.ok;
-  if (!e.ok) j["reason"] = failure_name(e.reason);
-  j["psi_deg"] = json_number(e.psi_deg);
-  j["theta_deg"] = json_number(e.theta_deg);
-  j["phi_deg"] = json_number(e.phi_deg);
-  Json lines = Json::array();
-  for (int i = 0; i < e.num_lines; ++i) {
-    const EstimatedLine& l = e.lines[static_cast<std::size_t>(i)];
-    lines.push_back(Json{{"id", l.id},
-                         {"y0_mm", json_number(l.y0_mm)},
-                         {"m", json_number(l.m)},
-                         {"c_per_mm", json_number(l.c_per_mm)},
-                         {"marks", l.marks},
-                         {"confidence", json_number(l.confidence)}});
-  }
-  j["lines"] = lines;
-  j["lane_width_mm"] = json_number(e.lane_width_mm);
-  j["lateral_offset_mm"] = json_number(e.lateral_offset_mm);
-  j["heading_deg"] = json_number(e.heading_deg);
-  j["departure"] = departure_name(e.departure);
-  j["rms_px"] = json_number(e.rms_px);
-  j["iterations"] = e.iterations;
-  j["latency_us"] = e.latency_us;
-  return j;
-}
 
 class Monitor {
  public:
@@ -144,7 +94,7 @@ class Monitor {
     ++lanes_in_second_;
     last_lane_ = m;
     if (args_.json) {
-      print_json_line(std::cout, lane_json(from_message(m)));
+      print_json_line(std::cout, lane_estimate_json(from_message(m)));
       std::cout.flush();  // live through pipes, one object per message
     }
   }
@@ -164,9 +114,9 @@ class Monitor {
       n = std::snprintf(text, sizeof text,
                         "frame %llu %s | psi %.2f theta %.2f phi %.2f deg | lane %.0f mm, offset %.0f mm, heading "
                         "%.2f deg, departure %s | %d msg/s",
-                        static_cast<unsigned long long>(e.frame), e.ok ? "ok" : failure_name(e.reason), e.psi_deg,
+                        static_cast<unsigned long long>(e.frame), e.ok ? "ok" : to_string(e.reason), e.psi_deg,
                         e.theta_deg, e.phi_deg, e.lane_width_mm, e.lateral_offset_mm, e.heading_deg,
-                        departure_name(e.departure), lanes_in_second_);
+                        to_string(e.departure), lanes_in_second_);
     }
     if (last_status_ && n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
       const status_t& s = *last_status_;

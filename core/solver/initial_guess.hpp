@@ -1,0 +1,21 @@
+// Starting point of a solve (solver.md "Solving it well"): each pick's x from the ray-
+// ground intersection at the initial pose, lines from a straight-line fit when not given.
+#pragma once
+
+#include <span>
+
+#include "core/solver/lane_solver.hpp"
+
+namespace ccdlane::solver {
+
+// Ground points of the picks at `camera`'s pose into `ground`. Returns the index of the
+// first pick whose ray misses the road (or has no undistorted pixel), or -1.
+int ground_points_of_picks(const CameraModel& camera, std::span<const Pick> picks, Vec2* ground);
+
+// Per line, the least-squares line y = y0 + m x through its picks' ground points (m = 0
+// unless `fit_slope`, or when its points do not spread along x); c = 0. A line without
+// picks gets y0 = 0.
+void fit_initial_lines(std::span<const Pick> picks, const Vec2* ground, int num_lines, bool fit_slope,
+                       LaneLine* lines);
+
+}  // namespace ccdlane::solver

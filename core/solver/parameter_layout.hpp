@@ -1,0 +1,51 @@
+// Which unknowns are free, and where each sits in the reduced vector of the LM solve:
+// free globals (psi theta phi H f order) first, then each line's free kinds (y0 m c).
+#pragma once
+
+#include <array>
+
+#include "core/solver/solver_types.hpp"
+
+namespace ccdlane::solver {
+
+enum LineParam : int { kY0 = 0, kSlope = 1, kCurvature = 2, kLineParams = 3 };
+
+class ParameterLayout {
+ public:
+  ParameterLayout() = default;
+  ParameterLayout(const FreeSet& free, int num_lines);
+
+  int size() const { return num_global_ + num_line_kinds_ * num_lines_; }
+  int num_global() const { return num_global_; }
+  int num_line_kinds() const { return num_line_kinds_; }
+  int num_lines() const { return num_lines_; }
+  // Columns a pick's residuals can touch: the globals, then its line's kinds.
+  int local_size() const { return num_global_ + num_line_kinds_; }
+  PoseParam global(int k) const { return global_[k]; }
+  LineParam line_kind(int k) const { return line_kind_[k]; }
+  int line_offset(int line) const { return num_global_ + line * num_line_kinds_; }
+  // Reduced index of kind `kind` of line `line`, or -1 when that kind is fixed.
+  int line_index(int line, LineParam kind) const;
+  int global_index(PoseParam p) const;  // -1 when fixed
+  ReducedParam describe(int index) const;
+
+  // Adds a reduced step to the parameters it stands for.
+  void apply_step(const ReducedVector& step, CameraPose& pose, LaneLine* lines) const;
+  // Squared norm of the free parameters' values (radians, mm): the scale of a step.
+  double squared_norm(const CameraPose& pose, const LaneLine* lines) const;
+  // The local part (globals, then line `line`'s kinds) of a reduced vector, zero-padded.
+  LocalVector gather_local(const ReducedVector& v, int line) const;
+
+ private:
+  int num_global_ = 0;
+  int num_line_kinds_ = 0;
+  int num_lines_ = 0;
+  std::array<PoseParam, kPoseParams> global_{};
+  std::array<LineParam, kLineParams> line_kind_{};
+};
+
+// Pose parameter p of a pose, by reference (psi theta phi H f order).
+double& pose_param(CameraPose& pose, PoseParam p);
+double& line_param(LaneLine& line, LineParam k);
+
+}  // namespace ccdlane::solver

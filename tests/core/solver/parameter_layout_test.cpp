@@ -1,0 +1,64 @@
+// ParameterLayout: where each free unknown sits, and how steps map back onto poses/lines.
+#include "core/solver/parameter_layout.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ccdlane::solver {
+namespace {
+
+FreeSet free_set(std::initializer_list<FreeParam> params) {
+  FreeSet s;
+  for (FreeParam p : params) s.add(p);
+  return s;
+}
+
+TEST(ParameterLayout, GlobalsFirstThenEachLinesKinds) {
+  using enum FreeParam;
+  const ParameterLayout layout(free_set({phi, psi, f, c, y0}), 3);
+  EXPECT_EQ(layout.num_global(), 3);
+  EXPECT_EQ(layout.num_line_kinds(), 2);
+  EXPECT_EQ(layout.size(), 3 + 2 * 3);
+  EXPECT_EQ(layout.local_size(), 5);
+  EXPECT_EQ(layout.global(0), kPsi);  // psi theta phi H f order, whatever the set's order
+  EXPECT_EQ(layout.global(1), kPhi);
+  EXPECT_EQ(layout.global(2), kFocal);
+  EXPECT_EQ(layout.global_index(kPhi), 1);
+  EXPECT_EQ(layout.global_index(kTheta), -1);
+  EXPECT_EQ(layout.line_index(0, kY0), 3);
+  EXPECT_EQ(layout.line_index(0, kCurvature), 4);
+  EXPECT_EQ(layout.line_index(2, kY0), 7);
+  EXPECT_EQ(layout.line_index(1, kSlope), -1);
+  const ReducedParam p = layout.describe(6);
+  EXPECT_EQ(p.kind, c);
+  EXPECT_EQ(p.line, 1);
+  EXPECT_EQ(layout.describe(2).kind, f);
+  EXPECT_EQ(layout.describe(2).line, -1);
+}
+
+TEST(ParameterLayout, StepsLandOnTheirParametersOnly) {
+  using enum FreeParam;
+  const ParameterLayout layout(free_set({theta, H, m}), 2);
+  CameraPose pose{{0.1, 0.2, 0.3}, 1400.0, 5.05};
+  LaneLine lines[2] = {{1750.0, 0.01, 1e-6}, {-1750.0, 0.02, 2e-6}};
+  ReducedVector step(layout.size());
+  step << 0.5, 10.0, 0.001, 0.002;
+  layout.apply_step(step, pose, lines);
+  EXPECT_DOUBLE_EQ(pose.attitude.psi, 0.1);
+  EXPECT_DOUBLE_EQ(pose.attitude.theta, 0.7);
+  EXPECT_DOUBLE_EQ(pose.attitude.phi, 0.3);
+  EXPECT_DOUBLE_EQ(pose.H_mm, 1410.0);
+  EXPECT_DOUBLE_EQ(pose.f_mm, 5.05);
+  EXPECT_DOUBLE_EQ(lines[0].m, 0.011);
+  EXPECT_DOUBLE_EQ(lines[1].m, 0.022);
+  EXPECT_DOUBLE_EQ(lines[1].y0_mm, -1750.0);
+  EXPECT_DOUBLE_EQ(layout.squared_norm(pose, lines), 0.7 * 0.7 + 1410.0 * 1410.0 + 0.011 * 0.011 + 0.022 * 0.022);
+
+  const LocalVector local = layout.gather_local(step, 1);
+  EXPECT_DOUBLE_EQ(local[0], 0.5);
+  EXPECT_DOUBLE_EQ(local[1], 10.0);
+  EXPECT_DOUBLE_EQ(local[2], 0.002);
+  EXPECT_DOUBLE_EQ(local.tail(kMaxLocalParams - 3).squaredNorm(), 0.0);
+}
+
+}  // namespace
+}  // namespace ccdlane::solver

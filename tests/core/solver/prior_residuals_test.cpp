@@ -1,0 +1,63 @@
+// Prior rows: whitened residuals in configured units, their derivatives, and the lane
+// width taken between the outermost lines.
+#include "core/solver/prior_residuals.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ccdlane::solver {
+namespace {
+
+FreeSet free_set(std::initializer_list<FreeParam> params) {
+  FreeSet s;
+  for (FreeParam p : params) s.add(p);
+  return s;
+}
+
+TEST(PriorResiduals, AnglesInDegreesLengthsInMillimetres) {
+  using enum FreeParam;
+  const ParameterLayout layout(free_set({theta, phi, H, y0}), 2);
+  SolverPriors priors;
+  priors.phi_deg = Prior{1.0, 0.5};
+  priors.H_mm = Prior{1400.0, 20.0};
+  priors.psi_deg = Prior{0.0, 2.0};  // psi is fixed: constant residual, no derivative
+  const CameraPose pose{{deg_to_rad(3.0), 0.0, deg_to_rad(2.0)}, 1430.0, 5.05};
+  const LaneLine lines[2] = {{1700.0, 0, 0}, {-1800.0, 0, 0}};
+  PriorRows rows;
+  double cost = 0.0;
+  evaluate_priors(priors, layout, pose, lines, rows, cost);
+  ASSERT_EQ(rows.count, 3);
+  EXPECT_NEAR(rows.rows[0].r, 1.5, 1e-12);   // psi: (3 - 0) / 2
+  EXPECT_EQ(rows.rows[0].a.squaredNorm(), 0.0);
+  EXPECT_NEAR(rows.rows[1].r, 2.0, 1e-12);   // phi: (2 - 1) / 0.5
+  EXPECT_NEAR(rows.rows[1].a[layout.global_index(kPhi)], rad_to_deg(1.0) / 0.5, 1e-9);
+  EXPECT_NEAR(rows.rows[2].r, 1.5, 1e-12);   // H: (1430 - 1400) / 20
+  EXPECT_NEAR(rows.rows[2].a[layout.global_index(kHeight)], 1.0 / 20.0, 1e-15);
+  EXPECT_NEAR(cost, 1.5 * 1.5 + 2.0 * 2.0 + 1.5 * 1.5, 1e-12);
+  EXPECT_EQ(count_free_priors(priors, layout), 2);
+}
+
+TEST(PriorResiduals, LaneWidthBetweenTheOutermostLines) {
+  using enum FreeParam;
+  const ParameterLayout layout(free_set({y0}), 3);
+  SolverPriors priors;
+  priors.lane_width_mm = Prior{7000.0, 100.0};
+  const LaneLine lines[3] = {{100.0, 0, 0}, {3600.0, 0, 0}, {-3500.0, 0, 0}};
+  PriorRows rows;
+  double cost = 0.0;
+  evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);
+  ASSERT_EQ(rows.count, 1);
+  EXPECT_NEAR(rows.rows[0].r, (7100.0 - 7000.0) / 100.0, 1e-12);
+  EXPECT_NEAR(rows.rows[0].a[layout.line_index(1, kY0)], 0.01, 1e-15);
+  EXPECT_NEAR(rows.rows[0].a[layout.line_index(2, kY0)], -0.01, 1e-15);
+  EXPECT_EQ(rows.rows[0].a[layout.line_index(0, kY0)], 0.0);
+  EXPECT_EQ(count_free_priors(priors, layout), 1);
+  // One line has no width: the prior is ignored.
+  const ParameterLayout single(free_set({y0}), 1);
+  cost = 0.0;
+  evaluate_priors(priors, single, CameraPose{{}, 1400, 5}, lines, rows, cost);
+  EXPECT_EQ(rows.count, 0);
+  EXPECT_EQ(count_free_priors(priors, single), 0);
+}
+
+}  // namespace
+}  // namespace ccdlane::solver

@@ -1,0 +1,142 @@
+// ReprojectionResidual: residuals are the whitened pixel errors of the picks' road
+// points, and every analytic Jacobian column matches central finite differences.
+#include "core/solver/reprojection_residual.hpp"
+
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/solver/parameter_layout.hpp"
+#include "tests/core/solver/jacobian_check.hpp"
+#include "tests/core/solver/synthetic_scene.hpp"
+
+namespace ccdlane::solver {
+namespace {
+
+FreeSet all_free() {
+  FreeSet s;
+  for (int p = 0; p < kFreeParamCount; ++p) s.add(static_cast<FreeParam>(p));
+  return s;
+}
+
+struct Fixture {
+  test::SyntheticScene scene;
+  std::vector<double> x;
+  std::vector<PickBlock> blocks;
+  ParameterLayout layout{all_free(), 2};
+  SolverPriors priors;
+  SolverState state;
+
+  explicit Fixture(std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    test::SceneOptions o;
+    o.num_picks = 8;
+    o.max_slope = 0.02;
+    o.max_curvature = 1e-6;
+    scene = test::make_scene(rng, o);
+    x = scene.x_mm;
+    for (double& xi : x) xi *= 1.01;  // off the truth: residuals are not zero
+    blocks.resize(x.size());
+    state.pose = scene.truth;
+    std::copy(scene.lines.begin(), scene.lines.end(), state.lines.begin());
+    state.lines[1].c_per_mm += 3e-7;
+    state.x = x.data();
+    state.blocks = blocks.data();
+  }
+};
+
+TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
+  Fixture f(1);
+  ReprojectionResidual model(f.scene.camera);
+  model.configure(f.layout, f.scene.picks, 0.5, f.priors);
+  ASSERT_TRUE(model.evaluate(f.state));
+  const CameraModel camera(f.scene.camera, f.state.pose);
+  double cost = 0.0;
+  for (std::size_t i = 0; i < f.x.size(); ++i) {
+    const Pick& p = f.scene.picks[i];
+    const LaneLine& l = f.state.lines[p.line];
+    const Vec2 px = *camera.pixel_from_point(Vec3(f.x[i], l.y0_mm + l.m * f.x[i] + l.c_per_mm * f.x[i] * f.x[i], 0));
+    const Vec2 r = (px - Vec2(p.px, p.py)) / 0.5;
+    EXPECT_NEAR(f.blocks[i].r.x(), r.x(), 1e-9);
+    EXPECT_NEAR(f.blocks[i].r.y(), r.y(), 1e-9);
+    cost += r.squaredNorm();
+  }
+  EXPECT_NEAR(f.state.cost, cost, 1e-9 * cost);
+}
+
+TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
+  for (std::uint64_t seed = 2; seed < 6; ++seed) {
+    Fixture f(seed);
+    ReprojectionResidual model(f.scene.camera);
+    model.configure(f.layout, f.scene.picks, 0.5, f.priors);
+    ASSERT_TRUE(model.evaluate(f.state));
+    const std::vector<PickBlock> analytic = f.blocks;
+    const SolverState base = f.state;
+    const std::vector<double> x0 = f.x;
+    const auto residuals_at = [&](const ReducedVector& step, int pick_moved, double dx) {
+      SolverState s = base;
+      std::vector<double> x = x0;
+      if (pick_moved >= 0) x[pick_moved] += dx;
+      s.x = x.data();
+      std::vector<PickBlock> b(x.size());
+      s.blocks = b.data();
+      f.layout.apply_step(step, s.pose, s.lines.data());
+      EXPECT_TRUE(model.evaluate(s));
+      Eigen::VectorXd r(2 * x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) r.segment<2>(2 * i) = b[i].r;
+      return r;
+    };
+    const int n = f.layout.size();
+    // Steps sized to each unknown's scale: radians, mm, slope, 1/mm.
+    const auto step_size = [&](int k) {
+      switch (f.layout.describe(k).kind) {
+        case FreeParam::H: case FreeParam::y0: return 1e-3;
+        case FreeParam::f: return 1e-6;
+        case FreeParam::c: return 1e-11;
+        default: return 1e-7;
+      }
+    };
+    for (int k = 0; k < n; ++k) {
+      const double h = step_size(k);
+      const Eigen::VectorXd fd = test::central_difference(
+          [&](double t) {
+            ReducedVector step = ReducedVector::Zero(n);
+            step[k] = t;
+            return residuals_at(step, -1, 0.0);
+          },
+          h);
+      const ReducedParam p = f.layout.describe(k);
+      for (std::size_t i = 0; i < x0.size(); ++i) {
+        const int line = f.scene.picks[i].line;
+        // Column of parameter k in pick i's local block (0 if it is another line's).
+        double col[2] = {0, 0};
+        if (p.line < 0 || p.line == line) {
+          const int local = p.line < 0 ? k : f.layout.num_global() + (k - f.layout.line_offset(line));
+          col[0] = analytic[i].J(0, local);
+          col[1] = analytic[i].J(1, local);
+        }
+        for (int c = 0; c < 2; ++c)
+          EXPECT_NEAR(col[c], fd[2 * i + c], 1e-5 * (1.0 + std::abs(fd[2 * i + c])))
+              << "param " << k << " pick " << i;
+      }
+    }
+    for (std::size_t i = 0; i < x0.size(); ++i) {
+      const Eigen::VectorXd fd = test::central_difference(
+          [&](double t) { return residuals_at(ReducedVector::Zero(n), static_cast<int>(i), t); }, 1e-3);
+      EXPECT_NEAR(analytic[i].Jx.x(), fd[2 * i], 1e-7 * (1.0 + std::abs(fd[2 * i])));
+      EXPECT_NEAR(analytic[i].Jx.y(), fd[2 * i + 1], 1e-7 * (1.0 + std::abs(fd[2 * i + 1])));
+    }
+  }
+}
+
+TEST(ReprojectionResidual, PointBehindTheCameraFailsTheEvaluation) {
+  Fixture f(7);
+  f.x[3] = -5000.0;
+  ReprojectionResidual model(f.scene.camera);
+  model.configure(f.layout, f.scene.picks, 0.5, f.priors);
+  EXPECT_FALSE(model.evaluate(f.state));
+}
+
+}  // namespace
+}  // namespace ccdlane::solver

@@ -1,0 +1,119 @@
+// Schur elimination of the x_i against the full dense system: the same step, the same
+// x_i steps, and the linearised cost decrease computed directly.
+#include "core/solver/schur_system.hpp"
+
+#include <random>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+namespace ccdlane::solver {
+namespace {
+
+struct RandomProblem {
+  ParameterLayout layout;
+  std::vector<Pick> picks;
+  std::vector<PickBlock> blocks;
+  std::vector<double> x;
+  SolverState state;
+
+  RandomProblem(std::uint64_t seed, FreeSet free, int num_lines, int num_picks) : layout(free, num_lines) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (int i = 0; i < num_picks; ++i) {
+      picks.push_back({i % num_lines, 0.0, 0.0});
+      PickBlock b;
+      for (int c = 0; c < layout.local_size(); ++c) b.J.col(c) = Vec2(g(rng), g(rng));
+      b.Jx = Vec2(g(rng), g(rng));
+      b.r = Vec2(g(rng), g(rng));
+      blocks.push_back(b);
+    }
+    x.assign(num_picks, 0.0);
+    state.blocks = blocks.data();
+    state.x = x.data();
+    // Two dense prior rows (one coupling two lines' y0, like the lane width).
+    state.priors.count = 2;
+    for (PriorRow& row : state.priors.rows) {
+      row.a = ReducedVector::Zero(layout.size());
+      row.r = g(rng);
+    }
+    state.priors.rows[0].a[0] = 2.0;
+    state.priors.rows[1].a[layout.line_index(0, kY0)] = 1.5;
+    state.priors.rows[1].a[layout.line_index(num_lines - 1, kY0)] = -1.5;
+  }
+
+  // The whole Jacobian over (reduced parameters, x_1..x_N), rows of picks then priors.
+  Eigen::MatrixXd full_jacobian() const {
+    const int n = layout.size(), N = static_cast<int>(picks.size());
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * N + state.priors.count, n + N);
+    for (int i = 0; i < N; ++i) {
+      const int line = picks[i].line;
+      for (int c = 0; c < layout.num_global(); ++c) J.block<2, 1>(2 * i, c) = blocks[i].J.col(c);
+      for (int c = 0; c < layout.num_line_kinds(); ++c)
+        J.block<2, 1>(2 * i, layout.line_offset(line) + c) = blocks[i].J.col(layout.num_global() + c);
+      J.block<2, 1>(2 * i, n + i) = blocks[i].Jx;
+    }
+    for (int k = 0; k < state.priors.count; ++k) J.row(2 * N + k).head(n) = state.priors.rows[k].a.transpose();
+    return J;
+  }
+  Eigen::VectorXd full_residual() const {
+    const int N = static_cast<int>(picks.size());
+    Eigen::VectorXd r(2 * N + state.priors.count);
+    for (int i = 0; i < N; ++i) r.segment<2>(2 * i) = blocks[i].r;
+    for (int k = 0; k < state.priors.count; ++k) r[2 * N + k] = state.priors.rows[k].r;
+    return r;
+  }
+};
+
+TEST(SchurSystem, ReducedStepEqualsTheFullSystemsStep) {
+  using enum FreeParam;
+  FreeSet free;
+  for (FreeParam p : {psi, theta, phi, H, y0, m, c}) free.add(p);
+  for (const double lambda : {0.0, 1e-3, 0.5}) {
+    RandomProblem p(11, free, 3, 12);
+    const int n = p.layout.size(), N = 12;
+    const Eigen::MatrixXd J = p.full_jacobian();
+    const Eigen::VectorXd r = p.full_residual();
+    // Full system with the x_i's curvature damped by (1 + lambda), as the solver does.
+    Eigen::MatrixXd A = J.transpose() * J;
+    for (int i = 0; i < N; ++i) A(n + i, n + i) *= 1.0 + lambda;
+    const Eigen::VectorXd full = A.ldlt().solve(-J.transpose() * r);
+
+    ReducedMatrix Nr;
+    ReducedVector g;
+    build_reduced_system(p.layout, p.picks, p.state, lambda, Nr, g);
+    const ReducedVector step = Nr.ldlt().solve(-g);
+    for (int k = 0; k < n; ++k) EXPECT_NEAR(step[k], full[k], 1e-9 * (1 + std::abs(full[k]))) << "lambda " << lambda;
+    std::vector<double> dx(N);
+    const BackSubstitution bs = back_substitute(p.layout, p.picks, p.state, lambda, step, dx.data());
+    double dx2 = 0.0;
+    for (int i = 0; i < N; ++i) {
+      EXPECT_NEAR(dx[i], full[n + i], 1e-9 * (1 + std::abs(full[n + i])));
+      dx2 += dx[i] * dx[i];
+    }
+    EXPECT_NEAR(bs.x_step_squared_norm, dx2, 1e-12 * dx2);
+    Eigen::VectorXd delta(n + N);
+    delta << step, Eigen::Map<const Eigen::VectorXd>(dx.data(), N);
+    const double predicted = r.squaredNorm() - (r + J * delta).squaredNorm();
+    EXPECT_NEAR(bs.predicted_decrease, predicted, 1e-9 * std::abs(predicted));
+  }
+}
+
+TEST(SchurSystem, UndampedReducedMatrixIsTheInverseMarginalCovariance) {
+  using enum FreeParam;
+  FreeSet free;
+  for (FreeParam p : {psi, phi, f, y0}) free.add(p);
+  RandomProblem p(12, free, 2, 9);
+  const int n = p.layout.size();
+  const Eigen::MatrixXd J = p.full_jacobian();
+  const Eigen::MatrixXd cov = (J.transpose() * J).inverse();
+  ReducedMatrix Nr;
+  ReducedVector g;
+  build_reduced_system(p.layout, p.picks, p.state, 0.0, Nr, g);
+  const Eigen::MatrixXd marginal = Eigen::MatrixXd(Nr).inverse();
+  EXPECT_LT((marginal - cov.topLeftCorner(n, n)).norm(), 1e-9 * cov.topLeftCorner(n, n).norm());
+}
+
+}  // namespace
+}  // namespace ccdlane::solver

@@ -1,0 +1,41 @@
+// Synthetic lane scenes with known truth for the solver's tests and benchmarks: the
+// reference camera of geometry.md at road scale, marks projected from the truth.
+#pragma once
+
+#include <random>
+#include <vector>
+
+#include "core/config/config.hpp"
+#include "core/solver/lane_solver.hpp"
+
+namespace ccdlane::test {
+
+struct SceneOptions {
+  int num_picks = 30;
+  int num_lines = 2;
+  double max_angle_deg = 5.0;   // |psi|, |theta|, |phi| of the truth
+  double max_slope = 0.0;       // |m| of the truth (0: lines along x)
+  double max_curvature = 0.0;   // |c| of the truth, 1/mm
+  double min_ahead_mm = 5000.0;
+  double max_ahead_mm = 40000.0;
+};
+
+struct SyntheticScene {
+  CameraSpec camera;
+  CameraPose truth;
+  std::vector<LaneLine> lines;
+  std::vector<double> x_mm;    // each mark's truth distance ahead
+  std::vector<Pick> picks;     // exact projections of the marks
+};
+
+// The reference camera (DH-HV2003UC, f = 5.05 mm, k = -8.3042e-7) of geometry.md.
+CameraSpec reference_camera();
+
+// A random scene: H 1.2-1.6 m, lines 3-4 m apart around the camera, marks on every
+// line in turn, 5-40 m ahead, kept only where they fall inside the picture.
+SyntheticScene make_scene(std::mt19937_64& rng, const SceneOptions& options);
+
+// Picks of `scene` with independent Gaussian noise of `sigma_px` on each coordinate.
+std::vector<Pick> noisy_picks(const SyntheticScene& scene, double sigma_px, std::mt19937_64& rng);
+
+}  // namespace ccdlane::test
