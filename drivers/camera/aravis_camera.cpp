@@ -2,6 +2,8 @@
 // buffer so the streaming path never allocates.
 #include "drivers/camera/aravis_camera.hpp"
 
+#include "drivers/camera/capture_states.hpp"
+
 #include <arv.h>
 
 #include <cmath>
@@ -284,34 +286,15 @@ std::string AravisCamera::set_control(const std::string& name, const std::string
 }
 
 CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
-  if (into.data == nullptr || into.width != width_ || into.height != height_ || into.format != settings_.format) {
-    problem_.set("aravis:%s: capture into a %dx%d buffer, the stream is %dx%d", id_.c_str(), into.width, into.height,
-                 width_, height_);
-    ++counters_.errors;
+  if (!capture_buffer_fits(into, width_, height_, settings_.format, "aravis", id_.c_str(), problem_, counters_))
     return CaptureStatus::error;
-  }
   const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
   const std::int64_t stall_ns = std::int64_t{settings_.effective_stall_timeout_ms()} * 1'000'000;
   for (;;) {
+    if (const auto settled = settle_capture_state(state_, backoff_, deadline, "aravis", id_.c_str(), problem_,
+                                                  counters_, [this] { return bring_up(); }))
+      return *settled;
     const std::int64_t now = monotonic_ns();
-    switch (state_) {
-      case DeviceState::closed:
-      case DeviceState::opening:
-      case DeviceState::configuring:
-        problem_.set("aravis:%s: not open", id_.c_str());
-        return CaptureStatus::error;
-      case DeviceState::recovering:
-        if (!reopen_until(backoff_, deadline, [this] {
-              if (bring_up()) return true;
-              state_ = DeviceState::recovering;
-              return false;
-            }))
-          return CaptureStatus::recovering;
-        ++counters_.reconnects;
-        continue;
-      case DeviceState::streaming:
-        break;
-    }
     if (control_lost_.load(std::memory_order_acquire)) {
       lose_camera("control lost (no heartbeat answer)");
       continue;

@@ -2,6 +2,8 @@
 // path (including recovery) allocates, so problems are written into fixed buffers.
 #include "drivers/camera/v4l2_camera.hpp"
 
+#include "drivers/camera/capture_states.hpp"
+
 #include <linux/videodev2.h>
 #include <poll.h>
 #include <sys/mman.h>
@@ -445,34 +447,15 @@ void V4l2Camera::release_device() {
 }
 
 CaptureStatus V4l2Camera::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
-  if (into.data == nullptr || into.width != width_ || into.height != height_ || into.format != settings_.format) {
-    problem_.set("v4l2:%s: capture into a %dx%d buffer, the stream is %dx%d", path_.c_str(), into.width, into.height,
-                 width_, height_);
-    ++counters_.errors;
+  if (!capture_buffer_fits(into, width_, height_, settings_.format, "v4l2", path_.c_str(), problem_, counters_))
     return CaptureStatus::error;
-  }
   const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
   const std::int64_t stall_ns = std::int64_t{settings_.effective_stall_timeout_ms()} * 1'000'000;
   for (;;) {
+    if (const auto settled = settle_capture_state(state_, backoff_, deadline, "v4l2", path_.c_str(), problem_,
+                                                  counters_, [this] { return bring_up(); }))
+      return *settled;
     const std::int64_t now = monotonic_ns();
-    switch (state_) {
-      case DeviceState::closed:
-      case DeviceState::opening:
-      case DeviceState::configuring:
-        problem_.set("v4l2:%s: not open", path_.c_str());
-        return CaptureStatus::error;
-      case DeviceState::recovering:
-        if (!reopen_until(backoff_, deadline, [this] {
-              if (bring_up()) return true;
-              state_ = DeviceState::recovering;
-              return false;
-            }))
-          return CaptureStatus::recovering;
-        ++counters_.reconnects;
-        continue;
-      case DeviceState::streaming:
-        break;
-    }
     if (now - last_frame_ns_ > stall_ns) {
       problem_.set("v4l2:%s: no frame for %d ms: stream restarted", path_.c_str(), settings_.effective_stall_timeout_ms());
       restart_stream();

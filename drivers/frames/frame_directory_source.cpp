@@ -2,6 +2,8 @@
 // does not accumulate into drift.
 #include "drivers/frames/frame_directory_source.hpp"
 
+#include "drivers/common/device_state.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -11,20 +13,6 @@
 
 namespace ccdlane {
 namespace {
-
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-void sleep_until(std::int64_t t_ns) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(t_ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(t_ns % 1'000'000'000);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 
 constexpr std::int64_t kDefaultPeriodNs = 33'333'333;  // 30 Hz when nothing says otherwise
 
