@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/config/synth_config.hpp"
 #include "core/geometry/camera_model.hpp"
 
 namespace ccdlane {
@@ -105,6 +106,7 @@ struct Config {
   SourceConfig source;
   LcmConfig lcm;
   RealtimeConfig realtime;
+  SynthConfig synth;
 
   // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
   CameraPose nominal_pose() const;

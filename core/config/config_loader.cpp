@@ -282,6 +282,91 @@ void read_realtime(TableReader& r, Config& c) {
           "must be a SCHED_FIFO priority 0..99");
 }
 
+void read_synth(TableReader& r, Config& c) {
+  SynthConfig& s = c.synth;
+  int seed = static_cast<int>(s.seed);
+  r.integer("seed", seed);
+  require(seed >= 0, r, "seed", "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+  r.integer("frames", s.frames);
+  r.number("rate_hz", s.rate_hz);
+  r.number("speed_mps", s.speed_mps);
+  r.integer("lanes", s.lanes);
+  r.integer("ego_lane", s.ego_lane);
+  r.number("lane_width_mm", s.lane_width_mm);
+  r.number("line_width_mm", s.line_width_mm);
+  r.number("edge_line_width_mm", s.edge_line_width_mm);
+  std::string dashed = "inner";
+  r.string("dashed", dashed);
+  if (dashed == "inner") s.dashed = DashedLines::inner;
+  else if (dashed == "all") s.dashed = DashedLines::all;
+  else if (dashed == "none") s.dashed = DashedLines::none;
+  else r.fail(r.node("dashed"), "dashed", "must be \"inner\", \"all\" or \"none\", got \"" + dashed + "\"");
+  r.number("dash_length_mm", s.dash_length_mm);
+  r.number("dash_gap_mm", s.dash_gap_mm);
+  r.number("curvature_per_mm", s.curvature_per_mm);
+  r.number("weave_mm", s.weave_mm);
+  r.number("weave_period_s", s.weave_period_s);
+  r.number("pitch_bump_deg", s.pitch_bump_deg);
+  r.number("bump_period_s", s.bump_period_s);
+  r.number("roll_sway_deg", s.roll_sway_deg);
+  r.number("roll_period_s", s.roll_period_s);
+  r.number("lane_change_at_s", s.lane_change_at_s);
+  r.number("lane_change_s", s.lane_change_s);
+  r.number("asphalt_grey", s.asphalt_grey);
+  r.number("texture_grey", s.texture_grey);
+  r.number("paint_grey", s.paint_grey);
+  r.number("sky_grey", s.sky_grey);
+  r.number("verge_grey", s.verge_grey);
+  r.number("gradient", s.gradient);
+  r.number("shadow_depth", s.shadow_depth);
+  r.number("noise_sigma", s.noise_sigma);
+  r.number("blur_px", s.blur_px);
+  r.integer("supersample", s.supersample);
+  r.integer("bits", s.bits);
+  r.boolean("gyro", s.gyro);
+  r.number("gyro_noise_deg", s.gyro_noise_deg);
+  r.reject_unknown();
+
+  require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");
+  require(s.rate_hz > 0.0 && s.rate_hz <= 1000.0, r, "rate_hz", "must be > 0 and <= 1000");
+  require(s.speed_mps >= 0.0 && s.speed_mps <= 100.0, r, "speed_mps", "must be 0..100");
+  require(s.lanes >= 2 && s.lanes <= 4, r, "lanes", "must be 2..4, got " + std::to_string(s.lanes));
+  require(s.ego_lane >= 0 && s.ego_lane < s.lanes, r, "ego_lane",
+          "must be a lane of the road, 0.." + std::to_string(s.lanes - 1));
+  require(s.lane_width_mm >= 2000.0 && s.lane_width_mm <= 6000.0, r, "lane_width_mm", "must be 2000..6000");
+  require(s.line_width_mm > 0.0 && s.line_width_mm <= 500.0, r, "line_width_mm", "must be > 0 and <= 500");
+  require(s.edge_line_width_mm > 0.0 && s.edge_line_width_mm <= 500.0, r, "edge_line_width_mm",
+          "must be > 0 and <= 500");
+  require(s.dash_length_mm > 0.0, r, "dash_length_mm", "must be > 0");
+  require(s.dash_gap_mm >= 0.0, r, "dash_gap_mm", "must be >= 0");
+  require(std::abs(s.curvature_per_mm) <= 1e-5, r, "curvature_per_mm",
+          "must be within +-1e-5 (a radius of at least 50 m)");
+  require(s.weave_mm >= 0.0 && s.weave_mm < s.lane_width_mm / 2, r, "weave_mm", "must be 0 .. half a lane");
+  const std::pair<const char*, double> periods[] = {{"weave_period_s", s.weave_period_s},
+                                                   {"bump_period_s", s.bump_period_s},
+                                                   {"roll_period_s", s.roll_period_s},
+                                                   {"lane_change_s", s.lane_change_s}};
+  for (const auto& [key, value] : periods) require(value > 0.0, r, key, "must be > 0");
+  require(std::abs(s.pitch_bump_deg) <= 10.0, r, "pitch_bump_deg", "must be within +-10");
+  require(std::abs(s.roll_sway_deg) <= 10.0, r, "roll_sway_deg", "must be within +-10");
+  require(s.lane_change_at_s < 0.0 || s.ego_lane + 1 < s.lanes, r, "lane_change_at_s",
+          "a lane change goes to the lane on the right, and ego_lane is the rightmost");
+  const std::pair<const char*, double> greys[] = {{"asphalt_grey", s.asphalt_grey},
+                                                 {"paint_grey", s.paint_grey},
+                                                 {"sky_grey", s.sky_grey},
+                                                 {"verge_grey", s.verge_grey}};
+  for (const auto& [key, value] : greys) require(value >= 0.0 && value <= 255.0, r, key, "must be a grey level 0..255");
+  require(s.texture_grey >= 0.0 && s.texture_grey <= 100.0, r, "texture_grey", "must be 0..100");
+  require(s.gradient >= 0.0 && s.gradient < 1.0, r, "gradient", "must be 0 .. < 1");
+  require(s.shadow_depth >= 0.0 && s.shadow_depth < 1.0, r, "shadow_depth", "must be 0 .. < 1");
+  require(s.noise_sigma >= 0.0 && s.noise_sigma <= 100.0, r, "noise_sigma", "must be 0..100");
+  require(s.blur_px >= 0.0 && s.blur_px <= 10.0, r, "blur_px", "must be 0..10");
+  require(s.supersample >= 1 && s.supersample <= 16, r, "supersample", "must be 1..16");
+  require(s.bits >= 8 && s.bits <= 16, r, "bits", "must be 8 (mono8) or 9..16 (mono16)");
+  require(s.gyro_noise_deg >= 0.0 && s.gyro_noise_deg <= 10.0, r, "gyro_noise_deg", "must be 0..10");
+}
+
 using SectionReader = void (*)(TableReader&, Config&);
 struct Section {
   const char* name;
@@ -290,7 +375,7 @@ struct Section {
 constexpr Section kSections[] = {
     {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
     {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
-    {"realtime", read_realtime},
+    {"realtime", read_realtime}, {"synth", read_synth},
 };
 
 }  // namespace

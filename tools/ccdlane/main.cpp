@@ -8,12 +8,16 @@
 namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
+CommandAction setup_synth(CLI::App& sub);
+CommandAction setup_grab(CLI::App& sub);
 CommandAction setup_solve(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
+    {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
+    {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
     {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
 };
 }  // namespace

@@ -1,70 +1,22 @@
-// Proof that LaneSolver::solve() never touches the heap after construction: every global
-// operator new is replaced by a counting one, and malloc & co. are wrapped at link time
-// (-Wl,--wrap, see CMakeLists.txt) so that Eigen's own allocations (std::malloc, inlined
-// into the solver's objects) are counted too. Any allocation while counting fails.
+// Proof that LaneSolver::solve() never touches the heap after construction. Operator
+// new is counted by the shared tests/support/allocation_counter; Eigen allocates with
+// std::malloc (inlined into the solver's own objects), so malloc & co. are also wrapped
+// at link time here (-Wl,--wrap, see CMakeLists.txt), which works under the sanitizers
+// too. Any allocation while counting fails.
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
-#include <new>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
 #include "core/solver/lane_solver.hpp"
 #include "tests/core/solver/synthetic_scene.hpp"
+#include "tests/support/allocation_counter.hpp"
 
 namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-
-void note_allocation() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-
-void* counted_new(std::size_t size) {
-  note_allocation();
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-
-void* counted_aligned_new(std::size_t size, std::align_val_t align) {
-  note_allocation();
-  const std::size_t a = static_cast<std::size_t>(align);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
-
-// Counts the allocations made while it is alive.
-class AllocationCounter {
- public:
-  AllocationCounter() {
-    g_allocations = 0;
-    g_counting = true;
-  }
-  ~AllocationCounter() { g_counting = false; }
-  long count() const { return g_allocations.load(); }
-};
+std::atomic<long> g_mallocs{0};
 }  // namespace
-
-void* operator new(std::size_t size) { return counted_new(size); }
-void* operator new[](std::size_t size) { return counted_new(size); }
-void* operator new(std::size_t size, std::align_val_t a) { return counted_aligned_new(size, a); }
-void* operator new[](std::size_t size, std::align_val_t a) { return counted_aligned_new(size, a); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  note_allocation();
-  return std::malloc(size ? size : 1);
-}
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  note_allocation();
-  return std::malloc(size ? size : 1);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 // The C allocator, as seen by this program's own objects and static libraries.
 extern "C" {
@@ -74,26 +26,39 @@ void* __real_realloc(void*, std::size_t);
 int __real_posix_memalign(void**, std::size_t, std::size_t);
 void* __real_aligned_alloc(std::size_t, std::size_t);
 void* __wrap_malloc(std::size_t n) {
-  note_allocation();
+  ++g_mallocs;
   return __real_malloc(n);
 }
 void* __wrap_calloc(std::size_t n, std::size_t size) {
-  note_allocation();
+  ++g_mallocs;
   return __real_calloc(n, size);
 }
 void* __wrap_realloc(void* p, std::size_t n) {
-  note_allocation();
+  ++g_mallocs;
   return __real_realloc(p, n);
 }
 int __wrap_posix_memalign(void** p, std::size_t align, std::size_t n) {
-  note_allocation();
+  ++g_mallocs;
   return __real_posix_memalign(p, align, n);
 }
 void* __wrap_aligned_alloc(std::size_t align, std::size_t n) {
-  note_allocation();
+  ++g_mallocs;
   return __real_aligned_alloc(align, n);
 }
 }
+
+namespace {
+// Heap allocations of either kind made while it is alive (the test is single-threaded).
+class AllocationCounter {
+ public:
+  AllocationCounter() : mallocs_(g_mallocs.load()) {}
+  long count() const { return static_cast<long>(news_.count()) + (g_mallocs.load() - mallocs_); }
+
+ private:
+  ccdlane::test::AllocationScope news_;
+  long mallocs_;
+};
+}  // namespace
 
 namespace ccdlane {
 namespace {

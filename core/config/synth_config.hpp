@@ -1,0 +1,58 @@
+// The [synth] table: the synthetic road scene and the drive over it that `ccdlane synth`
+// and the daemon's built-in demo render. Defaults give a plausible 3-lane highway.
+#pragma once
+
+#include <cstdint>
+
+namespace ccdlane {
+
+// Which lane lines are dashed: the inner ones (edges solid, the usual highway), all, none.
+enum class DashedLines : std::uint8_t { inner, all, none };
+
+struct SynthConfig {
+  // The sequence.
+  std::uint64_t seed = 1;
+  int frames = 100;           // frames a `ccdlane synth` run writes (--frames overrides)
+  double rate_hz = 30.0;      // frame rate: t_ns = k / rate_hz
+  double speed_mps = 25.0;    // how fast the dashes go by
+
+  // The road (lengths in mm).
+  int lanes = 3;              // 2..4 lanes (3..5 lines)
+  int ego_lane = 1;           // 0 = leftmost lane
+  double lane_width_mm = 3600.0;
+  double line_width_mm = 120.0;       // inner lines
+  double edge_line_width_mm = 150.0;  // the two outer lines
+  DashedLines dashed = DashedLines::inner;
+  double dash_length_mm = 3000.0;     // US interstate: 10 ft dashes,
+  double dash_gap_mm = 9000.0;        //   30 ft gaps
+  double curvature_per_mm = 0.0;      // c of y = y0 + c x^2 (1/(2R)); 0 = straight
+
+  // The vehicle's motion within its lane.
+  double weave_mm = 300.0;        // amplitude of the lateral weaving
+  double weave_period_s = 6.0;
+  double pitch_bump_deg = 0.4;    // amplitude of pitching over bumps
+  double bump_period_s = 1.3;
+  double roll_sway_deg = 0.3;     // amplitude of body roll
+  double roll_period_s = 3.5;
+  double lane_change_at_s = -1.0; // start of a change to the lane on the right; < 0 = none
+  double lane_change_s = 4.0;     // how long it takes
+
+  // Appearance (grey levels on the 8-bit scale; 16-bit frames are scaled).
+  double asphalt_grey = 95.0;
+  double texture_grey = 10.0;     // amplitude of the asphalt texture
+  double paint_grey = 200.0;
+  double sky_grey = 185.0;
+  double verge_grey = 70.0;       // beyond the shoulders
+  double gradient = 0.2;          // brightness gradient across the picture (fraction)
+  double shadow_depth = 0.3;      // darkening in shadows across the road; 0 = none
+  double noise_sigma = 1.0;       // sensor noise, grey levels
+  double blur_px = 0.0;           // Gaussian blur sigma, pixels; 0 = sharp
+  int supersample = 4;            // sub-samples per pixel side at mark edges
+  int bits = 8;                   // 8: mono8 frames; 9..16: mono16 frames of that depth
+
+  // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
+  bool gyro = true;
+  double gyro_noise_deg = 0.1;
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,287 @@
+// The road renderer. Each pixel's ray is cast in closed form: with chip coordinates
+// (a, b) of the undistorted pixel, the cell-minus-lens vector is q = -f T2 + a T0 + b T1
+// (T's columns), and the ray meets the road at L - (L_z / q_z) q. Its derivatives give
+// the pixel's footprint on the road, which decides where lane-mark edges need
+// supersampling and how much asphalt texture survives the pixel's averaging.
+#include "core/synth/road_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/geometry/attitude.hpp"
+#include "core/synth/random.hpp"
+
+namespace ccdlane {
+namespace {
+
+constexpr double kShoulderMm = 700.0;       // asphalt beyond the edge lines
+constexpr double kFineTextureMm = 90.0;     // asphalt grain
+constexpr double kCoarseTextureMm = 700.0;  // patches, repairs
+constexpr double kShadowPeriodMm = 23000.0;
+constexpr double kShadowLengthMm = 5000.0;
+constexpr double kShadowSoftMm = 500.0;
+constexpr double kHazeStartMm = 80000.0;
+constexpr double kHazeRangeMm = 300000.0;
+constexpr int kGaussTable = 4096;
+
+// Smooth lattice noise in [-1, 1] (bilinear between hashed lattice values).
+double value_noise(double x, double y, std::uint64_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  double tx = x - fx, ty = y - fy;
+  tx = tx * tx * (3.0 - 2.0 * tx);
+  ty = ty * ty * (3.0 - 2.0 * ty);
+  auto lattice = [seed](std::int64_t i, std::int64_t j) {
+    const std::uint64_t h = synth::mix64(seed ^ (static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull) ^
+                                         (static_cast<std::uint64_t>(j) * 0xC2B2AE3D27D4EB4Full));
+    return synth::unit(h) * 2.0 - 1.0;
+  };
+  const double a = lattice(ix, iy), b = lattice(ix + 1, iy), c = lattice(ix, iy + 1), d = lattice(ix + 1, iy + 1);
+  return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
+}
+
+double smoothstep(double e0, double e1, double x) {
+  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// Non-negative remainder.
+double wrap(double x, double period) {
+  const double r = std::fmod(x, period);
+  return r < 0.0 ? r + period : r;
+}
+
+}  // namespace
+
+struct RoadRenderer::View {
+  double cx, cy, k, pu, pv, f;
+  Vec3 T0, T1, T2, L;
+  double corner2;
+
+  // The cell-minus-lens vector of an observed pixel (1-based, fractional).
+  Vec3 ray(double px, double py) const {
+    const double dx = px - cx, dy = py - cy;
+    const double s = 1.0 / (1.0 + k * (dx * dx + dy * dy));
+    return -f * T2 + (dx * s * pu) * T0 + (dy * s * pv) * T1;
+  }
+};
+
+RoadRenderer::RoadRenderer(const CameraSpec& camera, const SynthConfig& scene) : camera_(camera), scene_(scene) {
+  const std::size_t n = static_cast<std::size_t>(camera.Nu) * static_cast<std::size_t>(camera.Nv);
+  radiance_.assign(n, 0.0f);
+  if (scene.blur_px > 0.0) {
+    scratch_.assign(n, 0.0f);
+    const int radius = static_cast<int>(std::ceil(3.0 * scene.blur_px));
+    kernel_.resize(static_cast<std::size_t>(radius) + 1);
+    std::vector<double> taps(kernel_.size());
+    double sum = 0.0;
+    for (int i = 0; i <= radius; ++i) {
+      taps[static_cast<std::size_t>(i)] = std::exp(-0.5 * i * i / (scene.blur_px * scene.blur_px));
+      sum += (i == 0 ? 1.0 : 2.0) * taps[static_cast<std::size_t>(i)];
+    }
+    for (std::size_t i = 0; i < taps.size(); ++i) kernel_[i] = static_cast<float>(taps[i] / sum);
+  }
+  // A table of normal samples, standardised so the noise has exactly the asked sigma.
+  std::vector<double> g(kGaussTable);
+  double mean = 0.0, var = 0.0;
+  for (int i = 0; i < kGaussTable; ++i) {
+    g[static_cast<std::size_t>(i)] = synth::normal(synth::hash(0x6A09E667F3BCC908ull, static_cast<std::uint64_t>(i)));
+    mean += g[static_cast<std::size_t>(i)] / kGaussTable;
+  }
+  for (const double v : g) var += (v - mean) * (v - mean) / kGaussTable;
+  gauss_.resize(kGaussTable);
+  for (int i = 0; i < kGaussTable; ++i)
+    gauss_[static_cast<std::size_t>(i)] = static_cast<float>((g[static_cast<std::size_t>(i)] - mean) / std::sqrt(var));
+}
+
+bool RoadRenderer::paint_at(double X, double Y) const {
+  const double bend = c_ * X * X;
+  for (int j = 0; j < num_lines_; ++j) {
+    const Line& l = lines_[j];
+    if (std::abs(Y - l.y0 - bend) > l.half_width) continue;
+    if (!l.dashed) return true;
+    return wrap(X + odometer_ + l.phase, period_) < scene_.dash_length_mm;
+  }
+  return false;
+}
+
+double RoadRenderer::paint_coverage(const View& v, double px, double py, double X, double Y, double fpX,
+                                    double fpY) const {
+  // Only pixels whose footprint straddles a mark's side or a dash's end are
+  // supersampled; the rest are inside or outside the paint as a whole.
+  const double bend = c_ * X * X, slope = std::abs(2.0 * c_ * X);
+  bool edge = false, inside = false;
+  for (int j = 0; j < num_lines_ && !edge; ++j) {
+    const Line& l = lines_[j];
+    const double lateral = std::abs(Y - l.y0 - bend);
+    const double reach = fpY + slope * fpX;
+    if (lateral > l.half_width + reach) continue;
+    if (lateral > l.half_width - reach) {
+      edge = true;
+      break;
+    }
+    if (!l.dashed) {
+      inside = true;
+      continue;
+    }
+    const double s = wrap(X + odometer_ + l.phase, period_);
+    const double to_end = std::min({s, std::abs(s - scene_.dash_length_mm), period_ - s});
+    if (to_end < fpX) edge = true;
+    else inside = inside || s < scene_.dash_length_mm;
+  }
+  if (!edge) return inside ? 1.0 : 0.0;
+  const int n = scene_.supersample;
+  int hits = 0, samples = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const Vec3 q = v.ray(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5);
+      if (q.z() <= 0.0) continue;
+      const double t = v.L.z() / q.z();
+      ++samples;
+      hits += paint_at(v.L.x() - t * q.x(), v.L.y() - t * q.y());
+    }
+  }
+  return samples ? static_cast<double>(hits) / samples : 0.0;
+}
+
+double RoadRenderer::shade_ground(double X, double Y, double footprint) const {
+  const double bend = c_ * X * X;
+  const bool road = Y - bend <= road_left_ && Y - bend >= road_right_;
+  const std::uint64_t seed = scene_.seed;
+  const double fine = std::min(1.0, kFineTextureMm / footprint), coarse = std::min(1.0, kCoarseTextureMm / footprint);
+  const double sx = X + odometer_;  // texture is fixed to the road, the car moves over it
+  double texture = 0.7 * fine * value_noise(sx / kFineTextureMm, Y / kFineTextureMm, seed) +
+                   0.5 * coarse * value_noise(sx / kCoarseTextureMm, Y / kCoarseTextureMm, seed + 1);
+  return road ? scene_.asphalt_grey + scene_.texture_grey * texture
+              : scene_.verge_grey + 2.0 * scene_.texture_grey * texture;
+}
+
+double RoadRenderer::sky(double qx, double qy, double qz) const {
+  const double len = std::sqrt(qx * qx + qy * qy + qz * qz);
+  const double elevation = -qz / len;  // of the ray going out into the scene, radians
+  // A band of trees and posts on the horizon: vertical structure that is not road paint.
+  const double azimuth = std::atan2(-qy, -qx);
+  const auto bin = static_cast<std::int64_t>(std::floor(azimuth / 0.004));
+  const std::uint64_t h = synth::hash(scene_.seed, 31, static_cast<std::uint64_t>(bin));
+  const double height = 0.012 + 0.03 * synth::unit(h) * synth::unit(synth::mix64(h));
+  if (elevation < height) return scene_.verge_grey * 0.8 + 45.0 * synth::unit(synth::mix64(h + 1));
+  return scene_.sky_grey + 40.0 * std::min(elevation, 0.5);
+}
+
+void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) {
+  const int W = camera_.Nu, H = camera_.Nv;
+  const Mat3 T = attitude_matrix(truth.pose.attitude);
+  CameraModel model(camera_, truth.pose);
+  View v{camera_.cx, camera_.cy, camera_.k_px2, camera_.pitch_u(), camera_.pitch_v(), truth.pose.f_mm,
+         T.col(0), T.col(1), T.col(2), model.lens_centre(), 0.0};
+  v.corner2 = std::max(v.cx * v.cx, (W - v.cx) * (W - v.cx)) + std::max(v.cy * v.cy, (H - v.cy) * (H - v.cy));
+
+  // The road as this frame sees it.
+  num_lines_ = std::min(truth.num_lines, kMaxRoadLines);
+  c_ = truth.c_per_mm;
+  odometer_ = truth.odometer_mm;
+  period_ = scene_.dash_length_mm + scene_.dash_gap_mm;
+  for (int j = 0; j < num_lines_; ++j) {
+    const bool edge = j == 0 || j == num_lines_ - 1;
+    lines_[j].y0 = truth.y0_mm[static_cast<std::size_t>(j)];
+    lines_[j].half_width = 0.5 * (edge ? scene_.edge_line_width_mm : scene_.line_width_mm);
+    lines_[j].dashed = scene_.dashed == DashedLines::all || (scene_.dashed == DashedLines::inner && !edge);
+    lines_[j].phase = period_ * synth::unit(synth::hash(scene_.seed, 41, static_cast<std::uint64_t>(j)));
+  }
+  road_left_ = lines_[0].y0 + kShoulderMm;
+  road_right_ = lines_[num_lines_ - 1].y0 - kShoulderMm;
+  const double shadow_angle = 0.35 + 0.5 * synth::unit(synth::hash(scene_.seed, 51));
+  const double sh_c = std::cos(shadow_angle), sh_s = std::sin(shadow_angle);
+  const double shadow_offset = kShadowPeriodMm * synth::unit(synth::hash(scene_.seed, 52));
+  const double haze_grey = scene_.sky_grey * 0.85;
+
+  for (int y = 0; y < H; ++y) {
+    float* dst = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    const double py = y + 1.0;
+    for (int x = 0; x < W; ++x) {
+      const double px = x + 1.0;
+      const double dx = px - v.cx, dy = py - v.cy;
+      const double r2 = dx * dx + dy * dy;
+      const double s = 1.0 / (1.0 + v.k * r2);
+      const double a = dx * s * v.pu, b = dy * s * v.pv;
+      const Vec3 q = -v.f * v.T2 + a * v.T0 + b * v.T1;
+      double value;
+      if (q.z() <= 0.0) {
+        value = sky(q.x(), q.y(), q.z());
+      } else {
+        const double inv_qz = 1.0 / q.z();
+        const double t = v.L.z() * inv_qz;
+        const double X = v.L.x() - t * q.x(), Y = v.L.y() - t * q.y();
+        // Footprint: d(X, Y)/d(a, b) = -t (T_k - q T_kz / q_z), one pixel = (pu, pv).
+        const double dXa = -t * (v.T0.x() - q.x() * v.T0.z() * inv_qz) * v.pu * s;
+        const double dYa = -t * (v.T0.y() - q.y() * v.T0.z() * inv_qz) * v.pu * s;
+        const double dXb = -t * (v.T1.x() - q.x() * v.T1.z() * inv_qz) * v.pv * s;
+        const double dYb = -t * (v.T1.y() - q.y() * v.T1.z() * inv_qz) * v.pv * s;
+        const double fpX = 0.5 * (std::abs(dXa) + std::abs(dXb)), fpY = 0.5 * (std::abs(dYa) + std::abs(dYb));
+        const double footprint = 2.0 * std::sqrt(fpX * fpY) + 1e-9;
+        value = shade_ground(X, Y, footprint);
+        const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY);
+        if (cover > 0.0) value += cover * (scene_.paint_grey - value);
+        if (scene_.shadow_depth > 0.0) {
+          const double u = wrap((X + odometer_) * sh_c + Y * sh_s + shadow_offset, kShadowPeriodMm);
+          const double in = smoothstep(0.0, kShadowSoftMm, u) * (1.0 - smoothstep(kShadowLengthMm, kShadowLengthMm + kShadowSoftMm, u));
+          value *= 1.0 - scene_.shadow_depth * in;
+        }
+        if (X > kHazeStartMm) value += std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze_grey - value);
+      }
+      // Illumination falling off across the picture and towards its corners.
+      value *= 1.0 + scene_.gradient * (dx / W - 0.5 * r2 / v.corner2);
+      dst[x] = static_cast<float>(value);
+    }
+  }
+  if (scene_.blur_px > 0.0) blur();
+
+  // Sensor: noise, quantisation, clipping.
+  synth::PixelNoise noise(synth::hash(scene_.seed, 61, truth.index));
+  const bool wide = out.format == PixelFormat::mono16;
+  const int bits = wide ? std::clamp(out.significant_bits, 9, 16) : 8;
+  const float maxval = static_cast<float>((1 << bits) - 1);
+  const float scale = maxval / 255.0f;
+  const float sigma = static_cast<float>(scene_.noise_sigma);
+  for (int y = 0; y < H; ++y) {
+    const float* src = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    std::uint8_t* row = out.row(y);
+    for (int x = 0; x < W; ++x) {
+      const float n = sigma > 0.0f ? sigma * gauss_[noise.next() >> 52] : 0.0f;
+      const float value = std::clamp((src[x] + n) * scale + 0.5f, 0.0f, maxval);
+      if (wide) {
+        const auto v16 = static_cast<std::uint16_t>(value);
+        std::memcpy(row + 2 * x, &v16, 2);
+      } else {
+        row[x] = static_cast<std::uint8_t>(value);
+      }
+    }
+  }
+}
+
+void RoadRenderer::blur() {
+  const int W = camera_.Nu, H = camera_.Nv, R = static_cast<int>(kernel_.size()) - 1;
+  // Rows into scratch, then columns back into radiance, clamping at the borders.
+  for (int y = 0; y < H; ++y) {
+    const float* src = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    float* dst = scratch_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    for (int x = 0; x < W; ++x) {
+      float sum = kernel_[0] * src[x];
+      for (int i = 1; i <= R; ++i) sum += kernel_[static_cast<std::size_t>(i)] * (src[std::max(x - i, 0)] + src[std::min(x + i, W - 1)]);
+      dst[x] = sum;
+    }
+  }
+  for (int y = 0; y < H; ++y) {
+    float* dst = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    for (int x = 0; x < W; ++x) {
+      float sum = kernel_[0] * scratch_[static_cast<std::size_t>(y * W + x)];
+      for (int i = 1; i <= R; ++i)
+        sum += kernel_[static_cast<std::size_t>(i)] * (scratch_[static_cast<std::size_t>(std::max(y - i, 0) * W + x)] +
+                                                      scratch_[static_cast<std::size_t>(std::min(y + i, H - 1) * W + x)]);
+      dst[x] = sum;
+    }
+  }
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,53 @@
+// Renders a synthetic road frame through the exact camera model of geometry.md: for each
+// pixel, undistort, cast the ray to the road, and shade what it hits (asphalt texture,
+// lane paint, verge, shadows, sky), then blur and add sensor noise.
+#pragma once
+
+#include <vector>
+
+#include "core/config/synth_config.hpp"
+#include "core/geometry/camera_spec.hpp"
+#include "core/image/image_view.hpp"
+#include "core/synth/synth_drive.hpp"
+
+namespace ccdlane {
+
+class RoadRenderer {
+ public:
+  // Buffers for Nu x Nv are allocated here; render() allocates nothing.
+  RoadRenderer(const CameraSpec& camera, const SynthConfig& scene);
+
+  // Renders frame `truth` into `out` (Nu x Nv; mono8, or mono16 scaled to
+  // out.significant_bits). Deterministic for the scene's seed and truth.index.
+  void render(const SynthFrame& truth, const MutableImageView& out);
+
+  // The format frames of this scene have ([synth] bits).
+  PixelFormat format() const { return scene_.bits > 8 ? PixelFormat::mono16 : PixelFormat::mono8; }
+
+ private:
+  struct Line {
+    double y0, half_width, phase;
+    bool dashed;
+  };
+  struct View;  // per-frame camera constants
+
+  double shade_ground(double X, double Y, double footprint) const;
+  double paint_coverage(const View& v, double px, double py, double X, double Y, double fpX, double fpY) const;
+  bool paint_at(double X, double Y) const;
+  double sky(double qx, double qy, double qz) const;
+  void blur();
+
+  CameraSpec camera_;
+  SynthConfig scene_;
+  std::vector<float> radiance_;  // linear grey levels (8-bit scale), before noise
+  std::vector<float> scratch_;   // blur pass
+  std::vector<float> kernel_;    // Gaussian taps, one side
+  std::vector<float> gauss_;     // a table of N(0,1) samples for sensor noise
+  // Per-frame road state.
+  Line lines_[kMaxRoadLines]{};
+  int num_lines_ = 0;
+  double c_ = 0.0, odometer_ = 0.0, period_ = 1.0;
+  double road_left_ = 0.0, road_right_ = 0.0;  // asphalt edges (y0 of the edge lines + shoulder)
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,80 @@
+// The synthetic drive's motion model: smooth periodic motions with seed-dependent phases,
+// a cosine-profile lane change, heading from the lateral speed.
+#include "core/synth/synth_drive.hpp"
+
+#include <cmath>
+
+#include "core/synth/random.hpp"
+
+namespace ccdlane {
+
+SynthDrive::SynthDrive(const Config& config)
+    : synth_(config.synth), mount_(config.attitude), H_mm_(config.H_mm), f_mm_(config.f_mm) {
+  const std::uint64_t s = synth_.seed;
+  for (int i = 0; i < 3; ++i) bump_phase_[i] = 2 * kPi * synth::unit(synth::hash(s, 11, static_cast<std::uint64_t>(i)));
+  roll_phase_ = 2 * kPi * synth::unit(synth::hash(s, 12));
+  weave_phase_ = 2 * kPi * synth::unit(synth::hash(s, 13));
+}
+
+double SynthDrive::line_position_mm(int j) const {
+  return (0.5 * synth_.lanes - j) * synth_.lane_width_mm;
+}
+
+double SynthDrive::vehicle_position_mm(double t) const {
+  const double w = synth_.lane_width_mm;
+  double p = 0.5 * (line_position_mm(synth_.ego_lane) + line_position_mm(synth_.ego_lane + 1));
+  p += synth_.weave_mm * std::sin(2 * kPi * t / synth_.weave_period_s + weave_phase_);
+  if (synth_.lane_change_at_s >= 0.0 && t > synth_.lane_change_at_s) {
+    const double u = std::min(1.0, (t - synth_.lane_change_at_s) / synth_.lane_change_s);
+    p -= w * 0.5 * (1.0 - std::cos(kPi * u));  // to the lane on the right
+  }
+  return p;
+}
+
+SynthFrame SynthDrive::frame(std::uint64_t k) const {
+  SynthFrame f;
+  f.index = k;
+  const double t = static_cast<double>(k) / synth_.rate_hz;
+  f.t_ns = static_cast<std::int64_t>(std::llround(t * 1e9));
+  f.odometer_mm = synth_.speed_mps * 1000.0 * t;
+
+  const double p = vehicle_position_mm(t);
+  f.num_lines = num_lines();
+  for (int j = 0; j < f.num_lines; ++j) f.y0_mm[static_cast<std::size_t>(j)] = line_position_mm(j) - p;
+  f.c_per_mm = synth_.curvature_per_mm;
+  f.lane_width_mm = synth_.lane_width_mm;
+  f.ego_lane = synth_.lanes - 1;
+  for (int lane = 0; lane < synth_.lanes; ++lane)
+    if (p > line_position_mm(lane + 1)) {
+      f.ego_lane = lane;
+      break;
+    }
+  f.lateral_offset_mm = p - 0.5 * (line_position_mm(f.ego_lane) + line_position_mm(f.ego_lane + 1));
+
+  // Heading from the lateral speed (central difference of the position).
+  const double dt = 1e-3;
+  const double speed_mm_s = std::max(1.0, synth_.speed_mps * 1000.0);
+  const double lateral_speed = (vehicle_position_mm(t + dt) - vehicle_position_mm(t - dt)) / (2 * dt);
+  f.heading_deg = rad_to_deg(std::atan(lateral_speed / speed_mm_s));
+
+  // Bumps: three incommensurate components so the pitch does not look periodic.
+  const double b = 2 * kPi * t / synth_.bump_period_s;
+  const double bump = 0.6 * std::sin(b + bump_phase_[0]) + 0.3 * std::sin(2.7 * b + bump_phase_[1]) +
+                      0.1 * std::sin(6.1 * b + bump_phase_[2]);
+  const double sway = std::sin(2 * kPi * t / synth_.roll_period_s + roll_phase_);
+  const AttitudeDeg cam{mount_.psi_deg + f.heading_deg, mount_.theta_deg + synth_.pitch_bump_deg * bump,
+                        mount_.phi_deg + synth_.roll_sway_deg * sway};
+  f.pose.attitude = {deg_to_rad(cam.psi_deg), deg_to_rad(cam.theta_deg), deg_to_rad(cam.phi_deg)};
+  f.pose.H_mm = H_mm_;
+  f.pose.f_mm = f_mm_;
+
+  // The 3DM-GX1 mounted with its axes on the camera's (gx1_attitude.hpp): roll = phi,
+  // pitch = -theta, yaw = -psi; its roll and pitch carry the configured noise.
+  const double sigma = synth_.gyro_noise_deg;
+  f.gyro.roll_deg = cam.phi_deg + sigma * synth::normal(synth::hash(synth_.seed, 21, k));
+  f.gyro.pitch_deg = -cam.theta_deg + sigma * synth::normal(synth::hash(synth_.seed, 22, k));
+  f.gyro.yaw_deg = -cam.psi_deg;
+  return f;
+}
+
+}  // namespace ccdlane

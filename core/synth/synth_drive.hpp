@@ -1,0 +1,58 @@
+// A synthetic drive: for each frame, where the car is on a multi-lane road and how the
+// camera is turned (weaving in the lane, pitching over bumps, swaying, changing lanes),
+// i.e. the truth a rendered frame shows, and the gyro reading it would come with.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/config/config.hpp"
+#include "core/geometry/camera_model.hpp"
+#include "core/geometry/gx1_attitude.hpp"
+
+namespace ccdlane {
+
+constexpr int kMaxRoadLines = 5;  // 4 lanes
+
+// Everything true about one frame. The road frame is the fixed frame of geometry.md
+// aligned with the lane (x along it, origin on the road below the camera), so the lane
+// lines are y = y0_j + c x^2 (m = 0) and the vehicle's heading shows in the camera yaw.
+struct SynthFrame {
+  std::uint64_t index = 0;
+  std::int64_t t_ns = 0;
+  CameraPose pose;                  // the camera in the road frame
+  double odometer_mm = 0.0;         // distance driven: where the dashes are
+  int num_lines = 0;                // lines of the road, left to right
+  std::array<double, kMaxRoadLines> y0_mm{};  // left to right (largest first)
+  double c_per_mm = 0.0;
+  int ego_lane = 0;                 // the lane the vehicle is in, 0 = leftmost
+  double lateral_offset_mm = 0.0;   // from the ego lane's centre, positive left
+  double heading_deg = 0.0;         // vehicle relative to the lane, positive left
+  double lane_width_mm = 0.0;
+  Gx1Angles gyro;                   // the true attitude as the 3DM-GX1 reports it, plus noise
+};
+
+class SynthDrive {
+ public:
+  // Uses config.synth for the road and motion, [attitude] as the mounting attitude,
+  // [mount] H_mm and [camera] f_mm.
+  explicit SynthDrive(const Config& config);
+
+  // The truth of frame k (pure: any k, any order, same answer for the same seed).
+  SynthFrame frame(std::uint64_t k) const;
+
+  // Where road line j (0 = leftmost) lies laterally, relative to the road's centre.
+  double line_position_mm(int j) const;
+  int num_lines() const { return synth_.lanes + 1; }
+
+ private:
+  double vehicle_position_mm(double t_s) const;  // lateral, relative to the road centre, + left
+
+  SynthConfig synth_;
+  AttitudeDeg mount_;
+  double H_mm_, f_mm_;
+  double bump_phase_[3];
+  double roll_phase_, weave_phase_;
+};
+
+}  // namespace ccdlane

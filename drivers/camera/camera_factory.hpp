@@ -1,0 +1,16 @@
+// Makes a camera FrameSource from a source string as users write it: "v4l2:/dev/video0"
+// or "aravis:ID" (ID: an IP address, a camera id or serial, or Fake_1).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "drivers/camera/camera_settings.hpp"
+#include "drivers/camera/frame_source.hpp"
+
+namespace ccdlane {
+
+// Not yet opened. Null, with `error` saying why, for a string of no known kind.
+std::unique_ptr<FrameSource> make_camera(const std::string& source, const CameraSettings& settings, std::string& error);
+
+}  // namespace ccdlane

@@ -1,0 +1,54 @@
+// Frame directory reader: the index is built once (allocating), reads never allocate.
+#include "drivers/frames/frame_directory.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace ccdlane {
+
+FrameDirectory::FrameDirectory(std::string dir) : dir_(std::move(dir)) {
+  while (dir_.size() > 1 && dir_.back() == '/') dir_.pop_back();
+  csv_path_ = dir_ + "/frames.csv";
+  std::ifstream in(csv_path_, std::ios::binary);
+  if (!in) {
+    const int e = errno;
+    throw FrameDirectoryError(csv_path_ + ": cannot read: " + std::strerror(e) +
+                              " (a frame directory needs frames.csv)");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw FrameDirectoryError(csv_path_ + ": read error");
+  csv_ = parse_frames_csv(text.str(), csv_path_);
+  paths_.reserve(csv_.rows.size());
+  for (const FrameRow& r : csv_.rows) paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);
+}
+
+int FrameDirectory::truth_column(std::string_view name) const {
+  for (std::size_t k = 0; k < csv_.truth_columns.size(); ++k)
+    if (csv_.truth_columns[k] == name) return static_cast<int>(k);
+  return -1;
+}
+
+double FrameDirectory::truth(std::size_t i, int column) const {
+  return csv_.truth[i * csv_.truth_columns.size() + static_cast<std::size_t>(column)];
+}
+
+std::optional<double> FrameDirectory::truth(std::size_t i, std::string_view name) const {
+  const int k = truth_column(name);
+  if (k < 0) return std::nullopt;
+  const double v = truth(i, k);
+  if (std::isnan(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<PgmHeader> FrameDirectory::probe_first() {
+  PgmHeader h;
+  for (const std::string& p : paths_)
+    if (reader_.probe(p.c_str(), h) == PgmFault::none) return h;
+  return std::nullopt;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,62 @@
+// Reading a frame directory (interfaces.md "Frame directories"): frames.csv indexed once,
+// then each frame decoded on demand into a caller's fixed buffer.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "drivers/frames/frames_csv.hpp"
+#include "drivers/frames/pgm.hpp"
+
+namespace ccdlane {
+
+class FrameDirectory {
+ public:
+  // Reads DIR/frames.csv. Throws FrameDirectoryError when there is no usable index
+  // (missing or unreadable frames.csv, a header without file or t_ns). Malformed rows are
+  // not fatal: they are skipped and listed in issues().
+  explicit FrameDirectory(std::string dir);
+
+  const std::string& path() const { return dir_; }
+  const std::string& csv_path() const { return csv_path_; }
+
+  // The well-formed rows, in time order.
+  std::size_t size() const { return csv_.rows.size(); }
+  const FrameRow& row(std::size_t i) const { return csv_.rows[i]; }
+  const std::string& file_path(std::size_t i) const { return paths_[i]; }
+  std::size_t data_rows() const { return csv_.data_rows; }  // including malformed ones
+  bool has_gyro_columns() const { return csv_.has_gyro_columns; }
+
+  // One message per skipped row of frames.csv ("DIR/frames.csv:7: t_ns: not an integer").
+  const std::vector<std::string>& issues() const { return csv_.issues; }
+
+  // truth_* columns, kept by name for tests.
+  const std::vector<std::string>& truth_columns() const { return csv_.truth_columns; }
+  int truth_column(std::string_view name) const;  // -1 when absent
+  // The value of truth column `column` at row i: NaN when the cell is empty.
+  double truth(std::size_t i, int column) const;
+  std::optional<double> truth(std::size_t i, std::string_view name) const;
+
+  // Decodes row i into `into` (its width, height and format are what frames must be).
+  // Allocation-free; on failure error() is "<file path>: <reason>".
+  PgmFault read(std::size_t i, const MutableImageView& into, PgmHeader* header = nullptr) {
+    return reader_.read(paths_[i].c_str(), into, header);
+  }
+  std::string_view error() const { return reader_.error(); }
+
+  // The header of the first frame whose header reads: the directory's frame size and
+  // depth when the configuration does not fix them. Empty when no frame has one.
+  std::optional<PgmHeader> probe_first();
+
+ private:
+  std::string dir_;
+  std::string csv_path_;
+  FramesCsv csv_;
+  std::vector<std::string> paths_;
+  PgmReader reader_;
+};
+
+}  // namespace ccdlane

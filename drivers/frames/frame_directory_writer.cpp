@@ -1,0 +1,114 @@
+// Frame directory writer: temporary names, renames, and clean-up of unfinished work.
+#include "drivers/frames/frame_directory_writer.hpp"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+
+#include "drivers/frames/pgm.hpp"
+
+namespace ccdlane {
+namespace {
+
+// Shortest text that reads back to the same double.
+void append_number(std::string& out, double v) {
+  if (!std::isfinite(v)) return;  // empty cell
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, ec == std::errc() ? end : buf);
+}
+
+}  // namespace
+
+FrameDirectoryWriter::FrameDirectoryWriter(std::string dir, FrameDirectoryLayout layout)
+    : dir_(std::move(dir)), layout_(std::move(layout)) {
+  namespace fs = std::filesystem;
+  while (dir_.size() > 1 && dir_.back() == '/') dir_.pop_back();
+  for (const std::string& c : layout_.truth_columns)
+    if (c.rfind("truth_", 0) != 0 || c.find_first_of(",\n\r") != std::string::npos)
+      throw FrameDirectoryError(dir_ + ": bad truth column name \"" + c + "\" (must start with truth_)");
+  std::error_code ec;
+  if (fs::exists(dir_, ec)) {
+    if (!fs::is_directory(dir_, ec)) throw FrameDirectoryError(dir_ + ": exists and is not a directory");
+    if (fs::exists(dir_ + "/frames.csv", ec))
+      throw FrameDirectoryError(dir_ + ": already holds a frame directory (frames.csv); choose another place");
+  } else {
+    created_dir_ = fs::create_directories(dir_, ec);
+    if (ec) throw FrameDirectoryError(dir_ + ": cannot create the directory: " + ec.message());
+  }
+  tmp_csv_ = dir_ + "/frames.csv.tmp";
+  csv_.open(tmp_csv_, std::ios::binary | std::ios::trunc);
+  if (!csv_) {
+    abandon();
+    throw FrameDirectoryError(tmp_csv_ + ": cannot create");
+  }
+  std::string header = "file,t_ns";
+  if (layout_.gyro) header += ",roll_deg,pitch_deg,yaw_deg";
+  for (const std::string& c : layout_.truth_columns) header += "," + c;
+  csv_ << header << '\n';
+}
+
+FrameDirectoryWriter::~FrameDirectoryWriter() {
+  if (!finished_) abandon();
+}
+
+void FrameDirectoryWriter::abandon() noexcept {
+  csv_.close();
+  if (!tmp_csv_.empty()) ::unlink(tmp_csv_.c_str());
+  for (const std::string& f : files_) ::unlink((dir_ + "/" + f).c_str());
+  files_.clear();
+  if (created_dir_) ::rmdir(dir_.c_str());  // only if empty: never remove what others put there
+}
+
+void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, const std::optional<Gx1Angles>& gyro,
+                                 std::span<const double> truth) {
+  if (finished_) throw std::logic_error("FrameDirectoryWriter::write after finish");
+  if (truth.size() != layout_.truth_columns.size())
+    throw std::logic_error("FrameDirectoryWriter::write: truth values do not match the truth columns");
+  if (!files_.empty() && t_ns < last_t_ns_)
+    throw FrameDirectoryError(dir_ + ": frame " + std::to_string(files_.size()) + ": t_ns goes back in time");
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu.pgm", files_.size());
+  try {
+    write_pgm(dir_ + "/" + name, image);
+  } catch (const std::runtime_error& e) {
+    throw FrameDirectoryError(e.what());
+  }
+  files_.emplace_back(name);
+  last_t_ns_ = t_ns;
+
+  std::string row = name;
+  row += ',';
+  row += std::to_string(t_ns);
+  if (layout_.gyro) {
+    constexpr double kEmpty = std::numeric_limits<double>::quiet_NaN();
+    for (const double v : {gyro ? gyro->roll_deg : kEmpty, gyro ? gyro->pitch_deg : kEmpty, gyro ? gyro->yaw_deg : kEmpty}) {
+      row += ',';
+      append_number(row, v);
+    }
+  }
+  for (const double v : truth) {
+    row += ',';
+    append_number(row, v);
+  }
+  csv_ << row << '\n';
+  csv_.flush();
+  if (!csv_) throw FrameDirectoryError(tmp_csv_ + ": write failed");
+}
+
+void FrameDirectoryWriter::finish() {
+  if (finished_) return;
+  csv_.close();
+  if (csv_.fail()) throw FrameDirectoryError(tmp_csv_ + ": write failed");
+  const std::string final_csv = dir_ + "/frames.csv";
+  if (::rename(tmp_csv_.c_str(), final_csv.c_str()) != 0)
+    throw FrameDirectoryError(final_csv + ": cannot rename into place");
+  finished_ = true;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,62 @@
+// Writing a frame directory (used by `ccdlane synth` and `ccdlane grab --out`): one PGM
+// per frame and a frames.csv row each, with nothing partial left behind on failure.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/geometry/gx1_attitude.hpp"
+#include "core/image/image_view.hpp"
+#include "drivers/frames/frame_directory_error.hpp"
+
+namespace ccdlane {
+
+struct FrameDirectoryLayout {
+  bool gyro = false;                       // write roll_deg,pitch_deg,yaw_deg columns
+  std::vector<std::string> truth_columns;  // each must start with "truth_"
+};
+
+// Each image is written under a temporary name and renamed into place, so an image file
+// is either whole or absent. Rows go to frames.csv.tmp as they come (flushed each frame)
+// and finish() renames it to frames.csv: a directory without frames.csv is an unfinished
+// recording. A writer destroyed without finish() (an error, an exception) removes the
+// files it wrote, and the directory if it created it. Errors throw FrameDirectoryError
+// naming the file and the reason.
+class FrameDirectoryWriter {
+ public:
+  // Creates `dir` (and parents) if needed. Refuses a directory that already holds a
+  // frames.csv, so an earlier recording is never overwritten.
+  FrameDirectoryWriter(std::string dir, FrameDirectoryLayout layout);
+  ~FrameDirectoryWriter();
+  FrameDirectoryWriter(const FrameDirectoryWriter&) = delete;
+  FrameDirectoryWriter& operator=(const FrameDirectoryWriter&) = delete;
+
+  // Writes frame number frames_written() as "%06d.pgm". `gyro` empty = no reading for
+  // this frame (empty cells); `truth` has one value per truth column (NaN = empty cell).
+  void write(const ImageView& image, std::int64_t t_ns, const std::optional<Gx1Angles>& gyro = std::nullopt,
+             std::span<const double> truth = {});
+
+  // Puts frames.csv in place. After this the destructor leaves everything where it is.
+  void finish();
+
+  std::size_t frames_written() const { return files_.size(); }
+  const std::string& path() const { return dir_; }
+
+ private:
+  void abandon() noexcept;
+
+  std::string dir_;
+  FrameDirectoryLayout layout_;
+  std::string tmp_csv_;
+  std::ofstream csv_;
+  std::vector<std::string> files_;  // written so far, removed if never finished
+  bool created_dir_ = false;
+  bool finished_ = false;
+  std::int64_t last_t_ns_ = 0;
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,78 @@
+// Binary PGM (P5) frames, 8-bit and 16-bit big-endian: decode into a caller's fixed
+// buffer with a precise reason when a file is damaged, and write atomically.
+//
+// Hand-written rather than a general image library: replay and the daemon decode every
+// frame into a buffer of the fixed pool without allocating, and a damaged file must be
+// reported as exactly what is wrong with it (missing, truncated by N bytes, wrong size,
+// bad header), not as a generic "cannot load".
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "core/image/image_view.hpp"
+
+namespace ccdlane {
+
+// What the header of a PGM file says.
+struct PgmHeader {
+  int width = 0;
+  int height = 0;
+  int maxval = 0;          // 1..255: 8-bit samples, 256..65535: 16-bit big-endian
+  std::size_t offset = 0;  // where the raster starts
+  int bytes_per_sample() const { return maxval > 255 ? 2 : 1; }
+  PixelFormat format() const { return maxval > 255 ? PixelFormat::mono16 : PixelFormat::mono8; }
+  int significant_bits() const;  // bits needed for maxval
+  std::size_t raster_bytes() const {
+    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(bytes_per_sample());
+  }
+};
+
+// Why a frame file could not be used.
+enum class PgmFault : std::uint8_t {
+  none,
+  missing,      // no such file
+  unreadable,   // exists but cannot be opened or read (permissions, I/O error)
+  bad_header,   // not a binary PGM, or an impossible width, height or maxval
+  wrong_size,   // width x height differ from the frames expected
+  wrong_depth,  // 8-bit file for 16-bit frames or the other way round
+  truncated,    // fewer raster bytes than the header promises
+};
+const char* to_string(PgmFault f);
+
+// Parses a P5 header at the start of `bytes` (comments allowed between fields). Returns
+// the fault and, when none, fills `header`. `why` (may be null) receives a short reason.
+PgmFault parse_pgm_header(std::string_view bytes, PgmHeader& header, std::string_view* why = nullptr);
+
+// Decodes PGM files into caller-provided buffers. Owns only a fixed message buffer: a
+// read opens the file, reads straight into the destination rows, and allocates nothing.
+class PgmReader {
+ public:
+  // Decodes `path` into `into` (whose width, height and format are what the frames must
+  // be). On success the header read is returned through `header` (if not null). 16-bit
+  // samples are converted to native byte order.
+  PgmFault read(const char* path, const MutableImageView& into, PgmHeader* header = nullptr);
+
+  // Reads only the header (to learn a directory's frame size and depth).
+  PgmFault probe(const char* path, PgmHeader& header);
+
+  // "<path>: <reason>" of the last fault, valid until the next call.
+  std::string_view error() const { return {message_.data(), length_}; }
+
+ private:
+  PgmFault fail(PgmFault fault, const char* path, const char* format, ...) __attribute__((format(printf, 4, 5)));
+  PgmFault open_and_parse(const char* path, int& fd, PgmHeader& header, long long& file_size);
+
+  std::array<char, 512> message_{};
+  std::size_t length_ = 0;
+};
+
+// Writes `image` as a binary PGM: 8-bit (maxval 255) or 16-bit big-endian (maxval
+// 2^significant_bits - 1). Written under a temporary name in the same directory and
+// renamed into place, so a failure never leaves a partial file. Throws
+// std::runtime_error naming the file and the reason.
+void write_pgm(const std::string& path, const ImageView& image);
+
+}  // namespace ccdlane

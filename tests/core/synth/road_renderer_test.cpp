@@ -1,0 +1,177 @@
+// The renderer against the camera model: lane marks appear where projecting the truth
+// lines puts them (to a few hundredths of a pixel), the sky is above the horizon, noise
+// has the configured sigma, 16-bit frames scale, rendering is deterministic and
+// allocation-free.
+#include "core/synth/road_renderer.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/geometry/camera_model.hpp"
+#include "tests/support/allocation_counter.hpp"
+
+namespace ccdlane {
+namespace {
+
+// A smaller version of the reference camera (same field of view), to keep tests quick.
+Config small_camera() {
+  Config c = default_config();
+  c.camera.Nu = 400;
+  c.camera.Nv = 300;
+  c.camera.Uc_mm = c.camera.Vc_mm = 0.0084;
+  c.camera.cx = 200.5;
+  c.camera.cy = 150.5;
+  c.camera.k_px2 = -8.3042e-7 * 4;  // the same distortion at the same place in the picture
+  c.attitude = {0.8, 4.0, -1.5};
+  return c;
+}
+
+struct Image {
+  std::vector<std::uint8_t> px;
+  MutableImageView view;
+  Image(int w, int h, PixelFormat f = PixelFormat::mono8, int bits = 8)
+      : px(static_cast<std::size_t>(w * h * bytes_per_pixel(f))) {
+    view = {px.data(), w, h, w * bytes_per_pixel(f), f, bits};
+  }
+  double at(int x, int y) const { return ImageView(view).at(x, y); }
+};
+
+// Where the centre line of road line j crosses pixel row py (1-based), by bisection on
+// the distance ahead: the projection of the truth, independent of the renderer.
+std::optional<double> truth_column(const CameraModel& cam, const SynthFrame& f, int j, double py) {
+  auto row_at = [&](double X) {
+    const double y = f.y0_mm[static_cast<std::size_t>(j)] + f.c_per_mm * X * X;
+    return cam.pixel_from_point(Vec3(X, y, 0.0));
+  };
+  double lo = 2000, hi = 60000;
+  const auto plo = row_at(lo), phi = row_at(hi);
+  if (!plo || !phi || (plo->y() - py) * (phi->y() - py) > 0) return std::nullopt;
+  for (int it = 0; it < 80; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if ((row_at(mid)->y() - py) * (plo->y() - py) > 0) lo = mid;
+    else hi = mid;
+  }
+  return row_at(0.5 * (lo + hi))->x();
+}
+
+TEST(RoadRenderer, MarksAreWhereTheCameraModelProjectsTheTruth) {
+  Config c = small_camera();
+  SynthConfig& s = c.synth;
+  s.texture_grey = s.noise_sigma = s.gradient = s.shadow_depth = 0.0;
+  s.dashed = DashedLines::none;
+  s.supersample = 8;
+  s.curvature_per_mm = 2e-7;
+  const SynthDrive drive(c);
+  const SynthFrame f = drive.frame(40);
+  RoadRenderer r(c.camera, s);
+  Image img(400, 300);
+  r.render(f, img.view);
+  const CameraModel cam(c.camera, f.pose);
+  int checked = 0;
+  double worst = 0.0;
+  for (int j = 0; j < f.num_lines; ++j) {
+    for (int y = 150; y < 300; y += 3) {
+      const auto want = truth_column(cam, f, j, y + 1.0);
+      if (!want || *want < 8 || *want > 392) continue;
+      // Paint above the asphalt level, summed across the mark in this row.
+      const int x0 = static_cast<int>(*want) - 1;
+      const double asphalt = s.asphalt_grey;
+      double sum = 0, moment = 0;
+      int x = x0;
+      while (x > 0 && img.at(x - 1, y) > asphalt + 0.5) --x;
+      for (; x < 400 && (img.at(x, y) > asphalt + 0.5 || x <= x0); ++x) {
+        const double w = std::max(0.0, img.at(x, y) - asphalt);
+        sum += w;
+        moment += w * (x + 1);
+      }
+      if (sum < 2 * (s.paint_grey - asphalt)) continue;  // a mark narrower than 2 px: centroid too coarse
+      const double got = moment / sum;
+      worst = std::max(worst, std::abs(got - *want));
+      EXPECT_NEAR(got, *want, 0.05) << "line " << j << " row " << y + 1;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 60);
+  RecordProperty("worst_centroid_error_px", std::to_string(worst));
+}
+
+TEST(RoadRenderer, SkyAboveTheHorizonRoadBelow) {
+  Config c = small_camera();
+  c.synth.noise_sigma = 0;
+  const SynthDrive drive(c);
+  const SynthFrame f = drive.frame(0);
+  RoadRenderer r(c.camera, c.synth);
+  Image img(400, 300);
+  r.render(f, img.view);
+  const CameraModel cam(c.camera, f.pose);
+  // Top row: sky (brighter than any asphalt); bottom centre: asphalt.
+  for (int x = 0; x < 400; x += 10) EXPECT_GT(img.at(x, 0), c.synth.asphalt_grey + 40) << x;
+  EXPECT_NEAR(img.at(200, 290), c.synth.asphalt_grey, 3 * c.synth.texture_grey);
+  // Rows whose centre pixel has no ground point are not road.
+  for (int y = 0; y < 300; ++y) {
+    if (cam.ground_point_from_pixel(Vec2(201, y + 1))) break;
+    EXPECT_GT(img.at(200, y), 0.7 * c.synth.verge_grey) << y;
+  }
+}
+
+TEST(RoadRenderer, SensorNoiseHasTheConfiguredSigma) {
+  Config c = small_camera();
+  c.synth.noise_sigma = 3.0;
+  const SynthDrive drive(c);
+  SynthFrame a = drive.frame(5), b = a;
+  b.index = 6;  // same scene, another frame's noise
+  RoadRenderer r(c.camera, c.synth);
+  Image ia(400, 300), ib(400, 300);
+  r.render(a, ia.view);
+  r.render(b, ib.view);
+  double sum2 = 0;
+  int n = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 400; ++x) {
+      const double va = ia.at(x, y), vb = ib.at(x, y);
+      if (va < 10 || va > 245) continue;  // clipped
+      sum2 += (va - vb) * (va - vb);
+      ++n;
+    }
+  // The difference of two frames: sigma * sqrt(2), plus quantisation (1/12 each).
+  EXPECT_NEAR(std::sqrt(sum2 / n), std::sqrt(2 * 9.0 + 2 / 12.0), 0.1);
+}
+
+TEST(RoadRenderer, SixteenBitFramesAreTheEightBitScaled) {
+  Config c = small_camera();
+  c.synth.noise_sigma = 0;
+  const SynthDrive drive(c);
+  const SynthFrame f = drive.frame(3);
+  RoadRenderer r(c.camera, c.synth);
+  Image i8(400, 300), i16(400, 300, PixelFormat::mono16, 12);
+  r.render(f, i8.view);
+  r.render(f, i16.view);
+  for (int y = 0; y < 300; y += 7)
+    for (int x = 0; x < 400; x += 7) EXPECT_NEAR(i16.at(x, y) * 255.0 / 4095.0, i8.at(x, y), 0.6) << x << "," << y;
+}
+
+TEST(RoadRenderer, DeterministicPerSeedAndAllocationFree) {
+  Config c = small_camera();
+  c.synth.blur_px = 0.8;
+  const SynthDrive drive(c);
+  const SynthFrame f = drive.frame(9);
+  RoadRenderer r1(c.camera, c.synth), r2(c.camera, c.synth);
+  Image a(400, 300), b(400, 300);
+  {
+    test::AllocationScope scope;
+    r1.render(f, a.view);
+    EXPECT_EQ(scope.count(), 0u);
+  }
+  r2.render(f, b.view);
+  EXPECT_EQ(a.px, b.px);
+  c.synth.seed = 99;
+  RoadRenderer r3(c.camera, c.synth);
+  r3.render(f, b.view);
+  EXPECT_NE(a.px, b.px);
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,102 @@
+// The synthetic drive's truth: consistent lane quantities, a lane change that moves the
+// vehicle one lane right, gyro columns that map back to the camera attitude with the
+// configured noise, and determinism.
+#include "core/synth/synth_drive.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/config/config_loader.hpp"
+
+namespace ccdlane {
+namespace {
+
+TEST(SynthDrive, LaneQuantitiesAgreeWithTheLines) {
+  Config c = default_config();
+  c.attitude = {0.5, 3.0, -0.2};
+  const SynthDrive drive(c);
+  ASSERT_EQ(drive.num_lines(), 4);
+  for (std::uint64_t k = 0; k < 300; k += 7) {
+    const SynthFrame f = drive.frame(k);
+    ASSERT_EQ(f.num_lines, 4);
+    EXPECT_EQ(f.ego_lane, 1);
+    const double left = f.y0_mm[1], right = f.y0_mm[2];
+    EXPECT_GT(left, 0.0);
+    EXPECT_LT(right, 0.0);
+    EXPECT_NEAR(left - right, f.lane_width_mm, 1e-9);
+    EXPECT_NEAR(f.lateral_offset_mm, -(left + right) / 2, 1e-9);  // interfaces.md's definition
+    EXPECT_LE(std::abs(f.lateral_offset_mm), c.synth.weave_mm + 1e-9);
+    for (int j = 1; j < 4; ++j) EXPECT_NEAR(f.y0_mm[j - 1] - f.y0_mm[j], 3600.0, 1e-9);
+    // The vehicle's heading is in the camera yaw on top of the mount.
+    EXPECT_NEAR(rad_to_deg(f.pose.attitude.psi), 0.5 + f.heading_deg, 1e-12);
+    EXPECT_LE(std::abs(rad_to_deg(f.pose.attitude.theta) - 3.0), c.synth.pitch_bump_deg + 1e-9);
+    EXPECT_LE(std::abs(rad_to_deg(f.pose.attitude.phi) + 0.2), c.synth.roll_sway_deg + 1e-9);
+    EXPECT_EQ(f.pose.H_mm, 1400.0);
+    EXPECT_EQ(f.t_ns, static_cast<std::int64_t>(std::llround(static_cast<double>(k) * 1e9 / 30.0)));
+  }
+}
+
+TEST(SynthDrive, HeadingIsTheDirectionOfTheLateralMotion) {
+  Config c = default_config();
+  c.synth.rate_hz = 100;
+  const SynthDrive drive(c);
+  for (std::uint64_t k = 1; k < 600; k += 13) {
+    const SynthFrame a = drive.frame(k - 1), b = drive.frame(k + 1);
+    const double lateral_speed = (b.lateral_offset_mm - a.lateral_offset_mm) / 0.02;  // mm/s
+    const double want = rad_to_deg(std::atan(lateral_speed / 25000.0));
+    EXPECT_NEAR(drive.frame(k).heading_deg, want, 0.01);
+  }
+}
+
+TEST(SynthDrive, LaneChangeMovesTheVehicleOneLaneRight) {
+  Config c = default_config();
+  c.synth.lane_change_at_s = 2.0;
+  c.synth.lane_change_s = 3.0;
+  c.synth.weave_mm = 0.0;
+  const SynthDrive drive(c);
+  const SynthFrame before = drive.frame(30), after = drive.frame(30 * 6);
+  EXPECT_EQ(before.ego_lane, 1);
+  EXPECT_EQ(after.ego_lane, 2);
+  EXPECT_NEAR(after.y0_mm[0] - before.y0_mm[0], 3600.0, 1e-6);  // the road moved left
+  EXPECT_NEAR(after.lateral_offset_mm, 0.0, 1e-6);
+  // Mid-change the heading points right (negative) and the vehicle crosses line 2.
+  const SynthFrame mid = drive.frame(105);
+  EXPECT_LT(mid.heading_deg, -1.0);
+  EXPECT_NEAR(mid.y0_mm[2], 0.0, 100.0);
+}
+
+TEST(SynthDrive, GyroColumnsAreTheTrueRollAndPitchPlusNoise) {
+  Config c = default_config();
+  c.attitude = {0.0, 2.0, 1.0};
+  c.synth.gyro_noise_deg = 0.2;
+  const SynthDrive drive(c);
+  double sum_r = 0, sum_p = 0, sum_r2 = 0, sum_p2 = 0;
+  const int n = 4000;
+  for (int k = 0; k < n; ++k) {
+    const SynthFrame f = drive.frame(static_cast<std::uint64_t>(k));
+    const Attitude cam = camera_attitude_from_gx1(f.gyro);
+    const double er = rad_to_deg(cam.phi - f.pose.attitude.phi), ep = rad_to_deg(cam.theta - f.pose.attitude.theta);
+    EXPECT_NEAR(rad_to_deg(cam.psi), rad_to_deg(f.pose.attitude.psi), 1e-9);  // yaw carries no noise
+    sum_r += er, sum_p += ep, sum_r2 += er * er, sum_p2 += ep * ep;
+  }
+  // Mean 0 +- 4 standard errors, sigma within 5%.
+  EXPECT_NEAR(sum_r / n, 0.0, 4 * 0.2 / std::sqrt(n));
+  EXPECT_NEAR(sum_p / n, 0.0, 4 * 0.2 / std::sqrt(n));
+  EXPECT_NEAR(std::sqrt(sum_r2 / n), 0.2, 0.01);
+  EXPECT_NEAR(std::sqrt(sum_p2 / n), 0.2, 0.01);
+}
+
+TEST(SynthDrive, SameSeedSameDriveOtherSeedOtherDrive) {
+  Config c = default_config();
+  const SynthDrive a(c), b(c);
+  c.synth.seed = 2;
+  const SynthDrive other(c);
+  EXPECT_EQ(a.frame(17).gyro.roll_deg, b.frame(17).gyro.roll_deg);
+  EXPECT_EQ(a.frame(17).pose.attitude.theta, b.frame(17).pose.attitude.theta);
+  EXPECT_NE(a.frame(17).gyro.roll_deg, other.frame(17).gyro.roll_deg);
+  EXPECT_NE(a.frame(17).pose.attitude.theta, other.frame(17).pose.attitude.theta);
+}
+
+}  // namespace
+}  // namespace ccdlane

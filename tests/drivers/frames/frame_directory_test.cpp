@@ -1,0 +1,215 @@
+// Frame directories: the real pictures of the shared data, and a damaged recording whose
+// every good frame is still read while each bad one is named with its reason.
+#include "drivers/frames/frame_directory.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "drivers/frames/frame_directory_writer.hpp"
+#include "tests/support/allocation_counter.hpp"
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+struct Frame {
+  std::vector<std::uint8_t> bytes;
+  MutableImageView view;
+  Frame(int w, int h, PixelFormat f = PixelFormat::mono8) : bytes(static_cast<std::size_t>(w * h * bytes_per_pixel(f))) {
+    view = {bytes.data(), w, h, w * bytes_per_pixel(f), f, f == PixelFormat::mono16 ? 16 : 8};
+  }
+};
+
+TEST(FrameDirectory, ReadsTheRealUdacityFrames) {
+  FrameDirectory dir(std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced");
+  ASSERT_EQ(dir.size(), 2u);
+  EXPECT_TRUE(dir.issues().empty());
+  EXPECT_FALSE(dir.has_gyro_columns());
+  EXPECT_EQ(dir.row(1).t_ns, 50'000'000);
+  const auto h = dir.probe_first();
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->width, 1280);
+  EXPECT_EQ(h->height, 720);
+  Frame f(1280, 720);
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    ASSERT_EQ(dir.read(i, f.view), PgmFault::none) << dir.error();
+    // A road picture: not blank, a spread of grey levels.
+    int lo = 255, hi = 0;
+    for (std::uint8_t v : f.bytes) lo = std::min<int>(lo, v), hi = std::max<int>(hi, v);
+    EXPECT_GT(hi - lo, 100);
+  }
+}
+
+TEST(FrameDirectory, WriterRoundTripsImagesGyroAndTruth) {
+  test::TempDir tmp;
+  const std::string path = tmp.file("rec");
+  Frame f(8, 4);
+  {
+    FrameDirectoryWriter w(path, {true, {"truth_psi_deg", "truth_y0_0_mm"}});
+    for (int i = 0; i < 3; ++i) {
+      std::fill(f.bytes.begin(), f.bytes.end(), static_cast<std::uint8_t>(40 * i));
+      const double truth[2] = {0.1 * i, i == 1 ? std::nan("") : 1750.0 + i};
+      w.write(f.view, 1000 * i, i == 2 ? std::nullopt : std::optional<Gx1Angles>({1.5, -0.25 * i, 33.0}), truth);
+    }
+    EXPECT_FALSE(std::filesystem::exists(path + "/frames.csv"));  // not until finish()
+    w.finish();
+  }
+  FrameDirectory dir(path);
+  ASSERT_EQ(dir.size(), 3u);
+  EXPECT_TRUE(dir.issues().empty());
+  EXPECT_TRUE(dir.has_gyro_columns());
+  EXPECT_EQ(dir.row(2).file, "000002.pgm");
+  ASSERT_TRUE(dir.row(1).gyro);
+  EXPECT_EQ(dir.row(1).gyro->pitch_deg, -0.25);
+  EXPECT_EQ(dir.row(1).gyro->yaw_deg, 33.0);
+  EXPECT_FALSE(dir.row(2).gyro);
+  EXPECT_EQ(dir.truth(2, "truth_psi_deg").value(), 0.1 * 2);  // shortest round trip is exact
+  EXPECT_FALSE(dir.truth(1, "truth_y0_0_mm"));
+  EXPECT_EQ(dir.truth(2, "truth_y0_0_mm").value(), 1752.0);
+  EXPECT_FALSE(dir.truth(0, "truth_nothing"));
+  Frame back(8, 4);
+  ASSERT_EQ(dir.read(1, back.view), PgmFault::none) << dir.error();
+  EXPECT_EQ(back.bytes[5], 40);
+}
+
+TEST(FrameDirectory, WriterWrites16BitFrames) {
+  test::TempDir tmp;
+  Frame f(4, 2, PixelFormat::mono16);
+  f.view.significant_bits = 12;
+  const std::uint16_t v = 4000;
+  std::memcpy(f.bytes.data() + 6, &v, 2);
+  {
+    FrameDirectoryWriter w(tmp.file("d"), {});
+    w.write(f.view, 5);
+    w.finish();
+  }
+  FrameDirectory dir(tmp.file("d"));
+  EXPECT_EQ(dir.probe_first()->maxval, 4095);
+  Frame back(4, 2, PixelFormat::mono16);
+  ASSERT_EQ(dir.read(0, back.view), PgmFault::none) << dir.error();
+  EXPECT_EQ(back.bytes, f.bytes);
+}
+
+TEST(FrameDirectory, AnUnfinishedWriterLeavesNothingBehind) {
+  test::TempDir tmp;
+  const std::string path = tmp.file("new/deeper");
+  Frame f(4, 2);
+  {
+    FrameDirectoryWriter w(path, {});
+    w.write(f.view, 0);
+    w.write(f.view, 1);
+    EXPECT_TRUE(std::filesystem::exists(path + "/000001.pgm"));
+    EXPECT_THROW(w.write(f.view, 0), FrameDirectoryError);  // time going backwards
+  }  // destroyed without finish(): e.g. an exception unwound the recording
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_TRUE(std::filesystem::exists(tmp.file("new")));  // parents are left alone
+
+  // In an existing directory only its own files go.
+  const std::string own = tmp.file("keep");
+  std::filesystem::create_directory(own);
+  tmp.write("keep/notes.txt", "mine");
+  {
+    FrameDirectoryWriter w(own, {});
+    w.write(f.view, 0);
+  }
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(own), {}), 1);
+  EXPECT_TRUE(std::filesystem::exists(own + "/notes.txt"));
+}
+
+TEST(FrameDirectory, WriterRefusesToOverwriteARecording) {
+  test::TempDir tmp;
+  tmp.write("frames.csv", "file,t_ns\n");
+  try {
+    FrameDirectoryWriter w(tmp.path(), {});
+    FAIL() << "no error";
+  } catch (const FrameDirectoryError& e) {
+    EXPECT_EQ(std::string(e.what()), tmp.path() + ": already holds a frame directory (frames.csv); choose another place");
+  }
+  EXPECT_THROW(FrameDirectoryWriter(tmp.file("frames.csv"), {}), FrameDirectoryError);  // not a directory
+  EXPECT_THROW(FrameDirectoryWriter(tmp.file("x"), {false, {"psi"}}), FrameDirectoryError);
+}
+
+TEST(FrameDirectory, DamagedRecordingKeepsEveryGoodFrame) {
+  test::TempDir tmp;
+  const std::string path = tmp.file("rec");
+  Frame f(16, 8);
+  {
+    FrameDirectoryWriter w(path, {});
+    for (int i = 0; i < 6; ++i) {
+      std::fill(f.bytes.begin(), f.bytes.end(), static_cast<std::uint8_t>(i));
+      w.write(f.view, i * 10);
+    }
+    w.finish();
+  }
+  // Damage: 1 missing, 2 truncated, 3 another size, plus a malformed row in frames.csv.
+  std::filesystem::remove(path + "/000001.pgm");
+  std::filesystem::resize_file(path + "/000002.pgm", 100);
+  Frame big(20, 8);
+  std::filesystem::remove(path + "/000003.pgm");
+  {
+    FrameDirectoryWriter other(tmp.file("other"), {});
+    other.write(big.view, 0);
+    other.finish();
+  }
+  std::filesystem::rename(tmp.file("other/000000.pgm"), path + "/000003.pgm");
+  std::ofstream(path + "/frames.csv", std::ios::app) << "000005.pgm,oops\n";
+
+  FrameDirectory dir(path);
+  ASSERT_EQ(dir.size(), 6u);
+  ASSERT_EQ(dir.issues().size(), 1u);
+  EXPECT_EQ(dir.issues()[0], path + "/frames.csv:8: t_ns: not an integer: \"oops\"");
+  std::vector<PgmFault> faults;
+  std::vector<std::string> errors;
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    faults.push_back(dir.read(i, f.view));
+    errors.emplace_back(dir.error());
+    if (faults.back() == PgmFault::none) {
+      EXPECT_EQ(f.bytes[0], i);
+    }
+  }
+  EXPECT_EQ(faults, (std::vector<PgmFault>{PgmFault::none, PgmFault::missing, PgmFault::truncated,
+                                           PgmFault::wrong_size, PgmFault::none, PgmFault::none}));
+  EXPECT_EQ(errors[1], path + "/000001.pgm: missing (no such file)");
+  EXPECT_EQ(errors[2], path + "/000002.pgm: truncated: 88 of 128 raster bytes");
+  EXPECT_EQ(errors[3], path + "/000003.pgm: wrong size: 20x8, expected 16x8");
+}
+
+TEST(FrameDirectory, NoIndexIsAnError) {
+  test::TempDir tmp;
+  try {
+    FrameDirectory dir(tmp.path() + "/");
+    FAIL() << "no error";
+  } catch (const FrameDirectoryError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              tmp.path() + "/frames.csv: cannot read: No such file or directory (a frame directory needs frames.csv)");
+  }
+}
+
+TEST(FrameDirectory, ReadingAllocatesNothing) {
+  test::TempDir tmp;
+  Frame f(32, 16);
+  {
+    FrameDirectoryWriter w(tmp.file("d"), {});
+    w.write(f.view, 0);
+    w.write(f.view, 1);
+    w.finish();
+  }
+  std::filesystem::remove(tmp.file("d/000001.pgm"));
+  FrameDirectory dir(tmp.file("d"));
+  test::AllocationScope scope;
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(dir.read(0, f.view), PgmFault::none);
+    EXPECT_EQ(dir.read(1, f.view), PgmFault::missing);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+}  // namespace
+}  // namespace ccdlane
