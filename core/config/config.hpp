@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/config/detection_config.hpp"
 #include "core/config/synth_config.hpp"
 #include "core/geometry/camera_model.hpp"
 
@@ -107,6 +108,7 @@ struct Config {
   LcmConfig lcm;
   RealtimeConfig realtime;
   SynthConfig synth;
+  DetectionConfig detection;
 
   // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
   CameraPose nominal_pose() const;

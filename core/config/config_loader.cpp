@@ -367,6 +367,29 @@ void read_synth(TableReader& r, Config& c) {
   require(s.gyro_noise_deg >= 0.0 && s.gyro_noise_deg <= 10.0, r, "gyro_noise_deg", "must be 0..10");
 }
 
+void read_detection(TableReader& r, Config& c) {
+  DetectionConfig& d = c.detection;
+  r.number("mark_width_mm", d.mark_width_mm);
+  r.number("min_contrast", d.min_contrast);
+  r.number("min_range_mm", d.min_range_mm);
+  r.number("max_range_mm", d.max_range_mm);
+  r.integer("max_lines", d.max_lines);
+  r.integer("max_picks", d.max_picks);
+  r.integer("min_marks", d.min_marks);
+  r.number("departure_mm", d.departure_mm);
+  r.reject_unknown();
+  require(d.mark_width_mm >= 50.0 && d.mark_width_mm <= 500.0, r, "mark_width_mm", "must be 50..500");
+  require(d.min_contrast > 0.0 && d.min_contrast <= 200.0, r, "min_contrast", "must be > 0 and <= 200");
+  require(d.min_range_mm >= 500.0, r, "min_range_mm", "must be >= 500");
+  require(d.max_range_mm > d.min_range_mm * 1.5 && d.max_range_mm <= 200000.0, r, "max_range_mm",
+          "must be more than 1.5 x min_range_mm and <= 200000");
+  require(d.max_lines >= 2 && d.max_lines <= kMaxDetectedLines, r, "max_lines",
+          "must be 2.." + std::to_string(kMaxDetectedLines));
+  require(d.max_picks >= 20 && d.max_picks <= 4000, r, "max_picks", "must be 20..4000");
+  require(d.min_marks >= 3 && d.min_marks <= 200, r, "min_marks", "must be 3..200");
+  require(d.departure_mm >= 0.0 && d.departure_mm <= 5000.0, r, "departure_mm", "must be 0..5000");
+}
+
 using SectionReader = void (*)(TableReader&, Config&);
 struct Section {
   const char* name;
@@ -376,6 +399,7 @@ constexpr Section kSections[] = {
     {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
     {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
     {"realtime", read_realtime}, {"synth", read_synth},
+    {"detection", read_detection},
 };
 
 }  // namespace

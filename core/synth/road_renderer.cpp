@@ -1,15 +1,12 @@
-// The road renderer. Each pixel's ray is cast in closed form: with chip coordinates
-// (a, b) of the undistorted pixel, the cell-minus-lens vector is q = -f T2 + a T0 + b T1
-// (T's columns), and the ray meets the road at L - (L_z / q_z) q. Its derivatives give
-// the pixel's footprint on the road, which decides where lane-mark edges need
-// supersampling and how much asphalt texture survives the pixel's averaging.
+// The road renderer. Each pixel's ray is cast in closed form (GroundProjector); its
+// derivatives give the pixel's footprint on the road, which decides where lane-mark edges
+// need supersampling and how much asphalt texture survives the pixel's averaging.
 #include "core/synth/road_renderer.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "core/geometry/attitude.hpp"
 #include "core/synth/random.hpp"
 
 namespace ccdlane {
@@ -54,19 +51,6 @@ double wrap(double x, double period) {
 
 }  // namespace
 
-struct RoadRenderer::View {
-  double cx, cy, k, pu, pv, f;
-  Vec3 T0, T1, T2, L;
-  double corner2;
-
-  // The cell-minus-lens vector of an observed pixel (1-based, fractional).
-  Vec3 ray(double px, double py) const {
-    const double dx = px - cx, dy = py - cy;
-    const double s = 1.0 / (1.0 + k * (dx * dx + dy * dy));
-    return -f * T2 + (dx * s * pu) * T0 + (dy * s * pv) * T1;
-  }
-};
-
 RoadRenderer::RoadRenderer(const CameraSpec& camera, const SynthConfig& scene) : camera_(camera), scene_(scene) {
   const std::size_t n = static_cast<std::size_t>(camera.Nu) * static_cast<std::size_t>(camera.Nv);
   radiance_.assign(n, 0.0f);
@@ -106,7 +90,7 @@ bool RoadRenderer::paint_at(double X, double Y) const {
   return false;
 }
 
-double RoadRenderer::paint_coverage(const View& v, double px, double py, double X, double Y, double fpX,
+double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
                                     double fpY) const {
   // Only pixels whose footprint straddles a mark's side or a dash's end are
   // supersampled; the rest are inside or outside the paint as a whole.
@@ -135,11 +119,10 @@ double RoadRenderer::paint_coverage(const View& v, double px, double py, double 
   int hits = 0, samples = 0;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const Vec3 q = v.ray(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5);
-      if (q.z() <= 0.0) continue;
-      const double t = v.L.z() / q.z();
+      double sx = 0.0, sy = 0.0;
+      if (!v.ground(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5, sx, sy)) continue;
       ++samples;
-      hits += paint_at(v.L.x() - t * q.x(), v.L.y() - t * q.y());
+      hits += paint_at(sx, sy);
     }
   }
   return samples ? static_cast<double>(hits) / samples : 0.0;
@@ -171,11 +154,10 @@ double RoadRenderer::sky(double qx, double qy, double qz) const {
 
 void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) {
   const int W = camera_.Nu, H = camera_.Nv;
-  const Mat3 T = attitude_matrix(truth.pose.attitude);
-  CameraModel model(camera_, truth.pose);
-  View v{camera_.cx, camera_.cy, camera_.k_px2, camera_.pitch_u(), camera_.pitch_v(), truth.pose.f_mm,
-         T.col(0), T.col(1), T.col(2), model.lens_centre(), 0.0};
-  v.corner2 = std::max(v.cx * v.cx, (W - v.cx) * (W - v.cx)) + std::max(v.cy * v.cy, (H - v.cy) * (H - v.cy));
+  const GroundProjector v(camera_, truth.pose);
+  const Ray &L = v.lens(), &T0 = v.t0(), &T1 = v.t1();
+  const double pu = v.pitch_u(), pv = v.pitch_v(), cx = camera_.cx, cy = camera_.cy;
+  const double corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
 
   // The road as this frame sees it.
   num_lines_ = std::min(truth.num_lines, kMaxRoadLines);
@@ -201,23 +183,22 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
     const double py = y + 1.0;
     for (int x = 0; x < W; ++x) {
       const double px = x + 1.0;
-      const double dx = px - v.cx, dy = py - v.cy;
+      const double dx = px - cx, dy = py - cy;
       const double r2 = dx * dx + dy * dy;
-      const double s = 1.0 / (1.0 + v.k * r2);
-      const double a = dx * s * v.pu, b = dy * s * v.pv;
-      const Vec3 q = -v.f * v.T2 + a * v.T0 + b * v.T1;
+      double s = 1.0;
+      const Ray q = v.ray(px, py, &s);
       double value;
-      if (q.z() <= 0.0) {
-        value = sky(q.x(), q.y(), q.z());
+      if (q.z <= 0.0) {
+        value = sky(q.x, q.y, q.z);
       } else {
-        const double inv_qz = 1.0 / q.z();
-        const double t = v.L.z() * inv_qz;
-        const double X = v.L.x() - t * q.x(), Y = v.L.y() - t * q.y();
+        const double inv_qz = 1.0 / q.z;
+        const double t = L.z * inv_qz;
+        const double X = L.x - t * q.x, Y = L.y - t * q.y;
         // Footprint: d(X, Y)/d(a, b) = -t (T_k - q T_kz / q_z), one pixel = (pu, pv).
-        const double dXa = -t * (v.T0.x() - q.x() * v.T0.z() * inv_qz) * v.pu * s;
-        const double dYa = -t * (v.T0.y() - q.y() * v.T0.z() * inv_qz) * v.pu * s;
-        const double dXb = -t * (v.T1.x() - q.x() * v.T1.z() * inv_qz) * v.pv * s;
-        const double dYb = -t * (v.T1.y() - q.y() * v.T1.z() * inv_qz) * v.pv * s;
+        const double dXa = -t * (T0.x - q.x * T0.z * inv_qz) * pu * s;
+        const double dYa = -t * (T0.y - q.y * T0.z * inv_qz) * pu * s;
+        const double dXb = -t * (T1.x - q.x * T1.z * inv_qz) * pv * s;
+        const double dYb = -t * (T1.y - q.y * T1.z * inv_qz) * pv * s;
         const double fpX = 0.5 * (std::abs(dXa) + std::abs(dXb)), fpY = 0.5 * (std::abs(dYa) + std::abs(dYb));
         const double footprint = 2.0 * std::sqrt(fpX * fpY) + 1e-9;
         value = shade_ground(X, Y, footprint);
@@ -231,7 +212,7 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
         if (X > kHazeStartMm) value += std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze_grey - value);
       }
       // Illumination falling off across the picture and towards its corners.
-      value *= 1.0 + scene_.gradient * (dx / W - 0.5 * r2 / v.corner2);
+      value *= 1.0 + scene_.gradient * (dx / W - 0.5 * r2 / corner2);
       dst[x] = static_cast<float>(value);
     }
   }

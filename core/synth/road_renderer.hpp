@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/config/synth_config.hpp"
+#include "core/detection/ground_projector.hpp"
 #include "core/geometry/camera_spec.hpp"
 #include "core/image/image_view.hpp"
 #include "core/synth/synth_drive.hpp"
@@ -29,10 +30,9 @@ class RoadRenderer {
     double y0, half_width, phase;
     bool dashed;
   };
-  struct View;  // per-frame camera constants
 
   double shade_ground(double X, double Y, double footprint) const;
-  double paint_coverage(const View& v, double px, double py, double X, double Y, double fpX, double fpY) const;
+  double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY) const;
   bool paint_at(double X, double Y) const;
   double sky(double qx, double qy, double qz) const;
   void blur();

@@ -14,38 +14,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include "drivers/common/unique_fd.hpp"
+
 namespace ccdlane {
 namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 4096;  // room for generous comments
 constexpr int kMaxDimension = 65535;
-
-// Move-only owner of a file descriptor.
-class FileDescriptor {
- public:
-  explicit FileDescriptor(int fd = -1) : fd_(fd) {}
-  FileDescriptor(FileDescriptor&& o) noexcept : fd_(o.release()) {}
-  FileDescriptor& operator=(FileDescriptor&& o) noexcept {
-    if (this != &o) reset(o.release());
-    return *this;
-  }
-  FileDescriptor(const FileDescriptor&) = delete;
-  FileDescriptor& operator=(const FileDescriptor&) = delete;
-  ~FileDescriptor() { reset(); }
-  int get() const { return fd_; }
-  int release() {
-    const int fd = fd_;
-    fd_ = -1;
-    return fd;
-  }
-  void reset(int fd = -1) {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = fd;
-  }
-
- private:
-  int fd_;
-};
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
@@ -173,7 +148,7 @@ PgmFault PgmReader::fail(PgmFault fault, const char* path, const char* format, .
 
 PgmFault PgmReader::open_and_parse(const char* path, int& fd_out, PgmHeader& header, long long& file_size) {
   fd_out = -1;
-  FileDescriptor fd(::open(path, O_RDONLY | O_CLOEXEC));
+  UniqueFd fd(::open(path, O_RDONLY | O_CLOEXEC));
   if (fd.get() < 0) {
     const int e = errno;
     if (e == ENOENT) return fail(PgmFault::missing, path, "missing (no such file)");
@@ -202,7 +177,7 @@ PgmFault PgmReader::probe(const char* path, PgmHeader& header) {
   int raw = -1;
   long long size = 0;
   const PgmFault f = open_and_parse(path, raw, header, size);
-  FileDescriptor fd(raw);
+  UniqueFd fd(raw);
   if (f != PgmFault::none) return f;
   length_ = 0;
   return PgmFault::none;
@@ -213,7 +188,7 @@ PgmFault PgmReader::read(const char* path, const MutableImageView& into, PgmHead
   long long file_size = 0;
   PgmHeader h;
   const PgmFault f = open_and_parse(path, raw, h, file_size);
-  FileDescriptor fd(raw);
+  UniqueFd fd(raw);
   if (f != PgmFault::none) return f;
   if (h.width != into.width || h.height != into.height)
     return fail(PgmFault::wrong_size, path, "wrong size: %dx%d, expected %dx%d", h.width, h.height, into.width,
@@ -281,7 +256,7 @@ void write_pgm(const std::string& path, const ImageView& image) {
   }
 
   const std::string tmp = path + ".tmp";
-  FileDescriptor fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
+  UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
   if (fd.get() < 0) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
   std::size_t done = 0;
   while (done < data.size()) {

@@ -20,6 +20,7 @@ void* counted_alloc(std::size_t n, std::size_t align = 0) {
 
 namespace ccdlane::test {
 std::size_t allocations_in_this_thread() { return g_allocations; }
+void note_allocation() { ++g_allocations; }
 }  // namespace ccdlane::test
 
 void* operator new(std::size_t n) { return counted_alloc(n); }

@@ -6,8 +6,10 @@
 
 namespace ccdlane::test {
 
-// Allocations (operator new of any form) made by the calling thread so far.
+// Allocations (operator new of any form; with malloc_counter also malloc & co.) made by
+// the calling thread so far.
 std::size_t allocations_in_this_thread();
+void note_allocation();  // counts one (for the allocator wrappers)
 
 // Counts the allocations made while it is alive, in this thread.
 class AllocationScope {

@@ -8,17 +8,23 @@
 namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
+CommandAction setup_solve(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
 CommandAction setup_grab(CLI::App& sub);
-CommandAction setup_solve(CLI::App& sub);
+CommandAction setup_gx1(CLI::App& sub);
+CommandAction setup_gx1_emulate(CLI::App& sub);
+CommandAction setup_replay(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
+    {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
-    {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
+    {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},
+    {"gx1-emulate", "emulate a 3DM-GX1 on a pty until interrupted (prints the device path)", setup_gx1_emulate},
+    {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
 };
 }  // namespace
 }  // namespace ccdlane::cli

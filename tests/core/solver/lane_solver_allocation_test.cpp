@@ -1,11 +1,8 @@
-// Proof that LaneSolver::solve() never touches the heap after construction. Operator
-// new is counted by the shared tests/support/allocation_counter; Eigen allocates with
-// std::malloc (inlined into the solver's own objects), so malloc & co. are also wrapped
-// at link time here (-Wl,--wrap, see CMakeLists.txt), which works under the sanitizers
-// too. Any allocation while counting fails.
-#include <atomic>
+// Proof that LaneSolver::solve() never touches the heap after construction: operator new
+// and, through the link-time wrap of ccdlane_malloc_counter, malloc & co. (where Eigen's
+// allocations land, inlined into the solver's objects) are counted. Any allocation while
+// counting fails.
 #include <cmath>
-#include <cstdlib>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -14,67 +11,21 @@
 #include "tests/core/solver/synthetic_scene.hpp"
 #include "tests/support/allocation_counter.hpp"
 
-namespace {
-std::atomic<long> g_mallocs{0};
-}  // namespace
-
-// The C allocator, as seen by this program's own objects and static libraries.
-extern "C" {
-void* __real_malloc(std::size_t);
-void* __real_calloc(std::size_t, std::size_t);
-void* __real_realloc(void*, std::size_t);
-int __real_posix_memalign(void**, std::size_t, std::size_t);
-void* __real_aligned_alloc(std::size_t, std::size_t);
-void* __wrap_malloc(std::size_t n) {
-  ++g_mallocs;
-  return __real_malloc(n);
-}
-void* __wrap_calloc(std::size_t n, std::size_t size) {
-  ++g_mallocs;
-  return __real_calloc(n, size);
-}
-void* __wrap_realloc(void* p, std::size_t n) {
-  ++g_mallocs;
-  return __real_realloc(p, n);
-}
-int __wrap_posix_memalign(void** p, std::size_t align, std::size_t n) {
-  ++g_mallocs;
-  return __real_posix_memalign(p, align, n);
-}
-void* __wrap_aligned_alloc(std::size_t align, std::size_t n) {
-  ++g_mallocs;
-  return __real_aligned_alloc(align, n);
-}
-}
-
-namespace {
-// Heap allocations of either kind made while it is alive (the test is single-threaded).
-class AllocationCounter {
- public:
-  AllocationCounter() : mallocs_(g_mallocs.load()) {}
-  long count() const { return static_cast<long>(news_.count()) + (g_mallocs.load() - mallocs_); }
-
- private:
-  ccdlane::test::AllocationScope news_;
-  long mallocs_;
-};
-}  // namespace
-
 namespace ccdlane {
 namespace {
 
 TEST(LaneSolverAllocation, CounterSeesNewAndEigenHeapAllocations) {
   // The proof below is only as good as the counter: show it catches both kinds.
   {
-    AllocationCounter counter;
+    test::AllocationScope counter;
     auto* p = new double(1.0);
-    EXPECT_GE(counter.count(), 1);
+    EXPECT_GE(counter.count(), 1u);
     delete p;
   }
   {
-    AllocationCounter counter;
+    test::AllocationScope counter;
     Eigen::VectorXd v = Eigen::VectorXd::Ones(64);  // Eigen's aligned_malloc -> std::malloc
-    EXPECT_GE(counter.count(), 1) << v.sum();
+    EXPECT_GE(counter.count(), 1u) << v.sum();
   }
 }
 
@@ -126,12 +77,11 @@ TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
 
   LaneSolver solver(scene.camera, 64, kMaxLaneLines);
   for (const SolveRequest& req : requests) solver.solve(req);  // warm-up (nothing lazy expected)
-  AllocationCounter counter;
+  test::AllocationScope counter;
   int converged = 0;
   for (int round = 0; round < 2; ++round)
     for (const SolveRequest& req : requests) converged += solver.solve(req).converged;
-  const long allocations = counter.count();
-  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(counter.count(), 0u);
   EXPECT_GE(converged, 2 * 5);  // the solves above really ran
 }
 

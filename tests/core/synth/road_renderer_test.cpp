@@ -11,20 +11,15 @@
 #include <gtest/gtest.h>
 
 #include "core/geometry/camera_model.hpp"
+#include "tests/core/synth/rendered_road.hpp"
+#include "tests/core/synth/truth_projection.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
 
-// A smaller version of the reference camera (same field of view), to keep tests quick.
 Config small_camera() {
-  Config c = default_config();
-  c.camera.Nu = 400;
-  c.camera.Nv = 300;
-  c.camera.Uc_mm = c.camera.Vc_mm = 0.0084;
-  c.camera.cx = 200.5;
-  c.camera.cy = 150.5;
-  c.camera.k_px2 = -8.3042e-7 * 4;  // the same distortion at the same place in the picture
+  Config c = test::small_reference_camera();
   c.attitude = {0.8, 4.0, -1.5};
   return c;
 }
@@ -38,24 +33,6 @@ struct Image {
   }
   double at(int x, int y) const { return ImageView(view).at(x, y); }
 };
-
-// Where the centre line of road line j crosses pixel row py (1-based), by bisection on
-// the distance ahead: the projection of the truth, independent of the renderer.
-std::optional<double> truth_column(const CameraModel& cam, const SynthFrame& f, int j, double py) {
-  auto row_at = [&](double X) {
-    const double y = f.y0_mm[static_cast<std::size_t>(j)] + f.c_per_mm * X * X;
-    return cam.pixel_from_point(Vec3(X, y, 0.0));
-  };
-  double lo = 2000, hi = 60000;
-  const auto plo = row_at(lo), phi = row_at(hi);
-  if (!plo || !phi || (plo->y() - py) * (phi->y() - py) > 0) return std::nullopt;
-  for (int it = 0; it < 80; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    if ((row_at(mid)->y() - py) * (plo->y() - py) > 0) lo = mid;
-    else hi = mid;
-  }
-  return row_at(0.5 * (lo + hi))->x();
-}
 
 TEST(RoadRenderer, MarksAreWhereTheCameraModelProjectsTheTruth) {
   Config c = small_camera();
@@ -74,7 +51,7 @@ TEST(RoadRenderer, MarksAreWhereTheCameraModelProjectsTheTruth) {
   double worst = 0.0;
   for (int j = 0; j < f.num_lines; ++j) {
     for (int y = 150; y < 300; y += 3) {
-      const auto want = truth_column(cam, f, j, y + 1.0);
+      const auto want = test::truth_column(cam, f, j, y + 1.0);
       if (!want || *want < 8 || *want > 392) continue;
       // Paint above the asphalt level, summed across the mark in this row.
       const int x0 = static_cast<int>(*want) - 1;

@@ -1,0 +1,160 @@
+// Lane detector: row plan from the pose, row filter, road-plane and orientation checks,
+// grouping, picks.
+#include "core/detection/lane_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ccdlane {
+namespace {
+
+static_assert(kMaxDetectedLines == kMaxLaneLines, "detection reports at most what the solver takes");
+
+constexpr int kMaxScanRows = 360;          // beyond, rows are subsampled evenly
+constexpr int kCandidatesPerPixelRow = 24; // capacity: marks per scanned row, on average
+constexpr double kMinMarkPx = 0.8;         // marks narrower than this are not resolved
+constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
+
+// 3x3 Sobel gradient at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
+void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
+  auto p = [&](int dx, int dy) { return static_cast<double>(im.at(x + dx, y + dy)); };
+  gx = (p(1, -1) + 2 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2 * p(-1, 0) + p(-1, 1));
+  gy = (p(-1, 1) + 2 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2 * p(0, -1) + p(1, -1));
+}
+
+}  // namespace
+
+LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& config)
+    : camera_(camera),
+      config_(config),
+      scanner_(camera.Nu),
+      grouper_(static_cast<int>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
+      rows_(static_cast<std::size_t>(camera.Nv)),
+      marks_(static_cast<std::size_t>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
+      picks_(static_cast<std::size_t>(config.max_picks)) {}
+
+void LaneDetector::plan_rows(const CameraPose& pose) {
+  projector_.set(camera_, pose);
+  num_rows_ = 0;
+  const double col = camera_.cx;
+  for (int y = 1; y + 1 < camera_.Nv; ++y) {
+    double X = 0, Y = 0, X2 = 0, Y2 = 0;
+    if (!projector_.ground(col, y + 1.0, X, Y) || X < config_.min_range_mm || X > config_.max_range_mm) continue;
+    if (!projector_.ground(col + 1.0, y + 1.0, X2, Y2)) continue;
+    const double mm_per_px = std::hypot(X2 - X, Y2 - Y);
+    const double mark_px = config_.mark_width_mm / mm_per_px;
+    if (mark_px < kMinMarkPx) continue;
+    // Near rows are dense on the road and their marks wide: every second or third one
+    // says as much as all of them, at a fraction of the time.
+    const int thin = mark_px >= 12.0 ? 3 : mark_px >= 6.0 ? 2 : 1;
+    if (y % thin != 0) continue;
+    ScanRow& r = rows_[static_cast<std::size_t>(num_rows_++)];
+    r.y = y;
+    r.mark_px = static_cast<float>(mark_px);
+    r.half_width = std::clamp(static_cast<int>(std::lround(mark_px / 2)), 1, 8);
+    // Wide enough for blur, a dash's end and distortion at the picture's edges; narrow
+    // enough to leave out cars, patches and bright regions.
+    r.min_width_px = static_cast<float>(std::max(0.8, 0.4 * mark_px - 1.0));
+    r.max_width_px = static_cast<float>(2.5 * mark_px + 2.0);
+  }
+  if (num_rows_ > kMaxScanRows) {  // keep an even spread
+    const int n = num_rows_;
+    for (int k = 0; k < kMaxScanRows; ++k)
+      rows_[static_cast<std::size_t>(k)] = rows_[static_cast<std::size_t>(static_cast<long>(k) * n / kMaxScanRows)];
+    num_rows_ = kMaxScanRows;
+  }
+}
+
+bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const {
+  if (!have_vp_) return true;
+  const int y = static_cast<int>(c.py) - 1;
+  const int xa = static_cast<int>(std::lround(c.left_px - 1.0)), xb = static_cast<int>(std::lround(c.right_px - 1.0));
+  if (y < 1 || y + 2 > image.height || xa < 1 || xb + 2 > image.width) return false;
+  double gax, gay, gbx, gby;
+  sobel(image, xa, y, gax, gay);
+  sobel(image, xb, y, gbx, gby);
+  const double gx = gax - gbx, gy = gay - gby;  // both edges' normals, same sense
+  // The bar's way to the vanishing point, in ideal pixels.
+  const double dx = c.px() - camera_.cx, dy = c.py - camera_.cy;
+  const double s = 1.0 / (1.0 + camera_.k_px2 * (dx * dx + dy * dy));
+  const double ex = vp_x_ - (camera_.cx + dx * s), ey = vp_y_ - (camera_.cy + dy * s);
+  const double en = std::hypot(ex, ey), gn = std::hypot(gx, gy);
+  if (en < 1.0 || gn == 0.0) return true;
+  return std::abs(gx * ex + gy * ey) / (gn * en) < kOrientationTolerance;
+}
+
+void LaneDetector::choose_picks() {
+  const int n = result_.num_lines;
+  int count = 0;
+  const int per_line = n > 0 ? config_.max_picks / n : 0;
+  const int num_marks = static_cast<int>(result_.marks.size());
+  for (int j = 0; j < n; ++j) {
+    DetectedLine& line = result_.lines[static_cast<std::size_t>(j)];
+    line.first_pick = count;
+    // Evenly spread over the line's marks (they come in row order, far to near).
+    const int take = std::min(line.marks, per_line);
+    int seen = 0, next = 0;
+    for (int i = 0; i < num_marks && next < take; ++i) {
+      const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];
+      if (m.line != j) continue;
+      if (seen++ == static_cast<int>(static_cast<long>(2 * next + 1) * line.marks / (2 * take))) {
+        picks_[static_cast<std::size_t>(count++)] = {j, m.px(), m.py};
+        ++next;
+      }
+    }
+    line.num_picks = count - line.first_pick;
+  }
+  result_.picks = std::span<const Pick>(picks_.data(), static_cast<std::size_t>(count));
+}
+
+const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
+                                            std::span<const LinePrior> priors) {
+  result_ = DetectionResult{};
+  if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return result_;
+  plan_rows(pose);
+  double mean_m = 0.0;
+  for (const LinePrior& p : priors) mean_m += p.m / static_cast<double>(priors.size());
+  have_vp_ = projector_.vanishing_point(mean_m, vp_x_, vp_y_);
+
+  const bool wide = image.format == PixelFormat::mono16;
+  const float scale = wide ? static_cast<float>((1 << std::clamp(image.significant_bits, 9, 16)) - 1) / 255.0f : 1.0f;
+  const float min_contrast = static_cast<float>(config_.min_contrast) * scale;
+  const int capacity = static_cast<int>(marks_.size());
+  int count = 0;
+  for (int r = 0; r < num_rows_ && count < capacity; ++r)
+    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, min_contrast, 1.0f / scale, marks_.data(),
+                          count, capacity);
+  result_.counters.scan_rows = num_rows_;
+  result_.counters.candidates = count;
+
+  // What cannot be paint on the road: off the road plane or the searched range, or a bar
+  // that does not run towards the vanishing point (shadow edges, car parts, seams).
+  int kept = 0;
+  for (int i = 0; i < count; ++i) {
+    MarkCandidate c = marks_[static_cast<std::size_t>(i)];
+    double X = 0, Y = 0;
+    if (!projector_.ground(c.px(), c.py, X, Y) || X < 0.8 * config_.min_range_mm || X > 1.25 * config_.max_range_mm) {
+      ++result_.counters.off_road;
+      continue;
+    }
+    if (!points_to_vanishing_point(image, c)) {
+      ++result_.counters.wrong_orientation;
+      continue;
+    }
+    c.X = X;
+    c.Y = Y;
+    marks_[static_cast<std::size_t>(kept++)] = c;
+  }
+  const std::span<MarkCandidate> marks(marks_.data(), static_cast<std::size_t>(kept));
+  GroupingParams params;
+  params.min_marks = config_.min_marks;
+  params.max_lines = config_.max_lines;
+  params.mm_per_px_per_mm = camera_.pitch_u() / pose.f_mm;
+  result_.num_lines = grouper_.group(marks, priors, params, result_.lines);
+  result_.marks = marks;
+  for (const MarkCandidate& m : marks) result_.counters.grouped += m.line >= 0;
+  choose_picks();
+  return result_;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,52 @@
+// Lane-mark detection on one frame: plan the rows to scan from the camera model at the
+// current pose, run the row filter, drop what cannot be paint on the road, group the
+// rest into lane lines and choose sub-pixel picks for the solver, labelled by line.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/config/detection_config.hpp"
+#include "core/detection/ground_projector.hpp"
+#include "core/detection/lane_marks.hpp"
+#include "core/detection/line_grouper.hpp"
+#include "core/detection/mark_scanner.hpp"
+#include "core/image/image_view.hpp"
+
+namespace ccdlane {
+
+class LaneDetector {
+ public:
+  // Every workspace is sized here for frames of camera.Nu x camera.Nv; detect() never
+  // allocates and never throws.
+  LaneDetector(const CameraSpec& camera, const DetectionConfig& config);
+
+  // Detects lane lines in `image` (Nu x Nv, mono8 or mono16 with its significant_bits),
+  // seen from `pose` (the best current guess: previous frame, gyro, or nominal). `priors`
+  // are the previous frame's lines in the same road frame (empty on the first frame or
+  // after a loss). The result stays valid until the next call.
+  const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const LinePrior> priors);
+
+  int max_picks() const { return config_.max_picks; }
+  int max_candidates() const { return static_cast<int>(marks_.size()); }
+
+ private:
+  void plan_rows(const CameraPose& pose);
+  bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
+  void choose_picks();
+
+  CameraSpec camera_;
+  DetectionConfig config_;
+  GroundProjector projector_;
+  MarkScanner scanner_;
+  LineGrouper grouper_;
+  std::vector<ScanRow> rows_;
+  int num_rows_ = 0;
+  std::vector<MarkCandidate> marks_;
+  std::vector<Pick> picks_;
+  DetectionResult result_;
+  double vp_x_ = 0.0, vp_y_ = 0.0;  // ideal pixel of the road's vanishing point
+  bool have_vp_ = false;
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,63 @@
+// What detection works with and hands on: lane-mark candidates found along image rows,
+// lane lines grouped from them on the road, and the labelled picks for the solver.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "core/config/detection_config.hpp"
+#include "core/solver/lane_solver.hpp"
+
+namespace ccdlane {
+
+// A bright bar between two darker sides on one image row: a piece of paint, perhaps.
+struct MarkCandidate {
+  double left_px = 0, right_px = 0;  // sub-pixel edges along the row, 1-based observed
+  double py = 0;                     // the row, 1-based
+  double contrast = 0;               // paint minus the darker side, grey levels (8-bit scale)
+  double X = 0, Y = 0;               // where the centre lies on the road at the detection pose, mm
+  std::int16_t line = -1;            // index of the line it was grouped into, -1 = none
+  std::int16_t scan_row = 0;         // which scan row found it
+
+  double px() const { return 0.5 * (left_px + right_px); }
+  double width_px() const { return right_px - left_px; }
+};
+
+// A lane line y = y0 + m x + c x^2 on the road, as detection fitted it at its pose.
+struct LinePrior {
+  double y0_mm = 0.0;
+  double m = 0.0;
+  double c_per_mm = 0.0;
+  double y_at(double x_mm) const { return y0_mm + (m + c_per_mm * x_mm) * x_mm; }
+};
+
+struct DetectedLine {
+  LinePrior fit;             // at the detection pose
+  int marks = 0;             // candidates grouped into it
+  int first_pick = 0;        // its picks: DetectionResult::picks[first_pick .. + num_picks)
+  int num_picks = 0;
+  double near_mm = 0.0;      // the road distances it was seen over
+  double far_mm = 0.0;
+  double rms_mm = 0.0;       // lateral scatter of its marks about the fit
+  int prior_index = -1;      // the prior line it continues, -1 = newly found
+};
+
+// Counts of what the row filter found and why candidates were dropped.
+struct DetectionCounters {
+  int scan_rows = 0;
+  int candidates = 0;          // dark-bright-dark bars of a plausible width and contrast
+  int off_road = 0;            // above the horizon or out of the searched range
+  int wrong_orientation = 0;   // not running towards the road's vanishing point
+  int grouped = 0;             // on a reported line
+};
+
+struct DetectionResult {
+  int num_lines = 0;  // ordered left to right as seen from the vehicle (largest y0 first)
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  std::span<const Pick> picks;           // labelled 0..num_lines-1 in that order
+  std::span<const MarkCandidate> marks;  // every candidate kept after the row filter
+  DetectionCounters counters;
+};
+
+}  // namespace ccdlane

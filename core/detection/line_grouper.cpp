@@ -1,0 +1,263 @@
+// Line grouping on the road plane. A homography maps straight image lines to straight
+// road lines whatever the pose error, so lines stay straight on the road even when the
+// pose used to project the marks is off; the vote spans slopes wide enough for a few
+// degrees of pitch or yaw error, and the gates widen with distance for the same reason.
+#include "core/detection/line_grouper.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+namespace ccdlane {
+namespace {
+
+constexpr double kY0MinMm = -15000.0, kY0BinMm = 100.0;
+constexpr double kSlopeMin = -0.25, kSlopeStep = 0.0125;
+constexpr double kReferenceMm = 10000.0;  // where lines are compared and ordered
+constexpr double kGateGrowth = 0.02;      // gate widening per mm of distance (pose error)
+constexpr double kMaxCurvature = 1e-5;    // c of a 50 m radius: anything sharper is not a lane
+
+double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
+
+}  // namespace
+
+LineGrouper::LineGrouper(int max_marks)
+    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {}
+
+void LineGrouper::vote(const MarkCandidate& mark, int delta) {
+  for (int j = 0; j < kSlopeBins; ++j) {
+    const double y0 = mark.Y - curvature_ * mark.X * mark.X - (kSlopeMin + j * kSlopeStep) * mark.X;
+    const int i = static_cast<int>(std::floor((y0 - kY0MinMm) / kY0BinMm));
+    if (i < 0 || i >= kY0Bins) continue;
+    std::uint16_t& v = votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)];
+    v = static_cast<std::uint16_t>(delta > 0 ? std::min(v + 1, 65535) : std::max(v - 1, 0));
+  }
+}
+
+bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
+                           const GroupingParams& params, DetectedLine& out) {
+  const auto id = static_cast<std::int16_t>(line);
+  auto pixel_tol = [&](double X) { return params.fit_tolerance_px * params.mm_per_px_per_mm * X; };
+  auto release = [&] {
+    for (MarkCandidate& m : marks)
+      if (m.line == id) m.line = -1;
+    return false;
+  };
+
+  // 1. The free marks within the gate around the model.
+  int g = 0;
+  for (std::size_t i = 0; i < marks.size() && g < static_cast<int>(gated_.size()); ++i) {
+    const MarkCandidate& m = marks[i];
+    if ((m.line == -1 || m.line == id) && std::abs(m.Y - model.y_at(m.X)) <= gate(gate_base_mm, m.X))
+      gated_[static_cast<std::size_t>(g++)] = static_cast<int>(i);
+  }
+  if (g < params.min_marks) return release();
+
+  // 2. RANSAC among them: the model, or a straight line through two gated marks, that
+  // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
+  // a plain least-squares fit off the line; the consensus does not care about it.
+  auto consensus = [&](const LinePrior& h) {
+    int count = 0;
+    for (int k = 0; k < g; ++k) {
+      const MarkCandidate& m = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
+      count += std::abs(m.Y - h.y_at(m.X)) <= 1.5 * pixel_tol(m.X);
+    }
+    return count;
+  };
+  LinePrior best = model;
+  int best_count = consensus(model);
+  std::uint32_t state = 2654435761u * static_cast<std::uint32_t>(line + 1);  // deterministic samples
+  auto next = [&state, g] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<int>((state >> 8) % static_cast<std::uint32_t>(g));
+  };
+  for (int it = 0; it < kRansacIterations; ++it) {
+    // Straight lines through two marks (with the model's curvature) and, on a curving
+    // road, parabolas through three.
+    const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
+    const MarkCandidate& b = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
+    LinePrior h;
+    if (it % 2 == 0) {
+      if (std::abs(a.X - b.X) < 2000.0) continue;
+      const double c = model.c_per_mm;
+      const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
+      h = {a.Y - c * a.X * a.X - m * a.X, m, c};
+    } else {
+      const MarkCandidate& d = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
+      if (std::abs(a.X - b.X) < 3000.0 || std::abs(b.X - d.X) < 3000.0 || std::abs(a.X - d.X) < 3000.0) continue;
+      // Divided differences through (a, b, d).
+      const double ab = (b.Y - a.Y) / (b.X - a.X), bd = (d.Y - b.Y) / (d.X - b.X);
+      const double c = (bd - ab) / (d.X - a.X);
+      if (std::abs(c) > kMaxCurvature) continue;
+      const double m = ab - c * (a.X + b.X);
+      h = {a.Y - m * a.X - c * a.X * a.X, m, c};
+    }
+    const int count = consensus(h);
+    if (count > best_count) best_count = count, best = h;
+  }
+  model = best;
+
+  // 3. Least squares on the consensus, then more passes on every free mark within the
+  // pixel tolerance of the fit (the line may reach beyond the gate once it is known).
+  constexpr int kPasses = 4;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    int n = 0;
+    double near = 1e300, far = 0.0;
+    int first_row = 1 << 30, last_row = -1;
+    for (MarkCandidate& m : marks) {
+      if (m.line != -1 && m.line != id) continue;
+      const double tol = (pass == 0 ? 1.5 : 1.0) * pixel_tol(m.X);
+      if (std::abs(m.Y - model.y_at(m.X)) > tol) {
+        m.line = -1;
+        continue;
+      }
+      m.line = id;
+      const double x = m.X * 1e-3;  // metres along, for conditioning
+      const Eigen::Vector3d phi(1.0, x, x * x);
+      A += phi * phi.transpose();
+      b += phi * m.Y;
+      ++n;
+      near = std::min(near, m.X);
+      far = std::max(far, m.X);
+      first_row = std::min<int>(first_row, m.scan_row);
+      last_row = std::max<int>(last_row, m.scan_row);
+    }
+    if (n < params.min_marks || far - near < params.min_span_mm) return release();
+    if (n < params.min_coverage * (last_row - first_row + 1)) return release();  // sparse: clutter, not paint
+    // The curvature term only when the marks reach far enough to show it; otherwise the
+    // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
+    Eigen::Vector3d coef = Eigen::Vector3d::Zero();
+    if (n >= 15 && far - near >= 15000.0) {
+      coef = A.ldlt().solve(b);
+    } else {
+      coef[2] = model.c_per_mm * 1e6;
+      coef.head<2>() = A.topLeftCorner<2, 2>().ldlt().solve(b.head<2>() - A.topRightCorner<2, 1>() * coef[2]);
+    }
+    if (!coef.allFinite()) return release();
+    model = {coef[0], coef[1] * 1e-3, coef[2] * 1e-6};
+    double sum2 = 0.0, sum2_px = 0.0;
+    for (const MarkCandidate& m : marks) {
+      if (m.line != id) continue;
+      const double r = m.Y - model.y_at(m.X);
+      sum2 += r * r;
+      sum2_px += r * r / (params.mm_per_px_per_mm * params.mm_per_px_per_mm * m.X * m.X);
+    }
+    out.fit = model;
+    out.marks = n;
+    out.near_mm = near;
+    out.far_mm = far;
+    out.rms_mm = std::sqrt(sum2 / n);
+    if (pass == kPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
+  }
+  return true;
+}
+
+int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors,
+                       const GroupingParams& params, std::array<DetectedLine, kMaxDetectedLines>& out) {
+  std::array<DetectedLine, kMaxFoundLines>& lines = found_;
+  for (MarkCandidate& m : marks) m.line = -1;
+  int n = 0;
+  auto separated = [&](const DetectedLine& l) {
+    for (int k = 0; k < n; ++k)
+      if (std::abs(lines[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) <
+          params.min_separation_mm)
+        return false;
+    return true;
+  };
+
+  // 1. Where the previous frame's lines were.
+  for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
+    DetectedLine l;
+    if (!fit_line(marks, priors[k], 350.0, n, params, l)) continue;
+    if (!separated(l)) {
+      for (MarkCandidate& m : marks)
+        if (m.line == n) m.line = -1;
+      continue;
+    }
+    l.prior_index = static_cast<int>(k);
+    lines[static_cast<std::size_t>(n++)] = l;
+  }
+
+  // 2. New lines among what is left: the strongest (y0, m) cell, fitted, until none has
+  // enough votes. Lane lines share their curvature: votes are cast along the curvature
+  // of the lines found so far (a dashed line on a bend is found along the solid one).
+  auto shared_curvature = [&] {
+    double sum = 0.0, weight = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const DetectedLine& l = lines[static_cast<std::size_t>(k)];
+      if (l.far_mm - l.near_mm < 15000.0) continue;  // too short to show curvature
+      sum += l.fit.c_per_mm * l.marks;
+      weight += l.marks;
+    }
+    if (weight > 0.0) return sum / weight;
+    double prior_c = 0.0;
+    for (const LinePrior& p : priors) prior_c += p.c_per_mm / static_cast<double>(priors.size());
+    return prior_c;
+  };
+  auto revote = [&] {
+    std::fill(votes_.begin(), votes_.end(), 0);
+    for (const MarkCandidate& m : marks)
+      if (m.line == -1) vote(m, +1);
+  };
+  curvature_ = shared_curvature();
+  revote();
+  for (int attempt = 0; attempt < 16 && n < kMaxFoundLines; ++attempt) {
+    int best = 0, bi = -1, bj = -1;
+    for (int i = 1; i + 1 < kY0Bins; ++i) {
+      const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
+      for (int j = 0; j < kSlopeBins; ++j) {
+        const int s = row[j - kSlopeBins] + row[j] + row[j + kSlopeBins];  // 3 bins of y0
+        if (s > best) best = s, bi = i, bj = j;
+      }
+    }
+    if (best < params.min_marks) break;
+    const LinePrior model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
+    DetectedLine l;
+    if (fit_line(marks, model, 400.0, n, params, l) && separated(l)) {
+      lines[static_cast<std::size_t>(n++)] = l;
+      const double c = shared_curvature();
+      if (std::abs(c - curvature_) > 1e-8) {
+        curvature_ = c;
+        revote();
+      } else {
+        for (const MarkCandidate& m : marks)
+          if (m.line == n - 1) vote(m, -1);
+      }
+      continue;
+    }
+    for (MarkCandidate& m : marks)
+      if (m.line == n) m.line = -1;
+    // Not a line: silence this cell and its neighbours.
+    for (int i = std::max(0, bi - 1); i <= std::min(kY0Bins - 1, bi + 1); ++i)
+      for (int j = std::max(0, bj - 1); j <= std::min(kSlopeBins - 1, bj + 1); ++j)
+        votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)] = 0;
+  }
+
+  // 3. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
+  std::array<int, kMaxFoundLines> order{};
+  auto y_ref = [&](int k) { return lines[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm); };
+  auto insertion_sort = [&order](int count, auto before) {
+    for (int i = 1; i < count; ++i)
+      for (int j = i; j > 0 && before(order[static_cast<std::size_t>(j)], order[static_cast<std::size_t>(j - 1)]); --j)
+        std::swap(order[static_cast<std::size_t>(j)], order[static_cast<std::size_t>(j - 1)]);
+  };
+  for (int k = 0; k < n; ++k) order[static_cast<std::size_t>(k)] = k;
+  insertion_sort(n, [&](int a, int b) { return std::abs(y_ref(a)) < std::abs(y_ref(b)); });
+  const int kept = std::min({n, params.max_lines, kMaxDetectedLines});
+  insertion_sort(kept, [&](int a, int b) { return y_ref(a) > y_ref(b); });
+  std::array<std::int16_t, kMaxFoundLines> new_index{};
+  new_index.fill(-1);
+  out = {};
+  for (int k = 0; k < kept; ++k) {
+    out[static_cast<std::size_t>(k)] = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])];
+    new_index[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = static_cast<std::int16_t>(k);
+  }
+  for (MarkCandidate& m : marks)
+    if (m.line >= 0) m.line = new_index[static_cast<std::size_t>(m.line)];
+  return kept;
+}
+
+}  // namespace ccdlane

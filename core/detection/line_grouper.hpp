@@ -1,0 +1,57 @@
+// Groups lane-mark candidates into lane lines on the road: first along the lines the
+// previous frame found (gated), then new lines from a Hough vote over (y0, m) among the
+// candidates left, each refined by a trimmed least-squares fit.
+#pragma once
+
+#include <array>
+#include <span>
+#include <vector>
+
+#include "core/detection/lane_marks.hpp"
+
+namespace ccdlane {
+
+struct GroupingParams {
+  int min_marks = 8;           // candidates a line needs
+  double min_span_mm = 3000.0; // and the road distance they must cover
+  int max_lines = 4;
+  double min_separation_mm = 1500.0;  // two lines nearer than this (at 10 m) are one
+  // Lateral road distance one pixel spans, per mm of distance (about pitch_u / f): the
+  // final fits keep marks within fit_tolerance_px of the line.
+  double mm_per_px_per_mm = 1.0 / 600.0;
+  double fit_tolerance_px = 2.0;
+  double max_rms_px = 0.8;     // scatter about the final fit: paint is sharp, clutter is not
+  double min_coverage = 0.12;  // marks per scan row over the rows a line spans (dashes ~0.25)
+};
+
+class LineGrouper {
+ public:
+  // The Hough accumulator and index buffers for up to max_marks candidates are allocated
+  // here; group() allocates nothing.
+  explicit LineGrouper(int max_marks);
+
+  // Assigns marks[i].line and fills lines (returns how many), ordered left to right
+  // (largest y at 10 m first). `priors` are the previous frame's lines; a line continuing
+  // prior k has prior_index k. Picks are not chosen here.
+  int group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
+            std::array<DetectedLine, kMaxDetectedLines>& lines);
+
+  static constexpr int kY0Bins = 300;   // -15 m .. 15 m in 100 mm
+  static constexpr int kSlopeBins = 41; // -0.25 .. 0.25
+  static constexpr int kRansacIterations = 48;
+  static constexpr int kMaxFoundLines = 8;  // searched for, before the nearest are kept
+
+ private:
+  // Gathers the free (or `line`-assigned) marks in the gate around `model`, finds their
+  // consensus line (RANSAC), refits by least squares; assigns the marks to `line`.
+  bool fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
+                const GroupingParams& params, DetectedLine& out);
+  void vote(const MarkCandidate& m, int delta);
+
+  std::vector<std::uint16_t> votes_;  // kY0Bins x kSlopeBins
+  std::vector<int> gated_;            // indices of the marks inside a line's gate
+  double curvature_ = 0.0;            // c the votes are cast along
+  std::array<DetectedLine, kMaxFoundLines> found_{};
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,112 @@
+// Row filter. Along the row: prefix sums, a box derivative at the mark's scale, its
+// local extrema as rising/falling edges (parabola-interpolated to sub-pixel), then each
+// rising edge paired with the next falling one at a mark-like distance, kept when the
+// bar between them is brighter than both of its sides by the minimum contrast.
+#include "core/detection/mark_scanner.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ccdlane {
+namespace {
+
+// Sub-pixel offset of a peak sampled at -1, 0, 1 with values a, b >= max(a, c), c. A box
+// derivative of an edge is a triangle, not a parabola: interpolating with straight
+// sides is unbiased where a parabola pulls towards the centre sample.
+float peak_offset(std::int32_t a, std::int32_t b, std::int32_t c) {
+  const float den = 2.0f * static_cast<float>(b - std::min(a, c));
+  if (den <= 0.0f) return 0.0f;
+  return std::clamp(static_cast<float>(c - a) / den, -0.5f, 0.5f);
+}
+
+}  // namespace
+
+MarkScanner::MarkScanner(int max_width)
+    : prefix_(static_cast<std::size_t>(max_width) + 1),
+      grad_(static_cast<std::size_t>(max_width)),
+      rising_(static_cast<std::size_t>(max_width)),
+      falling_(static_cast<std::size_t>(max_width)) {}
+
+int MarkScanner::scan(const ImageView& image, const ScanRow& r, int scan_row_index, float min_contrast, float to_8bit,
+                      MarkCandidate* out, int count, int capacity) {
+  const int width = std::min(image.width, static_cast<int>(grad_.size()));
+  if (image.format == PixelFormat::mono16)
+    return scan_row(reinterpret_cast<const std::uint16_t*>(image.row(r.y)), width, r, scan_row_index, min_contrast,
+                    to_8bit, out, count, capacity);
+  return scan_row(image.row(r.y), width, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
+}
+
+template <typename Pixel>
+int MarkScanner::scan_row(const Pixel* row, int width, const ScanRow& r, int scan_row_index, float min_contrast,
+                          float to_8bit, MarkCandidate* out, int count, int capacity) {
+  std::int64_t* P = prefix_.data();
+  P[0] = 0;
+  for (int x = 0; x < width; ++x) P[x + 1] = P[x] + row[x];
+
+  // g[x]: sum of the h pixels right of the boundary x|x+1 minus the h pixels left of it.
+  const int h = std::max(1, r.half_width);
+  const int lo = h - 1, hi = width - 1 - h;  // boundaries with full boxes on both sides
+  if (hi - lo < 3) return count;
+  std::int32_t* g = grad_.data();
+  for (int x = lo; x <= hi; ++x)
+    g[x] = static_cast<std::int32_t>((P[x + 1 + h] - P[x + 1]) - (P[x + 1] - P[x + 1 - h]));
+
+  // An edge of contrast C gives a peak of C*h; half the minimum contrast finds the edges
+  // of blurred or partly covered marks, the bar test below applies the full minimum.
+  const auto edge_threshold = static_cast<std::int32_t>(std::ceil(0.5f * min_contrast * static_cast<float>(h)));
+  int n_rising = 0, n_falling = 0;
+  Edge* rising = rising_.data();
+  Edge* falling = falling_.data();
+  for (int x = lo + 1; x < hi; ++x) {
+    const std::int32_t v = g[x];
+    if (v >= edge_threshold && v >= g[x - 1] && v > g[x + 1])
+      rising[n_rising++] = {static_cast<float>(x) + 0.5f + peak_offset(g[x - 1], v, g[x + 1]), v};
+    else if (v <= -edge_threshold && v <= g[x - 1] && v < g[x + 1])
+      falling[n_falling++] = {static_cast<float>(x) + 0.5f + peak_offset(-g[x - 1], -v, -g[x + 1]), -v};
+  }
+
+  auto mean = [P, width](int a, int b) {  // mean of pixels a..b (clipped), NaN when empty
+    a = std::max(a, 0);
+    b = std::min(b, width - 1);
+    if (b < a) return std::nanf("");
+    return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
+  };
+
+  // Pair each falling edge with the last rising edge before it.
+  int ri = 0;
+  for (int fi = 0; fi < n_falling && count < capacity; ++fi) {
+    const float b = falling[fi].x;
+    int last = -1;
+    while (ri < n_rising && rising[ri].x < b) last = ri++;
+    if (last < 0) continue;
+    const float a = rising[last].x;
+    const float w = b - a;
+    if (w < r.min_width_px || w > r.max_width_px) continue;
+    // Dark-bright-dark: the bar against each side, skipping the transition pixel.
+    const int ia = static_cast<int>(std::floor(a)), ib = static_cast<int>(std::floor(b));
+    const int flank = std::max(2, static_cast<int>(std::lround(r.mark_px)));
+    const float inside = mean(ia + 1, ib);
+    const float left = mean(ia - flank, ia - 1), right = mean(ib + 2, ib + 1 + flank);
+    if (!(inside - left >= min_contrast) || !(inside - right >= min_contrast)) continue;
+    // The bar's own width: its area above the sides over its peak. Edge distance alone
+    // cannot tell a thin bright line (a crack, a wire) from a mark, because the box
+    // derivative spreads a thin line's edges to the box's width.
+    const float background = 0.5f * (left + right);
+    std::int64_t peak = 0;
+    for (int x = std::max(ia, 0); x <= std::min(ib + 1, width - 1); ++x) peak = std::max<std::int64_t>(peak, row[x]);
+    const float area = static_cast<float>(P[std::min(ib + 2, width)] - P[std::max(ia, 0)]) -
+                       background * static_cast<float>(std::min(ib + 2, width) - std::max(ia, 0));
+    const float bar_width = area / (static_cast<float>(peak) - background);
+    if (bar_width < r.min_width_px) continue;
+    MarkCandidate& c = out[count++];
+    c.left_px = static_cast<double>(a) + 1.0;  // to 1-based
+    c.right_px = static_cast<double>(b) + 1.0;
+    c.py = r.y + 1.0;
+    c.contrast = static_cast<double>((inside - std::max(left, right)) * to_8bit);
+    c.line = -1;
+    c.scan_row = static_cast<std::int16_t>(scan_row_index);
+  }
+  return count;
+}
+
+}  // namespace ccdlane

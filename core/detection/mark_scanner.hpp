@@ -1,0 +1,47 @@
+// The row filter: finds dark-bright-dark bars along one image row whose width is what a
+// lane mark at that row's distance would have, with sub-pixel edges.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/detection/lane_marks.hpp"
+#include "core/image/image_view.hpp"
+
+namespace ccdlane {
+
+// How to scan one row: derived per frame from the camera model and the current pose.
+struct ScanRow {
+  int y = 0;               // 0-based image row
+  float mark_px = 1.0f;    // expected mark width along this row, pixels
+  float min_width_px = 1;  // accepted bar widths
+  float max_width_px = 4;
+  int half_width = 1;      // of the box derivative (noise averaging at the mark's scale)
+};
+
+class MarkScanner {
+ public:
+  // Buffers for rows up to `max_width` pixels are allocated here, none in scan().
+  explicit MarkScanner(int max_width);
+
+  // Appends the bars found on row r.y of `image` to out[count..capacity), returns the new
+  // count. `min_contrast` is in the image's own grey levels. Sets left/right_px, py,
+  // contrast (8-bit scale via `to_8bit`) and scan_row; the rest is the caller's.
+  int scan(const ImageView& image, const ScanRow& r, int scan_row, float min_contrast, float to_8bit,
+           MarkCandidate* out, int count, int capacity);
+
+ private:
+  struct Edge {
+    float x;         // 0-based position of the edge (between pixels: x + 0.5 of the left one)
+    std::int32_t strength;
+  };
+  template <typename Pixel>
+  int scan_row(const Pixel* row, int width, const ScanRow& r, int scan_row, float min_contrast, float to_8bit,
+               MarkCandidate* out, int count, int capacity);
+
+  std::vector<std::int64_t> prefix_;  // prefix sums of the row
+  std::vector<std::int32_t> grad_;    // box derivative
+  std::vector<Edge> rising_, falling_;
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,297 @@
+// The per-frame pipeline. Cold starts (no previous frame) detect twice: the pose the
+// first solve finds is a far better guess than the nominal mounting to plan rows and
+// project marks with. A solve whose picks do not fit well (a stray mark, a line that is
+// not a lane line) drops them and solves again, once: the solver is plain least squares.
+#include "core/lane/lane_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/lane/lane_metrics.hpp"
+
+namespace ccdlane {
+namespace {
+
+constexpr double kLineOutlierPx = 3.0;  // a line whose picks miss by this much (RMS) is not a lane line
+constexpr double kMinPickOutlierPx = 1.0;
+
+// Share of a line's picks it takes to be fully trusted (marks / (marks + this)).
+constexpr double kConfidenceMarks = 10.0;
+
+std::optional<Prior> gyro_prior(const std::optional<Prior>& configured, double gyro_rad, double sigma_deg) {
+  if (configured) return configured;  // a [prior] entry overrides the gyro
+  return Prior{rad_to_deg(gyro_rad), sigma_deg};
+}
+
+}  // namespace
+
+LaneEstimator::LaneEstimator(const Config& config)
+    : config_(config),
+      detector_(config.camera, config.detection),
+      solver_(config.camera, config.detection.max_picks, kMaxLaneLines),
+      picks_(static_cast<std::size_t>(config.detection.max_picks)),
+      residual_px_(picks_.size()),
+      scratch_(picks_.size()),
+      last_pose_(config.nominal_pose()) {
+  reset();
+}
+
+void LaneEstimator::reset() {
+  have_last_ = false;
+  misses_ = 0;
+  last_pose_ = config_.nominal_pose();
+  tracker_.reset();
+}
+
+void LaneEstimator::miss() {
+  // A frame or two without an estimate (a damaged frame, a truck in the way): the last
+  // pose and the lines, coasting, are still the best guess. After that, start afresh.
+  tracker_.coast();
+  if (++misses_ > LaneTracker::kCoastFrames) reset();
+}
+
+CameraPose LaneEstimator::guess_pose(const std::optional<Gx1Angles>& gyro) const {
+  CameraPose pose = have_last_ ? last_pose_ : config_.nominal_pose();
+  if (gyro) {  // the gyro knows this frame's roll and pitch better than the last frame does
+    const Attitude a = camera_attitude_from_gx1(*gyro);
+    pose.attitude.theta = a.theta;
+    pose.attitude.phi = a.phi;
+  }
+  return pose;
+}
+
+const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) {
+  SolveRequest req;
+  req.mode = config_.solver.mode;
+  req.free = config_.solver.free;
+  req.pixel_sigma = config_.solver.pixel_sigma;
+  req.max_iterations = config_.solver.max_iterations;
+  const PriorConfig& p = config_.prior;
+  req.priors = {p.psi_deg, p.theta_deg, p.phi_deg, p.H_mm, p.f_mm, p.lane_width_mm};
+  if (p.lane_width_mm && num_lines_ > 2) {
+    // The solver's lane-width prior holds between the outermost lines; with more than
+    // two lines they are k lanes apart, k from the initial lines: k widths, each with
+    // its own spread.
+    double lo = initial_lines_[0].y0_mm, hi = lo;
+    for (int j = 1; j < num_lines_; ++j) {
+      lo = std::min(lo, initial_lines_[static_cast<std::size_t>(j)].y0_mm);
+      hi = std::max(hi, initial_lines_[static_cast<std::size_t>(j)].y0_mm);
+    }
+    const double k = std::max(1.0, std::round((hi - lo) / p.lane_width_mm->mean));
+    req.priors.lane_width_mm = Prior{k * p.lane_width_mm->mean, std::sqrt(k) * p.lane_width_mm->sigma};
+  }
+  if (gyro) {
+    const Attitude a = camera_attitude_from_gx1(*gyro);
+    req.priors.theta_deg = gyro_prior(p.theta_deg, a.theta, config_.gyro.sigma_deg);
+    req.priors.phi_deg = gyro_prior(p.phi_deg, a.phi, config_.gyro.sigma_deg);
+  }
+  req.initial_pose = initial;
+  req.picks = std::span<const Pick>(picks_.data(), static_cast<std::size_t>(num_picks_));
+  req.num_lines = num_lines_;
+  req.initial_lines = std::span<const LaneLine>(initial_lines_.data(), static_cast<std::size_t>(num_lines_));
+  const SolveResult& r = solver_.solve(req);
+  solution_ = &r;
+
+  // Reprojection distance of every pick from its solved mark.
+  const CameraModel camera(config_.camera, r.pose);
+  for (int i = 0; i < num_picks_; ++i) {
+    double d = 1e9;
+    if (static_cast<std::size_t>(i) < r.points_mm.size()) {
+      const Vec2& xy = r.points_mm[static_cast<std::size_t>(i)];
+      if (const auto px = camera.pixel_from_point(Vec3(xy.x(), xy.y(), 0.0)))
+        d = std::hypot(px->x() - picks_[static_cast<std::size_t>(i)].px, px->y() - picks_[static_cast<std::size_t>(i)].py);
+    }
+    residual_px_[static_cast<std::size_t>(i)] = d;
+  }
+  return r;
+}
+
+bool LaneEstimator::drop_outliers(const SolveResult& result) {
+  if (!(result.rms_px > 2.0 * config_.solver.pixel_sigma)) return false;
+  // Robust scale of the residuals (median absolute, as a Gaussian sigma).
+  std::copy_n(residual_px_.begin(), num_picks_, scratch_.begin());
+  const auto mid = scratch_.begin() + num_picks_ / 2;
+  std::nth_element(scratch_.begin(), mid, scratch_.begin() + num_picks_);
+  const double threshold = std::max(3.0 * 1.4826 * *mid, kMinPickOutlierPx);
+
+  std::array<double, kMaxLaneLines> sum2{};
+  std::array<int, kMaxLaneLines> count{};
+  for (int i = 0; i < num_picks_; ++i) {
+    const auto j = static_cast<std::size_t>(picks_[static_cast<std::size_t>(i)].line);
+    sum2[j] += residual_px_[static_cast<std::size_t>(i)] * residual_px_[static_cast<std::size_t>(i)];
+    ++count[j];
+  }
+  // Keep the lines that fit, renumbered in order; within them the picks that fit.
+  std::array<int, kMaxLaneLines> new_index{};
+  int lines = 0;
+  for (int j = 0; j < num_lines_; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    const bool fits = count[k] > 0 && std::sqrt(sum2[k] / count[k]) <= kLineOutlierPx;
+    new_index[k] = fits ? lines++ : -1;
+  }
+  int kept = 0;
+  for (int i = 0; i < num_picks_; ++i) {
+    Pick p = picks_[static_cast<std::size_t>(i)];
+    const int j = new_index[static_cast<std::size_t>(p.line)];
+    if (j < 0 || residual_px_[static_cast<std::size_t>(i)] > threshold) continue;
+    p.line = j;
+    picks_[static_cast<std::size_t>(kept++)] = p;
+  }
+  if (kept == num_picks_) return false;
+  for (int j = 0; j < num_lines_; ++j) {
+    const int k = new_index[static_cast<std::size_t>(j)];
+    if (k < 0) continue;
+    initial_lines_[static_cast<std::size_t>(k)] = result.lines[static_cast<std::size_t>(j)];
+    prior_index_[static_cast<std::size_t>(k)] = prior_index_[static_cast<std::size_t>(j)];
+  }
+  num_lines_ = lines;
+  num_picks_ = kept;
+  return num_lines_ > 0;
+}
+
+const LaneEstimate& LaneEstimator::no_frame(std::uint64_t frame, std::int64_t t_ns) {
+  estimate_ = LaneEstimate{};
+  estimate_.frame = frame;
+  estimate_.t_ns = t_ns;
+  estimate_.reason = EstimateFailure::no_frame;
+  solution_ = nullptr;
+  num_picks_ = 0;
+  miss();
+  return estimate_;
+}
+
+const LaneEstimate& LaneEstimator::estimate(const ImageView& image, std::uint64_t frame, std::int64_t t_ns,
+                                            const std::optional<Gx1Angles>& gyro) {
+  estimate_ = LaneEstimate{};
+  estimate_.frame = frame;
+  estimate_.t_ns = t_ns;
+  solution_ = nullptr;
+
+  auto take_detection = [this](const DetectionResult& d) {
+    detection_ = &d;
+    num_lines_ = std::min(d.num_lines, kMaxLaneLines);
+    num_picks_ = 0;
+    for (const Pick& p : d.picks)
+      if (p.line < num_lines_ && num_picks_ < static_cast<int>(picks_.size()))
+        picks_[static_cast<std::size_t>(num_picks_++)] = p;
+    const FreeSet& free = config_.solver.free;
+    for (int j = 0; j < num_lines_; ++j) {
+      const LinePrior& fit = d.lines[static_cast<std::size_t>(j)].fit;
+      // Fixed slopes and curvatures stay at 0 (the road frame is aligned with the lane).
+      initial_lines_[static_cast<std::size_t>(j)] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0,
+                                                     free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
+      prior_index_[static_cast<std::size_t>(j)] = d.lines[static_cast<std::size_t>(j)].prior_index;
+    }
+  };
+  auto fail = [this](EstimateFailure why) -> const LaneEstimate& {
+    estimate_.ok = false;
+    estimate_.reason = why;
+    miss();
+    return estimate_;
+  };
+
+  detection_pose_ = guess_pose(gyro);
+  take_detection(detector_.detect(image, detection_pose_, have_last_ ? tracker_.priors() : std::span<const LinePrior>{}));
+  if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
+  const SolveResult* r = &solve(detection_pose_, gyro);
+
+  if (!have_last_ && r->converged && !r->rank_deficient) {
+    // Cold start: look again from where the first solve put the camera.
+    std::array<LinePrior, kMaxLaneLines> solved{};
+    for (int j = 0; j < r->num_lines; ++j)
+      solved[static_cast<std::size_t>(j)] = {r->lines[static_cast<std::size_t>(j)].y0_mm,
+                                             r->lines[static_cast<std::size_t>(j)].m,
+                                             r->lines[static_cast<std::size_t>(j)].c_per_mm};
+    detection_pose_ = r->pose;
+    take_detection(detector_.detect(image, detection_pose_, {solved.data(), static_cast<std::size_t>(r->num_lines)}));
+    prior_index_.fill(-1);  // those priors were this frame's own, not a previous frame's lines
+    if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
+    r = &solve(detection_pose_, gyro);
+  }
+  if (r->converged && drop_outliers(*r)) {
+    if (num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
+    r = &solve(r->pose, gyro);
+  }
+  if (r->status == SolveStatus::too_few_picks) return fail(EstimateFailure::too_few_marks);
+  if (!r->converged) return fail(EstimateFailure::solver_failed);
+  if (r->rank_deficient) {
+    fill_estimate(*r);  // what was determined is still shown
+    estimate_.ok = false;
+    estimate_.reason = EstimateFailure::rank_deficient;
+    return estimate_;
+  }
+  fill_estimate(*r);
+  return estimate_;
+}
+
+void LaneEstimator::fill_estimate(const SolveResult& r) {
+  LaneEstimate& e = estimate_;
+  e.psi_deg = rad_to_deg(r.pose.attitude.psi);
+  e.theta_deg = rad_to_deg(r.pose.attitude.theta);
+  e.phi_deg = rad_to_deg(r.pose.attitude.phi);
+  e.sigma_psi_deg = r.sigma.psi_deg;
+  e.sigma_theta_deg = r.sigma.theta_deg;
+  e.sigma_phi_deg = r.sigma.phi_deg;
+  e.rms_px = r.rms_px;
+  e.iterations = r.iterations;
+
+  // Per line: its picks, their fit, its id.
+  std::array<int, kMaxLaneLines> marks{};
+  std::array<double, kMaxLaneLines> sum2{};
+  for (int i = 0; i < num_picks_; ++i) {
+    const auto j = static_cast<std::size_t>(picks_[static_cast<std::size_t>(i)].line);
+    ++marks[j];
+    sum2[j] += residual_px_[static_cast<std::size_t>(i)] * residual_px_[static_cast<std::size_t>(i)];
+  }
+  const int n = std::min(r.num_lines, num_lines_);
+  // Ids, then left to right: largest y0 first (insertion sort, n <= 4).
+  std::array<LinePrior, kMaxLaneLines> solved{};
+  for (int j = 0; j < n; ++j) {
+    const LaneLine& l = r.lines[static_cast<std::size_t>(j)];
+    solved[static_cast<std::size_t>(j)] = {l.y0_mm, l.m, l.c_per_mm};
+  }
+  std::array<int, kMaxLaneLines> ids{};
+  tracker_.update({solved.data(), static_cast<std::size_t>(n)}, {prior_index_.data(), static_cast<std::size_t>(n)},
+                  {ids.data(), static_cast<std::size_t>(n)});
+  std::array<int, kMaxLaneLines> order{};
+  for (int j = 0; j < n; ++j) order[static_cast<std::size_t>(j)] = j;
+  for (int i = 1; i < n; ++i)
+    for (int k = i; k > 0 && r.lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])].y0_mm >
+                                 r.lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k - 1)])].y0_mm;
+         --k)
+      std::swap(order[static_cast<std::size_t>(k)], order[static_cast<std::size_t>(k - 1)]);
+  e.num_lines = n;
+  for (int k = 0; k < n; ++k) {
+    const auto j = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
+    const LaneLine& l = r.lines[j];
+    EstimatedLine& out = e.lines[static_cast<std::size_t>(k)];
+    out.id = ids[j];
+    out.y0_mm = l.y0_mm;
+    out.m = l.m;
+    out.c_per_mm = l.c_per_mm;
+    out.marks = marks[j];
+    // More picks, more trust; a line whose picks miss their marks, less.
+    const double line_rms = marks[j] > 0 ? std::sqrt(sum2[j] / marks[j]) : 0.0;
+    out.confidence = marks[j] / (marks[j] + kConfidenceMarks) / (1.0 + line_rms * line_rms);
+    out.sigma_y0_mm = r.sigma.y0_mm[j];
+  }
+  last_pose_ = r.pose;
+  have_last_ = true;
+  misses_ = 0;
+
+  const LaneMetrics m = lane_metrics({e.lines.data(), static_cast<std::size_t>(n)}, e.psi_deg,
+                                     config_.attitude.psi_deg, config_.detection.departure_mm);
+  e.heading_deg = m.heading_deg;
+  if (!m.has_lane) {
+    e.ok = false;
+    e.reason = EstimateFailure::no_lane;
+    return;
+  }
+  e.lane_width_mm = m.lane_width_mm;
+  e.lateral_offset_mm = m.lateral_offset_mm;
+  e.departure = m.departure;
+  e.ok = true;
+  e.reason = EstimateFailure::none;
+}
+
+}  // namespace ccdlane

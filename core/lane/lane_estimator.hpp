@@ -1,0 +1,72 @@
+// The per-frame pipeline shared by `ccdlane replay` and the daemon: detect lane marks,
+// solve attitude and lines (gyro roll/pitch as priors), follow line ids, and turn the
+// lines into lane width, offset, heading and departure (a LaneEstimate).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/config/config.hpp"
+#include "core/detection/lane_detector.hpp"
+#include "core/geometry/gx1_attitude.hpp"
+#include "core/lane/lane_estimate.hpp"
+#include "core/lane/lane_tracker.hpp"
+#include "core/solver/lane_solver.hpp"
+
+namespace ccdlane {
+
+class LaneEstimator {
+ public:
+  // Sizes every workspace (detector, solver, pick buffers) from the configuration. May
+  // allocate and throw (std::bad_alloc); estimate() then never does either.
+  explicit LaneEstimator(const Config& config);
+
+  // One frame: `image` must be camera.Nu x camera.Nv. `gyro` is the 3DM-GX1 reading at
+  // this frame, if any. The result stays valid until the next call. latency_us is left
+  // at 0: the caller, who owns the clock, fills it in.
+  const LaneEstimate& estimate(const ImageView& image, std::uint64_t frame, std::int64_t t_ns,
+                               const std::optional<Gx1Angles>& gyro);
+
+  // A frame that could not be read: ok = false (no_frame); the next frame starts afresh.
+  const LaneEstimate& no_frame(std::uint64_t frame, std::int64_t t_ns);
+
+  // Forgets the previous frames (their pose and lines are no longer a good guess).
+  void reset();
+
+  // What the last estimate() was made of, for overlays and diagnostics.
+  const DetectionResult& detection() const { return *detection_; }
+  std::span<const Pick> solved_picks() const { return {picks_.data(), static_cast<std::size_t>(num_picks_)}; }
+  const SolveResult* solution() const { return solution_; }  // null when no solve ran
+  const CameraPose& detection_pose() const { return detection_pose_; }
+
+ private:
+  CameraPose guess_pose(const std::optional<Gx1Angles>& gyro) const;
+  const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
+  bool drop_outliers(const SolveResult& result);
+  void fill_estimate(const SolveResult& result);
+  void miss();
+
+  Config config_;
+  LaneDetector detector_;
+  LaneSolver solver_;
+  LaneTracker tracker_;
+  const DetectionResult* detection_ = nullptr;
+  const SolveResult* solution_ = nullptr;
+  CameraPose detection_pose_;
+  // The picks and initial lines of the current solve (detection's, minus outliers).
+  std::vector<Pick> picks_;
+  int num_picks_ = 0;
+  int num_lines_ = 0;
+  std::array<LaneLine, kMaxLaneLines> initial_lines_{};
+  std::array<int, kMaxLaneLines> prior_index_{};  // per solver line: detection's prior_index
+  std::vector<double> residual_px_;               // per pick, of the last solve
+  std::vector<double> scratch_;
+  CameraPose last_pose_;
+  bool have_last_ = false;
+  int misses_ = 0;  // frames in a row without an estimate
+  LaneEstimate estimate_;
+};
+
+}  // namespace ccdlane

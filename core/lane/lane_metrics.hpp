@@ -1,0 +1,35 @@
+// What the lane lines mean for the vehicle (interfaces.md "Per-frame result"): its own
+// lane's width, its offset from the lane's centre, its heading, and lane departure.
+#pragma once
+
+#include <span>
+
+#include "core/lane/lane_estimate.hpp"
+
+namespace ccdlane {
+
+constexpr double kMinLaneWidthMm = 2000.0;  // narrower is not a traffic lane
+constexpr double kMaxLaneWidthMm = 5500.0;  // wider: a line in between was missed
+
+struct LaneMetrics {
+  bool has_lane = false;  // a line on each side of the vehicle
+  int left = -1, right = -1;  // indices of the own lane's lines, -1 = none on that side
+  double lane_width_mm = 0.0;
+  double lateral_offset_mm = 0.0;
+  double heading_deg = 0.0;
+  Departure departure = Departure::none;
+};
+
+// `lines` ordered left to right (largest y0 first). The own lane is bounded by the
+// nearest line with y0 > 0 (left) and the nearest with y0 <= 0 (right); it is a lane
+// only when they are kMinLaneWidthMm..kMaxLaneWidthMm apart.
+//   lane_width = y0_left - y0_right, lateral_offset = -(y0_left + y0_right) / 2;
+//   heading = psi - mount_psi - atan(m), m the mean slope of the own lane's lines
+//     (0 when m is not estimated): positive when the vehicle points left of the lane;
+//   departure: "left" when the own lane's left line is nearer than departure_mm to the
+//     vehicle's centre (the fixed frame's origin), "right" likewise, the nearer side
+//     when both are; "none" otherwise or without a lane.
+LaneMetrics lane_metrics(std::span<const EstimatedLine> lines, double psi_deg, double mount_psi_deg,
+                         double departure_mm);
+
+}  // namespace ccdlane

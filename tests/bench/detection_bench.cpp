@@ -1,0 +1,132 @@
+// Speed of lane-mark detection alone (the target: under 1 ms per 800x600 frame on one
+// core), of the whole per-frame estimate, and of rendering a synthetic frame (the
+// daemon's demo pre-renders its frames at start-up). Frames are rendered once up front.
+//   build/tests/bench/detection_bench --benchmark_min_time=2
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "core/config/config_loader.hpp"
+#include "core/detection/lane_detector.hpp"
+#include "core/lane/lane_estimator.hpp"
+#include "core/synth/road_renderer.hpp"
+#include "drivers/frames/frame_directory.hpp"
+
+namespace ccdlane {
+namespace {
+
+// The reference camera (800x600) and the Udacity one (1280x720, the configuration the
+// real-picture tests use), 3 lanes, noise 1.
+Config camera(int width) {
+  if (width == 800) {
+    Config c = default_config();
+    c.attitude.theta_deg = 3.0;
+    return c;
+  }
+  return load_config_file(std::string(CCDLANE_SOURCE_DIR) + "/tests/tools/data/udacity-advanced.toml");
+}
+
+struct Scene {
+  Config config;
+  std::vector<SynthFrame> truth;
+  std::vector<std::vector<std::uint8_t>> pixels;
+  explicit Scene(int width, int frames = 16) : config(camera(width)) {
+    SynthDrive drive(config);
+    RoadRenderer renderer(config.camera, config.synth);
+    for (int k = 0; k < frames; ++k) {
+      truth.push_back(drive.frame(static_cast<std::uint64_t>(k) * 7));
+      pixels.emplace_back(static_cast<std::size_t>(config.camera.Nu * config.camera.Nv));
+      renderer.render(truth.back(), view(pixels.size() - 1));
+    }
+  }
+  MutableImageView view(std::size_t i) {
+    return {pixels[i].data(), config.camera.Nu, config.camera.Nv, config.camera.Nu, PixelFormat::mono8, 8};
+  }
+};
+
+Scene& scene(int width) {
+  static Scene s800(800), s1280(1280);
+  return width == 800 ? s800 : s1280;
+}
+
+// Detection as the daemon runs it: the previous frame's lines as priors.
+void BM_Detection(benchmark::State& state) {
+  Scene& s = scene(static_cast<int>(state.range(0)));
+  LaneDetector detector(s.config.camera, s.config.detection);
+  std::vector<LinePrior> priors;
+  for (int j = 0; j < s.truth[0].num_lines; ++j) priors.push_back({s.truth[0].y0_mm[static_cast<std::size_t>(j)], 0, 0});
+  std::size_t i = 0;
+  int lines = 0;
+  for (auto _ : state) {
+    const DetectionResult& r = detector.detect(s.view(i), s.truth[i].pose, priors);
+    lines += r.num_lines;
+    benchmark::DoNotOptimize(r.picks.data());
+    i = (i + 1) % s.pixels.size();
+  }
+  state.counters["lines"] = benchmark::Counter(lines, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_Detection)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
+
+// Detection with no prior: the first frame, or after a loss (the Hough vote on all marks).
+void BM_DetectionCold(benchmark::State& state) {
+  Scene& s = scene(static_cast<int>(state.range(0)));
+  LaneDetector detector(s.config.camera, s.config.detection);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(detector.detect(s.view(i), s.truth[i].pose, {}).picks.data());
+    i = (i + 1) % s.pixels.size();
+  }
+}
+BENCHMARK(BM_DetectionCold)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
+
+// The whole per-frame estimate: detect, solve (gyro priors), track, lane metrics.
+void BM_Estimate(benchmark::State& state) {
+  Scene& s = scene(static_cast<int>(state.range(0)));
+  LaneEstimator estimator(s.config);
+  std::size_t i = 0;
+  int ok = 0;
+  for (auto _ : state) {
+    ok += estimator.estimate(s.view(i), i, s.truth[i].t_ns, s.truth[i].gyro).ok;
+    i = (i + 1) % s.pixels.size();
+  }
+  state.counters["ok"] = benchmark::Counter(ok, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_Estimate)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
+
+// Detection on the real 1280x720 pictures (texture, cars, hood), no prior.
+void BM_DetectionRealPictures(benchmark::State& state) {
+  const Config c = camera(1280);
+  FrameDirectory dir(std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced");
+  std::vector<std::vector<std::uint8_t>> pixels(dir.size(), std::vector<std::uint8_t>(1280 * 720));
+  for (std::size_t i = 0; i < dir.size(); ++i)
+    dir.read(i, MutableImageView{pixels[i].data(), 1280, 720, 1280, PixelFormat::mono8, 8});
+  LaneDetector detector(c.camera, c.detection);
+  CameraPose pose = c.nominal_pose();
+  pose.attitude.theta = deg_to_rad(-1.5);  // as the solver finds it
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        detector.detect(ImageView{pixels[i].data(), 1280, 720, 1280, PixelFormat::mono8, 8}, pose, {}).picks.data());
+    i = (i + 1) % pixels.size();
+  }
+}
+BENCHMARK(BM_DetectionRealPictures)->Unit(benchmark::kMicrosecond);
+
+void BM_RenderSyntheticFrame(benchmark::State& state) {
+  const Config c = camera(static_cast<int>(state.range(0)));
+  SynthDrive drive(c);
+  RoadRenderer renderer(c.camera, c.synth);
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv));
+  const MutableImageView view{px.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8};
+  std::uint64_t k = 0;
+  for (auto _ : state) {
+    renderer.render(drive.frame(k++), view);
+    benchmark::DoNotOptimize(px.data());
+  }
+}
+BENCHMARK(BM_RenderSyntheticFrame)->Arg(800)->Arg(1280)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace ccdlane
+
+BENCHMARK_MAIN();

@@ -1,0 +1,53 @@
+// The [detection] table of the configuration: defaults, every key, strict errors.
+#include <gtest/gtest.h>
+
+#include "core/config/config_loader.hpp"
+
+namespace ccdlane {
+namespace {
+
+std::string error_of(const std::string& toml) {
+  try {
+    parse_config(toml, "d.toml");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(DetectionConfig, DefaultsAndEveryKey) {
+  const Config d = parse_config("", "empty.toml");
+  EXPECT_EQ(d.detection.mark_width_mm, 130.0);
+  EXPECT_EQ(d.detection.max_lines, 4);
+  EXPECT_EQ(d.detection.min_range_mm, 3000.0);
+  const Config c = parse_config(R"([detection]
+mark_width_mm = 150
+min_contrast = 20
+min_range_mm = 5500
+max_range_mm = 30000
+max_lines = 3
+max_picks = 100
+min_marks = 10
+departure_mm = 1000
+)",
+                                "d.toml");
+  EXPECT_EQ(c.detection.mark_width_mm, 150.0);
+  EXPECT_EQ(c.detection.min_contrast, 20.0);
+  EXPECT_EQ(c.detection.min_range_mm, 5500.0);
+  EXPECT_EQ(c.detection.max_range_mm, 30000.0);
+  EXPECT_EQ(c.detection.max_lines, 3);
+  EXPECT_EQ(c.detection.max_picks, 100);
+  EXPECT_EQ(c.detection.min_marks, 10);
+  EXPECT_EQ(c.detection.departure_mm, 1000.0);
+}
+
+TEST(DetectionConfig, StrictErrors) {
+  EXPECT_EQ(error_of("[detection]\nmax_lines = 5\n"), "d.toml:2: detection.max_lines: must be 2..4");
+  EXPECT_EQ(error_of("[detection]\nmin_range_mm = 30000\n"),
+            "d.toml:1: detection.max_range_mm: must be more than 1.5 x min_range_mm and <= 200000");
+  EXPECT_EQ(error_of("[detection]\nmark_width = 100\n"), "d.toml:2: detection.mark_width: unknown key");
+  EXPECT_EQ(error_of("[detection]\nmin_contrast = 0\n"), "d.toml:2: detection.min_contrast: must be > 0 and <= 200");
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,226 @@
+// Detection on rendered frames with known truth: every line found and ordered, picks on
+// the true lines to a fraction of a pixel, robustness to pose error, the previous frame
+// as prior (ids through a lane change), what is not paint rejected, 16-bit frames, and
+// no allocation per frame.
+#include "core/detection/lane_detector.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/core/synth/rendered_road.hpp"
+#include "tests/core/synth/truth_projection.hpp"
+#include "tests/support/allocation_counter.hpp"
+
+namespace ccdlane {
+namespace {
+
+struct Frame {
+  std::vector<std::uint8_t> px;
+  MutableImageView view;
+  explicit Frame(const CameraSpec& cam, PixelFormat f = PixelFormat::mono8, int bits = 8)
+      : px(static_cast<std::size_t>(cam.Nu * cam.Nv * bytes_per_pixel(f))) {
+    view = {px.data(), cam.Nu, cam.Nv, cam.Nu * bytes_per_pixel(f), f, bits};
+  }
+};
+
+Config highway() {
+  Config c = default_config();
+  c.attitude = {0.0, 3.0, 0.0};
+  return c;
+}
+
+// Pick errors against the truth line each pick's label claims: the distance from the
+// line in pixels (the error along the row times the cosine of the line's slant; what the
+// solver's residual sees).
+struct PickErrors {
+  double rms = 0, worst = 0;
+  int n = 0;
+};
+PickErrors pick_errors(const DetectionResult& r, const SynthFrame& f, const CameraModel& cam,
+                       const std::vector<int>& truth_line_of) {
+  PickErrors e;
+  double sum2 = 0;
+  for (const Pick& p : r.picks) {
+    const int t = truth_line_of[static_cast<std::size_t>(p.line)];
+    const auto want = test::truth_column(cam, f, t, p.py);
+    const auto above = test::truth_column(cam, f, t, p.py - 1), below = test::truth_column(cam, f, t, p.py + 1);
+    if (!want || !above || !below) continue;
+    const double slope = 0.5 * (*below - *above);  // columns per row
+    const double d = (p.px - *want) / std::sqrt(1.0 + slope * slope);
+    sum2 += d * d;
+    e.worst = std::max(e.worst, std::abs(d));
+    ++e.n;
+  }
+  e.rms = e.n ? std::sqrt(sum2 / e.n) : 0.0;
+  return e;
+}
+
+// Which truth line each detected line is (nearest y0 at the true pose).
+std::vector<int> match(const DetectionResult& r, const SynthFrame& f) {
+  std::vector<int> m;
+  for (int j = 0; j < r.num_lines; ++j) {
+    int best = 0;
+    for (int t = 1; t < f.num_lines; ++t)
+      if (std::abs(f.y0_mm[t] - r.lines[j].fit.y0_mm) < std::abs(f.y0_mm[best] - r.lines[j].fit.y0_mm)) best = t;
+    m.push_back(best);
+  }
+  return m;
+}
+
+TEST(LaneDetector, FindsEveryLineWithSubPixelPicks) {
+  test::RenderedRoad road(highway());
+  const Config& c = road.config;
+  LaneDetector det(c.camera, c.detection);
+  double worst_rms = 0;
+  for (std::uint64_t k : {0u, 13u, 40u, 77u}) {
+    const SynthFrame f = road.render(k);
+    const DetectionResult& r = det.detect(road.view, f.pose, {});
+    ASSERT_EQ(r.num_lines, 4) << "frame " << k;
+    const std::vector<int> truth = match(r, f);
+    EXPECT_EQ(truth, (std::vector<int>{0, 1, 2, 3})) << "left to right";
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_NEAR(r.lines[j].fit.y0_mm, f.y0_mm[j], 60.0) << "frame " << k << " line " << j;
+      EXPECT_GT(r.lines[j].num_picks, 15);
+      EXPECT_GT(r.lines[j].far_mm - r.lines[j].near_mm, 15000.0);
+    }
+    EXPECT_LE(static_cast<int>(r.picks.size()), c.detection.max_picks);
+    for (std::size_t i = 1; i < r.picks.size(); ++i) EXPECT_GE(r.picks[i].line, r.picks[i - 1].line);
+    const PickErrors e = pick_errors(r, f, CameraModel(c.camera, f.pose), truth);
+    EXPECT_GT(e.n, 100);
+    EXPECT_LT(e.rms, 0.15) << "frame " << k;
+    EXPECT_LT(e.worst, 0.8) << "frame " << k;
+    worst_rms = std::max(worst_rms, e.rms);
+  }
+  RecordProperty("worst_pick_rms_px", std::to_string(worst_rms));
+}
+
+TEST(LaneDetector, FindsTheLinesFromAWrongPose) {
+  Config c = highway();
+  c.synth.shadow_depth = 0.3;
+  test::RenderedRoad road(c);
+  LaneDetector det(c.camera, c.detection);
+  const SynthFrame f = road.render(21);
+  for (const Attitude err : {Attitude{0.02, 0.0, 0.0}, Attitude{0.0, 0.015, 0.0}, Attitude{0.0, -0.015, 0.0},
+                             Attitude{0.0, 0.0, 0.03}}) {
+    CameraPose guess = f.pose;
+    guess.attitude.psi += err.psi;
+    guess.attitude.theta += err.theta;
+    guess.attitude.phi += err.phi;
+    const DetectionResult& r = det.detect(road.view, guess, {});
+    // The own lane's lines at least; picks still on the true lines.
+    ASSERT_GE(r.num_lines, 3) << err.psi << " " << err.theta << " " << err.phi;
+    const PickErrors e = pick_errors(r, f, CameraModel(c.camera, f.pose), match(r, f));
+    EXPECT_LT(e.rms, 0.3);
+  }
+}
+
+TEST(LaneDetector, TwoToFourLanesCurvesAndDashes) {
+  for (int lanes : {2, 3, 4}) {
+    Config c = highway();
+    c.synth.lanes = lanes;
+    c.synth.ego_lane = lanes / 2;
+    c.synth.curvature_per_mm = lanes == 3 ? 1.5e-6 : -5e-7;
+    c.synth.dashed = lanes == 4 ? DashedLines::all : DashedLines::inner;
+    test::RenderedRoad road(c);
+    LaneDetector det(c.camera, c.detection);
+    const SynthFrame f = road.render(5);
+    const DetectionResult& r = det.detect(road.view, f.pose, {});
+    // Lines that lie within the picture somewhere between 5 and 40 m.
+    const CameraModel cam(c.camera, f.pose);
+    int visible = 0;
+    for (int j = 0; j < f.num_lines; ++j) {
+      const auto a = cam.pixel_from_point(Vec3(15000, f.y0_mm[j] + f.c_per_mm * 15000 * 15000, 0));
+      visible += a && a->x() > 0 && a->x() < c.camera.Nu;
+    }
+    EXPECT_EQ(r.num_lines, std::min(visible, 4)) << lanes << " lanes";
+    const PickErrors e = pick_errors(r, f, cam, match(r, f));
+    EXPECT_LT(e.rms, 0.2) << lanes << " lanes";
+  }
+}
+
+TEST(LaneDetector, PriorLinesKeepTheirIdentityThroughALaneChange) {
+  Config c = test::small_reference_camera();  // many frames: the half-size camera
+  c.synth.lane_change_at_s = 0.5;
+  c.synth.lane_change_s = 3.0;
+  test::RenderedRoad road(c);
+  LaneDetector det(c.camera, c.detection);
+  // Follow each road line by the prior chain: road line -> detection index per frame.
+  std::vector<LinePrior> priors;
+  std::vector<int> road_of;  // road line of each prior
+  for (std::uint64_t k = 0; k < 5 * 30; k += 5) {
+    const SynthFrame f = road.render(k);
+    const DetectionResult& r = det.detect(road.view, f.pose, priors);
+    ASSERT_GE(r.num_lines, 2) << "frame " << k;
+    const std::vector<int> truth = match(r, f);
+    std::vector<int> next_road;
+    for (int j = 0; j < r.num_lines; ++j) {
+      const int p = r.lines[j].prior_index;
+      if (p >= 0) {
+        EXPECT_EQ(road_of[static_cast<std::size_t>(p)], truth[static_cast<std::size_t>(j)]) << "frame " << k;
+      }
+      next_road.push_back(truth[static_cast<std::size_t>(j)]);
+    }
+    if (k > 0) {
+      int continued = 0;
+      for (int j = 0; j < r.num_lines; ++j) continued += r.lines[j].prior_index >= 0;
+      EXPECT_GE(continued, 2) << "frame " << k;
+    }
+    priors.clear();
+    for (int j = 0; j < r.num_lines; ++j) priors.push_back(r.lines[j].fit);
+    road_of = next_road;
+  }
+  EXPECT_EQ(road.drive.frame(5 * 30).ego_lane, 2);  // the change did happen
+}
+
+TEST(LaneDetector, RejectsBarsThatAreNotOnTheRoadOrNotAlongIt) {
+  const Config c = highway();
+  const CameraPose pose = c.nominal_pose();
+  Frame frame(c.camera);
+  std::fill(frame.px.begin(), frame.px.end(), 90);
+  // A bright bar of mark width crossing the road at 60 degrees to its direction (a
+  // shadow's edge, a crossing, a car's trim), and bars in the sky.
+  for (int y = 300; y < 600; ++y) {
+    const int x = 100 + (y - 300) * 2;
+    for (int dx = 0; dx < 4; ++dx) frame.view.row(y)[x + dx] = 220;
+  }
+  for (int y = 0; y < 250; ++y)
+    for (int x = 300; x < 304; ++x) frame.view.row(y)[x] = 220;
+  LaneDetector det(c.camera, c.detection);
+  const DetectionResult& r = det.detect(frame.view, pose, {});
+  EXPECT_EQ(r.num_lines, 0);
+  EXPECT_GT(r.counters.wrong_orientation, 50);
+  for (const MarkCandidate& m : r.marks) EXPECT_GT(m.py, 270);  // nothing above the horizon
+}
+
+TEST(LaneDetector, SixteenBitFramesGiveTheSameLines) {
+  test::RenderedRoad road8(highway()), road16(highway(), PixelFormat::mono16, 12);
+  const SynthFrame f = road8.render(8);
+  road16.render(8);
+  LaneDetector det(road8.config.camera, road8.config.detection);
+  const DetectionResult r8 = det.detect(road8.view, f.pose, {});
+  const DetectionResult& r16 = det.detect(road16.view, f.pose, {});
+  ASSERT_EQ(r16.num_lines, r8.num_lines);
+  for (int j = 0; j < r8.num_lines; ++j) EXPECT_NEAR(r16.lines[j].fit.y0_mm, r8.lines[j].fit.y0_mm, 20.0);
+}
+
+TEST(LaneDetector, WrongSizedFramesGiveNothingAndDetectionAllocatesNothing) {
+  test::RenderedRoad road(highway());
+  LaneDetector det(road.config.camera, road.config.detection);
+  const SynthFrame f = road.render(2);
+  MutableImageView small = road.view;
+  small.width = 640;
+  EXPECT_EQ(det.detect(small, f.pose, {}).num_lines, 0);
+  EXPECT_EQ(det.detect(ImageView{}, f.pose, {}).num_lines, 0);
+  const LinePrior priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
+  test::AllocationScope scope;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(det.detect(road.view, f.pose, priors).num_lines, 4);
+    EXPECT_EQ(det.detect(road.view, f.pose, {}).num_lines, 4);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,136 @@
+// Grouping marks into lines on the road: lines among clutter, continuation of the
+// previous frame's lines, separation, the nearest lines kept, sparse clutter refused.
+#include "core/detection/line_grouper.hpp"
+
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/allocation_counter.hpp"
+
+namespace ccdlane {
+namespace {
+
+struct Scene {
+  std::vector<MarkCandidate> marks;
+  std::mt19937 rng{7};
+  // A mark on every scan row from near to far (`every` > 1: dashes), with lateral noise
+  // of noise_px pixels (a pixel spans X / 630 mm at distance X).
+  void line(double y0, double m, double c, double noise_px = 0.3, int every = 1) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (int row = 0; row < 150; ++row) {
+      if ((row / 4) % every) continue;
+      const double X = 5000.0 + 35000.0 * row / 149.0;
+      MarkCandidate mk;
+      mk.X = X;
+      mk.Y = y0 + m * X + c * X * X + noise_px * X / 630.0 * n(rng);
+      mk.scan_row = static_cast<std::int16_t>(row);
+      marks.push_back(mk);
+    }
+  }
+  void clutter(int count) {
+    std::uniform_real_distribution<double> x(5000, 40000), y(-12000, 12000);
+    std::uniform_int_distribution<int> row(0, 149);
+    for (int i = 0; i < count; ++i) {
+      MarkCandidate mk;
+      mk.X = x(rng);
+      mk.Y = y(rng);
+      mk.scan_row = static_cast<std::int16_t>(row(rng));
+      marks.push_back(mk);
+    }
+  }
+};
+
+int group(Scene& s, std::array<DetectedLine, kMaxDetectedLines>& lines, std::span<const LinePrior> priors = {},
+          int max_lines = 4) {
+  LineGrouper g(4096);
+  GroupingParams p;
+  p.max_lines = max_lines;
+  p.mm_per_px_per_mm = 1.0 / 630.0;
+  return g.group(s.marks, priors, p, lines);
+}
+
+TEST(LineGrouper, FindsSolidAndDashedLinesAmongClutter) {
+  Scene s;
+  s.line(5400, 0.01, 0.0);
+  s.line(1800, 0.01, 0.0, 0.3, 3);  // dashed
+  s.line(-1800, 0.01, 0.0);
+  s.clutter(300);
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines), 3);
+  const double want[3] = {5400, 1800, -1800};
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_NEAR(lines[j].fit.y0_mm, want[j], 30.0) << j;
+    EXPECT_NEAR(lines[j].fit.m, 0.01, 0.002) << j;
+    EXPECT_EQ(lines[j].prior_index, -1);
+    EXPECT_LT(lines[j].rms_mm, 20.0);
+  }
+  EXPECT_NEAR(lines[0].marks, 150, 10);
+  EXPECT_NEAR(lines[1].marks, 52, 6);
+  // Marks carry their line's index; clutter stays ungrouped (bar the few on a line).
+  int grouped = 0;
+  for (const MarkCandidate& m : s.marks) grouped += m.line >= 0;
+  EXPECT_NEAR(grouped, 150 + 52 + 150, 12);
+}
+
+TEST(LineGrouper, CurvedLinesFitTheirCurvature) {
+  Scene s;
+  s.line(1700, -0.005, 2e-7);
+  s.line(-1900, -0.005, 2e-7);
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines), 2);
+  EXPECT_NEAR(lines[0].fit.c_per_mm, 2e-7, 2e-8);
+  EXPECT_NEAR(lines[1].fit.y0_mm, -1900, 30);
+}
+
+TEST(LineGrouper, ContinuesThePreviousFramesLines) {
+  Scene s;
+  s.line(1650, 0.0, 0.0);
+  s.line(-1950, 0.0, 0.0, 0.3, 3);
+  s.line(-5550, 0.0, 0.0);
+  // The previous frame saw them 150 mm further left, listed in another order, plus a line
+  // that has gone.
+  const LinePrior priors[] = {{-5400, 0, 0}, {9000, 0, 0}, {1800, 0, 0}, {-1800, 0, 0}};
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines, priors), 3);
+  EXPECT_EQ(lines[0].prior_index, 2);
+  EXPECT_EQ(lines[1].prior_index, 3);
+  EXPECT_EQ(lines[2].prior_index, 0);
+  EXPECT_NEAR(lines[1].fit.y0_mm, -1950, 30);
+}
+
+TEST(LineGrouper, KeepsTheNearestLinesAndMergesNeighbours) {
+  Scene s;
+  for (double y0 : {9000.0, 5000.0, 1800.0, -1800.0, -5800.0}) s.line(y0, 0.0, 0.0);
+  s.line(-1200, 0.0, 0.0, 0.3, 3);  // 0.6 m from a stronger line: one line, not two
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines, {}, 3), 3);
+  EXPECT_NEAR(lines[0].fit.y0_mm, 5000, 50);
+  EXPECT_NEAR(lines[1].fit.y0_mm, 1800, 50);
+  EXPECT_LT(lines[2].fit.y0_mm, -1000);
+  EXPECT_GT(lines[2].fit.y0_mm, -2000);
+}
+
+TEST(LineGrouper, SparseClutterIsNoLine) {
+  Scene s;
+  s.clutter(400);
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  EXPECT_EQ(group(s, lines), 0);
+}
+
+TEST(LineGrouper, GroupingAllocatesNothing) {
+  Scene s;
+  s.line(1800, 0.0, 0.0);
+  s.line(-1800, 0.0, 0.0);
+  s.clutter(200);
+  LineGrouper g(4096);
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  const LinePrior priors[] = {{1800, 0, 0}};
+  test::AllocationScope scope;
+  EXPECT_EQ(g.group(s.marks, priors, GroupingParams{}, lines), 2);
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+}  // namespace
+}  // namespace ccdlane

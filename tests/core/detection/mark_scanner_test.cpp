@@ -1,0 +1,146 @@
+// The row filter on rows with exactly known bars: sub-pixel centres, what is and is not
+// a dark-bright-dark bar of the expected width, both pixel depths, no allocation.
+#include "core/detection/mark_scanner.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/allocation_counter.hpp"
+
+namespace ccdlane {
+namespace {
+
+// One row of 200 px, 3 rows tall (the scanner reads only the middle one). Bars are
+// rendered by exact area coverage, so their true centre is known to any precision.
+struct Row {
+  std::vector<double> value = std::vector<double>(200, 80.0);
+  void bar(double left, double right, double level) {  // 0-based continuous coordinates
+    for (int x = 0; x < 200; ++x) {
+      const double cover = std::max(0.0, std::min(x + 0.5, right) - std::max(x - 0.5, left));
+      value[static_cast<std::size_t>(x)] += cover * (level - 80.0);
+    }
+  }
+  void noise(double sigma, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0.0, sigma);
+    for (double& v : value) v += n(rng);
+  }
+  std::vector<std::uint8_t> bytes8() const {
+    std::vector<std::uint8_t> b(600);
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 200; ++x)
+        b[static_cast<std::size_t>(y * 200 + x)] =
+            static_cast<std::uint8_t>(std::clamp(std::lround(value[static_cast<std::size_t>(x)]), 0L, 255L));
+    return b;
+  }
+};
+
+ScanRow row_for(float mark_px) {
+  ScanRow r;
+  r.y = 1;
+  r.mark_px = mark_px;
+  r.half_width = std::max(1, static_cast<int>(std::lround(mark_px / 2)));
+  r.min_width_px = std::max(0.8f, 0.4f * mark_px - 1.0f);
+  r.max_width_px = 2.5f * mark_px + 2.0f;
+  return r;
+}
+
+std::vector<MarkCandidate> scan(const std::vector<std::uint8_t>& img, const ScanRow& r, float contrast = 10) {
+  MarkScanner s(200);
+  std::vector<MarkCandidate> out(64);
+  const int n = s.scan(ImageView{img.data(), 200, 3, 200, PixelFormat::mono8, 8}, r, 0, contrast, 1.0f, out.data(), 0, 64);
+  out.resize(static_cast<std::size_t>(n));
+  return out;
+}
+
+TEST(MarkScanner, FindsBarsWithSubPixelCentresAndWidths) {
+  for (const double width : {1.7, 3.0, 6.4, 12.0}) {
+    for (const double start : {40.0, 40.25, 40.5, 40.8}) {
+      Row row;
+      row.bar(start, start + width, 200.0);
+      row.bar(150.3, 150.3 + width, 180.0);
+      const auto c = scan(row.bytes8(), row_for(static_cast<float>(width)));
+      ASSERT_EQ(c.size(), 2u) << width << " at " << start;
+      // 0-based continuous centre -> 1-based pixel index: + 1.
+      EXPECT_NEAR(c[0].px(), start + width / 2 + 1.0, 0.06) << width << " at " << start;
+      EXPECT_NEAR(c[0].width_px(), width, 0.5) << width;
+      EXPECT_NEAR(c[1].px(), 150.3 + width / 2 + 1.0, 0.06) << width;
+      EXPECT_EQ(c[0].py, 2.0);
+      EXPECT_NEAR(c[0].contrast, 120.0, width < 2 ? 60.0 : 25.0);
+    }
+  }
+}
+
+TEST(MarkScanner, NoiseOfOneGreyLevelMovesCentresByHundredths) {
+  double sum2 = 0;
+  int n = 0;
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    Row row;
+    const double start = 60.0 + 0.01 * seed;
+    row.bar(start, start + 4.0, 190.0);
+    row.noise(1.0, seed);
+    const auto c = scan(row.bytes8(), row_for(4.0f));
+    ASSERT_EQ(c.size(), 1u) << seed;
+    sum2 += std::pow(c[0].px() - (start + 3.0), 2);
+    ++n;
+  }
+  EXPECT_LT(std::sqrt(sum2 / n), 0.05);
+}
+
+TEST(MarkScanner, RejectsWhatIsNotAMarkOfThisWidth) {
+  Row wide, step, faint, bright_side, dark_bar;
+  wide.bar(50, 50 + 30, 200);           // a car or a patch: 7.5 x the expected 4 px
+  step.bar(100, 200, 200);              // an edge, no far side
+  faint.bar(50, 54, 86);                // 6 grey levels: below the contrast asked
+  bright_side.bar(50, 54, 150);         // a stair up to a brighter area: not dark-bright-dark
+  bright_side.bar(54, 90, 220);
+  dark_bar.bar(50, 54, 20);             // a dark bar (a crack, a tar seam)
+  for (const Row* r : {&wide, &step, &faint, &bright_side, &dark_bar})
+    EXPECT_TRUE(scan(r->bytes8(), row_for(4.0f)).empty());
+  Row narrow;
+  narrow.bar(50, 50.6, 250);  // far narrower than a mark of 8 px
+  EXPECT_TRUE(scan(narrow.bytes8(), row_for(8.0f)).empty());
+}
+
+TEST(MarkScanner, SixteenBitRowsGiveTheSameBars) {
+  Row row;
+  row.bar(70.4, 75.9, 210);
+  row.noise(0.5, 3);
+  const auto b8 = row.bytes8();
+  std::vector<std::uint16_t> b16(600);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 200; ++x)
+      b16[static_cast<std::size_t>(y * 200 + x)] = static_cast<std::uint16_t>(
+          std::lround(row.value[static_cast<std::size_t>(x)] * 4095.0 / 255.0));
+  MarkScanner s(200);
+  std::vector<MarkCandidate> out(8);
+  const float scale = 4095.0f / 255.0f;
+  const int n = s.scan(ImageView{reinterpret_cast<const std::uint8_t*>(b16.data()), 200, 3, 400, PixelFormat::mono16, 12},
+                       row_for(5.5f), 0, 10 * scale, 1 / scale, out.data(), 0, 8);
+  ASSERT_EQ(n, 1);
+  const auto c8 = scan(b8, row_for(5.5f));
+  ASSERT_EQ(c8.size(), 1u);
+  EXPECT_NEAR(out[0].px(), c8[0].px(), 0.05);
+  EXPECT_NEAR(out[0].contrast, c8[0].contrast, 1.0);
+}
+
+TEST(MarkScanner, StopsAtCapacityAndAllocatesNothing) {
+  Row row;
+  for (int k = 0; k < 10; ++k) row.bar(10 + 18 * k, 14 + 18 * k, 200);
+  const auto img = row.bytes8();
+  MarkScanner s(200);
+  std::vector<MarkCandidate> out(4);
+  const ImageView view{img.data(), 200, 3, 200, PixelFormat::mono8, 8};
+  test::AllocationScope scope;
+  const int n = s.scan(view, row_for(4.0f), 0, 10, 1.0f, out.data(), 1, 4);
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_EQ(n, 4);  // 3 appended after the one already there
+  EXPECT_NEAR(out[1].px(), 13.0, 0.05);
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,178 @@
+// The whole per-frame pipeline on rendered frames with known truth: every frame ok and
+// within the solver's own sigmas of the truth, ids stable and following the road through
+// a lane change, departure flagged while crossing, gyro priors and their override, the
+// rank-deficient case reported, damaged frames, and no allocation per frame.
+#include "core/lane/lane_estimator.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/core/synth/rendered_road.hpp"
+#include "tests/support/allocation_counter.hpp"
+
+namespace ccdlane {
+namespace {
+
+Config small_camera() {
+  Config c = test::small_reference_camera();
+  c.detection.max_picks = 160;
+  return c;
+}
+
+using Drive = test::RenderedRoad;
+
+TEST(LaneEstimator, EveryFrameOkAndWithinTheSolversSigmasOfTheTruth) {
+  Config c = small_camera();
+  c.synth.noise_sigma = 1.0;
+  c.synth.shadow_depth = 0.3;
+  Drive d(c);
+  LaneEstimator est(c);
+  int frames = 0, within = 0;
+  std::vector<int> first_ids;
+  for (std::uint64_t k = 0; k < 40; k += 3) {
+    const SynthFrame f = d.render(k);
+    const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+    ASSERT_TRUE(e.ok) << "frame " << k << ": " << to_string(e.reason);
+    EXPECT_EQ(e.frame, k);
+    EXPECT_EQ(e.t_ns, f.t_ns);
+    ASSERT_EQ(e.num_lines, 4) << "frame " << k;
+    std::vector<int> ids;
+    for (int j = 0; j < 4; ++j) {
+      ids.push_back(e.lines[j].id);
+      EXPECT_GT(e.lines[j].marks, 5);
+      EXPECT_GT(e.lines[j].confidence, 0.3);
+      EXPECT_LE(e.lines[j].confidence, 1.0);
+      if (j > 0) {
+        EXPECT_LT(e.lines[j].y0_mm, e.lines[j - 1].y0_mm);  // left to right
+      }
+    }
+    if (first_ids.empty()) first_ids = ids;
+    EXPECT_EQ(ids, first_ids) << "frame " << k;
+    // Errors against the truth, in units of the solver's sigmas: 3 sigma, for the
+    // attitude and the own lane's lines.
+    const double zs[] = {(e.psi_deg - rad_to_deg(f.pose.attitude.psi)) / e.sigma_psi_deg,
+                         (e.theta_deg - rad_to_deg(f.pose.attitude.theta)) / e.sigma_theta_deg,
+                         (e.phi_deg - rad_to_deg(f.pose.attitude.phi)) / e.sigma_phi_deg,
+                         (e.lines[1].y0_mm - f.y0_mm[1]) / e.lines[1].sigma_y0_mm,
+                         (e.lines[2].y0_mm - f.y0_mm[2]) / e.lines[2].sigma_y0_mm};
+    for (double z : zs) {
+      ASSERT_TRUE(std::isfinite(z));
+      within += std::abs(z) <= 3.0;
+    }
+    EXPECT_NEAR(e.lateral_offset_mm, f.lateral_offset_mm, 0.5 * (e.lines[1].sigma_y0_mm + e.lines[2].sigma_y0_mm) * 3);
+    EXPECT_NEAR(e.lane_width_mm, 3600.0, 3 * std::hypot(e.lines[1].sigma_y0_mm, e.lines[2].sigma_y0_mm));
+    EXPECT_NEAR(e.heading_deg, f.heading_deg, 3 * e.sigma_psi_deg);
+    EXPECT_EQ(e.departure, Departure::none);
+    EXPECT_LT(e.rms_px, 0.5);
+    ++frames;
+  }
+  EXPECT_EQ(within, 5 * frames);
+}
+
+TEST(LaneEstimator, IdsFollowTheRoadThroughALaneChangeAndDepartureIsFlagged) {
+  Config c = small_camera();
+  c.synth.lane_change_at_s = 1.0;
+  c.synth.lane_change_s = 3.0;
+  c.synth.weave_mm = 0;
+  Drive d(c);
+  LaneEstimator est(c);
+  int id_of_crossed = -1;  // the line between lanes 1 and 2 (road line 2)
+  bool right_departure = false, left_departure = false;
+  for (std::uint64_t k = 0; k <= 150; k += 5) {
+    const SynthFrame f = d.render(k);
+    const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+    ASSERT_GE(e.num_lines, 2) << "frame " << k;
+    for (int j = 0; j < e.num_lines; ++j) {
+      if (std::abs(e.lines[j].y0_mm - f.y0_mm[2]) > 300) continue;
+      if (id_of_crossed < 0) id_of_crossed = e.lines[j].id;
+      EXPECT_EQ(e.lines[j].id, id_of_crossed) << "frame " << k;
+    }
+    if (e.ok) {
+      right_departure = right_departure || e.departure == Departure::right;
+      left_departure = left_departure || e.departure == Departure::left;
+      // Before the change nothing; crossing: right while the line is still right of the
+      // vehicle, left once it has passed under.
+      if (f.t_ns < 900'000'000) {
+        EXPECT_EQ(e.departure, Departure::none) << "frame " << k;
+      }
+      if (e.departure == Departure::right) {
+        EXPECT_LT(f.y0_mm[2], 0.0);
+      }
+    }
+  }
+  EXPECT_GE(id_of_crossed, 0);
+  EXPECT_TRUE(right_departure);
+  EXPECT_TRUE(left_departure);
+}
+
+TEST(LaneEstimator, GyroPriorsAndTheirOverride) {
+  Config c = small_camera();
+  Drive d(c);
+  const SynthFrame f = d.render(3);
+  {  // No gyro, no roll prior: roll about the lane is not determined, and said so.
+    LaneEstimator est(c);
+    const LaneEstimate& e = est.estimate(d.view, 3, f.t_ns, std::nullopt);
+    EXPECT_FALSE(e.ok);
+    EXPECT_EQ(e.reason, EstimateFailure::rank_deficient);
+  }
+  {  // The gyro's roll makes it determined, to about the gyro's sigma.
+    LaneEstimator est(c);
+    const LaneEstimate& e = est.estimate(d.view, 3, f.t_ns, f.gyro);
+    ASSERT_TRUE(e.ok) << to_string(e.reason);
+    EXPECT_NEAR(e.sigma_phi_deg, c.gyro.sigma_deg, 0.05);
+  }
+  {  // A [prior] on roll overrides the gyro's.
+    Config strict = c;
+    strict.prior.phi_deg = Prior{rad_to_deg(f.pose.attitude.phi) + 0.8, 0.01};
+    LaneEstimator est(strict);
+    const LaneEstimate& e = est.estimate(d.view, 3, f.t_ns, f.gyro);
+    ASSERT_TRUE(e.ok) << to_string(e.reason);
+    EXPECT_NEAR(e.phi_deg, rad_to_deg(f.pose.attitude.phi) + 0.8, 0.05);
+    EXPECT_LT(e.sigma_phi_deg, 0.011);
+  }
+}
+
+TEST(LaneEstimator, DamagedAndEmptyFramesAndRecovery) {
+  Config c = small_camera();
+  Drive d(c);
+  LaneEstimator est(c);
+  SynthFrame f = d.render(0);
+  ASSERT_TRUE(est.estimate(d.view, 0, f.t_ns, f.gyro).ok);
+  const int left_id = est.estimate(d.view, 0, f.t_ns, f.gyro).lines[1].id;
+  const LaneEstimate& damaged = est.no_frame(1, 33);
+  EXPECT_FALSE(damaged.ok);
+  EXPECT_EQ(damaged.reason, EstimateFailure::no_frame);
+  EXPECT_EQ(damaged.frame, 1u);
+  std::fill(d.px.begin(), d.px.end(), 90);  // nothing to see
+  EXPECT_EQ(est.estimate(d.view, 2, 66, f.gyro).reason, EstimateFailure::too_few_marks);
+  f = d.render(3);
+  const LaneEstimate& back = est.estimate(d.view, 3, f.t_ns, f.gyro);
+  ASSERT_TRUE(back.ok);
+  EXPECT_EQ(back.lines[1].id, left_id);  // the lines coasted over the gap
+  EXPECT_EQ(est.estimate(ImageView{}, 4, 0, f.gyro).reason, EstimateFailure::too_few_marks);
+}
+
+TEST(LaneEstimator, EstimatingAllocatesNothing) {
+  Config c = small_camera();
+  Drive d(c);
+  LaneEstimator est(c);
+  std::vector<SynthFrame> frames;
+  std::vector<std::vector<std::uint8_t>> images;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    frames.push_back(d.render(k));
+    images.push_back(d.px);
+  }
+  auto view = [&](std::size_t i) { return ImageView{images[i].data(), 400, 300, 400, PixelFormat::mono8, 8}; };
+  est.estimate(view(0), 0, 0, frames[0].gyro);  // warm: nothing is sized lazily, but be fair
+  test::AllocationScope scope;
+  for (std::size_t i = 0; i < frames.size(); ++i) EXPECT_TRUE(est.estimate(view(i), i, frames[i].t_ns, frames[i].gyro).ok);
+  est.reset();  // the cold-start path (detect twice) too
+  EXPECT_TRUE(est.estimate(view(1), 1, frames[1].t_ns, frames[1].gyro).ok);
+  est.no_frame(2, 0);
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,77 @@
+// The per-frame result's JSON: every field of interfaces.md in its order, nulls for what
+// a failed frame does not have, the optional sigmas.
+#include "tools/ccdlane/lane_estimate_json.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ccdlane::cli {
+namespace {
+
+LaneEstimate sample() {
+  LaneEstimate e;
+  e.frame = 12;
+  e.t_ns = 400000000;
+  e.ok = true;
+  e.psi_deg = 1.05;
+  e.theta_deg = 0.71;
+  e.phi_deg = -2.7;
+  e.sigma_psi_deg = 0.04;
+  e.num_lines = 2;
+  e.lines[0] = {3, 1751.0, 0.0012, 0.0, 9, 0.97, 22.0};
+  e.lines[1] = {4, -1850.0, 0.0012, 0.0, 11, 0.9, kUndetermined};
+  e.lane_width_mm = 3601.0;
+  e.lateral_offset_mm = 49.5;
+  e.heading_deg = 0.07;
+  e.departure = Departure::left;
+  e.rms_px = 0.5;
+  e.iterations = 5;
+  e.latency_us = 180;
+  return e;
+}
+
+TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
+  const Json j = lane_estimate_json(sample());
+  EXPECT_EQ(j.dump(),
+            R"({"frame":12,"t_ns":400000000,"ok":true,"psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
+            R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
+            R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
+            R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"departure":"left",)"
+            R"("rms_px":0.5,"iterations":5,"latency_us":180})");
+}
+
+TEST(LaneEstimateJson, FailedFramesSayWhyAndHaveNullsForWhatTheyLack) {
+  LaneEstimate e = sample();
+  e.ok = false;
+  e.reason = EstimateFailure::no_lane;  // solved, but one side has no line
+  e.departure = Departure::none;
+  Json j = lane_estimate_json(e);
+  EXPECT_EQ(j["reason"], "no_lane");
+  EXPECT_EQ(j["psi_deg"], 1.05);
+  EXPECT_EQ(j["lines"].size(), 2u);
+  EXPECT_TRUE(j["lane_width_mm"].is_null());
+  EXPECT_TRUE(j["lateral_offset_mm"].is_null());
+  EXPECT_EQ(j["heading_deg"], 0.07);
+
+  e.reason = EstimateFailure::solver_failed;
+  j = lane_estimate_json(e);
+  EXPECT_EQ(j["reason"], "solver_failed");
+  EXPECT_TRUE(j["psi_deg"].is_null());
+  EXPECT_TRUE(j["lines"].empty());
+  EXPECT_TRUE(j["rms_px"].is_null());
+  EXPECT_EQ(j.begin().key(), "frame");
+  EXPECT_EQ(std::next(j.begin(), 3).key(), "reason");  // right after ok
+  for (EstimateFailure f : {EstimateFailure::no_frame, EstimateFailure::too_few_marks, EstimateFailure::rank_deficient})
+    EXPECT_EQ(lane_estimate_json(LaneEstimate{.reason = f})["reason"], to_string(f));
+}
+
+TEST(LaneEstimateJson, SigmasOnRequest) {
+  const Json j = lane_estimate_json(sample(), true);
+  EXPECT_EQ(j["sigma"]["psi_deg"], 0.04);
+  EXPECT_TRUE(j["sigma"]["theta_deg"].is_null());
+  EXPECT_EQ(j["sigma"]["y0_mm"][0], 22.0);
+  EXPECT_TRUE(j["sigma"]["y0_mm"][1].is_null());
+  EXPECT_FALSE(lane_estimate_json(sample()).contains("sigma"));
+}
+
+}  // namespace
+}  // namespace ccdlane::cli

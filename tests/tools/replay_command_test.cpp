@@ -1,0 +1,344 @@
+// `ccdlane replay` as a user runs it: on sequences rendered by `ccdlane synth`, against
+// their truth columns (accuracy within the solver's own sigmas, >= 98% of frames ok);
+// on the real pictures of the shared data; with damaged input; the JSON contract; the
+// overlays and the output file.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/config/config_loader.hpp"
+#include "core/geometry/camera_model.hpp"
+#include "drivers/frames/frame_directory.hpp"
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+using Json = nlohmann::json;
+const std::string kTool = CCDLANE_TOOL;
+const std::string kReferenceCamera = std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml";
+
+std::vector<Json> json_lines(const std::string& text) {
+  std::vector<Json> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(Json::parse(line));
+  return out;
+}
+
+struct Stats {
+  std::vector<double> v;
+  void add(double x) { v.push_back(x); }
+  double rms() const {
+    double s = 0;
+    for (double x : v) s += x * x;
+    return v.empty() ? 0 : std::sqrt(s / static_cast<double>(v.size()));
+  }
+  double worst() const {
+    double w = 0;
+    for (double x : v) w = std::max(w, std::abs(x));
+    return w;
+  }
+};
+
+// Renders `frames` frames with `synth_args`, replays them with --sigmas, and checks every
+// ok frame against the truth columns.
+void replay_against_truth(const std::vector<std::string>& synth_args, int frames, const std::string& label) {
+  test::TempDir dir;
+  std::vector<std::string> synth = {kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames",
+                                    std::to_string(frames)};
+  synth.insert(synth.end(), synth_args.begin(), synth_args.end());
+  const auto s = test::run_process(synth);
+  ASSERT_EQ(s.exit_status, 0) << s.err;
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--sigmas"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), static_cast<std::size_t>(frames));
+  FrameDirectory truth(dir.file("road"));
+
+  int ok = 0, checks = 0, within = 0;
+  Stats psi, theta, phi, offset, width, heading;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Json& e = out[i];
+    EXPECT_EQ(e["frame"].get<std::size_t>(), i);
+    if (!e["ok"].get<bool>()) continue;
+    ++ok;
+    const double t_psi = *truth.truth(i, "truth_psi_deg"), t_theta = *truth.truth(i, "truth_theta_deg"),
+                 t_phi = *truth.truth(i, "truth_phi_deg");
+    const Json& sigma = e["sigma"];
+    auto check = [&](double err, const Json& sig) {
+      ++checks;
+      within += std::abs(err) <= 3.0 * sig.get<double>();
+    };
+    check(e["psi_deg"].get<double>() - t_psi, sigma["psi_deg"]);
+    check(e["theta_deg"].get<double>() - t_theta, sigma["theta_deg"]);
+    check(e["phi_deg"].get<double>() - t_phi, sigma["phi_deg"]);
+    psi.add(e["psi_deg"].get<double>() - t_psi);
+    theta.add(e["theta_deg"].get<double>() - t_theta);
+    phi.add(e["phi_deg"].get<double>() - t_phi);
+    heading.add(e["heading_deg"].get<double>() - *truth.truth(i, "truth_heading_deg"));
+    // Each reported line against the nearest road line of the truth.
+    for (std::size_t j = 0; j < e["lines"].size(); ++j) {
+      const double y0 = e["lines"][j]["y0_mm"].get<double>();
+      double best = 1e9;
+      for (int t = 0; truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm"); ++t)
+        if (std::abs(*truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm") - y0) < std::abs(best)) best = *truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm") - y0;
+      check(best, sigma["y0_mm"][j]);
+    }
+    // The lane quantities, where the truth's lane is the estimate's (not mid-crossing).
+    const double t_offset = *truth.truth(i, "truth_lateral_offset_mm");
+    if (std::abs(e["lateral_offset_mm"].get<double>() - t_offset) < 1000) {
+      offset.add(e["lateral_offset_mm"].get<double>() - t_offset);
+      width.add(e["lane_width_mm"].get<double>() - *truth.truth(i, "truth_lane_width_mm"));
+    }
+  }
+  EXPECT_GE(ok, static_cast<int>(std::ceil(0.98 * frames))) << label;
+  EXPECT_GE(within, static_cast<int>(0.99 * checks)) << label << ": errors beyond 3 sigma";
+  EXPECT_GT(static_cast<int>(offset.v.size()), ok * 9 / 10) << label;
+  // The figures, for the record (also in the test's XML output).
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%s: %d/%d frames ok; RMS (worst) error: psi %.4f (%.4f) deg, theta %.4f (%.4f) deg, phi %.3f (%.3f) "
+                "deg, heading %.4f deg, lateral offset %.1f (%.1f) mm, lane width %.1f (%.1f) mm; %d/%d within 3 sigma",
+                label.c_str(), ok, frames, psi.rms(), psi.worst(), theta.rms(), theta.worst(), phi.rms(), phi.worst(),
+                heading.rms(), offset.rms(), offset.worst(), width.rms(), width.worst(), within, checks);
+  std::printf("%s\n%s\n", line, r.err.c_str());
+  testing::Test::RecordProperty(label, line);
+  // Errors that the solver's sigmas (0.5 px picks) make plausible, in absolute terms too.
+  EXPECT_LT(psi.rms(), 0.05) << label;
+  EXPECT_LT(theta.rms(), 0.05) << label;
+  EXPECT_LT(offset.rms(), 50.0) << label;
+}
+
+TEST(ReplayCommand, SynthesisedHighwayWithNoiseAndMildShadows) {
+  replay_against_truth({"--noise", "1", "--shadows", "0.3"}, 150, "highway sigma=1 shadows=0.3");
+}
+
+TEST(ReplayCommand, SynthesisedLaneChangeOnABendWithBlur) {
+  // A bend needs the curvature free; the lane change crosses a line mid-sequence.
+  test::TempDir dir;
+  std::ifstream in(kReferenceCamera);
+  std::stringstream config;
+  config << in.rdbuf() << "\n[solver]\nfree = [\"psi\", \"theta\", \"phi\", \"y0\", \"c\"]\n";
+  const std::string cfg = dir.write("bend.toml", config.str());
+  const auto s = test::run_process({kTool, "synth", cfg, "--out", dir.file("road"), "--frames", "150", "--noise", "1",
+                                    "--shadows", "0.3", "--curvature", "4e-7", "--lane-change-at", "1.5", "--blur", "0.7"});
+  ASSERT_EQ(s.exit_status, 0) << s.err;
+  const auto r = test::run_process({kTool, "replay", cfg, dir.file("road"), "--sigmas"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  FrameDirectory truth(dir.file("road"));
+  int ok = 0, within = 0;
+  Stats psi;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!out[i]["ok"].get<bool>()) continue;
+    ++ok;
+    const double err = out[i]["psi_deg"].get<double>() - *truth.truth(i, "truth_psi_deg");
+    psi.add(err);
+    within += std::abs(err) <= 3 * out[i]["sigma"]["psi_deg"].get<double>();
+  }
+  EXPECT_GE(ok, 147);
+  EXPECT_GE(within, ok * 99 / 100);
+  std::printf("bend c=4e-7 with lane change and blur: %d/150 ok, psi RMS %.3f deg (worst %.3f), %d within 3 sigma\n",
+              ok, psi.rms(), psi.worst(), within);
+  // The line crossed (road line 2) keeps one id from first sight to the end.
+  std::set<int> ids;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (const Json& l : out[i]["lines"])
+      if (std::abs(l["y0_mm"].get<double>() - *truth.truth(i, "truth_y0_2_mm")) < 300) ids.insert(l["id"].get<int>());
+  EXPECT_EQ(ids.size(), 1u);
+  std::printf("%s", r.err.c_str());
+}
+
+TEST(ReplayCommand, PrintsTheDocumentedFieldsInOrder) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "2"}).exit_status, 0);
+  std::filesystem::remove(dir.file("road/000001.pgm"));
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road")});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), 2u);
+  // nlohmann::json sorts keys; the order is checked on the text.
+  const std::string first = r.out.substr(0, r.out.find('\n'));
+  std::size_t at = 0;
+  for (const char* key : {"\"frame\":", "\"t_ns\":", "\"ok\":", "\"psi_deg\":", "\"theta_deg\":", "\"phi_deg\":",
+                          "\"lines\":", "\"id\":", "\"y0_mm\":", "\"m\":", "\"c_per_mm\":", "\"marks\":",
+                          "\"confidence\":", "\"lane_width_mm\":", "\"lateral_offset_mm\":", "\"heading_deg\":",
+                          "\"departure\":", "\"rms_px\":", "\"iterations\":", "\"latency_us\":"}) {
+    const std::size_t p = first.find(key, at);
+    ASSERT_NE(p, std::string::npos) << key << " after position " << at << " in " << first;
+    at = p;
+  }
+  EXPECT_EQ(first.find("reason"), std::string::npos);
+  EXPECT_EQ(first.find("sigma"), std::string::npos);
+  const Json& e = out[0];
+  EXPECT_TRUE(e["ok"].get<bool>());
+  EXPECT_EQ(e["t_ns"].get<std::int64_t>(), 0);
+  EXPECT_EQ(e["departure"], "none");
+  EXPECT_GT(e["latency_us"].get<std::int64_t>(), 0);
+  EXPECT_EQ(e["lines"].size(), 4u);
+  for (std::size_t j = 1; j < e["lines"].size(); ++j)
+    EXPECT_LT(e["lines"][j]["y0_mm"].get<double>(), e["lines"][j - 1]["y0_mm"].get<double>());
+  // A frame that could not be read: ok false with its reason, nulls for what it lacks.
+  const Json& bad = out[1];
+  EXPECT_EQ(bad["frame"], 1);
+  EXPECT_EQ(bad["t_ns"], 33333333);
+  EXPECT_FALSE(bad["ok"].get<bool>());
+  EXPECT_EQ(bad["reason"], "no_frame");
+  EXPECT_TRUE(bad["psi_deg"].is_null());
+  EXPECT_TRUE(bad["lane_width_mm"].is_null());
+  EXPECT_TRUE(bad["lines"].empty());
+}
+
+TEST(ReplayCommand, DamagedFramesAreReportedOnceCountedAndSkipped) {
+  test::TempDir dir;
+  const std::string road = dir.file("road");
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "6"}).exit_status, 0);
+  std::filesystem::remove(road + "/000001.pgm");
+  std::filesystem::resize_file(road + "/000003.pgm", 5000);
+  std::ofstream(road + "/frames.csv", std::ios::app) << "000009.pgm,not-a-time\n";
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, road, "--out", dir.file("out.jsonl")});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  auto count = [&](const std::string& s) {
+    std::size_t n = 0;
+    for (std::size_t p = r.err.find(s); p != std::string::npos; p = r.err.find(s, p + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count(road + "/000001.pgm: missing (no such file)"), 1u) << r.err;
+  EXPECT_EQ(count(road + "/000003.pgm: truncated: "), 1u) << r.err;
+  EXPECT_EQ(count(road + "/frames.csv:8: row has 2 fields, the header has 18"), 1u) << r.err;
+  EXPECT_NE(r.err.find("ccdlane replay: 7 frames, 4 ok, 3 skipped; per frame "), std::string::npos) << r.err;
+  std::ifstream in(dir.file("out.jsonl"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::vector<Json> out = json_lines(text.str());
+  ASSERT_EQ(out.size(), 6u);
+  for (std::size_t i : {0u, 2u, 4u, 5u}) EXPECT_TRUE(out[i]["ok"].get<bool>()) << i;
+  EXPECT_EQ(out[3]["reason"], "no_frame");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out.jsonl.tmp")));
+}
+
+TEST(ReplayCommand, SixteenBitFramesReplayToo) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("w"), "--frames", "3", "--bits", "12"})
+                .exit_status,
+            0);
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("w")});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  for (const Json& e : json_lines(r.out)) EXPECT_TRUE(e["ok"].get<bool>());
+}
+
+TEST(ReplayCommand, OverlaysArePngPicturesOfEveryFrame) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "2"}).exit_status, 0);
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--overlay", dir.file("png")});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  for (const char* name : {"000000.png", "000001.png"}) {
+    std::ifstream in(dir.file(std::string("png/") + name), std::ios::binary);
+    std::string head(24, '\0');
+    in.read(head.data(), 24);
+    ASSERT_TRUE(in) << name;
+    EXPECT_EQ(head.substr(0, 8), "\x89PNG\r\n\x1a\n");
+    // IHDR: width and height, big-endian.
+    auto be32 = [&](int at) {
+      return (static_cast<std::uint32_t>(static_cast<unsigned char>(head[at])) << 24) |
+             (static_cast<std::uint32_t>(static_cast<unsigned char>(head[at + 1])) << 16) |
+             (static_cast<std::uint32_t>(static_cast<unsigned char>(head[at + 2])) << 8) |
+             static_cast<unsigned char>(head[at + 3]);
+    };
+    EXPECT_EQ(be32(16), 800u);
+    EXPECT_EQ(be32(20), 600u);
+  }
+}
+
+// Where a solved road line y = y0 (m = c = 0 here) crosses pixel row `py`, by bisection.
+double column_at_row(const CameraModel& cam, double y0, double py) {
+  double lo = 3000, hi = 80000;
+  auto row = [&](double X) { return cam.pixel_from_point(Vec3(X, y0, 0))->y(); };
+  for (int i = 0; i < 80; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    ((row(mid) - py) * (row(lo) - py) > 0 ? lo : hi) = mid;
+  }
+  return cam.pixel_from_point(Vec3(0.5 * (lo + hi), y0, 0))->x();
+}
+
+TEST(ReplayCommand, RealPicturesOwnLaneFoundInBothFrames) {
+  test::TempDir dir;
+  const std::string config = std::string(CCDLANE_SOURCE_DIR) + "/tests/tools/data/udacity-advanced.toml";
+  const std::string frames = std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced";
+  const std::string overlays = std::string(CCDLANE_BINARY_DIR) + "/overlays/udacity-advanced";
+  std::filesystem::remove_all(overlays);
+  const auto r = test::run_process({kTool, "replay", config, frames, "--overlay", overlays});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), 2u);
+  const Config cfg = load_config_file(config);
+  // Centres of the own lane's paint measured by hand in the pictures (1-based row,
+  // column of the left line, of the right line; 0 where that row falls in a dash gap).
+  struct Anchor {
+    int frame;
+    double row, left, right;
+  };
+  const Anchor anchors[] = {{0, 481, 554.5, 0}, {0, 551, 453.5, 0}, {0, 641, 322.5, 0},
+                            {1, 481, 553.5, 736.5}, {1, 551, 0, 845.0}, {1, 641, 330.0, 987.5}};
+  for (int f = 0; f < 2; ++f) {
+    const Json& e = out[static_cast<std::size_t>(f)];
+    ASSERT_TRUE(e["ok"].get<bool>()) << "frame " << f << ": " << e.dump();
+    EXPECT_NEAR(e["lane_width_mm"].get<double>(), 3660.0, 600.0) << f;
+    EXPECT_LT(std::abs(e["lateral_offset_mm"].get<double>()), 1000.0) << f;
+    EXPECT_EQ(e["departure"], "none");
+    double left = 1e9, right = -1e9;  // the own lane's lines
+    for (const Json& l : e["lines"]) {
+      const double y0 = l["y0_mm"].get<double>();
+      if (y0 > 0) left = std::min(left, y0);
+      else right = std::max(right, y0);
+    }
+    CameraPose pose = cfg.nominal_pose();
+    pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
+                     deg_to_rad(e["phi_deg"].get<double>())};
+    const CameraModel cam(cfg.camera, pose);
+    for (const Anchor& a : anchors) {
+      if (a.frame != f) continue;
+      if (a.left > 0) {
+        EXPECT_NEAR(column_at_row(cam, left, a.row), a.left, 4.0) << "frame " << f << " row " << a.row;
+      }
+      if (a.right > 0) {
+        EXPECT_NEAR(column_at_row(cam, right, a.row), a.right, 4.0) << "frame " << f << " row " << a.row;
+      }
+    }
+    EXPECT_TRUE(std::filesystem::exists(overlays + (f ? "/000001.png" : "/000000.png")));
+  }
+  std::printf("overlays in %s\n%s%s", overlays.c_str(), r.out.c_str(), r.err.c_str());
+}
+
+TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "1"}).exit_status, 0);
+  const std::string real = std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced";
+  auto r = test::run_process({kTool, "replay", kReferenceCamera, real, "--out", dir.file("o.jsonl")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(r.err, "ccdlane: " + real + ": frames are 1280x720, the camera of " + kReferenceCamera + " is 800x600\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.jsonl")));
+  r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("nothing")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find(dir.file("nothing") + "/frames.csv: cannot read"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  const std::string bad = dir.write("bad.toml", "[detection]\nmax_lines = 7\n");
+  r = test::run_process({kTool, "replay", bad, dir.file("road"), "--out", dir.file("o.jsonl")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(r.err, "ccdlane: " + bad + ":2: detection.max_lines: must be 2..4\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.jsonl")));
+  r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road/frames.csv")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("LCM logs"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ccdlane

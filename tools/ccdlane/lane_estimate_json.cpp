@@ -1,0 +1,47 @@
+// LaneEstimate -> JSON.
+#include "tools/ccdlane/lane_estimate_json.hpp"
+
+namespace ccdlane::cli {
+
+Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
+  // What exists depends on how far the frame got.
+  const bool solved = e.ok || e.reason == EstimateFailure::no_lane || e.reason == EstimateFailure::rank_deficient;
+  const Json null(nullptr);
+  Json j;
+  j["frame"] = e.frame;
+  j["t_ns"] = e.t_ns;
+  j["ok"] = e.ok;
+  if (!e.ok) j["reason"] = to_string(e.reason);
+  j["psi_deg"] = solved ? json_number(e.psi_deg) : null;
+  j["theta_deg"] = solved ? json_number(e.theta_deg) : null;
+  j["phi_deg"] = solved ? json_number(e.phi_deg) : null;
+  Json lines = Json::array();
+  for (int k = 0; solved && k < e.num_lines; ++k) {
+    const EstimatedLine& l = e.lines[static_cast<std::size_t>(k)];
+    lines.push_back(Json{{"id", l.id},
+                         {"y0_mm", json_number(l.y0_mm)},
+                         {"m", json_number(l.m)},
+                         {"c_per_mm", json_number(l.c_per_mm)},
+                         {"marks", l.marks},
+                         {"confidence", json_number(l.confidence)}});
+  }
+  j["lines"] = std::move(lines);
+  j["lane_width_mm"] = e.ok ? json_number(e.lane_width_mm) : null;
+  j["lateral_offset_mm"] = e.ok ? json_number(e.lateral_offset_mm) : null;
+  j["heading_deg"] = solved ? json_number(e.heading_deg) : null;
+  j["departure"] = to_string(e.departure);
+  j["rms_px"] = solved ? json_number(e.rms_px) : null;
+  j["iterations"] = e.iterations;
+  j["latency_us"] = e.latency_us;
+  if (sigmas) {
+    Json y0 = Json::array();
+    for (int k = 0; solved && k < e.num_lines; ++k) y0.push_back(json_number(e.lines[static_cast<std::size_t>(k)].sigma_y0_mm));
+    j["sigma"] = Json{{"psi_deg", solved ? json_number(e.sigma_psi_deg) : null},
+                      {"theta_deg", solved ? json_number(e.sigma_theta_deg) : null},
+                      {"phi_deg", solved ? json_number(e.sigma_phi_deg) : null},
+                      {"y0_mm", std::move(y0)}};
+  }
+  return j;
+}
+
+}  // namespace ccdlane::cli

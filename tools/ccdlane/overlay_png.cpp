@@ -1,0 +1,118 @@
+// Overlay drawing (plain DDA lines and crosses on an RGB buffer) and PNG output via libpng.
+#include "tools/ccdlane/overlay_png.hpp"
+
+#include <png.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+namespace ccdlane::cli {
+namespace {
+
+// Distinct colours for lines 0, 1, 2, ... (left to right).
+constexpr std::array<std::uint8_t, 3> kLineColours[] = {
+    {255, 60, 60}, {60, 220, 60}, {70, 140, 255}, {255, 200, 0}, {230, 80, 255}, {0, 230, 230}, {255, 140, 0}, {160, 255, 160},
+};
+constexpr std::array<std::uint8_t, 3> kUngrouped = {150, 150, 150};
+
+const std::array<std::uint8_t, 3>& colour(int line) {
+  return kLineColours[static_cast<std::size_t>(line) % (sizeof kLineColours / sizeof kLineColours[0])];
+}
+
+// libpng reports errors by longjmp: this frame holds nothing with a destructor and
+// changes nothing after setjmp, so the jump is safe.
+bool encode_rgb_png(std::FILE* f, const std::uint8_t* rgb, int width, int height) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, info ? &info : nullptr);
+    return false;
+  }
+  png_init_io(png, f);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < height; ++y)
+    png_write_row(png, const_cast<png_bytep>(rgb + static_cast<std::size_t>(y) * static_cast<std::size_t>(width) * 3));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+}  // namespace
+
+Overlay::Overlay(const ImageView& frame)
+    : width_(frame.width), height_(frame.height), rgb_(static_cast<std::size_t>(frame.width) * frame.height * 3) {
+  const int shift = frame.format == PixelFormat::mono16 ? std::max(0, frame.significant_bits - 8) : 0;
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const auto v = static_cast<std::uint8_t>(std::min(255, frame.at(x, y) >> shift));
+      std::uint8_t* p = &rgb_[(static_cast<std::size_t>(y) * width_ + x) * 3];
+      p[0] = p[1] = p[2] = v;
+    }
+}
+
+std::array<std::uint8_t, 3> Overlay::pixel(int x, int y) const {
+  const std::uint8_t* p = &rgb_[(static_cast<std::size_t>(y) * width_ + x) * 3];
+  return {p[0], p[1], p[2]};
+}
+
+void Overlay::put(int x, int y, const std::array<std::uint8_t, 3>& rgb) {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+  std::memcpy(&rgb_[(static_cast<std::size_t>(y) * width_ + x) * 3], rgb.data(), 3);
+}
+
+void Overlay::line(double x0, double y0, double x1, double y1, const std::array<std::uint8_t, 3>& rgb) {
+  const double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
+  const int steps = std::max(1, static_cast<int>(std::ceil(len)));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = static_cast<double>(i) / steps;
+    put(static_cast<int>(std::lround(x0 + t * (x1 - x0))), static_cast<int>(std::lround(y0 + t * (y1 - y0))), rgb);
+  }
+}
+
+void Overlay::draw_marks(std::span<const MarkCandidate> marks) {
+  for (const MarkCandidate& m : marks) {
+    // 1-based pixel centres to 0-based buffer positions.
+    const auto& c = m.line >= 0 ? colour(m.line) : kUngrouped;
+    line(m.left_px - 1, m.py - 1, m.right_px - 1, m.py - 1, c);
+  }
+}
+
+void Overlay::draw_picks(std::span<const Pick> picks) {
+  for (const Pick& p : picks) {
+    const double x = p.px - 1, y = p.py - 1;
+    line(x - 3, y - 3, x + 3, y + 3, colour(p.line));
+    line(x - 3, y + 3, x + 3, y - 3, colour(p.line));
+  }
+}
+
+void Overlay::draw_road_line(const CameraModel& camera, const LinePrior& road, double near_mm, double far_mm,
+                             int line_index) {
+  std::optional<Vec2> previous;
+  const int n = 60;
+  for (int i = 0; i <= n; ++i) {
+    const double X = near_mm + (far_mm - near_mm) * i / n;
+    const auto p = camera.pixel_from_point(Vec3(X, road.y_at(X), 0.0));
+    if (p && previous) line(previous->x() - 1, previous->y() - 1, p->x() - 1, p->y() - 1, colour(line_index));
+    previous = p;
+  }
+}
+
+void Overlay::write_png(const std::string& path) const {
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
+  const bool encoded = encode_rgb_png(f, rgb_.data(), width_, height_);
+  const bool closed = std::fclose(f) == 0;
+  if (!encoded || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write the PNG");
+  }
+}
+
+}  // namespace ccdlane::cli

@@ -1,0 +1,44 @@
+// Overlay pictures for looking at what detection and the solver did on a frame: the frame
+// in grey, every candidate mark, the picks coloured by line, and the fitted lines.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/detection/lane_marks.hpp"
+#include "core/geometry/camera_model.hpp"
+#include "core/image/image_view.hpp"
+
+namespace ccdlane::cli {
+
+// An RGB picture being drawn on.
+class Overlay {
+ public:
+  explicit Overlay(const ImageView& frame);  // grey frame (16-bit scaled down) as background
+
+  // Candidate marks: small ticks, grey for ungrouped ones, the line's colour otherwise.
+  void draw_marks(std::span<const MarkCandidate> marks);
+  // Picks: crosses in their line's colour.
+  void draw_picks(std::span<const Pick> picks);
+  // A road line y = y0 + m x + c x^2 from near_mm to far_mm, projected through `camera`.
+  void draw_road_line(const CameraModel& camera, const LinePrior& line, double near_mm, double far_mm, int colour);
+
+  // Writes a PNG (libpng). Throws std::runtime_error naming the file on failure; the file
+  // is written under a temporary name and renamed, so it is whole or absent.
+  void write_png(const std::string& path) const;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  std::array<std::uint8_t, 3> pixel(int x, int y) const;
+
+ private:
+  void put(int x, int y, const std::array<std::uint8_t, 3>& rgb);
+  void line(double x0, double y0, double x1, double y1, const std::array<std::uint8_t, 3>& rgb);
+
+  int width_, height_;
+  std::vector<std::uint8_t> rgb_;
+};
+
+}  // namespace ccdlane::cli

@@ -1,0 +1,168 @@
+// `ccdlane replay`: the full per-frame pipeline over a recorded frame directory, as fast
+// as the machine allows, one JSON object per frame.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/config/config_loader.hpp"
+#include "core/lane/lane_estimator.hpp"
+#include "drivers/frames/frame_directory.hpp"
+#include "tools/ccdlane/command.hpp"
+#include "tools/ccdlane/lane_estimate_json.hpp"
+#include "tools/ccdlane/overlay_png.hpp"
+
+namespace ccdlane::cli {
+namespace {
+
+struct ReplayArgs {
+  std::string config;
+  std::string input;
+  std::string out;
+  std::string overlay;
+  bool sigmas = false;
+};
+
+// The output file: written under a temporary name, renamed on success, removed otherwise.
+class OutputFile {
+ public:
+  explicit OutputFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
+    stream_.open(tmp_, std::ios::binary | std::ios::trunc);
+    if (!stream_) throw UsageError(path_ + ": cannot create the output file");
+  }
+  ~OutputFile() {
+    if (!committed_) {
+      stream_.close();
+      std::remove(tmp_.c_str());
+    }
+  }
+  std::ostream& stream() { return stream_; }
+  void commit() {
+    stream_.close();
+    if (stream_.fail() || std::rename(tmp_.c_str(), path_.c_str()) != 0)
+      throw std::runtime_error(path_ + ": cannot write the output file");
+    committed_ = true;
+  }
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream stream_;
+  bool committed_ = false;
+};
+
+void draw_overlay(const std::string& path, const ImageView& frame, const LaneEstimator& estimator,
+                  const Config& config) {
+  Overlay o(frame);
+  const DetectionResult& d = estimator.detection();
+  o.draw_marks(d.marks);
+  if (const SolveResult* s = estimator.solution(); s && s->converged) {
+    const CameraModel camera(config.camera, s->pose);
+    for (int j = 0; j < s->num_lines; ++j) {
+      const LaneLine& l = s->lines[static_cast<std::size_t>(j)];
+      o.draw_road_line(camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm,
+                       config.detection.max_range_mm, j);
+    }
+    o.draw_picks(estimator.solved_picks());
+  } else {
+    const CameraModel camera(config.camera, estimator.detection_pose());
+    for (int j = 0; j < d.num_lines; ++j)
+      o.draw_road_line(camera, d.lines[static_cast<std::size_t>(j)].fit, d.lines[static_cast<std::size_t>(j)].near_mm,
+                       d.lines[static_cast<std::size_t>(j)].far_mm, j);
+    o.draw_picks(d.picks);
+  }
+  o.write_png(path);
+}
+
+}  // namespace
+
+CommandAction setup_replay(CLI::App& sub) {
+  auto a = std::make_shared<ReplayArgs>();
+  sub.add_option("config", a->config, "configuration file (TOML)")->required();
+  sub.add_option("input", a->input, "frame directory (frames.csv + PGM frames)")->required();
+  sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
+  sub.add_option("--overlay", a->overlay, "write a PNG per frame with the marks, picks and fitted lines here");
+  sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
+  sub.footer("Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
+             "frame, printing one JSON object per frame (interfaces.md). Damaged frames are reported once each "
+             "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
+  return [a] {
+    const Config config = load_config_file(a->config);
+    if (std::filesystem::is_regular_file(a->input))
+      throw UsageError(a->input + ": replaying LCM logs is not part of this build; give a frame directory");
+    std::optional<FrameDirectory> dir;
+    try {
+      dir.emplace(a->input);
+    } catch (const FrameDirectoryError& e) {
+      throw UsageError(e.what());
+    }
+    const int W = config.camera.Nu, H = config.camera.Nv;
+    const auto header = dir->probe_first();
+    if (header && (header->width != W || header->height != H))
+      throw UsageError(a->input + ": frames are " + std::to_string(header->width) + "x" +
+                       std::to_string(header->height) + ", the camera of " + a->config + " is " + std::to_string(W) +
+                       "x" + std::to_string(H));
+    const PixelFormat format = header ? header->format() : PixelFormat::mono8;
+    const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
+
+    std::unique_ptr<OutputFile> file;
+    if (!a->out.empty()) file = std::make_unique<OutputFile>(a->out);
+    std::ostream& out = file ? file->stream() : std::cout;
+    if (!a->overlay.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(a->overlay, ec);
+      if (ec) throw UsageError(a->overlay + ": cannot create the overlay directory: " + ec.message());
+    }
+
+    for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
+    std::size_t skipped = dir->issues().size();  // malformed rows of frames.csv
+
+    LaneEstimator estimator(config);
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) *
+                                     static_cast<std::size_t>(bytes_per_pixel(format)));
+    const MutableImageView image{pixels.data(), W, H, static_cast<std::ptrdiff_t>(W) * bytes_per_pixel(format),
+                                 format, bits};
+    std::size_t frames = 0, ok = 0;
+    double total_s = 0.0, worst_s = 0.0;
+    std::uint64_t worst_frame = 0;
+    for (std::size_t i = 0; i < dir->size(); ++i) {
+      const FrameRow& row = dir->row(i);
+      ++frames;
+      if (dir->read(i, image) != PgmFault::none) {
+        std::cerr << "ccdlane replay: " << dir->error() << '\n';
+        ++skipped;
+        print_json_line(out, lane_estimate_json(estimator.no_frame(row.index, row.t_ns), a->sigmas));
+        continue;
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      LaneEstimate e = estimator.estimate(image, row.index, row.t_ns, row.gyro);
+      const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      e.latency_us = static_cast<std::int64_t>(dt * 1e6);
+      total_s += dt;
+      if (dt > worst_s) worst_s = dt, worst_frame = row.index;
+      ok += e.ok;
+      print_json_line(out, lane_estimate_json(e, a->sigmas));
+      if (!a->overlay.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(row.index));
+        draw_overlay(a->overlay + name, image, estimator, config);
+      }
+    }
+    out.flush();
+    if (file) file->commit();
+    const std::size_t processed = frames - (skipped - dir->issues().size());
+    char summary[256];
+    std::snprintf(summary, sizeof summary,
+                  "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
+                  frames + dir->issues().size(), ok, skipped, processed ? 1e3 * total_s / static_cast<double>(processed) : 0.0, 1e3 * worst_s,
+                  static_cast<unsigned long long>(worst_frame));
+    std::cerr << summary << '\n';
+    if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");
+    return 0;
+  };
+}
+
+}  // namespace ccdlane::cli
