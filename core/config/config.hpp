@@ -91,7 +91,14 @@ struct RealtimeConfig {
   bool mlock = false;
   int capture_priority = 0;
   int processing_priority = 0;
-  std::vector<int> cpus;
+  int gyro_priority = 0;
+  std::vector<int> cpus;  // affinity of every pipeline thread; empty = any CPU
+};
+
+// ccdlaned's own knobs ([daemon]).
+struct DaemonConfig {
+  int queue_depth = 4;           // frames that may wait for processing; beyond, the oldest is dropped
+  double stall_timeout_s = 2.0;  // no frame for this long: the camera is reported stalled
 };
 
 struct Config {
@@ -107,6 +114,7 @@ struct Config {
   SourceConfig source;
   LcmConfig lcm;
   RealtimeConfig realtime;
+  DaemonConfig daemon;
   SynthConfig synth;
   DetectionConfig detection;
 

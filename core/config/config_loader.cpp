@@ -2,6 +2,8 @@
 // of a possible value; the first problem is reported with file, line and key.
 #include "core/config/config_loader.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -260,12 +262,24 @@ void read_lcm(TableReader& r, Config& c) {
   r.string("url", c.lcm.url);
   r.string("prefix", c.lcm.prefix);
   r.reject_unknown();
+  const std::string_view url = c.lcm.url;
+  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") ||
+                              url.starts_with("tcpq://") || url.starts_with("file://");
+  require(known_provider, r, "url",
+          "must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
+  // LCM channel names are at most 63 bytes; leave room for the longest suffix.
+  require(c.lcm.prefix.size() <= 48, r, "prefix", "must be at most 48 characters");
+  const bool plain = std::all_of(c.lcm.prefix.begin(), c.lcm.prefix.end(), [](unsigned char ch) {
+    return std::isalnum(ch) || ch == '_' || ch == '-' || ch == '.' || ch == '/';
+  });
+  require(plain, r, "prefix", "may hold only letters, digits and _ - . /");
 }
 
 void read_realtime(TableReader& r, Config& c) {
   r.boolean("mlock", c.realtime.mlock);
   r.integer("capture_priority", c.realtime.capture_priority);
   r.integer("processing_priority", c.realtime.processing_priority);
+  r.integer("gyro_priority", c.realtime.gyro_priority);
   if (const toml::node* n = r.take("cpus")) {
     const toml::array* a = n->as_array();
     if (!a) r.fail(n, "cpus", "must be an array of CPU numbers");
@@ -280,6 +294,18 @@ void read_realtime(TableReader& r, Config& c) {
           "must be a SCHED_FIFO priority 0..99");
   require(c.realtime.processing_priority >= 0 && c.realtime.processing_priority <= 99, r, "processing_priority",
           "must be a SCHED_FIFO priority 0..99");
+  require(c.realtime.gyro_priority >= 0 && c.realtime.gyro_priority <= 99, r, "gyro_priority",
+          "must be a SCHED_FIFO priority 0..99");
+}
+
+void read_daemon(TableReader& r, Config& c) {
+  r.integer("queue_depth", c.daemon.queue_depth);
+  r.number("stall_timeout_s", c.daemon.stall_timeout_s);
+  r.reject_unknown();
+  // The daemon's frame pool holds queue_depth + 2 frames, at most 64.
+  require(c.daemon.queue_depth >= 1 && c.daemon.queue_depth <= 62, r, "queue_depth", "must be between 1 and 62 frames");
+  require(c.daemon.stall_timeout_s >= 0.1 && c.daemon.stall_timeout_s <= 3600.0, r, "stall_timeout_s",
+          "must be between 0.1 and 3600 seconds");
 }
 
 void read_synth(TableReader& r, Config& c) {
@@ -398,7 +424,7 @@ struct Section {
 constexpr Section kSections[] = {
     {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
     {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
-    {"realtime", read_realtime}, {"synth", read_synth},
+    {"realtime", read_realtime}, {"daemon", read_daemon},     {"synth", read_synth},
     {"detection", read_detection},
 };
 

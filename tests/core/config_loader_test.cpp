@@ -144,5 +144,39 @@ TEST(ConfigLoader, MissingFileIsAConfigError) {
   EXPECT_THROW(load_config_file("/nonexistent/ccdlane.toml"), ConfigError);
 }
 
+TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
+  const Config d = parse_config("", "empty.toml");
+  EXPECT_EQ(d.daemon.queue_depth, 4);
+  EXPECT_EQ(d.daemon.stall_timeout_s, 2.0);
+  EXPECT_EQ(d.realtime.gyro_priority, 0);
+  EXPECT_EQ(d.lcm.prefix, "CCDLANE_");
+
+  const Config c = parse_config("[daemon]\nqueue_depth = 8\nstall_timeout_s = 0.5\n"
+                                "[realtime]\ngyro_priority = 40\n[lcm]\nprefix = \"car-7/front.\"\n",
+                                "d.toml");
+  EXPECT_EQ(c.daemon.queue_depth, 8);
+  EXPECT_EQ(c.daemon.stall_timeout_s, 0.5);
+  EXPECT_EQ(c.realtime.gyro_priority, 40);
+  EXPECT_EQ(c.lcm.prefix, "car-7/front.");
+
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 0\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 63\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nstall_timeout_s = 0\n"),
+            "test.toml:2: daemon.stall_timeout_s: must be between 0.1 and 3600 seconds");
+  EXPECT_EQ(error_of("[daemon]\npool = 3\n"), "test.toml:2: daemon.pool: unknown key");
+  EXPECT_EQ(error_of("[realtime]\ngyro_priority = -1\n"),
+            "test.toml:2: realtime.gyro_priority: must be a SCHED_FIFO priority 0..99");
+  EXPECT_EQ(error_of("[lcm]\nprefix = \"CCD LANE\"\n"), "test.toml:2: lcm.prefix: may hold only letters, digits and _ - . /");
+  EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),
+            "test.toml:2: lcm.prefix: must be at most 48 characters");
+  EXPECT_EQ(error_of("[lcm]\nurl = \"\"\n"),
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "\"udpm://239.255.76.67:7667?ttl=0\"");
+  EXPECT_EQ(error_of("[lcm]\nurl = \"udp://239.255.76.67:7667\"\n"),
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "\"udpm://239.255.76.67:7667?ttl=0\"");
+  EXPECT_EQ(parse_config("[lcm]\nurl = \"memq://\"\n", "m.toml").lcm.url, "memq://");
+}
+
 }  // namespace
 }  // namespace ccdlane

@@ -8,6 +8,7 @@
 namespace ccdlane::cli {
 CommandAction setup_project(CLI::App& sub);
 CommandAction setup_ground(CLI::App& sub);
+CommandAction setup_monitor(CLI::App& sub);
 CommandAction setup_solve(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
 CommandAction setup_grab(CLI::App& sub);
@@ -20,6 +21,7 @@ constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
     {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
+    {"monitor", "watch ccdlaned's lane and status messages on the LCM bus", setup_monitor},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
     {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},

@@ -1,0 +1,23 @@
+// The two clocks of the daemon: CLOCK_MONOTONIC for intervals and frame timestamps,
+// CLOCK_REALTIME for the utime (microseconds since the Unix epoch) of LCM messages.
+#pragma once
+
+#include <time.h>
+
+#include <cstdint>
+
+namespace ccdlane {
+
+inline std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+inline std::int64_t realtime_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,195 @@
+// The main thread is the status thread: it waits for signals with a timeout that is the
+// next status tick, so shutdown and reporting need no extra thread and no handler.
+#include "daemon/daemon.hpp"
+
+#include <exception>
+#include <memory>
+
+#include "daemon/allocation_counter.hpp"
+#include "daemon/clock.hpp"
+#include "daemon/gyro_factory.hpp"
+#include "daemon/latency_window.hpp"
+#include "daemon/lcm_publisher.hpp"
+#include "daemon/log.hpp"
+#include "daemon/pipeline.hpp"
+#include "daemon/processor_factory.hpp"
+#include "daemon/realtime.hpp"
+#include "daemon/sd_notifier.hpp"
+#include "daemon/service_heartbeat.hpp"
+#include "daemon/signal_waiter.hpp"
+#include "daemon/source_factory.hpp"
+#include "daemon/status_report.hpp"
+
+namespace ccdlane {
+namespace {
+
+constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
+
+PipelineOptions pipeline_options(const Config& c) {
+  PipelineOptions o;
+  o.queue_depth = c.daemon.queue_depth;
+  o.stall_timeout_ns = static_cast<std::int64_t>(c.daemon.stall_timeout_s * 1e9);
+  o.capture_priority = c.realtime.capture_priority;
+  o.processing_priority = c.realtime.processing_priority;
+  o.gyro_priority = c.realtime.gyro_priority;
+  return o;
+}
+
+// Everything the status thread reads once a second, gathered without allocating.
+class StatusTicker {
+ public:
+  StatusTicker(Pipeline& pipeline, AttitudeProvider* gyro, LcmPublisher& publisher, SystemdNotifier& notifier,
+               const std::string& camera, std::int64_t start_ns)
+      : pipeline_(pipeline), gyro_(gyro), publisher_(publisher), notifier_(notifier), report_(camera),
+        window_(1 << 16), start_ns_(start_ns) {}
+
+  void tick() {
+    pipeline_.drain_latency(window_);
+    char camera_problem[kStatusTextMax + 1];
+    char gyro_problem[kStatusTextMax + 1] = "";
+    pipeline_.camera_problem(camera_problem, sizeof camera_problem);
+    StatusInputs in;
+    in.utime = realtime_us();
+    in.uptime_us = (monotonic_ns() - start_ns_) / 1000;
+    in.totals = pipeline_.totals();
+    in.latency = window_.take();
+    in.camera_problem = camera_problem;
+    if (gyro_) {
+      in.gyro = gyro_->state();
+      in.gyro_counters = gyro_->counters();
+      gyro_->last_problem(gyro_problem, sizeof gyro_problem);
+    }
+    in.gyro_problem = gyro_problem;
+    in.allocations_since_ready = in.totals.ready ? allocation_counter::count() : 0;
+    report_.update(in);
+    if (!publisher_.publish_status(report_.message()) && first_time(said_publish_failed_))
+      log_line(LogLevel::warning, "lcm", "%s: publishing status on %s failed (further failures not logged)",
+               publisher_.url().c_str(), publisher_.status_channel().c_str());
+    char line[256];
+    report_.summary_line(line, sizeof line);
+    notifier_.status(line);
+  }
+
+  const status_t& last() const { return report_.message(); }
+
+ private:
+  Pipeline& pipeline_;
+  AttitudeProvider* gyro_;
+  LcmPublisher& publisher_;
+  SystemdNotifier& notifier_;
+  StatusReport report_;
+  LatencyWindow window_;
+  std::int64_t start_ns_;
+  std::atomic<bool> said_publish_failed_{false};
+};
+
+}  // namespace
+
+std::string daemon_config_problem(const Config& config) {
+  if (std::string why = frame_source_unavailable(config); !why.empty()) return why;
+  if (std::string why = attitude_provider_unavailable(config); !why.empty()) return why;
+  return "";
+}
+
+Config demo_config() {
+  Config c = default_config();
+  c.source.kind = SourceKind::synth;
+  c.source.rate_hz = 30.0;
+  return c;
+}
+
+int run_daemon(const Config& config) {
+  const std::int64_t start_ns = monotonic_ns();
+  SignalWaiter signals;  // before any thread exists, so that all of them inherit the mask
+  SystemdNotifier notifier;
+  RealtimeSetup realtime(config.realtime);
+
+  std::unique_ptr<FrameSource> source;
+  std::unique_ptr<AttitudeProvider> gyro;
+  std::unique_ptr<FrameProcessor> processor;
+  std::unique_ptr<LcmPublisher> publisher;
+  bool source_open = false, gyro_open = false;
+  // A start that fails half-way leaves no stream running and no device open.
+  const auto fail = [&](const char* category, const char* why) {
+    log_line(LogLevel::error, category, "%s", why);
+    if (gyro_open) gyro->close();
+    if (source_open) source->close();
+    return 1;
+  };
+  try {
+    source = make_frame_source(config);
+    if (std::string why = source->open(); !why.empty()) return fail("camera", why.c_str());
+    source_open = true;
+    gyro = make_attitude_provider(config);
+    if (gyro) {
+      if (std::string why = gyro->open(); !why.empty()) return fail("gyro", why.c_str());
+      gyro_open = true;
+    }
+    processor = make_frame_processor(config, *source);
+    publisher = std::make_unique<LcmPublisher>(config.lcm);
+  } catch (const std::exception& e) {
+    return fail("start", e.what());
+  }
+
+  Pipeline pipeline(*source, gyro.get(), *processor, *publisher, realtime, pipeline_options(config));
+  ServiceHeartbeat heartbeat(notifier);
+  StatusTicker status(pipeline, gyro.get(), *publisher, notifier, source->describe(), start_ns);
+  const FramePoolLayout& pool = pipeline.pool().layout();
+  log_line(LogLevel::info, "start", "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s",
+           source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pool.count, pool.width, pool.height,
+           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(), publisher->url().c_str());
+  if (notifier.watchdog_interval_us() > 0)
+    log_line(LogLevel::info, "systemd", "watchdog every %.3f s, pinged while frames flow",
+             static_cast<double>(notifier.watchdog_interval_us()) * 1e-6);
+
+  pipeline.start();
+  realtime.lock_memory();
+  char rt[160];
+  realtime.describe(rt, sizeof rt);
+  log_line(LogLevel::info, "realtime", "%s", rt);
+  pipeline.run();
+
+  // From here the main thread allocates nothing: it waits, counts, tells systemd and
+  // publishes status.
+  std::int64_t next_status = monotonic_ns() + kStatusPeriodNs;
+  for (;;) {
+    const std::int64_t now = monotonic_ns();
+    const std::int64_t wait = std::min(next_status - now, heartbeat.tick_period_ns());
+    const SignalWaiter::Event event = signals.wait(wait);
+    if (event == SignalWaiter::Event::terminate) {
+      log_line(LogLevel::info, "stop", "SIG%s: stopping", sigabbrev_np(signals.last_signal()));
+      break;
+    }
+    if (event == SignalWaiter::Event::hangup) {
+      log_line(LogLevel::notice, "config",
+               "SIGHUP: reloading the configuration is not supported; restart ccdlaned to apply changes");
+      continue;
+    }
+    const PipelineTotals totals = pipeline.totals();
+    heartbeat.tick(monotonic_ns(), totals.ready, totals.frames_processed);
+    if (pipeline.finished()) {
+      log_line(LogLevel::info, "stop", "the source ended and every frame was processed: stopping");
+      break;
+    }
+    if (monotonic_ns() >= next_status) {
+      status.tick();
+      next_status += kStatusPeriodNs;
+      if (next_status < monotonic_ns()) next_status = monotonic_ns() + kStatusPeriodNs;
+    }
+  }
+
+  notifier.stopping();
+  pipeline.stop();  // threads joined: the capture wait is bounded, queued frames are left
+  source->close();  // streams off, device closed
+  if (gyro) gyro->close();
+  status.tick();    // the last word on the bus; udpm sends synchronously, nothing is left queued
+  const status_t& s = status.last();
+  log_line(LogLevel::info, "stop",
+           "%lld frames in, %lld processed, %lld dropped, %lld not ok, %lld allocations after ready",
+           static_cast<long long>(s.frames_in_total), static_cast<long long>(s.frames_processed_total),
+           static_cast<long long>(s.frames_dropped_total), static_cast<long long>(s.frames_not_ok_total),
+           static_cast<long long>(s.allocations_since_ready));
+  return 0;
+}
+
+}  // namespace ccdlane

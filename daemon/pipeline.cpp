@@ -1,0 +1,266 @@
+// Buffer ownership is the whole design: a buffer index is held by exactly one of the
+// capture thread, the queue, the processing thread or the return ring, and moves only
+// through the rings' release/acquire pairs, which is what makes plain pixel writes safe.
+#include "daemon/pipeline.hpp"
+
+#include <pthread.h>
+
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+
+#include "daemon/allocation_counter.hpp"
+#include "daemon/clock.hpp"
+#include "daemon/log.hpp"
+
+namespace ccdlane {
+namespace {
+
+FramePoolLayout pool_layout(const FrameSource& source, int queue_depth) {
+  FramePoolLayout layout;
+  // One buffer being filled, one being processed, queue_depth waiting: with this many the
+  // capture thread always finds a free buffer after queueing one.
+  layout.count = queue_depth + 2;
+  layout.width = source.width();
+  layout.height = source.height();
+  layout.format = source.format();
+  return layout;
+}
+
+void name_this_thread(const char* name) { pthread_setname_np(pthread_self(), name); }
+
+}  // namespace
+
+Pipeline::Pipeline(FrameSource& source, AttitudeProvider* gyro, FrameProcessor& processor, LaneSink& sink,
+                   RealtimeSetup& realtime, const PipelineOptions& options)
+    : source_(source),
+      gyro_(gyro),
+      processor_(processor),
+      sink_(sink),
+      realtime_(realtime),
+      options_(options),
+      camera_name_(source.describe()),
+      pool_(pool_layout(source, options.queue_depth)),
+      slots_(static_cast<std::size_t>(pool_.size())),
+      queued_(static_cast<std::size_t>(options.queue_depth)),
+      returned_(static_cast<std::size_t>(pool_.size())),
+      latencies_(options.latency_queue) {
+  if (options.queue_depth < 1) throw std::invalid_argument("pipeline: queue_depth must be at least 1");
+  for (int i = 0; i < pool_.size(); ++i) {
+    if (!returned_.try_push(static_cast<std::uint32_t>(i))) throw std::logic_error("pipeline: return ring too small");
+  }
+}
+
+Pipeline::~Pipeline() { stop(); }
+
+void Pipeline::start() {
+  threads_.emplace_back([this] { capture_loop(); });
+  threads_.emplace_back([this] { processing_loop(); });
+  if (gyro_) threads_.emplace_back([this] { gyro_loop(); });
+}
+
+void Pipeline::run() {
+  go_.store(true, std::memory_order_release);
+  go_bell_.ring();
+}
+
+void Pipeline::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  stop_.store(true, std::memory_order_release);
+  run();  // threads still waiting to start see stop_ at once
+  frame_bell_.ring();
+  for (std::thread& t : threads_) t.join();
+  threads_.clear();
+}
+
+void Pipeline::wait_for_run() {
+  for (;;) {
+    const std::uint32_t seen = go_bell_.value();
+    if (go_.load(std::memory_order_acquire)) return;
+    go_bell_.wait(seen, 100);
+  }
+}
+
+void Pipeline::set_camera_state(CameraState state) {
+  if (camera_state_.load(std::memory_order_relaxed) == state) return;
+  const CameraState before = camera_state_.exchange(state, std::memory_order_relaxed);
+  // Asking the source for its problem text may allocate (FrameSource returns a string):
+  // only on a change of state, never per frame.
+  const std::string problem = state == CameraState::streaming ? std::string() : source_.last_problem();
+  {
+    std::lock_guard<std::mutex> lock(problem_mutex_);
+    std::snprintf(problem_, sizeof problem_, "%s", problem.c_str());
+  }
+  if (state == CameraState::streaming) {
+    if (before != CameraState::starting)
+      log_line(LogLevel::notice, "camera", "%s: streaming again", camera_name_.c_str());
+  } else if (state == CameraState::ended) {
+    log_line(LogLevel::info, "camera", "%s: end of stream", camera_name_.c_str());
+  } else {
+    log_line(LogLevel::warning, "camera", "%s: %s%s%s", camera_name_.c_str(), to_string(state),
+             problem.empty() ? "" : ": ", problem.c_str());
+  }
+}
+
+void Pipeline::capture_loop() {
+  name_this_thread("ccd-capture");
+  realtime_.apply_to_current_thread("capture", options_.capture_priority);
+  wait_for_run();
+  std::uint32_t current = 0;
+  if (!returned_.try_pop(current)) return;  // impossible: the return ring starts full
+  std::int64_t last_frame_ns = monotonic_ns();
+
+  while (!stop_.load(std::memory_order_acquire)) {
+    FrameMeta meta;
+    const CaptureStatus status =
+        source_.capture(pool_.view(static_cast<int>(current)), meta, options_.capture_timeout_ms);
+    const std::int64_t now = monotonic_ns();
+    const SourceCounters c = source_.counters();
+    source_frames_.store(c.frames, std::memory_order_relaxed);
+    source_dropped_.store(c.dropped, std::memory_order_relaxed);
+    source_errors_.store(c.errors, std::memory_order_relaxed);
+    source_timeouts_.store(c.timeouts, std::memory_order_relaxed);
+    source_reconnects_.store(c.reconnects, std::memory_order_relaxed);
+
+    switch (status) {
+      case CaptureStatus::frame: {
+        last_frame_ns = now;
+        slots_[current] = SlotMeta{meta, now};
+        frames_in_.fetch_add(1, std::memory_order_relaxed);
+        set_camera_state(CameraState::streaming);
+        if (const auto oldest = queued_.push_dropping_oldest(current)) {
+          // Processing is behind: the oldest waiting frame made room, its buffer is ours.
+          frames_dropped_.fetch_add(1, std::memory_order_relaxed);
+          current = *oldest;
+        } else {
+          // Pool sizing guarantees a free buffer now; wait rather than overwrite a
+          // buffer someone else owns should that reasoning ever be wrong.
+          while (!returned_.try_pop(current)) {
+            if (stop_.load(std::memory_order_acquire)) return;
+            std::this_thread::yield();
+          }
+        }
+        frame_bell_.ring();
+        break;
+      }
+      case CaptureStatus::timeout:
+        if (now - last_frame_ns >= options_.stall_timeout_ns) set_camera_state(CameraState::stalled);
+        break;
+      case CaptureStatus::recovering:
+        set_camera_state(CameraState::recovering);
+        break;
+      case CaptureStatus::error:
+        break;  // counted by the source; the next frame may be fine
+      case CaptureStatus::end_of_stream:
+        set_camera_state(CameraState::ended);
+        capture_ended_.store(true, std::memory_order_release);
+        frame_bell_.ring();
+        return;
+    }
+  }
+}
+
+void Pipeline::processing_loop() {
+  name_this_thread("ccd-process");
+  realtime_.apply_to_current_thread("processing", options_.processing_priority);
+  wait_for_run();
+  std::uint32_t index = 0;
+  for (;;) {
+    // Read the doorbell before looking: a frame queued after the look changes it, so the
+    // wait below cannot sleep through it.
+    const std::uint32_t bell = frame_bell_.value();
+    if (queued_.try_pop(index)) {
+      process_one(index);
+      continue;
+    }
+    if (stop_.load(std::memory_order_acquire)) return;
+    if (capture_ended_.load(std::memory_order_acquire)) {
+      // Frames queued before the end was announced are visible now.
+      if (queued_.try_pop(index)) {
+        process_one(index);
+        continue;
+      }
+      finished_.store(true, std::memory_order_release);
+      return;
+    }
+    frame_bell_.wait(bell, 100);  // the timeout only bounds a wait nobody rings for
+  }
+}
+
+void Pipeline::process_one(std::uint32_t index) {
+  const SlotMeta slot = slots_[index];
+  std::optional<Gx1Angles> attitude = slot.meta.gyro;
+  if (!attitude && gyro_) {
+    attitude = gyro_->attitude_at(slot.meta.t_ns);
+    if (!attitude) no_attitude_.fetch_add(1, std::memory_order_relaxed);
+  }
+  LaneEstimate estimate = processor_.process(pool_.view(static_cast<int>(index)), slot.meta, attitude);
+  // The pixels are no longer needed: give the buffer back before publishing.
+  if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
+
+  estimate.frame = slot.meta.sequence;
+  estimate.t_ns = slot.meta.t_ns;
+  estimate.latency_us = (monotonic_ns() - slot.received_ns) / 1000;
+  const std::int64_t publish_utime = realtime_us();
+  if (!sink_.publish_lane(estimate, publish_utime - estimate.latency_us, publish_utime))
+    publish_errors_.fetch_add(1, std::memory_order_relaxed);
+  const std::int64_t published_ns = monotonic_ns();
+
+  frames_processed_.fetch_add(1, std::memory_order_relaxed);
+  if (estimate.ok) frames_ok_.fetch_add(1, std::memory_order_relaxed);
+  else not_ok_by_reason_[static_cast<int>(estimate.reason) % kEstimateFailureKinds].fetch_add(1, std::memory_order_relaxed);
+  // The statistics measure up to the end of the publish call, which the message's own
+  // latency_us (encoded before sending) cannot include.
+  if (!latencies_.try_push((published_ns - slot.received_ns) / 1000))
+    latency_samples_lost_.fetch_add(1, std::memory_order_relaxed);
+
+  if (!ready_.load(std::memory_order_relaxed)) {
+    // Everything is allocated and every lazy first-use path has run once: from here on,
+    // any allocation is a defect, and the status says how many there were.
+    allocation_counter::start_counting();
+    ready_.store(true, std::memory_order_release);
+    log_line(LogLevel::info, "pipeline", "ready: first frame processed (%s)", camera_name_.c_str());
+  }
+}
+
+void Pipeline::gyro_loop() {
+  name_this_thread("ccd-gyro");
+  realtime_.apply_to_current_thread("gyro", options_.gyro_priority);
+  wait_for_run();
+  if (!stop_.load(std::memory_order_acquire)) gyro_->run(stop_);
+}
+
+PipelineTotals Pipeline::totals() const {
+  PipelineTotals t;
+  t.frames_in = frames_in_.load(std::memory_order_relaxed);
+  t.frames_processed = frames_processed_.load(std::memory_order_relaxed);
+  t.frames_dropped = frames_dropped_.load(std::memory_order_relaxed);
+  t.frames_ok = frames_ok_.load(std::memory_order_relaxed);
+  for (int i = 0; i < kEstimateFailureKinds; ++i)
+    t.not_ok_by_reason[static_cast<std::size_t>(i)] = not_ok_by_reason_[i].load(std::memory_order_relaxed);
+  t.no_attitude = no_attitude_.load(std::memory_order_relaxed);
+  t.publish_errors = publish_errors_.load(std::memory_order_relaxed);
+  t.latency_samples_lost = latency_samples_lost_.load(std::memory_order_relaxed);
+  t.source.frames = source_frames_.load(std::memory_order_relaxed);
+  t.source.dropped = source_dropped_.load(std::memory_order_relaxed);
+  t.source.errors = source_errors_.load(std::memory_order_relaxed);
+  t.source.timeouts = source_timeouts_.load(std::memory_order_relaxed);
+  t.source.reconnects = source_reconnects_.load(std::memory_order_relaxed);
+  t.camera = camera_state_.load(std::memory_order_relaxed);
+  t.ready = ready();
+  return t;
+}
+
+void Pipeline::drain_latency(LatencyWindow& window) {
+  std::int64_t us = 0;
+  while (latencies_.try_pop(us)) window.add(us);
+}
+
+void Pipeline::camera_problem(char* out, std::size_t size) const {
+  if (size == 0) return;
+  std::lock_guard<std::mutex> lock(problem_mutex_);
+  std::snprintf(out, size, "%s", problem_);
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,117 @@
+// The real-time pipeline: a capture thread fills buffers of a fixed pool and queues
+// their indices, a processing thread turns each frame into a lane estimate and
+// publishes it, a gyro thread keeps the attitude history; rings carry buffer indices
+// between them, and nothing allocates once the first frame is through.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "daemon/attitude_provider.hpp"
+#include "daemon/doorbell.hpp"
+#include "daemon/frame_processor.hpp"
+#include "daemon/lane_sink.hpp"
+#include "daemon/latency_window.hpp"
+#include "daemon/pipeline_totals.hpp"
+#include "daemon/realtime.hpp"
+#include "daemon/spsc_ring.hpp"
+#include "drivers/camera/frame_pool.hpp"
+#include "drivers/camera/frame_source.hpp"
+
+namespace ccdlane {
+
+struct PipelineOptions {
+  int queue_depth = 4;                         // frames waiting for processing; beyond, the oldest is dropped
+  int capture_timeout_ms = 100;                // bounds how long stop() waits for the capture thread
+  std::int64_t stall_timeout_ns = 2'000'000'000;  // no frame for this long: camera stalled
+  int capture_priority = 0;                    // SCHED_FIFO priorities, 0 = normal scheduling
+  int processing_priority = 0;
+  int gyro_priority = 0;
+  std::size_t latency_queue = 16384;           // latency samples waiting for the status thread
+};
+
+class Pipeline {
+ public:
+  // Allocates everything the threads will use: queue_depth + 2 frames of the (open)
+  // source's size, the rings and the latency queue. `gyro` may be null (no gyro).
+  Pipeline(FrameSource& source, AttitudeProvider* gyro, FrameProcessor& processor, LaneSink& sink,
+           RealtimeSetup& realtime, const PipelineOptions& options);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Creates the threads; each applies its real-time settings, then waits for run().
+  void start();
+  // Lets the threads go (call after RealtimeSetup::lock_memory, so that locking cannot
+  // make a thread's creation fail).
+  void run();
+  // Stops and joins every thread: within capture_timeout_ms plus one frame's processing.
+  // Frames still queued are not processed. Idempotent.
+  void stop();
+
+  // A finite source ended and every frame it delivered was processed or dropped.
+  bool finished() const { return finished_.load(std::memory_order_acquire); }
+  // The first frame has been processed (allocations are counted from then on).
+  bool ready() const { return ready_.load(std::memory_order_acquire); }
+
+  PipelineTotals totals() const;
+  // Moves the latency samples gathered since the last call into `window` (one reader).
+  void drain_latency(LatencyWindow& window);
+  // The source's last problem as the capture thread last saw it; "" while streaming.
+  void camera_problem(char* out, std::size_t size) const;
+  const FramePool& pool() const { return pool_; }
+
+ private:
+  struct SlotMeta {
+    FrameMeta meta;
+    std::int64_t received_ns = 0;  // CLOCK_MONOTONIC when capture() returned the frame
+  };
+
+  void capture_loop();
+  void processing_loop();
+  void gyro_loop();
+  void process_one(std::uint32_t index);
+  void set_camera_state(CameraState state);
+  void wait_for_run();
+
+  FrameSource& source_;
+  AttitudeProvider* gyro_;
+  FrameProcessor& processor_;
+  LaneSink& sink_;
+  RealtimeSetup& realtime_;
+  const PipelineOptions options_;
+  const std::string camera_name_;
+
+  // The camera drivers' pool, for its storage only: buffers change hands through the
+  // two rings below, so its borrow()/give_back() are not used here.
+  FramePool pool_;
+  std::vector<SlotMeta> slots_;       // per buffer; written by capture, read by processing
+  SpscRing<std::uint32_t> queued_;    // capture -> processing (drop-oldest)
+  SpscRing<std::uint32_t> returned_;  // processing -> capture (never full: holds the pool)
+  SpscRing<std::int64_t> latencies_;  // processing -> status thread, microseconds
+
+  Doorbell frame_bell_;  // rung on every queued frame, at the end of the source and on stop
+  Doorbell go_bell_;     // rung by run() and stop()
+  std::atomic<bool> go_{false}, stop_{false}, capture_ended_{false}, finished_{false}, ready_{false};
+  bool stopped_ = false;
+
+  // Counters: one writer each, read by the status thread.
+  std::atomic<std::uint64_t> frames_in_{0}, frames_processed_{0}, frames_dropped_{0}, frames_ok_{0};
+  std::atomic<std::uint64_t> not_ok_by_reason_[kEstimateFailureKinds] = {};
+  std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, latency_samples_lost_{0};
+  std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
+      source_reconnects_{0};
+  std::atomic<CameraState> camera_state_{CameraState::starting};
+
+  mutable std::mutex problem_mutex_;  // taken only on camera state changes and by status
+  char problem_[256] = {};
+
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace ccdlane

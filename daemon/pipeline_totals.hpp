@@ -1,0 +1,30 @@
+// The pipeline's counters as one plain snapshot, for the status message and tests.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "drivers/camera/frame_source.hpp"
+
+namespace ccdlane {
+
+enum class CameraState : std::uint8_t { starting, streaming, stalled, recovering, ended };  // = status_t CAMERA_*
+const char* to_string(CameraState s);  // "starting", "streaming", "stalled", "recovering", "ended"
+
+constexpr int kEstimateFailureKinds = 6;  // EstimateFailure::none .. rank_deficient
+
+struct PipelineTotals {
+  std::uint64_t frames_in = 0;         // captured into the pool
+  std::uint64_t frames_processed = 0;  // estimated and handed to the sink
+  std::uint64_t frames_dropped = 0;    // oldest queued frames dropped for newer ones
+  std::uint64_t frames_ok = 0;
+  std::array<std::uint64_t, kEstimateFailureKinds> not_ok_by_reason{};
+  std::uint64_t no_attitude = 0;       // processed without a gyro reading although a gyro is configured
+  std::uint64_t publish_errors = 0;
+  std::uint64_t latency_samples_lost = 0;
+  SourceCounters source;               // the source's own counters, as of its last capture
+  CameraState camera = CameraState::starting;
+  bool ready = false;                  // the first frame has been processed
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,19 @@
+// [source] kind -> the FrameSource that captures it, from one table of kinds.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/config/config.hpp"
+#include "drivers/camera/frame_source.hpp"
+
+namespace ccdlane {
+
+// "" when this build can capture from [source] kind, else why not (one line).
+std::string frame_source_unavailable(const Config& config);
+
+// The source for [source], not yet opened. Throws std::runtime_error with
+// frame_source_unavailable()'s text for a kind this build lacks.
+std::unique_ptr<FrameSource> make_frame_source(const Config& config);
+
+}  // namespace ccdlane

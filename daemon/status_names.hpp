@@ -1,0 +1,12 @@
+// Names of status_t's camera and gyro states, for the daemon's logs and for subscribers
+// that print status messages.
+#pragma once
+
+namespace ccdlane {
+
+// status_t::CAMERA_* -> "starting", "streaming", "stalled", "recovering", "ended".
+const char* camera_state_name(int code);
+// status_t::GYRO_* -> "none", "starting", "ok", "stale", "lost".
+const char* gyro_state_name(int code);
+
+}  // namespace ccdlane

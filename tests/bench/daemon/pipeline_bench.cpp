@@ -1,0 +1,120 @@
+// The daemon's pipeline at 60 fps on 800x600 frames for a fixed time, publishing on the
+// default udpm bus: capture -> publish latency (p50/p99/max), CPU use and drops, with
+// normal scheduling and with SCHED_FIFO (where permitted). Plus the ring's own cost.
+//
+//   build/tests/bench/daemon/daemon_pipeline_bench [--benchmark_filter=Pipeline]
+//
+// Until the lane estimator is wired in, processing is the test-pattern checker (it reads
+// every pixel of every frame), so the figures are those of the pipeline and the bus, not
+// of detection and solving.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <thread>
+
+#include <benchmark/benchmark.h>
+
+#include "daemon/allocation_counter.hpp"
+#include "daemon/clock.hpp"
+#include "daemon/lcm_publisher.hpp"
+#include "daemon/pipeline.hpp"
+#include "daemon/spsc_ring.hpp"
+#include "daemon/test_pattern.hpp"
+
+namespace ccdlane {
+namespace {
+
+double cpu_seconds() {
+  rusage r{};
+  getrusage(RUSAGE_SELF, &r);
+  return static_cast<double>(r.ru_utime.tv_sec + r.ru_stime.tv_sec) +
+         static_cast<double>(r.ru_utime.tv_usec + r.ru_stime.tv_usec) * 1e-6;
+}
+
+// Arguments: seconds to run, SCHED_FIFO priority for capture/processing (0 = normal).
+void BM_Pipeline800x600At60Fps(benchmark::State& state) {
+  const auto seconds = state.range(0);
+  const int priority = static_cast<int>(state.range(1));
+  for (auto _ : state) {
+    TestPatternOptions o;
+    o.width = 800;
+    o.height = 600;
+    o.rate_hz = 60.0;
+    TestPatternSource source(o);
+    if (!source.open().empty()) state.SkipWithError("source");
+    TestPatternProcessor processor;
+    LcmPublisher publisher(LcmConfig{});
+    RealtimeConfig rt_config;
+    rt_config.capture_priority = priority;
+    rt_config.processing_priority = priority > 0 ? priority - 1 : 0;
+    RealtimeSetup realtime(rt_config);
+    PipelineOptions options;
+    options.capture_priority = rt_config.capture_priority;
+    options.processing_priority = rt_config.processing_priority;
+    Pipeline pipeline(source, nullptr, processor, publisher, realtime, options);
+    LatencyWindow window(1 << 16);
+
+    const double cpu0 = cpu_seconds();
+    const std::int64_t t0 = monotonic_ns();
+    pipeline.start();
+    pipeline.run();
+    for (std::int64_t s = 0; s < seconds * 10; ++s) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      pipeline.drain_latency(window);
+    }
+    const std::uint64_t allocations = allocation_counter::count();
+    pipeline.stop();
+    allocation_counter::stop_counting();
+    const double wall = static_cast<double>(monotonic_ns() - t0) * 1e-9;
+    const double cpu = cpu_seconds() - cpu0;
+    pipeline.drain_latency(window);
+
+    const LatencySummary latency = window.take();
+    const PipelineTotals t = pipeline.totals();
+    state.counters["frames"] = static_cast<double>(t.frames_in);
+    state.counters["drops"] = static_cast<double>(t.frames_dropped);
+    state.counters["damaged"] = static_cast<double>(processor.damaged_frames());
+    state.counters["p50_us"] = static_cast<double>(latency.p50_us);
+    state.counters["p99_us"] = static_cast<double>(latency.p99_us);
+    state.counters["max_us"] = static_cast<double>(latency.max_us);
+    state.counters["cpu_%"] = 100.0 * cpu / wall;  // of one core
+    state.counters["allocs"] = static_cast<double>(allocations);
+    state.counters["fifo_threads"] = realtime.fifo_threads();
+  }
+}
+BENCHMARK(BM_Pipeline800x600At60Fps)
+    ->ArgNames({"s", "fifo"})
+    ->Args({10, 0})
+    ->Args({10, 50})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
+
+// One index through the ring and back, single thread: the bookkeeping cost per frame.
+void BM_SpscRingPushPop(benchmark::State& state) {
+  SpscRing<std::uint32_t> ring(8);
+  std::uint32_t v = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(ring.try_push(v));
+    benchmark::DoNotOptimize(ring.try_pop(v));
+  }
+}
+BENCHMARK(BM_SpscRingPushPop);
+
+// Encoding and sending one lane message on the default udpm bus.
+void BM_PublishLaneOnUdpm(benchmark::State& state) {
+  LcmPublisher publisher(LcmConfig{});
+  LaneEstimate e;
+  e.ok = true;
+  e.num_lines = 2;
+  for (auto _ : state) {
+    ++e.frame;
+    benchmark::DoNotOptimize(publisher.publish_lane(e, 1, 2));
+  }
+}
+BENCHMARK(BM_PublishLaneOnUdpm);
+
+}  // namespace
+}  // namespace ccdlane
+
+BENCHMARK_MAIN();

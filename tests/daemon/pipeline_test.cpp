@@ -1,0 +1,210 @@
+// The pipeline with the test-pattern source and checker: every frame in order and
+// intact when processing keeps up, drops counted exactly (by sequence numbers) when it
+// does not, the gyro's attitude passed through, no allocation after ready, a stalled
+// camera reported, and a prompt stop. Runs under TSan in CI.
+#include "daemon/pipeline.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <optional>
+#include <cstdlib>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "daemon/allocation_counter.hpp"
+#include "daemon/clock.hpp"
+#include "daemon/test_pattern.hpp"
+#include "tests/daemon/pipeline_doubles.hpp"
+
+namespace ccdlane {
+namespace {
+
+using namespace std::chrono_literals;
+using test::CorruptingSource;
+using test::eventually;
+using test::FakeGyro;
+using test::LockstepSource;
+using test::RecordingSink;
+using test::StallingSource;
+using test::small_frames;
+
+// Runs a finite source to its end; the allocations counted after the first frame, or
+// nullopt when it did not finish in time.
+std::optional<std::uint64_t> run_to_end(Pipeline& pipeline, std::chrono::milliseconds limit = 10s) {
+  pipeline.start();
+  pipeline.run();
+  const bool finished = eventually([&] { return pipeline.finished(); }, limit);
+  const std::uint64_t allocations = allocation_counter::count();
+  pipeline.stop();
+  allocation_counter::stop_counting();
+  if (!finished) return std::nullopt;
+  return allocations;
+}
+
+struct Rig {
+  RealtimeConfig realtime_config;
+  RealtimeSetup realtime{realtime_config};
+};
+
+TEST(Pipeline, EveryFrameArrivesInOrderAndIntactWithoutAllocating) {
+  constexpr std::uint64_t kFrames = 300;
+  RecordingSink sink(kFrames);
+  LockstepSource source(small_frames(kFrames, 0), sink);
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor;
+  Rig rig;
+  PipelineOptions options;
+  options.queue_depth = 2;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
+  EXPECT_EQ(pipeline.pool().size(), 4);
+  const auto allocations = run_to_end(pipeline);
+  ASSERT_TRUE(allocations.has_value()) << "did not finish";
+  EXPECT_EQ(*allocations, 0u) << "the pipeline allocated after its first frame";
+  const PipelineTotals t = pipeline.totals();
+  EXPECT_TRUE(t.ready);
+  EXPECT_EQ(t.frames_in, kFrames);
+  EXPECT_EQ(t.frames_processed, kFrames);
+  EXPECT_EQ(t.frames_dropped, 0u);
+  EXPECT_EQ(t.frames_ok, kFrames);
+  EXPECT_EQ(t.camera, CameraState::ended);
+  EXPECT_EQ(t.source.frames, kFrames);
+  EXPECT_EQ(processor.damaged_frames(), 0u);
+  const auto records = sink.records();
+  ASSERT_EQ(records.size(), kFrames);
+  for (std::uint64_t i = 0; i < kFrames; ++i) {
+    EXPECT_EQ(records[i].frame, i);
+    EXPECT_TRUE(records[i].ok);
+    EXPECT_GE(records[i].latency_us, 0);
+    EXPECT_EQ(records[i].publish_utime - records[i].capture_utime, records[i].latency_us);
+  }
+  LatencyWindow window(1024);
+  pipeline.drain_latency(window);
+  EXPECT_EQ(window.take().samples, static_cast<std::int64_t>(kFrames));
+}
+
+TEST(Pipeline, WhenProcessingFallsBehindTheOldestFramesAreDroppedAndCountedExactly) {
+  constexpr std::uint64_t kFrames = 3000;
+  RecordingSink sink(kFrames);
+  TestPatternSource source(small_frames(kFrames, 0));  // as fast as it can render
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor(/*work_us=*/300);   // far slower than that
+  Rig rig;
+  PipelineOptions options;
+  options.queue_depth = 3;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
+  const auto allocations = run_to_end(pipeline, 60s);
+  ASSERT_TRUE(allocations.has_value()) << "did not finish";
+  EXPECT_EQ(*allocations, 0u);
+  const PipelineTotals t = pipeline.totals();
+  const auto records = sink.records();
+  EXPECT_EQ(t.frames_in, kFrames);
+  EXPECT_EQ(t.frames_processed, records.size());
+  EXPECT_GT(t.frames_dropped, 0u);
+  EXPECT_EQ(t.frames_processed + t.frames_dropped, kFrames) << "every frame is processed or counted as dropped";
+  EXPECT_EQ(processor.damaged_frames(), 0u) << "a dropped-and-reused buffer must never reach processing torn";
+
+  // The gaps in the published sequence numbers are exactly the drops.
+  std::uint64_t gaps = records.front().frame;
+  for (std::size_t i = 1; i < records.size(); ++i) {
+    ASSERT_GT(records[i].frame, records[i - 1].frame) << "published out of order";
+    gaps += records[i].frame - records[i - 1].frame - 1;
+  }
+  gaps += kFrames - 1 - records.back().frame;
+  EXPECT_EQ(gaps, t.frames_dropped);
+  EXPECT_EQ(records.back().frame, kFrames - 1) << "the oldest frames are dropped, never the newest";
+}
+
+TEST(Pipeline, DamagedFramesArePublishedNotOkAndCountedByReason) {
+  constexpr std::uint64_t kFrames = 100;
+  RecordingSink sink(kFrames);
+  CorruptingSource source(small_frames(kFrames, 2000));
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor;
+  Rig rig;
+  PipelineOptions options;
+  options.queue_depth = 62;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
+  ASSERT_TRUE(run_to_end(pipeline).has_value());
+  const PipelineTotals t = pipeline.totals();
+  const std::uint64_t damaged = processor.damaged_frames();
+  EXPECT_EQ(t.frames_ok + damaged, t.frames_processed);
+  EXPECT_EQ(t.not_ok_by_reason[static_cast<int>(EstimateFailure::no_frame)], damaged);
+  for (const auto& r : sink.records()) {
+    EXPECT_EQ(r.ok, r.frame % 10 != 9) << "frame " << r.frame;
+    if (!r.ok) {
+      EXPECT_EQ(r.reason, EstimateFailure::no_frame);
+    }
+  }
+}
+
+TEST(Pipeline, TheGyroAttitudeReachesTheProcessorOrIsCountedMissing) {
+  for (const bool has_readings : {true, false}) {
+    constexpr std::uint64_t kFrames = 50;
+    RecordingSink sink(kFrames);
+    LockstepSource source(small_frames(kFrames, 0), sink);
+    ASSERT_EQ(source.open(), "");
+    TestPatternProcessor processor;
+    FakeGyro gyro(has_readings);
+    Rig rig;
+    Pipeline pipeline(source, &gyro, processor, sink, rig.realtime, PipelineOptions{});
+    ASSERT_TRUE(run_to_end(pipeline).has_value());
+    EXPECT_TRUE(gyro.ran()) << "the gyro thread ran the provider until stop";
+    const PipelineTotals t = pipeline.totals();
+    EXPECT_EQ(t.no_attitude, has_readings ? 0u : kFrames);
+    for (const auto& r : sink.records()) {
+      EXPECT_NEAR(r.phi_deg, has_readings ? 1.25 : 0.0, 1e-12);
+      EXPECT_NEAR(r.theta_deg, has_readings ? 0.5 : 0.0, 1e-12);
+    }
+  }
+}
+
+TEST(Pipeline, AStalledCameraIsReportedWithItsProblem) {
+  RecordingSink sink(1000);
+  StallingSource source(small_frames(0, 500), /*frames=*/20);
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor;
+  Rig rig;
+  PipelineOptions options;
+  options.stall_timeout_ns = 100'000'000;
+  options.capture_timeout_ms = 20;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
+  pipeline.start();
+  pipeline.run();
+  char problem[256];
+  pipeline.camera_problem(problem, sizeof problem);
+  EXPECT_STREQ(problem, "") << "no problem while starting";
+  ASSERT_TRUE(eventually([&] { return pipeline.totals().camera == CameraState::stalled; }));
+  pipeline.camera_problem(problem, sizeof problem);
+  EXPECT_STREQ(problem, "test: no frame since frame 19");
+  pipeline.stop();
+  allocation_counter::stop_counting();
+  const PipelineTotals t = pipeline.totals();
+  EXPECT_EQ(t.frames_in, 20u);
+  EXPECT_EQ(t.frames_processed + t.frames_dropped, 20u);
+  EXPECT_EQ(sink.records().back().frame, 19u);
+}
+
+TEST(Pipeline, StopsPromptlyWhileStreaming) {
+  RecordingSink sink(100000);
+  TestPatternSource source(small_frames(0, 200));  // endless
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor;
+  Rig rig;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, PipelineOptions{});
+  pipeline.start();
+  pipeline.run();
+  ASSERT_TRUE(eventually([&] { return sink.count() >= 20; }));
+  const auto before = std::chrono::steady_clock::now();
+  pipeline.stop();
+  allocation_counter::stop_counting();
+  // A requirement (shutdown within a second of SIGTERM), not a speed measurement.
+  EXPECT_LT(std::chrono::steady_clock::now() - before, 1s);
+  EXPECT_FALSE(pipeline.finished());
+  EXPECT_EQ(pipeline.totals().camera, CameraState::streaming);
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,13 @@
+// Moves the calling test process into a private network namespace with a loopback
+// interface and a multicast route: a hermetic LCM udpm bus (platform-notes.md).
+#pragma once
+
+#include <string>
+
+namespace ccdlane::test {
+
+// "" on success (threads and children created afterwards share the namespace), else
+// why not, for GTEST_SKIP (not root, no unshare). Call before starting any thread.
+std::string enter_private_network();
+
+}  // namespace ccdlane::test

@@ -1,0 +1,112 @@
+// `ccdlane monitor` watching a real ccdlaned on a private multicast bus: JSON objects
+// with exactly the replay fields, one per lane message, in order; a live line a second;
+// exit status 1 and one line when nothing arrives.
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/daemon/child_process.hpp"
+#include "tests/daemon/private_network.hpp"
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+using Json = nlohmann::ordered_json;
+const std::string kTool = CCDLANE_TOOL;
+const std::string kDaemon = CCDLANE_DAEMON;
+const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+class MonitorCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+    const std::string config = dir_.write(
+        "ccdlane.toml", "[camera]\nNu = 160\nNv = 120\n[source]\nrate_hz = 50\n[lcm]\nurl = \"" + kUrl + "\"\n");
+    daemon_ = std::make_unique<test::ChildProcess>(std::vector<std::string>{kDaemon, "--config", config},
+                                                   test::ChildOptions{{}, "", dir_.file("daemon.log"), {}});
+  }
+  void TearDown() override {
+    if (!daemon_) return;
+    daemon_->signal(SIGTERM);
+    const auto status = daemon_->wait_exit(2000);
+    ASSERT_TRUE(status.has_value());
+    EXPECT_EQ(WEXITSTATUS(*status), 0);
+  }
+  test::TempDir dir_;
+  std::unique_ptr<test::ChildProcess> daemon_;
+};
+
+TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
+  const auto r = test::run_process({kTool, "monitor", "--lcm", kUrl, "--count", "20", "--json", "--seconds", "20"});
+  ASSERT_EQ(r.exit_status, 0) << r.err << test::read_file(dir_.file("daemon.log"));
+  const auto lines = lines_of(r.out);
+  ASSERT_EQ(lines.size(), 20u);
+  const std::vector<std::string> fields = {"frame",         "t_ns",          "ok",          "psi_deg",
+                                           "theta_deg",     "phi_deg",       "lines",       "lane_width_mm",
+                                           "lateral_offset_mm", "heading_deg", "departure", "rms_px",
+                                           "iterations",    "latency_us"};
+  std::uint64_t previous = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const Json j = Json::parse(lines[i]);
+    std::vector<std::string> keys;
+    for (auto it = j.begin(); it != j.end(); ++it) keys.push_back(it.key());
+    EXPECT_EQ(keys, fields) << lines[i];
+    if (i > 0) {
+      EXPECT_GT(j["frame"].get<std::uint64_t>(), previous) << "in order";
+    }
+    previous = j["frame"].get<std::uint64_t>();
+    EXPECT_TRUE(j["ok"].get<bool>());
+    EXPECT_EQ(j["departure"], "none");
+    ASSERT_EQ(j["lines"].size(), 2u);
+    std::vector<std::string> line_keys;
+    for (auto it = j["lines"][0].begin(); it != j["lines"][0].end(); ++it) line_keys.push_back(it.key());
+    EXPECT_EQ(line_keys, (std::vector<std::string>{"id", "y0_mm", "m", "c_per_mm", "marks", "confidence"}));
+    EXPECT_EQ(j["lines"][0]["y0_mm"], 1750.0);
+  }
+}
+
+TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
+  const auto r = test::run_process({kTool, "monitor", "--lcm", kUrl, "--seconds", "3.5"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const auto lines = lines_of(r.out);
+  ASSERT_GE(lines.size(), 2u) << r.out;
+  bool saw_status = false;
+  for (const std::string& line : lines) {
+    if (line.rfind("no lane messages", 0) == 0) continue;  // before the daemon's first frame
+    EXPECT_EQ(line.rfind("frame ", 0), 0u) << line;
+    EXPECT_NE(line.find(" ok | psi "), std::string::npos) << line;
+    EXPECT_NE(line.find("departure none"), std::string::npos) << line;
+    saw_status = saw_status || line.find("| camera streaming, gyro none") != std::string::npos;
+  }
+  EXPECT_TRUE(saw_status) << r.out;
+}
+
+TEST(MonitorCommandAlone, NothingOnTheBusIsExitOneWithOneLine) {
+  const auto r = test::run_process({kTool, "monitor", "--lcm", "memq://", "--seconds", "0.3"});
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_EQ(r.err, "ccdlane: no lane messages on CCDLANE_LANES (memq://) within 0.3 s\n");
+}
+
+TEST(MonitorCommandAlone, BadUsageIsExitTwo) {
+  const auto r = test::run_process({kTool, "monitor", "--count", "0"});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,160 @@
+// `ccdlane monitor`: watch ccdlaned on the bus: a compact line a second, or every lane
+// message as the JSON object `ccdlane replay` prints for a frame (the same function
+// prints both: the message is turned back into a LaneEstimate first).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <ccdlane/lane_estimate_t.hpp>
+#include <ccdlane/status_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include "core/config/config.hpp"
+#include "daemon/channels.hpp"
+#include "daemon/lane_message.hpp"
+#include "daemon/status_names.hpp"
+#include "tools/ccdlane/command.hpp"
+#include "tools/ccdlane/json_output.hpp"
+#include "tools/ccdlane/lane_estimate_json.hpp"
+
+namespace ccdlane::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct MonitorArgs {
+  std::string url = LcmConfig{}.url;
+  std::string prefix = LcmConfig{}.prefix;
+  long long count = 0;   // 0: no limit
+  double seconds = 0.0;  // 0: no limit
+  bool json = false;
+};
+
+class Monitor {
+ public:
+  explicit Monitor(const MonitorArgs& args)
+      : args_(args),
+        lanes_channel_(channel_name(args.prefix, Channel::lanes)),
+        status_channel_(channel_name(args.prefix, Channel::status)),
+        bus_(args.url) {
+    if (!bus_.good()) throw std::runtime_error("lcm: cannot open the bus \"" + args.url + "\"");
+    // Plain functions, not subscribe(&Monitor::on_lane, this): GCC 12's UBSan reports a
+    // false "invalid vptr" in LCM's member-function callback.
+    bus_.subscribeFunction(
+        lanes_channel_,
+        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Monitor* self) { self->on_lane(*m); },
+        this);
+    bus_.subscribeFunction(
+        status_channel_,
+        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, Monitor* self) { self->on_status(*m); },
+        this);
+  }
+
+  int run() {
+    const Clock::time_point start = Clock::now();
+    const Clock::time_point deadline =
+        args_.seconds > 0
+            ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(args_.seconds))
+            : Clock::time_point::max();
+    Clock::time_point next_line = start + std::chrono::seconds(1);
+    while (!done()) {
+      const Clock::time_point now = Clock::now();
+      if (now >= deadline) break;
+      if (!args_.json && now >= next_line) {
+        print_line();
+        next_line += std::chrono::seconds(1);
+      }
+      const Clock::time_point wake = std::min(args_.json ? now + std::chrono::milliseconds(200) : next_line, deadline);
+      const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(wake - now).count();
+      if (bus_.handleTimeout(static_cast<int>(std::max<long long>(ms, 1))) < 0)
+        throw std::runtime_error("lcm: receiving from \"" + args_.url + "\" failed");
+    }
+    if (!args_.json && lanes_ > lanes_printed_) print_line();
+    if (lanes_ == 0) {
+      std::cerr << "ccdlane: no lane messages on " << lanes_channel_ << " (" << args_.url << ")";
+      if (args_.seconds > 0) std::cerr << " within " << args_.seconds << " s";
+      std::cerr << '\n';
+      return 1;
+    }
+    return 0;
+  }
+
+ private:
+  bool done() const { return args_.count > 0 && lanes_ >= args_.count; }
+
+  void on_lane(const lane_estimate_t& m) {
+    if (done()) return;
+    ++lanes_;
+    ++lanes_in_second_;
+    last_lane_ = m;
+    if (args_.json) {
+      print_json_line(std::cout, lane_estimate_json(from_message(m)));
+      std::cout.flush();  // live through pipes, one object per message
+    }
+  }
+
+  void on_status(const status_t& m) { last_status_ = m; }
+
+  // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
+  //  heading 0.07 deg, departure none | 30 msg/s | camera streaming, gyro ok, p99 1.2 ms,
+  //  dropped 0, allocations 0"
+  void print_line() {
+    char text[512];
+    int n = 0;
+    if (lanes_in_second_ == 0 || !last_lane_) {
+      n = std::snprintf(text, sizeof text, "no lane messages on %s", lanes_channel_.c_str());
+    } else {
+      const LaneEstimate e = from_message(*last_lane_);
+      n = std::snprintf(text, sizeof text,
+                        "frame %llu %s | psi %.2f theta %.2f phi %.2f deg | lane %.0f mm, offset %.0f mm, heading "
+                        "%.2f deg, departure %s | %d msg/s",
+                        static_cast<unsigned long long>(e.frame), e.ok ? "ok" : to_string(e.reason), e.psi_deg,
+                        e.theta_deg, e.phi_deg, e.lane_width_mm, e.lateral_offset_mm, e.heading_deg,
+                        to_string(e.departure), lanes_in_second_);
+    }
+    if (last_status_ && n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
+      const status_t& s = *last_status_;
+      std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
+                    " | camera %s, gyro %s, p99 %.1f ms, dropped %lld, allocations %lld",
+                    camera_state_name(s.camera_state), gyro_state_name(s.gyro_state),
+                    static_cast<double>(s.latency_p99_us) * 1e-3, static_cast<long long>(s.frames_dropped_total),
+                    static_cast<long long>(s.allocations_since_ready));
+    }
+    std::cout << text << std::endl;
+    lanes_in_second_ = 0;
+    lanes_printed_ = lanes_;
+  }
+
+  MonitorArgs args_;
+  std::string lanes_channel_, status_channel_;
+  lcm::LCM bus_;
+  long long lanes_ = 0, lanes_printed_ = 0;
+  int lanes_in_second_ = 0;
+  std::optional<lane_estimate_t> last_lane_;
+  std::optional<status_t> last_status_;
+};
+
+}  // namespace
+
+CommandAction setup_monitor(CLI::App& sub) {
+  auto args = std::make_shared<MonitorArgs>();
+  sub.add_option("--lcm", args->url, "LCM bus URL")->capture_default_str();
+  sub.add_option("--prefix", args->prefix, "channel prefix ([lcm] prefix of the daemon)")->capture_default_str();
+  sub.add_option("--count", args->count, "stop after N lane messages")->check(CLI::PositiveNumber);
+  sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(CLI::PositiveNumber);
+  sub.add_flag("--json", args->json, "print each lane message as a JSON object, one per line (as ccdlane replay)");
+  sub.footer("Without --json: one line a second with the latest lane estimate and the daemon's status. "
+             "Exit status 1 when no lane message arrived.");
+  return [args] {
+    Monitor monitor(*args);
+    return monitor.run();
+  };
+}
+
+}  // namespace ccdlane::cli
