@@ -41,7 +41,9 @@ struct SolverPriors {
 };
 
 // What one solve is asked to do. Fixed parameters keep their value from `initial_pose`
-// and `initial_lines`.
+// and `initial_lines`. Beyond solver.md's roll/offset family and scale (free H without a
+// prior), note: a free heading m per line makes the lines' parallelism, and with it yaw
+// and (for straight lines) pitch, undetermined. Such requests come back rank_deficient.
 struct SolveRequest {
   SolverMode mode = SolverMode::reprojection;
   FreeSet free = SolverConfig::default_free();

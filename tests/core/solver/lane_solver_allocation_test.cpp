@@ -1,99 +1,15 @@
-// Proof that LaneSolver::solve() never touches the heap after construction: every global
-// operator new is replaced by a counting one, and malloc & co. are wrapped at link time
-// (-Wl,--wrap, see CMakeLists.txt) so that Eigen's own allocations (std::malloc, inlined
-// into the solver's objects) are counted too. Any allocation while counting fails.
-#include <atomic>
-#include <cstdlib>
-#include <new>
+// Proof that LaneSolver::solve() never touches the heap after construction: operator new
+// and, through the link-time wrap of ccdlane_malloc_counter, malloc & co. (where Eigen's
+// allocations land, inlined into the solver's objects) are counted. Any allocation while
+// counting fails.
+#include <cmath>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
 #include "core/solver/lane_solver.hpp"
 #include "tests/core/solver/synthetic_scene.hpp"
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-
-void note_allocation() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-
-void* counted_new(std::size_t size) {
-  note_allocation();
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-
-void* counted_aligned_new(std::size_t size, std::align_val_t align) {
-  note_allocation();
-  const std::size_t a = static_cast<std::size_t>(align);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
-
-// Counts the allocations made while it is alive.
-class AllocationCounter {
- public:
-  AllocationCounter() {
-    g_allocations = 0;
-    g_counting = true;
-  }
-  ~AllocationCounter() { g_counting = false; }
-  long count() const { return g_allocations.load(); }
-};
-}  // namespace
-
-void* operator new(std::size_t size) { return counted_new(size); }
-void* operator new[](std::size_t size) { return counted_new(size); }
-void* operator new(std::size_t size, std::align_val_t a) { return counted_aligned_new(size, a); }
-void* operator new[](std::size_t size, std::align_val_t a) { return counted_aligned_new(size, a); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  note_allocation();
-  return std::malloc(size ? size : 1);
-}
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  note_allocation();
-  return std::malloc(size ? size : 1);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-
-// The C allocator, as seen by this program's own objects and static libraries.
-extern "C" {
-void* __real_malloc(std::size_t);
-void* __real_calloc(std::size_t, std::size_t);
-void* __real_realloc(void*, std::size_t);
-int __real_posix_memalign(void**, std::size_t, std::size_t);
-void* __real_aligned_alloc(std::size_t, std::size_t);
-void* __wrap_malloc(std::size_t n) {
-  note_allocation();
-  return __real_malloc(n);
-}
-void* __wrap_calloc(std::size_t n, std::size_t size) {
-  note_allocation();
-  return __real_calloc(n, size);
-}
-void* __wrap_realloc(void* p, std::size_t n) {
-  note_allocation();
-  return __real_realloc(p, n);
-}
-int __wrap_posix_memalign(void** p, std::size_t align, std::size_t n) {
-  note_allocation();
-  return __real_posix_memalign(p, align, n);
-}
-void* __wrap_aligned_alloc(std::size_t align, std::size_t n) {
-  note_allocation();
-  return __real_aligned_alloc(align, n);
-}
-}
+#include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
@@ -101,15 +17,15 @@ namespace {
 TEST(LaneSolverAllocation, CounterSeesNewAndEigenHeapAllocations) {
   // The proof below is only as good as the counter: show it catches both kinds.
   {
-    AllocationCounter counter;
+    test::AllocationScope counter;
     auto* p = new double(1.0);
-    EXPECT_GE(counter.count(), 1);
+    EXPECT_GE(counter.count(), 1u);
     delete p;
   }
   {
-    AllocationCounter counter;
+    test::AllocationScope counter;
     Eigen::VectorXd v = Eigen::VectorXd::Ones(64);  // Eigen's aligned_malloc -> std::malloc
-    EXPECT_GE(counter.count(), 1) << v.sum();
+    EXPECT_GE(counter.count(), 1u) << v.sum();
   }
 }
 
@@ -161,12 +77,11 @@ TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
 
   LaneSolver solver(scene.camera, 64, kMaxLaneLines);
   for (const SolveRequest& req : requests) solver.solve(req);  // warm-up (nothing lazy expected)
-  AllocationCounter counter;
+  test::AllocationScope counter;
   int converged = 0;
   for (int round = 0; round < 2; ++round)
     for (const SolveRequest& req : requests) converged += solver.solve(req).converged;
-  const long allocations = counter.count();
-  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(counter.count(), 0u);
   EXPECT_GE(converged, 2 * 5);  // the solves above really ran
 }
 
