@@ -95,6 +95,7 @@ Config demo_config() {
   Config c = default_config();
   c.source.kind = SourceKind::synth;
   c.source.rate_hz = 30.0;
+  c.gyro.device = "emulated";
   return c;
 }
 
