@@ -12,6 +12,10 @@ namespace ccdlane {
 // accepts it ("" when none): kinds this build lacks, combinations that cannot work.
 std::string daemon_config_problem(const Config& config);
 
+// Solver settings that are not well-posed with the priors this configuration gives
+// (solver.md, "What is and is not observable"), "" when well-posed.
+std::string solver_observability_problem(const Config& config);
+
 // The built-in demo: the reference camera, the synthetic road at 30 fps, the emulated
 // gyro, the default bus.
 Config demo_config();

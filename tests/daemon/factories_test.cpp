@@ -123,6 +123,38 @@ TEST(GyroFactory, AMissingDeviceIsOneLineOnOpen) {
   EXPECT_EQ(why.find('\n'), std::string::npos);
 }
 
+TEST(ConfigProblem, RollNeedsAGyroARollPriorOrALaneWidthPrior) {
+  Config c = default_config();
+  c.source.kind = SourceKind::v4l2;
+  EXPECT_NE(daemon_config_problem(c).find("phi and y0 are free with no gyro"), std::string::npos);
+  Config with_gyro = c;
+  with_gyro.gyro.device = "/dev/ttyUSB0";
+  EXPECT_EQ(daemon_config_problem(with_gyro), "");
+  Config roll_prior = c;
+  roll_prior.prior.phi_deg = Prior{0.0, 1.0};
+  EXPECT_EQ(daemon_config_problem(roll_prior), "");
+  Config width_prior = c;
+  width_prior.prior.lane_width_mm = Prior{3600.0, 300.0};
+  EXPECT_EQ(daemon_config_problem(width_prior), "");
+  Config roll_fixed = c;
+  roll_fixed.solver.free.remove(FreeParam::phi);
+  EXPECT_EQ(daemon_config_problem(roll_fixed), "");
+  Config recorded = c;  // frame directories carry their gyro columns
+  recorded.source.kind = SourceKind::frames;
+  recorded.source.path = "x";
+  EXPECT_EQ(daemon_config_problem(recorded), "");
+}
+
+TEST(ConfigProblem, ScaleAndFocalLengthNeedPriorsEvenWithAGyro) {
+  Config c = demo_config();
+  c.solver.free.add(FreeParam::H);
+  EXPECT_EQ(daemon_config_problem(c).rfind("solver.free: H is free without [prior] H_mm", 0), 0u);
+  c.prior.H_mm = Prior{1400.0, 20.0};
+  EXPECT_EQ(daemon_config_problem(c), "");
+  c.solver.free.add(FreeParam::f);
+  EXPECT_EQ(daemon_config_problem(c).rfind("solver.free: f is free without [prior] f_mm", 0), 0u);
+}
+
 TEST(DemoConfig, IsRunnable) {
   const Config c = demo_config();
   EXPECT_EQ(daemon_config_problem(c), "");
