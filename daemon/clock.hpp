@@ -20,4 +20,13 @@ inline std::int64_t realtime_us() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
 }
 
+// Sleeps until t_ns on CLOCK_MONOTONIC (absolute, so that pacing does not drift).
+inline void sleep_until(std::int64_t t_ns) {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(t_ns / 1'000'000'000);
+  ts.tv_nsec = static_cast<long>(t_ns % 1'000'000'000);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {
+  }
+}
+
 }  // namespace ccdlane

@@ -85,16 +85,35 @@ class StatusTicker {
 
 }  // namespace
 
+std::string solver_observability_problem(const Config& c) {
+  const FreeSet& free = c.solver.free;
+  const PriorConfig& p = c.prior;
+  // solver.md, "What is and is not observable": scale and focal length never are from
+  // one image of parallel lines; roll about the lane direction is absorbed by moving free
+  // lines sideways unless a gyro, a roll prior or a lane-width prior pins it. Synthetic
+  // frames carry their drive's gyro reading and frame directories their recorded one.
+  if (free.has(FreeParam::H) && !p.H_mm)
+    return "solver.free: H is free without [prior] H_mm: the camera height is not observable (scale); fix it or add the prior";
+  if (free.has(FreeParam::f) && !p.f_mm)
+    return "solver.free: f is free without [prior] f_mm: the focal length is not observable from one image; fix it or add the prior";
+  const bool gyro = !c.gyro.device.empty() || c.source.kind == SourceKind::synth || c.source.kind == SourceKind::frames;
+  if (free.has(FreeParam::phi) && free.has(FreeParam::y0) && !gyro && !p.phi_deg && !p.lane_width_mm)
+    return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] "
+           "lane_width_mm: the roll is not observable; add one of them or fix phi";
+  return "";
+}
+
 std::string daemon_config_problem(const Config& config) {
   if (std::string why = frame_source_unavailable(config); !why.empty()) return why;
   if (std::string why = attitude_provider_unavailable(config); !why.empty()) return why;
-  return "";
+  return solver_observability_problem(config);
 }
 
 Config demo_config() {
   Config c = default_config();
   c.source.kind = SourceKind::synth;
   c.source.rate_hz = 30.0;
+  c.gyro.device = "emulated";
   return c;
 }
 

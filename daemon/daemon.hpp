@@ -12,7 +12,12 @@ namespace ccdlane {
 // accepts it ("" when none): kinds this build lacks, combinations that cannot work.
 std::string daemon_config_problem(const Config& config);
 
-// The built-in demo: the reference camera, the synthetic source at 30 fps, default bus.
+// Solver settings that are not well-posed with the priors this configuration gives
+// (solver.md, "What is and is not observable"), "" when well-posed.
+std::string solver_observability_problem(const Config& config);
+
+// The built-in demo: the reference camera, the synthetic road at 30 fps, the emulated
+// gyro, the default bus.
 Config demo_config();
 
 // Runs until SIGTERM/SIGINT (exit status 0), the end of a finite source (0) or a

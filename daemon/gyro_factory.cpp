@@ -1,19 +1,43 @@
-// No gyro reader is built in yet: a configured device is refused with a clear line
-// rather than silently ignored.
+// [gyro] device: "" = no gyro, "emulated" = the 3DM-GX1 emulator on a pty in this
+// process (following the synthetic drive's attitude), anything else = a serial device.
 #include "daemon/gyro_factory.hpp"
 
-#include <stdexcept>
+#include <cmath>
+#include <memory>
+
+#include "core/synth/synth_drive.hpp"
+#include "daemon/gx1_attitude_provider.hpp"
+#include "daemon/synth_source.hpp"
 
 namespace ccdlane {
+namespace {
 
-std::string attitude_provider_unavailable(const Config& config) {
-  if (config.gyro.device.empty()) return "";
-  return "gyro.device: \"" + config.gyro.device + "\": the 3DM-GX1 reader is not available in this build of ccdlaned";
+// The attitude the synth source's frames show at t_s seconds of playback (the source
+// loops over its rendered frames, so does this). The emulator starts just after the
+// source has rendered its frames, so the two clocks agree to within the gyro's
+// start-up time (tens of ms, against sway and bump periods of seconds).
+gx1::AttitudeScript follow_synth_drive(const Config& config) {
+  auto drive = std::make_shared<SynthDrive>(config);
+  const double rate = config.source.rate_hz > 0 ? config.source.rate_hz : config.synth.rate_hz;
+  const auto count = static_cast<std::uint64_t>(synth_source_frame_count(config));
+  return [drive, rate, count](double t_s) {
+    const auto k = static_cast<std::uint64_t>(std::max(0.0, std::floor(t_s * rate)));
+    return drive->frame(k % count).gyro;
+  };
 }
+
+}  // namespace
+
+std::string attitude_provider_unavailable(const Config&) { return ""; }
 
 std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config) {
   if (config.gyro.device.empty()) return nullptr;
-  throw std::runtime_error(attitude_provider_unavailable(config));
+  if (config.gyro.device == "emulated") {
+    gx1::EmulatorOptions o;
+    o.attitude = follow_synth_drive(config);
+    return std::make_unique<Gx1AttitudeProvider>(std::move(o));
+  }
+  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device);
 }
 
 }  // namespace ccdlane

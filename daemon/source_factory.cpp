@@ -3,17 +3,50 @@
 
 #include <stdexcept>
 
-#include "daemon/test_pattern.hpp"
+#include "daemon/synth_source.hpp"
+#include "drivers/camera/camera_factory.hpp"
+#include "drivers/frames/frame_directory_source.hpp"
 
 namespace ccdlane {
 namespace {
 
-std::unique_ptr<FrameSource> make_test_pattern(const Config& c) {
-  TestPatternOptions o;
+std::unique_ptr<FrameSource> make_synth(const Config& c) {
+  SynthSourceOptions o;
+  o.rate_hz = c.source.rate_hz;
+  // With a gyro device (the emulator in the demo) the frames carry no reading of their
+  // own, so that the live gyro is what the priors come from.
+  o.gyro_in_meta = c.gyro.device.empty();
+  return std::make_unique<SynthSource>(c, o);
+}
+
+std::unique_ptr<FrameSource> make_frames(const Config& c) {
+  FrameDirectorySourceOptions o;
+  o.path = c.source.path;
+  o.rate_hz = c.source.rate_hz;
+  o.loop = c.source.loop;
   o.width = c.camera.Nu;
   o.height = c.camera.Nv;
-  o.rate_hz = c.source.rate_hz;
-  return std::make_unique<TestPatternSource>(o);
+  return std::make_unique<FrameDirectorySource>(o);
+}
+
+CameraSettings camera_settings(const Config& c) {
+  CameraSettings s;
+  s.width = c.camera.Nu;
+  s.height = c.camera.Nv;
+  s.fps = c.source.rate_hz;
+  return s;
+}
+
+std::unique_ptr<FrameSource> make_from_camera_factory(const std::string& source, const Config& c) {
+  std::string error;
+  auto camera = make_camera(source, camera_settings(c), error);
+  if (!camera) throw std::runtime_error(error);
+  return camera;
+}
+
+std::unique_ptr<FrameSource> make_v4l2(const Config& c) { return make_from_camera_factory("v4l2:" + c.source.device, c); }
+std::unique_ptr<FrameSource> make_aravis(const Config& c) {
+  return make_from_camera_factory("aravis:" + c.source.camera, c);
 }
 
 struct SourceKindRow {
@@ -23,10 +56,10 @@ struct SourceKindRow {
 };
 
 constexpr SourceKindRow kSourceKinds[] = {
-    {SourceKind::synth, "synth", make_test_pattern},
-    {SourceKind::frames, "frames", nullptr},
-    {SourceKind::v4l2, "v4l2", nullptr},
-    {SourceKind::aravis, "aravis", nullptr},
+    {SourceKind::synth, "synth", make_synth},
+    {SourceKind::frames, "frames", make_frames},
+    {SourceKind::v4l2, "v4l2", make_v4l2},
+    {SourceKind::aravis, "aravis", make_aravis},
 };
 
 const SourceKindRow* row_of(SourceKind kind) {

@@ -2,8 +2,6 @@
 // is torn (two frames mixed), stale (an older frame) or shifted fails the check.
 #include "daemon/test_pattern.hpp"
 
-#include <time.h>
-
 #include <cmath>
 #include <cstdio>
 
@@ -18,14 +16,6 @@ std::uint8_t pattern_value(int x, int y, std::uint64_t n) {
 }
 
 constexpr int kStampPixels = 8;
-
-void sleep_until(std::int64_t t_ns) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(t_ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(t_ns % 1'000'000'000);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {
-  }
-}
 
 }  // namespace
 

@@ -30,9 +30,9 @@ using Clock = std::chrono::steady_clock;
 
 const std::string kDaemon = CCDLANE_DAEMON;
 
-// A small camera (160x120 cells of the reference size) so that frames are cheap.
+// The reference camera on a short synthetic drive (10 frames, rendered at start, looping).
 std::string config_text(const std::string& url, double rate_hz, const std::string& extra = "") {
-  return "[camera]\nNu = 160\nNv = 120\n[source]\nkind = \"synth\"\nrate_hz = " + std::to_string(rate_hz) +
+  return "[synth]\nframes = 10\n[source]\nkind = \"synth\"\nrate_hz = " + std::to_string(rate_hz) +
          "\n[lcm]\nurl = \"" + url + "\"\n" + extra;
 }
 
@@ -176,13 +176,13 @@ TEST(CcdlanedBus, PublishesLanesAndStatusOnUdpm) {
     ASSERT_GT(got.lanes[i].frame, got.lanes[i - 1].frame) << "in order";
     EXPECT_GE(got.lanes[i].publish_utime, got.lanes[i].capture_utime);
   }
-  for (const auto& m : got.lanes) EXPECT_TRUE(m.ok) << "frame " << m.frame << " damaged";
+  for (const auto& m : got.lanes) EXPECT_TRUE(m.ok) << "frame " << m.frame << ": no lane estimate";
   const status_t& last = got.statuses.back();  // the final one, sent after the pipeline stopped
   EXPECT_EQ(last.ready, 1);
   EXPECT_EQ(last.allocations_since_ready, 0);
   EXPECT_LE(last.frames_processed_total + last.frames_dropped_total, last.frames_in_total);  // some may still be queued
   EXPECT_EQ(static_cast<std::size_t>(last.frames_processed_total), got.lanes.size()) << "one message per frame";
-  EXPECT_EQ(last.camera, "test-pattern 160x120 mono8 50 fps");
+  EXPECT_EQ(last.camera.rfind("synth 800x600 mono8 50 fps", 0), 0u) << last.camera;
   EXPECT_GE(got.statuses[1].frames_processed, 45);  // about 50 a second
   EXPECT_EQ(got.statuses[1].gyro_state, status_t::GYRO_NONE);
 }
@@ -203,11 +203,19 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_EQ(r.err, "ccdlaned: " + bad_value + ":2: daemon.queue_depth: must be between 1 and 62 frames\n");
 
-  const std::string unavailable = dir.write("v4l2.toml", "[source]\nkind = \"v4l2\"\n");
-  r = test::run_process({kDaemon, "--config", unavailable});  // refused before starting, too
+  // A camera without a gyro and the default free set (phi, y0): the roll is not observable.
+  const std::string ill_posed = dir.write("v4l2.toml", "[source]\nkind = \"v4l2\"\n");
+  r = test::run_process({kDaemon, "--config", ill_posed});  // refused before opening anything
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(r.err, "ccdlaned: " + unavailable +
-                       ": source.kind: \"v4l2\" is not available in this build of ccdlaned\n");
+  EXPECT_EQ(r.err, "ccdlaned: " + ill_posed +
+                       ": solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no "
+                       "[prior] lane_width_mm: the roll is not observable; add one of them or fix phi\n");
+
+  const std::string garbage = dir.write("garbage.toml", "[gyro]\nsigma_deg = \"lots\"\n");
+  r = test::run_process({kDaemon, "--config", garbage});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("ccdlaned: " + garbage + ":2: gyro.sigma_deg: ", 0), 0u) << r.err;
 
   r = test::run_process({kDaemon, "--config", dir.file("missing.toml")});
   EXPECT_EQ(r.exit_status, 2);

@@ -1,9 +1,14 @@
 // The factories: what each [source] kind and [gyro] device gives in this build, and a
 // clear line for what it does not have.
+#include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "daemon/clock.hpp"
 #include "daemon/daemon.hpp"
 #include "daemon/gyro_factory.hpp"
 #include "daemon/processor_factory.hpp"
@@ -12,46 +17,142 @@
 namespace ccdlane {
 namespace {
 
-TEST(SourceFactory, SynthGivesFramesOfTheConfiguredCamera) {
+TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   Config c = default_config();
-  c.camera.Nu = 320;
-  c.camera.Nv = 240;
-  c.source.rate_hz = 25;
+  c.synth.frames = 3;
+  c.source.rate_hz = 0;  // unpaced
   EXPECT_EQ(frame_source_unavailable(c), "");
   auto source = make_frame_source(c);
   ASSERT_EQ(source->open(), "");
-  EXPECT_EQ(source->width(), 320);
-  EXPECT_EQ(source->height(), 240);
+  EXPECT_EQ(source->width(), c.camera.Nu);
+  EXPECT_EQ(source->height(), c.camera.Nv);
   EXPECT_EQ(source->format(), PixelFormat::mono8);
-  EXPECT_EQ(source->describe(), "test-pattern 320x240 mono8 25 fps");
-  EXPECT_NE(make_frame_processor(c, *source), nullptr);
+  EXPECT_EQ(source->describe(), "synth 800x600 mono8 0 fps (3 frames of a 3-lane road, looping)");
+  auto processor = make_frame_processor(c, *source);
+  ASSERT_NE(processor, nullptr);
+
+  // Rendered once, replayed looping: frame 3 is frame 0 again, with its gyro reading.
+  std::vector<std::uint8_t> a(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv)), b(a.size());
+  const MutableImageView va{a.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8};
+  const MutableImageView vb{b.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8};
+  FrameMeta m0, m;
+  ASSERT_EQ(source->capture(va, m0, 100), CaptureStatus::frame);
+  ASSERT_TRUE(m0.gyro.has_value());
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(source->capture(vb, m, 100), CaptureStatus::frame);
+  EXPECT_EQ(m.sequence, 3u);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(m.gyro->roll_deg, m0.gyro->roll_deg);
+
+  // And the estimator finds the lane it shows.
+  const LaneEstimate e = processor->process(va, m0, m0.gyro);
+  EXPECT_TRUE(e.ok);
 }
 
-TEST(SourceFactory, KindsThisBuildLacksAreOneClearLine) {
+TEST(SourceFactory, SynthFramesCarryNoGyroWhenAGyroDeviceIsConfigured) {
   Config c = default_config();
-  for (const auto& [kind, name] : {std::pair{SourceKind::frames, "frames"}, std::pair{SourceKind::v4l2, "v4l2"},
-                                   std::pair{SourceKind::aravis, "aravis"}}) {
-    c.source.kind = kind;
-    const std::string expected = std::string("source.kind: \"") + name + "\" is not available in this build of ccdlaned";
-    EXPECT_EQ(frame_source_unavailable(c), expected);
-    EXPECT_EQ(daemon_config_problem(c), expected);
-    try {
-      make_frame_source(c);
-      ADD_FAILURE() << name;
-    } catch (const std::runtime_error& e) {
-      EXPECT_EQ(e.what(), expected);
-    }
-  }
+  c.synth.frames = 1;
+  c.gyro.device = "emulated";
+  auto source = make_frame_source(c);
+  ASSERT_EQ(source->open(), "");
+  std::vector<std::uint8_t> a(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv));
+  FrameMeta m;
+  ASSERT_EQ(source->capture({a.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8}, m, 1000),
+            CaptureStatus::frame);
+  EXPECT_FALSE(m.gyro.has_value());
 }
 
-TEST(GyroFactory, NoDeviceMeansNoGyroAndADeviceIsRefusedForNow) {
+TEST(SourceFactory, EveryKindIsBuiltAndBadDevicesSayWhyOnOpen) {
+  Config c = default_config();
+  c.source.kind = SourceKind::frames;
+  c.source.path = "/nonexistent/frames";
+  EXPECT_EQ(frame_source_unavailable(c), "");
+  auto frames = make_frame_source(c);
+  const std::string why = frames->open();
+  EXPECT_NE(why.find("/nonexistent/frames"), std::string::npos) << why;
+  c.source.kind = SourceKind::v4l2;
+  c.source.device = "/nonexistent/video9";
+  auto v4l2 = make_frame_source(c);
+  EXPECT_NE(v4l2->open().find("/nonexistent/video9"), std::string::npos);
+  c.source.kind = SourceKind::aravis;
+  EXPECT_EQ(frame_source_unavailable(c), "");
+}
+
+TEST(ProcessorFactory, RefusesFramesOfAnotherSizeThanTheCamera) {
+  Config c = default_config();
+  c.synth.frames = 1;
+  auto source = make_frame_source(c);
+  ASSERT_EQ(source->open(), "");
+  c.camera.Nu = 640;
+  EXPECT_THROW(make_frame_processor(c, *source), std::runtime_error);
+}
+
+TEST(GyroFactory, NoDeviceMeansNoGyroAndEmulatedStreams) {
   Config c = default_config();
   EXPECT_EQ(attitude_provider_unavailable(c), "");
   EXPECT_EQ(make_attitude_provider(c), nullptr);
   c.gyro.device = "emulated";
-  EXPECT_EQ(attitude_provider_unavailable(c),
-            "gyro.device: \"emulated\": the 3DM-GX1 reader is not available in this build of ccdlaned");
-  EXPECT_THROW(make_attitude_provider(c), std::runtime_error);
+  EXPECT_EQ(attitude_provider_unavailable(c), "");
+  auto gyro = make_attitude_provider(c);
+  ASSERT_NE(gyro, nullptr);
+  ASSERT_EQ(gyro->open(), "");
+  std::atomic<bool> stop{false};
+  std::thread reader([&] { gyro->run(stop); });
+  std::optional<Gx1Angles> a;
+  for (int i = 0; i < 100 && !a; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    a = gyro->attitude_at(monotonic_ns());
+  }
+  EXPECT_EQ(gyro->state(), GyroState::ok);
+  stop = true;
+  reader.join();
+  gyro->close();
+  ASSERT_TRUE(a.has_value());
+  // The emulator follows the synthetic drive: roll and pitch are the camera's mounting
+  // attitude within the sway and bump amplitudes plus the gyro noise.
+  EXPECT_NEAR(a->roll_deg, c.attitude.phi_deg, c.synth.roll_sway_deg + 4 * c.synth.gyro_noise_deg + 0.01);
+  EXPECT_NEAR(a->pitch_deg, -c.attitude.theta_deg, c.synth.pitch_bump_deg + 4 * c.synth.gyro_noise_deg + 0.01);
+  EXPECT_GT(gyro->counters().samples, 0u);
+}
+
+TEST(GyroFactory, AMissingDeviceIsOneLineOnOpen) {
+  Config c = default_config();
+  c.gyro.device = "/nonexistent/ttyUSB7";
+  auto gyro = make_attitude_provider(c);
+  const std::string why = gyro->open();
+  EXPECT_EQ(why.find("gyro.device: \"/nonexistent/ttyUSB7\""), 0u) << why;
+  EXPECT_EQ(why.find('\n'), std::string::npos);
+}
+
+TEST(ConfigProblem, RollNeedsAGyroARollPriorOrALaneWidthPrior) {
+  Config c = default_config();
+  c.source.kind = SourceKind::v4l2;
+  EXPECT_NE(daemon_config_problem(c).find("phi and y0 are free with no gyro"), std::string::npos);
+  Config with_gyro = c;
+  with_gyro.gyro.device = "/dev/ttyUSB0";
+  EXPECT_EQ(daemon_config_problem(with_gyro), "");
+  Config roll_prior = c;
+  roll_prior.prior.phi_deg = Prior{0.0, 1.0};
+  EXPECT_EQ(daemon_config_problem(roll_prior), "");
+  Config width_prior = c;
+  width_prior.prior.lane_width_mm = Prior{3600.0, 300.0};
+  EXPECT_EQ(daemon_config_problem(width_prior), "");
+  Config roll_fixed = c;
+  roll_fixed.solver.free.remove(FreeParam::phi);
+  EXPECT_EQ(daemon_config_problem(roll_fixed), "");
+  Config recorded = c;  // frame directories carry their gyro columns
+  recorded.source.kind = SourceKind::frames;
+  recorded.source.path = "x";
+  EXPECT_EQ(daemon_config_problem(recorded), "");
+}
+
+TEST(ConfigProblem, ScaleAndFocalLengthNeedPriorsEvenWithAGyro) {
+  Config c = demo_config();
+  c.solver.free.add(FreeParam::H);
+  EXPECT_EQ(daemon_config_problem(c).rfind("solver.free: H is free without [prior] H_mm", 0), 0u);
+  c.prior.H_mm = Prior{1400.0, 20.0};
+  EXPECT_EQ(daemon_config_problem(c), "");
+  c.solver.free.add(FreeParam::f);
+  EXPECT_EQ(daemon_config_problem(c).rfind("solver.free: f is free without [prior] f_mm", 0), 0u);
 }
 
 TEST(DemoConfig, IsRunnable) {
@@ -60,6 +161,7 @@ TEST(DemoConfig, IsRunnable) {
   EXPECT_EQ(c.source.kind, SourceKind::synth);
   EXPECT_EQ(c.source.rate_hz, 30.0);
   EXPECT_EQ(c.lcm.url, "udpm://239.255.76.67:7667?ttl=0");
+  EXPECT_EQ(c.gyro.device, "emulated");
 }
 
 }  // namespace
