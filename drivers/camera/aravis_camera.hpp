@@ -9,7 +9,7 @@
 #include <string>
 
 #include "drivers/camera/camera_settings.hpp"
-#include "drivers/camera/device_state.hpp"
+#include "drivers/common/device_state.hpp"
 #include "drivers/camera/frame_source.hpp"
 #include "drivers/camera/pixel_conversion.hpp"
 

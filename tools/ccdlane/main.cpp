@@ -12,6 +12,8 @@ CommandAction setup_monitor(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
 CommandAction setup_grab(CLI::App& sub);
 CommandAction setup_replay(CLI::App& sub);
+CommandAction setup_gx1(CLI::App& sub);
+CommandAction setup_gx1_emulate(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
@@ -21,6 +23,8 @@ constexpr Command kCommands[] = {
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
     {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
+    {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},
+    {"gx1-emulate", "emulate a 3DM-GX1 on a pty until interrupted (prints the device path)", setup_gx1_emulate},
 };
 }  // namespace
 }  // namespace ccdlane::cli

@@ -1,6 +1,6 @@
-// The bring-up state machine shared by the camera drivers (closed -> opening ->
-// configuring -> streaming, and recovering with bounded, growing backoff), plus the
-// fixed-size problem text they report without allocating on the capture path.
+// The bring-up state machine shared by the device drivers, cameras and gyro (closed ->
+// opening -> configuring -> streaming, and recovering with bounded, growing backoff),
+// CLOCK_MONOTONIC, and the fixed-size problem text they report without allocating.
 #pragma once
 
 #include <time.h>
