@@ -14,12 +14,14 @@ CommandAction setup_grab(CLI::App& sub);
 CommandAction setup_replay(CLI::App& sub);
 CommandAction setup_gx1(CLI::App& sub);
 CommandAction setup_gx1_emulate(CLI::App& sub);
+CommandAction setup_spy(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
     {"project", "project a fixed-frame point to the observed pixel (JSON)", setup_project},
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
     {"monitor", "watch ccdlaned's lane and status messages on the LCM bus", setup_monitor},
+    {"spy", "lcm-spy with the ccdlane types: every channel and message, decoded (needs a display)", setup_spy},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
     {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
