@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "core/config/config_loader.hpp"
+#include "core/image/image_buffer.hpp"
 #include "core/lane/lane_estimator.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
@@ -58,20 +59,18 @@ class SynthFrames {
  public:
   explicit SynthFrames(const Config& config)
       : drive_(config), renderer_(config.camera, config.synth),
-        pixels_(static_cast<std::size_t>(config.camera.Nu * config.camera.Nv)),
-        image_{pixels_.data(), config.camera.Nu, config.camera.Nv, config.camera.Nu, PixelFormat::mono8, 8} {}
+        buffer_(config.camera.Nu, config.camera.Nv, renderer_.format(), config.synth.bits) {}
   const SynthFrame& render(std::uint64_t k) {
     frame_ = drive_.frame(k);
-    renderer_.render(frame_, image_);
+    renderer_.render(frame_, buffer_.view());
     return frame_;
   }
-  const MutableImageView& image() const { return image_; }
+  const MutableImageView& image() const { return buffer_.view(); }
 
  private:
   SynthDrive drive_;
   RoadRenderer renderer_;
-  std::vector<std::uint8_t> pixels_;
-  MutableImageView image_;
+  ImageBuffer buffer_;
   SynthFrame frame_;
 };
 

@@ -2,8 +2,6 @@
 // drivers as ccdlaned), the synthetic road, or a frame directory into a frame directory
 // or an LCM log of ccdlane.frame_t messages, with the gyro reading at each frame when
 // there is one. Either output replays with `ccdlane replay`, to the same estimates.
-#include <signal.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -17,6 +15,7 @@
 #include <vector>
 
 #include "core/config/config_loader.hpp"
+#include "core/image/image_buffer.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "daemon/channels.hpp"
@@ -41,18 +40,6 @@ struct RecordArgs {
   std::optional<int> count;
   double fps = 30.0;
 };
-
-// SIGINT/SIGTERM end a recording cleanly: the frames so far are kept, the files finished.
-std::atomic<bool> g_stop{false};
-extern "C" void request_stop(int) { g_stop.store(true); }
-
-void catch_stop_signals() {
-  struct sigaction sa {};
-  sa.sa_handler = request_stop;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
 
 std::int64_t realtime_us() {
   timespec ts{};
@@ -99,10 +86,11 @@ class LiveGyro {
   LiveGyro(const LiveGyro&) = delete;
   LiveGyro& operator=(const LiveGyro&) = delete;
 
-  // Waits (briefly) for a sample after t_ns, so that the reading is interpolated between
-  // two samples rather than the last one held.
+  // Waits for a sample after t_ns (up to the history's age limit), so that the reading is
+  // interpolated between two samples rather than the last one held. Recording is not
+  // real time: the camera's driver buffers hold the frames meanwhile.
   std::optional<Gx1Angles> at(std::int64_t t_ns) {
-    const std::int64_t give_up = monotonic_ns() + 3 * session_->options().max_age_ns / 10;
+    const std::int64_t give_up = monotonic_ns() + session_->options().max_age_ns;
     for (gx1::Gx1Sample newest; monotonic_ns() < give_up; std::this_thread::sleep_for(std::chrono::milliseconds(1))) {
       const std::uint64_t n = session_->history().count();
       if (n > 0 && session_->history().sample(n - 1, newest) && newest.t_ns >= t_ns) break;
@@ -148,7 +136,7 @@ class Recording {
 
   // False once the recording has all it wants; `t_ns` is the next frame's time.
   bool wants(std::int64_t t_ns) const {
-    if (g_stop.load()) return false;
+    if (stop_requested()) return false;  // SIGINT/SIGTERM: keep the frames so far, finish the files
     if (count_ && written_ >= static_cast<std::size_t>(*count_)) return false;
     if (seconds_ && written_ > 0 && static_cast<double>(t_ns - first_t_ns_) * 1e-9 >= *seconds_) return false;
     return true;
@@ -196,12 +184,8 @@ void record_synth(const RecordArgs& a, const Config& config) {
   const SynthConfig& s = config.synth;
   const SynthDrive drive(config);
   RoadRenderer renderer(config.camera, s);
-  const int W = config.camera.Nu, H = config.camera.Nv;
-  const PixelFormat format = renderer.format();
-  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) *
-                                   static_cast<std::size_t>(bytes_per_pixel(format)));
-  const MutableImageView image{pixels.data(), W, H, static_cast<std::ptrdiff_t>(W) * bytes_per_pixel(format), format,
-                               s.bits};
+  const ImageBuffer buffer(config.camera.Nu, config.camera.Nv, renderer.format(), s.bits);
+  const MutableImageView& image = buffer.view();
   Recording out(a, config, s.gyro, s.frames);
   const std::int64_t start = realtime_us();
   for (std::uint64_t k = 0;; ++k) {
@@ -223,12 +207,9 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
   for (const std::string& issue : dir->issues()) std::cerr << "ccdlane record: " << issue << '\n';
   const auto header = dir->probe_first();
   if (!header) throw UsageError(path + ": no frame of the directory can be read");
-  const PixelFormat format = header->format();
-  const int W = header->width, H = header->height;
-  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) *
-                                   static_cast<std::size_t>(bytes_per_pixel(format)));
-  const MutableImageView image{pixels.data(), W, H, static_cast<std::ptrdiff_t>(W) * bytes_per_pixel(format), format,
-                               format == PixelFormat::mono16 ? header->significant_bits() : 8};
+  const ImageBuffer buffer(header->width, header->height, header->format(),
+                          header->format() == PixelFormat::mono16 ? header->significant_bits() : 8);
+  const MutableImageView& image = buffer.view();
   Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()));
   const std::int64_t start = realtime_us();
   for (std::size_t i = 0; i < dir->size(); ++i) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/config/config_loader.hpp"
+#include "core/image/image_buffer.hpp"
 #include "core/lane/lane_estimator.hpp"
 #include "daemon/channels.hpp"
 #include "drivers/frames/frame_directory.hpp"
@@ -158,10 +159,8 @@ CommandAction setup_replay(CLI::App& sub) {
     };
 
     if (dir) {
-      std::vector<std::uint8_t> pixels(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) *
-                                       static_cast<std::size_t>(bytes_per_pixel(format)));
-      const MutableImageView image{pixels.data(), W, H, static_cast<std::ptrdiff_t>(W) * bytes_per_pixel(format),
-                                   format, bits};
+      const ImageBuffer buffer(W, H, format, bits);
+      const MutableImageView& image = buffer.view();
       for (std::size_t i = 0; i < dir->size(); ++i) {
         const FrameRow& row = dir->row(i);
         const bool read = dir->read(i, image) == PgmFault::none;
