@@ -1,6 +1,13 @@
 # The Debian package (cpack -G DEB), built from the install rules. Runtime dependencies
 # of the binaries come from dpkg-shlibdeps; what is only run (lcm-spy's Java side, the
 # LCM tools) is recommended.
+#
+# The unit's ExecStart and the configuration's place are absolute paths fixed at configure
+# time, so a package is only right when configured for the prefix it installs to.
+if(NOT CMAKE_INSTALL_PREFIX STREQUAL "/usr")
+  message(STATUS "ccdlane: CMAKE_INSTALL_PREFIX is ${CMAKE_INSTALL_PREFIX}; configure with "
+                 "-DCMAKE_INSTALL_PREFIX=/usr before `cpack -G DEB`")
+endif()
 set(CPACK_PACKAGE_NAME ccdlane)
 set(CPACK_PACKAGE_VENDOR "ccdlane")
 set(CPACK_PACKAGE_CONTACT "ccdlane maintainers <ccdlane-maintainers@localhost>")
@@ -15,7 +22,13 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre-headless")
+# lcm-spy is a Swing program: a JRE with AWT (not -headless) runs `ccdlane spy`.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre")
+# The configuration is the user's: dpkg keeps their edits on upgrade and asks before
+# replacing a changed file; `apt-get purge` removes it.
+set(ccdlane_conffiles "${CMAKE_BINARY_DIR}/debian/conffiles")
+file(WRITE "${ccdlane_conffiles}" "${CCDLANE_CONFIG_INSTALL_DIR}/ccdlane.toml\n")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA "${ccdlane_conffiles}")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_STRIP_FILES ON)
 include(CPack)

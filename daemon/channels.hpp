@@ -8,7 +8,7 @@
 
 namespace ccdlane {
 
-enum class Channel : std::uint8_t { lanes, status };
+enum class Channel : std::uint8_t { lanes, status, frames };
 
 struct ChannelInfo {
   Channel channel;
@@ -20,6 +20,7 @@ struct ChannelInfo {
 inline constexpr ChannelInfo kChannels[] = {
     {Channel::lanes, "LANES", "ccdlane.lane_estimate_t", "one lane estimate per processed frame"},
     {Channel::status, "STATUS", "ccdlane.status_t", "daemon health, once per second"},
+    {Channel::frames, "FRAMES", "ccdlane.frame_t", "raw frames, when recording ([lcm] publish_frames, ccdlane record)"},
 };
 
 const ChannelInfo& channel_info(Channel c);

@@ -38,12 +38,16 @@ enum class SolverMode { reprojection, paper };
 struct Prior {
   double mean = 0.0;
   double sigma = 0.0;
+
+  bool operator==(const Prior&) const = default;
 };
 
 struct AttitudeDeg {
   double psi_deg = 0.0;
   double theta_deg = 0.0;
   double phi_deg = 0.0;
+
+  bool operator==(const AttitudeDeg&) const = default;
 };
 
 struct SolverConfig {
@@ -54,21 +58,28 @@ struct SolverConfig {
   std::string picks;  // optional picks file, resolved relative to the config file
 
   static FreeSet default_free();
+  bool operator==(const SolverConfig&) const = default;
 };
 
 struct PriorConfig {
   std::optional<Prior> psi_deg, theta_deg, phi_deg, H_mm, f_mm, lane_width_mm;
+
+  bool operator==(const PriorConfig&) const = default;
 };
 
 struct LineInit {
   double y0_mm = 0.0;
   double m = 0.0;
   double c_per_mm = 0.0;
+
+  bool operator==(const LineInit&) const = default;
 };
 
 struct GyroConfig {
   double sigma_deg = 0.5;  // std. dev. of its roll and pitch, used as priors
   std::string device;      // "" = no gyro, "emulated", or a serial device path
+
+  bool operator==(const GyroConfig&) const = default;
 };
 
 enum class SourceKind { synth, frames, v4l2, aravis };
@@ -80,11 +91,16 @@ struct SourceConfig {
   std::string path;
   double rate_hz = 30.0;
   bool loop = false;
+
+  bool operator==(const SourceConfig&) const = default;
 };
 
 struct LcmConfig {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string prefix = "CCDLANE_";
+  bool publish_frames = false;  // raw frames on <prefix>FRAMES too, for lcm-logger (large: ~0.5 MB each)
+
+  bool operator==(const LcmConfig&) const = default;
 };
 
 struct RealtimeConfig {
@@ -93,12 +109,16 @@ struct RealtimeConfig {
   int processing_priority = 0;
   int gyro_priority = 0;
   std::vector<int> cpus;  // affinity of every pipeline thread; empty = any CPU
+
+  bool operator==(const RealtimeConfig&) const = default;
 };
 
 // ccdlaned's own knobs ([daemon]).
 struct DaemonConfig {
   int queue_depth = 4;           // frames that may wait for processing; beyond, the oldest is dropped
   double stall_timeout_s = 2.0;  // no frame for this long: the camera is reported stalled
+
+  bool operator==(const DaemonConfig&) const = default;
 };
 
 struct Config {
@@ -120,6 +140,7 @@ struct Config {
 
   // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
   CameraPose nominal_pose() const;
+  bool operator==(const Config&) const = default;
 };
 
 // The reference camera of geometry.md (DH-HV2003UC), used when no config is given.

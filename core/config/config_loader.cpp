@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -85,6 +86,7 @@ class TableReader {
   }
 
   const toml::node* node(const std::string& key) const { return table_.get(key); }
+  const std::set<std::string>& taken() const { return seen_; }
   const toml::table& table() const { return table_; }
 
   // Every key not taken is unknown: a misspelt key must not silently become a default.
@@ -261,6 +263,7 @@ void read_source(TableReader& r, Config& c) {
 void read_lcm(TableReader& r, Config& c) {
   r.string("url", c.lcm.url);
   r.string("prefix", c.lcm.prefix);
+  r.boolean("publish_frames", c.lcm.publish_frames);
   r.reject_unknown();
   const std::string_view url = c.lcm.url;
   const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") ||
@@ -470,6 +473,23 @@ Config parse_config(std::string_view toml_text, const std::string& source_name) 
   }
   top.reject_unknown();
   return c;
+}
+
+std::vector<std::string> config_keys() {
+  // Each reader run over an empty table takes every key it knows: the list cannot drift
+  // from what parse_config() accepts.
+  const std::string file = "(schema)";
+  const toml::table empty;
+  Config c = default_config();
+  std::vector<std::string> keys;
+  const auto collect = [&](const char* table, SectionReader read) {
+    TableReader r(empty, table, file);
+    read(r, c);
+    for (const std::string& key : r.taken()) keys.push_back(r.qualified(key));
+  };
+  for (const Section& s : kSections) collect(s.name, s.read);
+  collect("lines", read_line);
+  return keys;
 }
 
 Config load_config_file(const std::string& path) {

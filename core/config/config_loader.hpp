@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/config/config.hpp"
 
@@ -18,6 +19,10 @@ class ConfigError : public std::runtime_error {
 
 // Parses TOML text; `source_name` names it in error messages.
 Config parse_config(std::string_view toml_text, const std::string& source_name);
+
+// Every key parse_config() accepts, as "table.key" ("camera.Nu", "lines.y0_mm" for the
+// keys of each [[lines]] table), table by table.
+std::vector<std::string> config_keys();
 
 // Reads and parses a file. Throws ConfigError (also for a file that cannot be read).
 Config load_config_file(const std::string& path);

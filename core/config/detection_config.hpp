@@ -15,6 +15,8 @@ struct DetectionConfig {
   int min_marks = 8;              // picks a line needs to count as found
   double departure_mm = 900.0;    // warn when a line of the own lane is nearer than this
                                   // to the vehicle's centre (half a car plus a margin)
+
+  bool operator==(const DetectionConfig&) const = default;
 };
 
 }  // namespace ccdlane

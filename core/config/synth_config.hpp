@@ -53,6 +53,8 @@ struct SynthConfig {
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;
   double gyro_noise_deg = 0.1;
+
+  bool operator==(const SynthConfig&) const = default;
 };
 
 }  // namespace ccdlane

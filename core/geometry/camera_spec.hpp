@@ -22,6 +22,7 @@ struct CameraSpec {
   double pitch_v() const { return (V_mm - Vc_mm) / (Nv - 1); }  // mm per pixel down a column
   static double default_cx(int nu) { return (nu + 1) / 2.0; }
   static double default_cy(int nv) { return (nv + 1) / 2.0; }
+  bool operator==(const CameraSpec&) const = default;
 };
 
 }  // namespace ccdlane

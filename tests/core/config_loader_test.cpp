@@ -1,6 +1,8 @@
 // The TOML schema: defaults, every table, and errors that name file, line and key.
 #include "core/config/config_loader.hpp"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 namespace ccdlane {
@@ -176,6 +178,34 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
             "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
             "\"udpm://239.255.76.67:7667?ttl=0\"");
   EXPECT_EQ(parse_config("[lcm]\nurl = \"memq://\"\n", "m.toml").lcm.url, "memq://");
+}
+
+TEST(ConfigLoader, PublishFramesIsOffUnlessAsked) {
+  EXPECT_FALSE(parse_config("", "empty.toml").lcm.publish_frames);
+  EXPECT_TRUE(parse_config("[lcm]\npublish_frames = true\n", "f.toml").lcm.publish_frames);
+  EXPECT_EQ(error_of("[lcm]\npublish_frames = 1\n"), "test.toml:2: lcm.publish_frames: must be true or false, got an integer");
+}
+
+TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
+  const std::vector<std::string> keys = config_keys();
+  for (const char* k : {"camera.Nu", "camera.cx", "mount.H_mm", "solver.free", "prior.lane_width_mm", "gyro.device",
+                        "source.kind", "lcm.publish_frames", "realtime.cpus", "daemon.queue_depth", "synth.seed",
+                        "detection.departure_mm", "lines.y0_mm", "lines.c_per_mm"})
+    EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
+  std::vector<std::string> sorted = keys;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "a key listed twice";
+  // Every key listed is one the loader takes: given a value of the wrong type, it is
+  // refused as that key, not as an unknown one.
+  for (const std::string& key : keys) {
+    const auto dot = key.find('.');
+    const std::string table = key.substr(0, dot), name = key.substr(dot + 1);
+    const std::string text = (table == "lines" ? "[[lines]]\n" : "[" + table + "]\n") + name + " = {}\n";
+    const std::string e = error_of(text);
+    const std::string expected_key = table == "lines" ? "lines[0]." + name : key;
+    EXPECT_NE(e.find(expected_key + ": "), std::string::npos) << e;
+    EXPECT_EQ(e.find("unknown key"), std::string::npos) << e;
+  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@ TEST(Channels, NamesArePrefixPlusSuffix) {
   EXPECT_EQ(channel_name("CCDLANE_", Channel::status), "CCDLANE_STATUS");
   EXPECT_EQ(channel_name("", Channel::lanes), "LANES");
   EXPECT_EQ(channel_name("CAR7.", Channel::status), "CAR7.STATUS");
+  EXPECT_EQ(channel_name("CCDLANE_", Channel::frames), "CCDLANE_FRAMES");
 }
 
 TEST(Channels, EveryChannelHasExactlyOneRow) {
@@ -24,7 +25,7 @@ TEST(Channels, EveryChannelHasExactlyOneRow) {
     EXPECT_TRUE(suffixes.insert(info.suffix).second) << info.suffix;
     EXPECT_EQ(&channel_info(info.channel), &info);
   }
-  EXPECT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen.size(), 3u);
 }
 
 }  // namespace

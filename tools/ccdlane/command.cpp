@@ -1,11 +1,27 @@
 // Shared helpers of the ccdlane subcommands.
 #include "tools/ccdlane/command.hpp"
 
+#include <signal.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 
 namespace ccdlane::cli {
+namespace {
+volatile sig_atomic_t g_stop = 0;
+void on_stop_signal(int) { g_stop = 1; }
+}  // namespace
+
+void catch_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool stop_requested() { return g_stop != 0; }
 
 double parse_number(const std::string& text, const std::string& what) {
   errno = 0;

@@ -26,6 +26,12 @@ struct Command {
   CommandSetup setup;
 };
 
+// SIGINT/SIGTERM set a flag instead of ending the process, so that a command that runs
+// until interrupted (recording, printing samples) finishes its output cleanly. No
+// SA_RESTART: a waiting poll() returns at once.
+void catch_stop_signals();
+bool stop_requested();
+
 // Parses a whole-string number; throws UsageError naming the argument otherwise.
 double parse_number(const std::string& text, const std::string& what);
 

@@ -19,19 +19,6 @@
 namespace ccdlane::cli {
 namespace {
 
-volatile sig_atomic_t g_stop = 0;
-
-void on_stop_signal(int) { g_stop = 1; }
-
-// SIGINT/SIGTERM end the loop cleanly: no SA_RESTART, so a waiting poll() returns at once.
-void catch_stop_signals() {
-  struct sigaction sa {};
-  sa.sa_handler = on_stop_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-
 std::string firmware_text(std::uint16_t n) {
   const gx1::FirmwareVersion v = gx1::firmware_version(n);
   char text[32];
@@ -89,7 +76,7 @@ int run_gx1(const Gx1Args& args) {
 
   long printed = 0;
   std::uint64_t next = session.history().count();
-  while (!g_stop && (args.count == 0 || printed < args.count)) {
+  while (!stop_requested() && (args.count == 0 || printed < args.count)) {
     session.poll_once(100);
     for (gx1::Gx1Sample s; next < session.history().count() && (args.count == 0 || printed < args.count); ++next) {
       if (!session.history().sample(next, s)) continue;

@@ -12,9 +12,11 @@ CommandAction setup_monitor(CLI::App& sub);
 CommandAction setup_solve(CLI::App& sub);
 CommandAction setup_synth(CLI::App& sub);
 CommandAction setup_grab(CLI::App& sub);
+CommandAction setup_replay(CLI::App& sub);
 CommandAction setup_gx1(CLI::App& sub);
 CommandAction setup_gx1_emulate(CLI::App& sub);
-CommandAction setup_replay(CLI::App& sub);
+CommandAction setup_spy(CLI::App& sub);
+CommandAction setup_record(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
@@ -22,11 +24,14 @@ constexpr Command kCommands[] = {
     {"ground", "intersect an observed pixel's ray with the road (JSON)", setup_ground},
     {"solve", "solve attitude and lane lines from labelled picks (JSON)", setup_solve},
     {"monitor", "watch ccdlaned's lane and status messages on the LCM bus", setup_monitor},
+    {"spy", "lcm-spy with the ccdlane types: every channel and message, decoded (needs a display)", setup_spy},
     {"synth", "render a frame directory of a synthetic road with known truth", setup_synth},
     {"grab", "grab frames from a V4L2 or Aravis camera: rate, drops, latency; optionally record", setup_grab},
+    {"record", "record frames (and the gyro) from a camera, synth or a frame directory: frame directory or LCM log",
+     setup_record},
+    {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
     {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},
     {"gx1-emulate", "emulate a 3DM-GX1 on a pty until interrupted (prints the device path)", setup_gx1_emulate},
-    {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
 };
 }  // namespace
 }  // namespace ccdlane::cli

@@ -1,5 +1,5 @@
-// `ccdlane replay`: the full per-frame pipeline over a recorded frame directory, as fast
-// as the machine allows, one JSON object per frame.
+// `ccdlane replay`: the full per-frame pipeline over a recorded frame directory or an LCM
+// log of frames, as fast as the machine allows, one JSON object per frame.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,8 +10,11 @@
 #include <vector>
 
 #include "core/config/config_loader.hpp"
+#include "core/image/image_buffer.hpp"
 #include "core/lane/lane_estimator.hpp"
+#include "daemon/channels.hpp"
 #include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/frame_log.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -82,25 +85,30 @@ void draw_overlay(const std::string& path, const ImageView& frame, const LaneEst
 CommandAction setup_replay(CLI::App& sub) {
   auto a = std::make_shared<ReplayArgs>();
   sub.add_option("config", a->config, "configuration file (TOML)")->required();
-  sub.add_option("input", a->input, "frame directory (frames.csv + PGM frames)")->required();
+  sub.add_option("input", a->input,
+                 "frame directory (frames.csv + PGM frames), or an LCM log of ccdlane.frame_t on <[lcm] prefix>FRAMES "
+                 "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames)")
+      ->required();
   sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
   sub.add_option("--overlay", a->overlay, "write a PNG per frame with the marks, picks and fitted lines here");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.footer("Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
-             "frame, printing one JSON object per frame (interfaces.md). Damaged frames are reported once each "
+             "frame, printing one JSON object per frame (interfaces.md); from an LCM log, the gyro reading and "
+             "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
              "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
   return [a] {
     const Config config = load_config_file(a->config);
-    if (std::filesystem::is_regular_file(a->input))
-      throw UsageError(a->input + ": replaying LCM logs is not part of this build; give a frame directory");
+    const int W = config.camera.Nu, H = config.camera.Nv;
+    const bool is_log = std::filesystem::is_regular_file(a->input);
     std::optional<FrameDirectory> dir;
+    std::optional<FrameLogReader> log;
     try {
-      dir.emplace(a->input);
-    } catch (const FrameDirectoryError& e) {
+      if (is_log) log.emplace(a->input, channel_name(config.lcm.prefix, Channel::frames));
+      else dir.emplace(a->input);
+    } catch (const std::runtime_error& e) {  // FrameDirectoryError, FrameLogError
       throw UsageError(e.what());
     }
-    const int W = config.camera.Nu, H = config.camera.Nv;
-    const auto header = dir->probe_first();
+    const auto header = dir ? dir->probe_first() : std::nullopt;
     if (header && (header->width != W || header->height != H))
       throw UsageError(a->input + ": frames are " + std::to_string(header->width) + "x" +
                        std::to_string(header->height) + ", the camera of " + a->config + " is " + std::to_string(W) +
@@ -117,48 +125,75 @@ CommandAction setup_replay(CLI::App& sub) {
       if (ec) throw UsageError(a->overlay + ": cannot create the overlay directory: " + ec.message());
     }
 
-    for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
-    std::size_t skipped = dir->issues().size();  // malformed rows of frames.csv
+    const std::size_t csv_issues = dir ? dir->issues().size() : 0;  // malformed rows of frames.csv
+    if (dir)
+      for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
+    std::size_t skipped = csv_issues;
 
     LaneEstimator estimator(config);
-    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) *
-                                     static_cast<std::size_t>(bytes_per_pixel(format)));
-    const MutableImageView image{pixels.data(), W, H, static_cast<std::ptrdiff_t>(W) * bytes_per_pixel(format),
-                                 format, bits};
     std::size_t frames = 0, ok = 0;
     double total_s = 0.0, worst_s = 0.0;
     std::uint64_t worst_frame = 0;
-    for (std::size_t i = 0; i < dir->size(); ++i) {
-      const FrameRow& row = dir->row(i);
+    // One frame through the pipeline; `image` null for a frame that could not be read.
+    const auto replay_frame = [&](const ImageView* image, std::uint64_t index, std::int64_t t_ns,
+                                  const std::optional<Gx1Angles>& gyro) {
       ++frames;
-      if (dir->read(i, image) != PgmFault::none) {
-        std::cerr << "ccdlane replay: " << dir->error() << '\n';
+      if (!image) {
         ++skipped;
-        print_json_line(out, lane_estimate_json(estimator.no_frame(row.index, row.t_ns), a->sigmas));
-        continue;
+        print_json_line(out, lane_estimate_json(estimator.no_frame(index, t_ns), a->sigmas));
+        return;
       }
       const auto t0 = std::chrono::steady_clock::now();
-      LaneEstimate e = estimator.estimate(image, row.index, row.t_ns, row.gyro);
+      LaneEstimate e = estimator.estimate(*image, index, t_ns, gyro);
       const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       e.latency_us = static_cast<std::int64_t>(dt * 1e6);
       total_s += dt;
-      if (dt > worst_s) worst_s = dt, worst_frame = row.index;
+      if (dt > worst_s) worst_s = dt, worst_frame = index;
       ok += e.ok;
       print_json_line(out, lane_estimate_json(e, a->sigmas));
       if (!a->overlay.empty()) {
         char name[32];
-        std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(row.index));
-        draw_overlay(a->overlay + name, image, estimator, config);
+        std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
+        draw_overlay(a->overlay + name, *image, estimator, config);
       }
+    };
+
+    if (dir) {
+      const ImageBuffer buffer(W, H, format, bits);
+      const MutableImageView& image = buffer.view();
+      for (std::size_t i = 0; i < dir->size(); ++i) {
+        const FrameRow& row = dir->row(i);
+        const bool read = dir->read(i, image) == PgmFault::none;
+        if (!read) std::cerr << "ccdlane replay: " << dir->error() << '\n';
+        const ImageView view = image;
+        replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro);
+      }
+    } else {
+      for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
+        const FrameRecord& r = log->record();
+        const ImageView& image = log->image();
+        bool usable = n == FrameLogReader::Next::frame;
+        if (!usable) {
+          std::cerr << "ccdlane replay: " << log->problem() << '\n';
+        } else if (image.width != W || image.height != H) {
+          std::cerr << "ccdlane replay: " << a->input << ": frame " << r.sequence << " is " << image.width << "x"
+                    << image.height << ", the camera of " << a->config << " is " << W << "x" << H << '\n';
+          usable = false;
+        }
+        replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro);
+      }
+      if (frames == 0)
+        throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +
+                         std::to_string(log->other_events()) + " events on other channels)");
     }
     out.flush();
     if (file) file->commit();
-    const std::size_t processed = frames - (skipped - dir->issues().size());
+    const std::size_t processed = frames - (skipped - csv_issues);
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
-                  frames + dir->issues().size(), ok, skipped, processed ? 1e3 * total_s / static_cast<double>(processed) : 0.0, 1e3 * worst_s,
-                  static_cast<unsigned long long>(worst_frame));
+                  frames + csv_issues, ok, skipped, processed ? 1e3 * total_s / static_cast<double>(processed) : 0.0,
+                  1e3 * worst_s, static_cast<unsigned long long>(worst_frame));
     std::cerr << summary << '\n';
     if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");
     return 0;

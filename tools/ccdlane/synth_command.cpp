@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/config/config_loader.hpp"
+#include "core/image/image_buffer.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
@@ -82,10 +83,8 @@ CommandAction setup_synth(CLI::App& sub) {
     RoadRenderer renderer(config.camera, s);
     const int W = config.camera.Nu, H = config.camera.Nv;
     const PixelFormat format = renderer.format();
-    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) *
-                                     static_cast<std::size_t>(bytes_per_pixel(format)));
-    const MutableImageView image{pixels.data(), W, H, static_cast<std::ptrdiff_t>(W) * bytes_per_pixel(format), format,
-                                 s.bits};
+    const ImageBuffer buffer(W, H, format, s.bits);
+    const MutableImageView& image = buffer.view();
     std::optional<FrameDirectoryWriter> writer;
     try {
       writer.emplace(a->out, FrameDirectoryLayout{s.gyro, truth_columns(drive.num_lines())});

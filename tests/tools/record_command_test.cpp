@@ -1,0 +1,204 @@
+// `ccdlane record` from the synthetic road, a frame directory and Aravis' fake camera
+// with the emulated 3DM-GX1, into frame directories and LCM logs; and `ccdlane replay`
+// of an LCM log giving the same JSON Lines as the frame directory of the same frames.
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "daemon/channels.hpp"
+#include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/frame_log.hpp"
+#include "tests/daemon/child_process.hpp"
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+const std::string kTool = CCDLANE_TOOL;
+const std::string kReferenceCamera = CCDLANE_SOURCE_DIR "/tools/demo/reference-camera.toml";
+const std::string kFrames = channel_name("CCDLANE_", Channel::frames);
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// Replay's JSON Lines without latency_us, the one field that measures this run.
+std::vector<std::string> replay(const std::string& config, const std::string& input) {
+  const auto r = test::run_process({kTool, "replay", config, input});
+  EXPECT_EQ(r.exit_status, 0) << r.err;
+  std::vector<std::string> lines = lines_of(r.out);
+  const std::regex latency(R"(,"latency_us":[0-9]+)");
+  for (std::string& line : lines) {
+    EXPECT_NE(line.find("\"latency_us\":"), std::string::npos) << line;
+    line = std::regex_replace(line, latency, "");
+  }
+  return lines;
+}
+
+std::vector<FrameRecord> records_of(const std::string& log) {
+  FrameLogReader reader(log, kFrames);
+  std::vector<FrameRecord> records;
+  for (FrameLogReader::Next n; (n = reader.next()) != FrameLogReader::Next::end;) {
+    EXPECT_EQ(n, FrameLogReader::Next::frame) << reader.problem();
+    records.push_back(reader.record());
+  }
+  return records;
+}
+
+void expect_missing_reported(const std::string& err, std::size_t missing) {
+  const std::string line = std::to_string(missing) + " frames without a gyro reading";
+  if (missing > 0) EXPECT_NE(err.find(line), std::string::npos) << err;
+  else EXPECT_EQ(err.find("without a gyro reading"), std::string::npos) << err;
+}
+
+TEST(RecordCommand, SynthIntoALogAndADirectoryReplaysToTheSameEstimates) {
+  test::TempDir dir;
+  const std::string log = dir.file("drive.lcmlog"), frames = dir.file("drive");
+  for (const std::string& out : {log, frames}) {
+    const auto r = test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", out,
+                                      "--count", "24"});
+    ASSERT_EQ(r.exit_status, 0) << r.err;
+    EXPECT_NE(r.err.find("24 frames of 800x600 mono8"), std::string::npos) << r.err;
+  }
+  const std::vector<FrameRecord> records = records_of(log);
+  ASSERT_EQ(records.size(), 24u);
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    EXPECT_EQ(records[k].sequence, k);
+    EXPECT_EQ(records[k].t_ns, std::llround(static_cast<double>(k) / 30.0 * 1e9));  // as SynthDrive times them
+    EXPECT_TRUE(records[k].gyro.has_value());
+    if (k > 0) {
+      EXPECT_EQ(records[k].utime - records[0].utime, (records[k].t_ns - records[0].t_ns) / 1000);
+    }
+  }
+  FrameDirectory d(frames);
+  ASSERT_EQ(d.size(), 24u);
+  EXPECT_TRUE(d.has_gyro_columns());
+
+  const std::vector<std::string> from_log = replay(kReferenceCamera, log);
+  const std::vector<std::string> from_directory = replay(kReferenceCamera, frames);
+  ASSERT_EQ(from_log.size(), 24u);
+  EXPECT_EQ(from_log, from_directory);
+  const auto ok = std::count_if(from_log.begin(), from_log.end(),
+                                [](const std::string& l) { return l.find("\"ok\":true") != std::string::npos; });
+  EXPECT_GE(ok, 20) << "the comparison must be of real estimates";
+}
+
+TEST(RecordCommand, AFrameDirectoryBecomesALogOfTheSameFrames) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "6"}).exit_status, 0);
+  const auto r = test::run_process({kTool, "record", "frames:" + dir.file("road"), "--out", dir.file("road.lcmlog")});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<FrameRecord> records = records_of(dir.file("road.lcmlog"));
+  FrameDirectory d(dir.file("road"));
+  ASSERT_EQ(records.size(), d.size());
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    EXPECT_EQ(records[k].t_ns, d.row(k).t_ns);
+    ASSERT_TRUE(records[k].gyro && d.row(k).gyro);
+    EXPECT_EQ(records[k].gyro->roll_deg, d.row(k).gyro->roll_deg);
+    EXPECT_EQ(records[k].gyro->pitch_deg, d.row(k).gyro->pitch_deg);
+  }
+  EXPECT_EQ(replay(kReferenceCamera, dir.file("road.lcmlog")), replay(kReferenceCamera, dir.file("road")));
+}
+
+TEST(RecordCommand, SecondsCountFrameTime) {
+  test::TempDir dir;
+  const auto r = test::run_process({kTool, "record", "synth", "--out", dir.file("half.lcmlog"), "--seconds", "0.5"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  // 30 fps: frames at 0, 1/30, ... 14/30 s are within the first half second.
+  EXPECT_EQ(records_of(dir.file("half.lcmlog")).size(), 15u);
+}
+
+TEST(RecordCommand, FakeCameraWithTheEmulatedGyroRecordsItsReadingsAtTheFramesTimes) {
+  test::TempDir dir;
+  const std::string config = dir.write("fake.toml", "[camera]\nNu = 640\nNv = 480\n[gyro]\ndevice = \"emulated\"\n");
+  auto r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake.lcmlog"),
+                              "--count", "12"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<FrameRecord> records = records_of(dir.file("fake.lcmlog"));
+  ASSERT_EQ(records.size(), 12u);
+  // On a loaded machine the emulator or the gyro thread can be starved for longer than the
+  // history's 100 ms age limit: frames in such a gap get no reading, the recording counts
+  // them and goes on. The readings there are must follow the emulator's turn.
+  std::vector<const FrameRecord*> with_gyro;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    if (records[k].gyro) with_gyro.push_back(&records[k]);
+    if (k == 0) continue;
+    EXPECT_GT(records[k].sequence, records[k - 1].sequence);
+    EXPECT_GT(records[k].t_ns, records[k - 1].t_ns);
+  }
+  ASSERT_GE(with_gyro.size(), records.size() / 2);
+  expect_missing_reported(r.err, records.size() - with_gyro.size());
+  double turned = 0.0;  // the yaw change, unwrapped across +-180
+  for (std::size_t i = 1; i < with_gyro.size(); ++i) {
+    double step = with_gyro[i]->gyro->yaw_deg - with_gyro[i - 1]->gyro->yaw_deg;
+    if (step < -180) step += 360;
+    turned += step;
+  }
+  const double span_s = static_cast<double>(with_gyro.back()->t_ns - with_gyro.front()->t_ns) * 1e-9;
+  EXPECT_NEAR(turned / span_s, 45.0, 7.0) << "the emulator turns at 45 degrees/s, over " << span_s << " s";
+
+  r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake"), "--count", "5"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  FrameDirectory d(dir.file("fake"));
+  ASSERT_EQ(d.size(), 5u);
+  EXPECT_TRUE(d.has_gyro_columns());
+  std::size_t rows_with_gyro = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) rows_with_gyro += d.row(k).gyro.has_value();
+  EXPECT_GE(rows_with_gyro, 1u);
+  expect_missing_reported(r.err, d.size() - rows_with_gyro);
+}
+
+TEST(RecordCommand, SigintFinishesTheRecordingCleanly) {
+  test::TempDir dir;
+  const std::string log = dir.file("live.lcmlog");
+  test::ChildProcess recorder({kTool, "record", "aravis:Fake_1", "--out", log}, {{}, "", dir.file("err"), {}});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  recorder.signal(SIGINT);
+  const auto status = recorder.wait_exit(5000);
+  ASSERT_TRUE(status.has_value());
+  ASSERT_TRUE(WIFEXITED(*status)) << test::read_file(dir.file("err"));
+  EXPECT_EQ(WEXITSTATUS(*status), 0) << test::read_file(dir.file("err"));
+  EXPECT_FALSE(std::filesystem::exists(log + ".tmp"));
+  EXPECT_GT(records_of(log).size(), 10u);
+}
+
+TEST(RecordCommand, BadUseIsOneLineAndLeavesNothingBehind) {
+  test::TempDir dir;
+  auto r = test::run_process({kTool, "record", "usb:3", "--out", dir.file("x.lcmlog")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(r.err, "ccdlane: record: source \"usb:3\": expected v4l2:/dev/videoN or aravis:ID\n");
+  const std::string taken = dir.write("taken.lcmlog", "x");
+  r = test::run_process({kTool, "record", "synth", "--out", taken, "--count", "1"});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(r.err, "ccdlane: " + taken + ": already exists; choose another name\n");
+  r = test::run_process({kTool, "record", "aravis:192.0.2.1", "--out", dir.file("none.lcmlog"), "--count", "1"});
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  r = test::run_process({kTool, "record", "frames:" + dir.file("nowhere"), "--out", dir.file("none.lcmlog")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find(dir.file("nowhere") + "/frames.csv"), std::string::npos) << r.err;
+  const std::string emulated = dir.write("g.toml", "[gyro]\ndevice = \"/nonexistent/ttyUSB9\"\n");
+  r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", emulated, "--out", dir.file("none")});
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.err.find("gyro: /nonexistent/ttyUSB9: cannot open"), std::string::npos) << r.err;
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path())) left.push_back(e.path().filename());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"g.toml", "taken.lcmlog"}));
+}
+
+}  // namespace
+}  // namespace ccdlane

@@ -1,0 +1,296 @@
+// `ccdlane record SOURCE --out DIR|FILE.lcmlog`: records frames from a camera (the same
+// drivers as ccdlaned), the synthetic road, or a frame directory into a frame directory
+// or an LCM log of ccdlane.frame_t messages, with the gyro reading at each frame when
+// there is one. Either output replays with `ccdlane replay`, to the same estimates.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "core/config/config_loader.hpp"
+#include "core/image/image_buffer.hpp"
+#include "core/synth/road_renderer.hpp"
+#include "core/synth/synth_drive.hpp"
+#include "daemon/channels.hpp"
+#include "drivers/camera/camera_factory.hpp"
+#include "drivers/camera/frame_pool.hpp"
+#include "drivers/common/device_state.hpp"
+#include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/frame_directory_writer.hpp"
+#include "drivers/frames/frame_log.hpp"
+#include "drivers/gx1/gx1_emulator.hpp"
+#include "drivers/gx1/gx1_session.hpp"
+#include "tools/ccdlane/command.hpp"
+
+namespace ccdlane::cli {
+namespace {
+
+struct RecordArgs {
+  std::string source;
+  std::string out;
+  std::string config;
+  std::optional<double> seconds;
+  std::optional<int> count;
+  double fps = 30.0;
+};
+
+std::int64_t realtime_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return std::int64_t{ts.tv_sec} * 1'000'000 + ts.tv_nsec / 1000;
+}
+
+bool is_log_path(const std::string& out) {
+  constexpr std::string_view kSuffix = ".lcmlog";
+  return out.size() > kSuffix.size() && out.compare(out.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0;
+}
+
+// The live 3DM-GX1 of [gyro] device (or the emulator for "emulated"), read by its own
+// thread into the session's history; frames take the reading interpolated at their time.
+class LiveGyro {
+ public:
+  explicit LiveGyro(const std::string& device) {
+    std::string path = device;
+    if (device == "emulated") {
+      emulator_ = std::make_unique<gx1::Gx1Emulator>(gx1::EmulatorOptions{}, [](const char*) {});
+      if (const int rc = emulator_->start(); rc < 0)
+        throw std::runtime_error("gyro: cannot start the emulator: " + std::string(std::strerror(-rc)));
+      path = emulator_->device_path();
+    }
+    session_ = std::make_unique<gx1::Gx1Session>(path, gx1::SessionOptions{}, [](const char* line) {
+      std::cerr << "ccdlane record: gyro: " << line << '\n';
+    });
+    if (const int rc = session_->open(); rc < 0)
+      throw std::runtime_error("gyro: " + device + ": cannot open: " + std::strerror(-rc));
+    thread_ = std::thread([this] {
+      while (!stop_.load()) session_->poll_once(50);
+    });
+    // Frames are recorded once the gyro streams, so that every frame has a reading.
+    const std::int64_t give_up = monotonic_ns() + 2'000'000'000;
+    while (session_->history().count() == 0) {
+      if (monotonic_ns() > give_up) {
+        stop_thread();
+        throw std::runtime_error("gyro: " + device + ": no sample within 2 s of opening it");
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+  ~LiveGyro() { stop_thread(); }
+  LiveGyro(const LiveGyro&) = delete;
+  LiveGyro& operator=(const LiveGyro&) = delete;
+
+  // Waits for a sample after t_ns (up to the history's age limit), so that the reading is
+  // interpolated between two samples rather than the last one held. Recording is not
+  // real time: the camera's driver buffers hold the frames meanwhile.
+  std::optional<Gx1Angles> at(std::int64_t t_ns) {
+    const std::int64_t give_up = monotonic_ns() + session_->options().max_age_ns;
+    for (gx1::Gx1Sample newest; monotonic_ns() < give_up; std::this_thread::sleep_for(std::chrono::milliseconds(1))) {
+      const std::uint64_t n = session_->history().count();
+      if (n > 0 && session_->history().sample(n - 1, newest) && newest.t_ns >= t_ns) break;
+    }
+    const gx1::AttitudeQuery q = session_->attitude_at(t_ns);
+    if (q.status != gx1::AttitudeStatus::ok) {
+      ++missing_;
+      return std::nullopt;
+    }
+    return q.angles;
+  }
+  std::uint64_t missing() const { return missing_; }
+
+ private:
+  void stop_thread() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+    session_->close();
+    if (emulator_) emulator_->stop();
+  }
+
+  std::unique_ptr<gx1::Gx1Emulator> emulator_;
+  std::unique_ptr<gx1::Gx1Session> session_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+  std::uint64_t missing_ = 0;
+};
+
+// Where frames go, and when to stop: --count frames, --seconds of frame time, or a signal.
+class Recording {
+ public:
+  Recording(const RecordArgs& a, const Config& config, bool gyro, std::optional<int> default_count)
+      : count_(a.count ? a.count : a.seconds ? std::nullopt : default_count), seconds_(a.seconds) {
+    try {
+      if (is_log_path(a.out))
+        log_.emplace(a.out, channel_name(config.lcm.prefix, Channel::frames));
+      else
+        directory_.emplace(a.out, FrameDirectoryLayout{gyro, {}});
+    } catch (const std::runtime_error& e) {  // FrameLogError, FrameDirectoryError
+      throw UsageError(e.what());
+    }
+  }
+
+  // False once the recording has all it wants; `t_ns` is the next frame's time.
+  bool wants(std::int64_t t_ns) const {
+    if (stop_requested()) return false;  // SIGINT/SIGTERM: keep the frames so far, finish the files
+    if (count_ && written_ >= static_cast<std::size_t>(*count_)) return false;
+    if (seconds_ && written_ > 0 && static_cast<double>(t_ns - first_t_ns_) * 1e-9 >= *seconds_) return false;
+    return true;
+  }
+  bool wants_more() const { return wants(last_t_ns_); }
+
+  void write(const ImageView& image, const FrameRecord& record) {
+    if (written_ == 0) first_t_ns_ = record.t_ns;
+    last_t_ns_ = record.t_ns;
+    if (log_) log_->write(image, record);
+    else directory_->write(image, record.t_ns, record.gyro);
+    ++written_;
+    with_gyro_ += record.gyro.has_value();
+    width_ = image.width, height_ = image.height, format_ = image.format;
+  }
+
+  void finish(const std::string& from) {
+    if (written_ == 0) throw std::runtime_error("record: no frame was recorded from " + from);
+    if (log_) log_->finish();
+    else directory_->finish();
+    const double span = static_cast<double>(last_t_ns_ - first_t_ns_) * 1e-9;
+    std::fprintf(stderr, "ccdlane record: %zu frames of %dx%d %s (%.3f s) from %s, %zu with a gyro reading, to %s\n",
+                 written_, width_, height_, format_ == PixelFormat::mono16 ? "mono16" : "mono8", span, from.c_str(),
+                 with_gyro_, log_ ? log_->path().c_str() : directory_->path().c_str());
+  }
+
+  // Wall-clock capture time for frame-time t_ns: the first frame at `start`, the rest
+  // following their own timestamps (so lcm-logplayer plays a log at its recorded pace).
+  std::int64_t utime_of(std::int64_t t_ns, std::int64_t start_utime) const {
+    return start_utime + (written_ == 0 ? 0 : (t_ns - first_t_ns_) / 1000);
+  }
+
+ private:
+  std::optional<int> count_;
+  std::optional<double> seconds_;
+  std::optional<FrameLogWriter> log_;
+  std::optional<FrameDirectoryWriter> directory_;
+  std::size_t written_ = 0, with_gyro_ = 0;
+  std::int64_t first_t_ns_ = 0, last_t_ns_ = 0;
+  int width_ = 0, height_ = 0;
+  PixelFormat format_ = PixelFormat::mono8;
+};
+
+void record_synth(const RecordArgs& a, const Config& config) {
+  const SynthConfig& s = config.synth;
+  const SynthDrive drive(config);
+  RoadRenderer renderer(config.camera, s);
+  const ImageBuffer buffer(config.camera.Nu, config.camera.Nv, renderer.format(), s.bits);
+  const MutableImageView& image = buffer.view();
+  Recording out(a, config, s.gyro, s.frames);
+  const std::int64_t start = realtime_us();
+  for (std::uint64_t k = 0;; ++k) {
+    const SynthFrame f = drive.frame(k);
+    if (!out.wants(f.t_ns)) break;
+    renderer.render(f, image);
+    out.write(image, {k, f.t_ns, out.utime_of(f.t_ns, start), s.gyro ? std::optional<Gx1Angles>(f.gyro) : std::nullopt});
+  }
+  out.finish("synth");
+}
+
+void record_frames(const RecordArgs& a, const Config& config, const std::string& path) {
+  std::optional<FrameDirectory> dir;
+  try {
+    dir.emplace(path);
+  } catch (const FrameDirectoryError& e) {
+    throw UsageError(e.what());
+  }
+  for (const std::string& issue : dir->issues()) std::cerr << "ccdlane record: " << issue << '\n';
+  const auto header = dir->probe_first();
+  if (!header) throw UsageError(path + ": no frame of the directory can be read");
+  const ImageBuffer buffer(header->width, header->height, header->format(),
+                          header->format() == PixelFormat::mono16 ? header->significant_bits() : 8);
+  const MutableImageView& image = buffer.view();
+  Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()));
+  const std::int64_t start = realtime_us();
+  for (std::size_t i = 0; i < dir->size(); ++i) {
+    const FrameRow& row = dir->row(i);
+    if (!out.wants(row.t_ns)) break;
+    if (dir->read(i, image) != PgmFault::none) {
+      std::cerr << "ccdlane record: " << dir->error() << " (skipped)\n";
+      continue;
+    }
+    out.write(image, {row.index, row.t_ns, out.utime_of(row.t_ns, start), row.gyro});
+  }
+  out.finish("frames:" + path);
+}
+
+void record_camera(const RecordArgs& a, const Config& config) {
+  CameraSettings settings;
+  settings.width = config.camera.Nu;
+  settings.height = config.camera.Nv;
+  settings.fps = a.fps;
+  std::string error;
+  std::unique_ptr<FrameSource> camera = make_camera(a.source, settings, error);
+  if (!camera) throw UsageError("record: " + error);
+  // The gyro first: the camera's first frames then already have readings around them.
+  std::unique_ptr<LiveGyro> gyro;
+  if (!config.gyro.device.empty()) gyro = std::make_unique<LiveGyro>(config.gyro.device);
+  if (error = camera->open(); !error.empty()) throw std::runtime_error(error);
+  try {
+    FramePool pool({.count = 1, .width = camera->width(), .height = camera->height(), .format = camera->format()});
+    Recording out(a, config, gyro != nullptr, std::nullopt);
+    const int i = pool.borrow();
+    const std::int64_t wall_start = monotonic_ns();
+    while (out.wants_more()) {
+      if (a.seconds && static_cast<double>(monotonic_ns() - wall_start) * 1e-9 > *a.seconds + 1.0) break;  // stalled
+      FrameMeta& meta = pool.meta(i);
+      if (camera->capture(pool.view(i), meta, 200) != CaptureStatus::frame) continue;
+      if (!out.wants(meta.t_ns)) break;
+      const std::int64_t utime = realtime_us() - (monotonic_ns() - meta.t_ns) / 1000;
+      out.write(pool.view(i), {meta.sequence, meta.t_ns, utime, gyro ? gyro->at(meta.t_ns) : std::nullopt});
+    }
+    out.finish(camera->describe());
+    const SourceCounters c = camera->counters();
+    if (c.dropped || c.errors)
+      std::fprintf(stderr, "ccdlane record: the camera dropped %llu frames and reported %llu errors\n",
+                   static_cast<unsigned long long>(c.dropped), static_cast<unsigned long long>(c.errors));
+    if (gyro && gyro->missing())
+      std::fprintf(stderr, "ccdlane record: %llu frames without a gyro reading (none close enough in time)\n",
+                   static_cast<unsigned long long>(gyro->missing()));
+  } catch (...) {
+    camera->close();
+    throw;
+  }
+  camera->close();
+}
+
+}  // namespace
+
+CommandAction setup_record(CLI::App& sub) {
+  auto a = std::make_shared<RecordArgs>();
+  sub.add_option("source", a->source,
+                 "v4l2:/dev/videoN, aravis:ID (IP address, camera id or serial, Fake_1), synth (the [synth] road "
+                 "of --config) or frames:DIR (a frame directory)")
+      ->required();
+  sub.add_option("--out", a->out, "a frame directory to create, or FILE.lcmlog (an LCM log of ccdlane.frame_t)")
+      ->required();
+  sub.add_option("--config", a->config, "configuration (TOML): [camera] Nu x Nv, [gyro] device, [synth], [lcm] prefix");
+  sub.add_option("--seconds", a->seconds, "stop after S seconds of frames")->check(CLI::PositiveNumber);
+  sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
+  sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")->check(CLI::Range(0.0, 10000.0));
+  sub.footer("Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "
+             "[camera] Nu x Nv, with the [gyro] device's reading interpolated at each frame's time. synth records "
+             "[synth] frames (or --count/--seconds of them), frames:DIR the whole directory. A log holds one "
+             "ccdlane.frame_t event per frame on channel <[lcm] prefix>FRAMES; a frame directory holds PGM files "
+             "and frames.csv (roll_deg,pitch_deg,yaw_deg when there is a gyro). Nothing is left behind on failure.");
+  return [a] {
+    const Config config = a->config.empty() ? default_config() : load_config_file(a->config);
+    catch_stop_signals();
+    if (a->source == "synth") record_synth(*a, config);
+    else if (a->source.rfind("frames:", 0) == 0) record_frames(*a, config, a->source.substr(7));
+    else record_camera(*a, config);
+    return 0;
+  };
+}
+
+}  // namespace ccdlane::cli
