@@ -36,7 +36,7 @@ class MonitorCommand : public ::testing::Test {
   void SetUp() override {
     if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
     const std::string config = dir_.write(
-        "ccdlane.toml", "[camera]\nNu = 160\nNv = 120\n[source]\nrate_hz = 50\n[lcm]\nurl = \"" + kUrl + "\"\n");
+        "ccdlane.toml", "[synth]\nframes = 10\n[source]\nrate_hz = 50\n[lcm]\nurl = \"" + kUrl + "\"\n");
     daemon_ = std::make_unique<test::ChildProcess>(std::vector<std::string>{kDaemon, "--config", config},
                                                    test::ChildOptions{{}, "", dir_.file("daemon.log"), {}});
   }
@@ -72,11 +72,12 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
     previous = j["frame"].get<std::uint64_t>();
     EXPECT_TRUE(j["ok"].get<bool>());
     EXPECT_EQ(j["departure"], "none");
-    ASSERT_EQ(j["lines"].size(), 2u);
+    ASSERT_EQ(j["lines"].size(), 4u);  // the default synthetic road: 3 lanes
     std::vector<std::string> line_keys;
     for (auto it = j["lines"][0].begin(); it != j["lines"][0].end(); ++it) line_keys.push_back(it.key());
     EXPECT_EQ(line_keys, (std::vector<std::string>{"id", "y0_mm", "m", "c_per_mm", "marks", "confidence"}));
-    EXPECT_EQ(j["lines"][0]["y0_mm"], 1750.0);
+    // Left to right, 3.6 m apart as rendered.
+    EXPECT_NEAR(j["lines"][0]["y0_mm"].get<double>() - j["lines"][1]["y0_mm"].get<double>(), 3600.0, 100.0);
   }
 }
 
