@@ -7,6 +7,7 @@
 
 #include "daemon/allocation_counter.hpp"
 #include "daemon/clock.hpp"
+#include "daemon/frame_publisher.hpp"
 #include "daemon/gyro_factory.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/lcm_publisher.hpp"
@@ -146,6 +147,8 @@ int run_daemon(const Config& config) {
     }
     processor = make_frame_processor(config, *source);
     publisher = std::make_unique<LcmPublisher>(config.lcm);
+    // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
+    processor = with_frame_publishing(std::move(processor), config, *publisher, *source);
   } catch (const std::exception& e) {
     return fail("start", e.what());
   }
