@@ -72,19 +72,20 @@ struct LaneSolver::Impl {
         max_lines(max_lines_in),
         x_a(static_cast<std::size_t>(max_picks)),
         x_b(x_a.size()),
-        dx(x_a.size()),
-        blocks_a(x_a.size()),
-        blocks_b(x_a.size()),
+        rows_a(max_picks),
+        rows_b(max_picks),
+        sorted(x_a.size()),
+        order(x_a.size()),
         ground(x_a.size()),
         ideal(x_a.size()),
         points(x_a.size()),
         reprojection(spec, max_picks),
-        paper(spec) {
+        paper(spec),
+        lm(max_picks) {
     state_a.x = x_a.data();
-    state_a.blocks = blocks_a.data();
+    state_a.rows = &rows_a;
     state_b.x = x_b.data();
-    state_b.blocks = blocks_b.data();
-    lm.dx = dx.data();
+    state_b.rows = &rows_b;
     for (PriorRows* rows : {&state_a.priors, &state_b.priors})
       for (PriorRow& row : rows->rows) row.a.setZero(kMaxReducedParams);
   }
@@ -97,8 +98,16 @@ struct LaneSolver::Impl {
   CameraModel camera;
   int max_picks;
   int max_lines;
-  std::vector<double> x_a, x_b, dx;
-  std::vector<PickBlock> blocks_a, blocks_b;
+  // Sorts the request's picks by line into `sorted` (order[i]: sorted pick i's index in
+  // the request) and sets `segments`: inside the solve every per-line pass is then over
+  // one contiguous range.
+  void sort_by_line(std::span<const Pick> picks, int num_lines);
+
+  std::vector<double> x_a, x_b;
+  PickRows rows_a, rows_b;
+  std::vector<Pick> sorted;
+  std::vector<int> order;
+  LineSegments segments;
   std::vector<Vec2> ground, ideal, points;
   SolverState state_a, state_b;
   ReprojectionResidual reprojection;
@@ -134,6 +143,19 @@ std::optional<SolveStatus> LaneSolver::Impl::reject(const SolveRequest& r) {
   return std::nullopt;
 }
 
+void LaneSolver::Impl::sort_by_line(std::span<const Pick> picks, int num_lines) {
+  segments.begin.fill(0);
+  for (const Pick& p : picks) ++segments.begin[p.line + 1];
+  for (int j = 0; j < num_lines; ++j) segments.begin[j + 1] += segments.begin[j];
+  std::array<int, kMaxLaneLines> next{};
+  std::copy_n(segments.begin.begin(), kMaxLaneLines, next.begin());
+  for (std::size_t i = 0; i < picks.size(); ++i) {
+    const int to = next[picks[i].line]++;
+    sorted[to] = picks[i];
+    order[to] = static_cast<int>(i);
+  }
+}
+
 const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
   result.failed_pick = -1;
   result.iterations = 0;
@@ -152,12 +174,14 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
     result.status = *s;
     return result;
   }
-  const std::span<const Pick> picks = r.picks;
+  sort_by_line(r.picks, r.num_lines);
+  const std::span<const Pick> picks(sorted.data(), r.picks.size());
+  const int num_picks = static_cast<int>(picks.size());
   layout = ParameterLayout(r.free, r.num_lines);
 
   camera.set_pose(r.initial_pose);
   if (const int miss = ground_points_of_picks(camera, picks, ground.data()); miss >= 0) {
-    result.failed_pick = miss;
+    result.failed_pick = order[miss];
     result.status = SolveStatus::no_ground_point;
     return result;
   }
@@ -178,14 +202,15 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
     for (std::size_t i = 0; i < picks.size(); ++i)
       ideal[i] = *camera.ideal_from_observed(Vec2(picks[i].px, picks[i].py));  // exists: ground point did
     paper.configure(layout, picks, std::span<const Vec2>(ideal.data(), picks.size()));
-    evaluated = paper.evaluate(*current);
+    evaluated = paper.evaluate(*current) && linearise(paper, layout, segments, *current);
     if (!warm) options.initial_damping = PaperResidual::kColdInitialDamping;
-    if (evaluated) outcome = levenberg_marquardt(paper, layout, picks, options, current, candidate, lm);
+    if (evaluated) outcome = levenberg_marquardt(paper, layout, segments, num_picks, options, current, candidate, lm);
   } else {
     reprojection.configure(layout, picks, r.pixel_sigma, r.priors);
-    evaluated = reprojection.evaluate(*current);
+    evaluated = reprojection.evaluate_cost(*current) && linearise(reprojection, layout, segments, *current);
     if (!warm) options.initial_damping = ReprojectionResidual::kColdInitialDamping;
-    if (evaluated) outcome = levenberg_marquardt(reprojection, layout, picks, options, current, candidate, lm);
+    if (evaluated)
+      outcome = levenberg_marquardt(reprojection, layout, segments, num_picks, options, current, candidate, lm);
   }
   if (!evaluated || !std::isfinite(current->cost)) outcome.status = SolveStatus::numerical_failure;
   finish(r, *current, outcome);
@@ -193,7 +218,7 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
 }
 
 void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, const LmOutcome& outcome) {
-  const std::span<const Pick> picks = r.picks;
+  const std::span<const Pick> picks(sorted.data(), r.picks.size());
   result.status = outcome.status;
   result.converged = outcome.status == SolveStatus::converged_cost || outcome.status == SolveStatus::converged_step;
   result.iterations = outcome.iterations;
@@ -209,12 +234,13 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
   double sum_sq = 0.0;
   for (std::size_t i = 0; i < picks.size(); ++i) {
     const double x = state.x[i];
-    points[i] = Vec2(x, line_y(state.lines[picks[i].line], x));
+    const Vec2 point(x, line_y(state.lines[picks[i].line], x));
+    points[order[i]] = point;  // in the request's order
     if (r.mode == SolverMode::reprojection) {
-      sum_sq += state.blocks[i].r.squaredNorm() * r.pixel_sigma * r.pixel_sigma;
+      sum_sq += state.rows->residual(static_cast<int>(i)).squaredNorm() * r.pixel_sigma * r.pixel_sigma;
       continue;
     }
-    const auto px = camera.pixel_from_point(Vec3(points[i].x(), points[i].y(), 0.0));
+    const auto px = camera.pixel_from_point(Vec3(point.x(), point.y(), 0.0));
     sum_sq += px ? (*px - Vec2(picks[i].px, picks[i].py)).squaredNorm() : std::numeric_limits<double>::infinity();
   }
   result.points_mm = std::span<const Vec2>(points.data(), picks.size());
@@ -223,7 +249,7 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
 
   // Uncertainty from the undamped reduced normal matrix at the optimum.
   const int n = layout.size();
-  build_reduced_system(layout, picks, state, 0.0, lm.N, lm.g);
+  build_reduced_system(layout, state, 0.0, lm.N, lm.g);
   double variance_scale = 1.0;
   if (r.mode == SolverMode::paper) {
     const int spare = static_cast<int>(picks.size()) - n;

@@ -4,18 +4,23 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <span>
 #include <utility>
+#include <vector>
 
 #include "core/solver/schur_system.hpp"
 
 namespace ccdlane::solver {
 
 struct LmWorkspace {
+  explicit LmWorkspace(int max_picks) : dx(static_cast<std::size_t>(max_picks)) {
+    for (Eigen::ArrayXd& a : scratch) a.setZero(max_picks);
+  }
   ReducedMatrix N, A;
   ReducedVector g, scale, step;
-  double* dx = nullptr;  // per pick
+  std::vector<double> dx;                 // per pick
+  std::array<Eigen::ArrayXd, 2> scratch;  // per pick, for back_substitute
 };
 
 // Solves A x = b in place (x into b) by an unpivoted Cholesky factorisation of A's lower
@@ -65,19 +70,29 @@ struct LmOutcome {
 constexpr double kCostTolerance = 1e-12;  // |J - J_new| <= tol * J
 constexpr double kStepTolerance = 1e-12;  // |step| <= tol * (|parameters| + tol), x_i included
 
+// The linearisation of an evaluated state: its Jacobians, summed into its normals. False
+// when the Jacobians cannot be had (the model says why).
+template <class Model>
+bool linearise(Model& model, const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
+  if (!model.evaluate_jacobians(state)) return false;
+  accumulate_normals(layout, segments, state);
+  return true;
+}
+
 // Marquardt's scale-invariant damping: the reduced system is scaled to unit diagonal and
 // lambda added to it, with Nielsen's update of lambda from the gain ratio. `current`
-// holds an evaluated state on entry and the best state on return; `candidate` is scratch.
+// holds an evaluated, linearised state on entry and the best state on return (still
+// linearised, for the covariance); `candidate` is scratch. The picks are sorted by line
+// (`segments`).
 // Model: bool evaluate_cost(SolverState&) filling residuals, priors and cost (and, for
 // variable projection, x), then void evaluate_jacobians(SolverState&) for the same state:
 // Jacobians are computed only for steps that are taken.
 template <class Model>
-LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::span<const Pick> picks,
-                              const LmOptions& options, SolverState*& current, SolverState*& candidate,
-                              LmWorkspace& ws) {
+LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const LineSegments& segments,
+                              int num_picks, const LmOptions& options, SolverState*& current,
+                              SolverState*& candidate, LmWorkspace& ws) {
   LmOutcome out;
   const int n = layout.size();
-  const std::size_t num_picks = picks.size();
   double lambda = options.initial_damping, nu = 2.0;
   ws.scale.setOnes(n);
   const auto reject = [&] {
@@ -90,7 +105,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
   }
   while (out.iterations < options.max_iterations) {
     ++out.iterations;
-    build_reduced_system(layout, picks, *current, lambda, ws.N, ws.g);
+    build_reduced_system(layout, *current, lambda, ws.N, ws.g);
     for (int k = 0; k < n; ++k) ws.scale[k] = ws.N(k, k) > 0.0 ? 1.0 / std::sqrt(ws.N(k, k)) : 1.0;
     ws.A.resize(n, n);
     for (int c = 0; c < n; ++c) {
@@ -108,10 +123,10 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
       reject();
       continue;
     }
-    const BackSubstitution bs = back_substitute(layout, picks, *current, lambda, ws.step, ws.dx);
+    const BackSubstitution bs = back_substitute(layout, segments, *current, lambda, ws.step, ws.dx.data(), ws.scratch);
 
     double x_norm2 = 0.0;
-    for (std::size_t i = 0; i < num_picks; ++i) x_norm2 += current->x[i] * current->x[i];
+    for (int i = 0; i < num_picks; ++i) x_norm2 += current->x[i] * current->x[i];
     const double step_norm = std::sqrt(ws.step.squaredNorm() + bs.x_step_squared_norm);
     const double param_norm = std::sqrt(layout.squared_norm(current->pose, current->lines.data()) + x_norm2);
     if (step_norm <= kStepTolerance * (param_norm + kStepTolerance)) {
@@ -122,7 +137,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
     candidate->pose = current->pose;
     candidate->lines = current->lines;
     layout.apply_step(ws.step, candidate->pose, candidate->lines.data());
-    for (std::size_t i = 0; i < num_picks; ++i) candidate->x[i] = current->x[i] + ws.dx[i];
+    for (int i = 0; i < num_picks; ++i) candidate->x[i] = current->x[i] + ws.dx[i];
     if (!model.evaluate_cost(*candidate) || !std::isfinite(candidate->cost)) {
       reject();
       continue;
@@ -136,7 +151,10 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
     }
     const double rho = bs.predicted_decrease > 0.0 ? decrease / bs.predicted_decrease : -1.0;
     if (rho > 0.0) {
-      model.evaluate_jacobians(*candidate);
+      if (!linearise(model, layout, segments, *candidate)) {
+        reject();
+        continue;
+      }
       std::swap(current, candidate);
       const double t = 2.0 * rho - 1.0;
       lambda *= std::max(1.0 / 3.0, 1.0 - t * t * t);

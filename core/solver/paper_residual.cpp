@@ -44,22 +44,22 @@ bool PaperResidual::evaluate(SolverState& state) {
     state.x[i] = x;
     const double Y = line_y(line, x), ax = x - L.x(), ay = Y - L.y();
 
-    PickBlock& b = state.blocks[i];
-    b.r = Vec2(ax * D.y() - ay * D.x(), ax * D.z() + L.z() * D.x());
-    cost += b.r.squaredNorm();
+    const Vec2 r(ax * D.y() - ay * D.x(), ax * D.z() + L.z() * D.x());
+    cost += r.squaredNorm();
+    PickJacobian J;
     for (int k = 0; k < ng; ++k) {
       const int p = layout.global(k);
-      b.J(0, k) = -dL(0, p) * D.y() + ax * dD(1, p) + dL(1, p) * D.x() - ay * dD(0, p);
-      b.J(1, k) = -dL(0, p) * D.z() + ax * dD(2, p) + dL(2, p) * D.x() + L.z() * dD(0, p);
+      J(0, k) = -dL(0, p) * D.y() + ax * dD(1, p) + dL(1, p) * D.x() - ay * dD(0, p);
+      J(1, k) = -dL(0, p) * D.z() + ax * dD(2, p) + dL(2, p) * D.x() + L.z() * dD(0, p);
     }
     const double basis[kLineParams] = {1.0, x, x * x};
-    for (int k = 0; k < nk; ++k) b.J.col(ng + k) = Vec2(-D.x() * basis[layout.line_kind(k)], 0.0);
-    b.J.rightCols(kMaxLocalParams - ng - nk).setZero();
-    b.Jx = Vec2(D.y() - (line.m + 2.0 * line.c_per_mm * x) * D.x(), D.z());
+    for (int k = 0; k < nk; ++k) J.col(ng + k) = Vec2(-D.x() * basis[layout.line_kind(k)], 0.0);
+    const Vec2 Jx(D.y() - (line.m + 2.0 * line.c_per_mm * x) * D.x(), D.z());
+    state.rows->set(static_cast<int>(i), r, J, Jx, ng + nk);
   }
   state.priors.count = 0;  // the paper's index has no priors
   state.cost = cost;
-  return true;
+  return state.rows->complete(static_cast<int>(picks_.size()));
 }
 
 }  // namespace ccdlane::solver

@@ -28,11 +28,12 @@ class PaperResidual {
 
   // Moves every x_i of `state` to the minimiser of r1^2 + r2^2 at the state's pose and
   // lines (variable projection: the cost is then a function of the globals and lines
-  // alone), then fills residuals, Jacobians and J. Always succeeds for finite input.
+  // alone), then fills residuals, Jacobians and J. False when some pick cannot be
+  // eliminated (PickRows::complete).
   bool evaluate(SolverState& state);
   // The LM loop's two stages; the paper's residuals are cheap, so the first does all.
   bool evaluate_cost(SolverState& state) { return evaluate(state); }
-  void evaluate_jacobians(SolverState&) {}
+  bool evaluate_jacobians(SolverState&) { return true; }
 
  private:
   CameraModel camera_;

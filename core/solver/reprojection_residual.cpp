@@ -5,42 +5,81 @@
 
 namespace ccdlane::solver {
 
+ReprojectionResidual::ReprojectionResidual(const CameraSpec& spec, int max_picks)
+    : camera_(spec, CameraPose{}), projection_(max_picks) {
+  for (Array* a : {&px_, &py_, &x_, &y_, &slope_, &du_, &dv_, &side_u_, &side_v_}) a->setZero(max_picks);
+}
+
+void ReprojectionResidual::configure(const ParameterLayout& layout, std::span<const Pick> picks, double pixel_sigma,
+                                     const SolverPriors& priors) {
+  layout_ = &layout;
+  picks_ = picks;
+  inv_sigma_ = 1.0 / pixel_sigma;
+  priors_ = &priors;
+  for (std::size_t i = 0; i < picks.size(); ++i) {
+    px_[i] = picks[i].px;
+    py_[i] = picks[i].py;
+  }
+}
+
 bool ReprojectionResidual::evaluate_cost(SolverState& state) {
+  const int n = static_cast<int>(picks_.size());
   camera_.set_pose(state.pose);
   projection_.set_camera(camera_);
-  // The division/square-root chains of the picks are independent: this loop overlaps
-  // them in the pipeline, and evaluate_jacobians reuses them.
-  double cost = 0.0;
-  for (std::size_t i = 0; i < picks_.size(); ++i) {
-    const Pick& pick = picks_[i];
+  for (int i = 0; i < n; ++i) {  // each pick's road point, on its own line
+    const LaneLine& line = state.lines[picks_[i].line];
     const double x = state.x[i];
-    if (!projection_.start(x, line_y(state.lines[pick.line], x), chains_[i])) return false;
-    PickBlock& b = state.blocks[i];
-    b.r = (projection_.pixel(chains_[i]) - Vec2(pick.px, pick.py)) * inv_sigma_;
-    cost += b.r.squaredNorm();
+    x_[i] = x;
+    y_[i] = line_y(line, x);
+    slope_[i] = line.m + 2.0 * line.c_per_mm * x;
   }
+  if (!projection_.project(x_, y_, n)) return false;
+  PickRows& rows = *state.rows;
+  rows.r0.head(n) = (projection_.u().head(n) - px_.head(n)) * inv_sigma_;
+  rows.r1.head(n) = (projection_.v().head(n) - py_.head(n)) * inv_sigma_;
+  double cost = (rows.r0.head(n).square() + rows.r1.head(n).square()).sum();
   evaluate_priors(*priors_, *layout_, state.pose, state.lines.data(), state.priors, cost);
   state.cost = cost;
   return true;
 }
 
-void ReprojectionResidual::evaluate_jacobians(SolverState& state) {
+bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
   const ParameterLayout& layout = *layout_;
-  const int ng = layout.num_global(), nk = layout.num_line_kinds();
-  RoadProjection::Derivatives d;
-  for (std::size_t i = 0; i < picks_.size(); ++i) {
-    const LaneLine& line = state.lines[picks_[i].line];
-    const double x = state.x[i];
-    projection_.derivatives(chains_[i], d);
-    PickBlock& b = state.blocks[i];
-    for (int k = 0; k < ng; ++k) b.J.col(k) = projection_.pose_column(d, layout.global(k)) * inv_sigma_;
-    // The road point moves sideways (fixed-frame y) with y0, m and c; along the line with x.
-    const Vec2 d_side = projection_.road_column(d, 1) * inv_sigma_;
-    const double basis[kLineParams] = {1.0, x, x * x};
-    for (int k = 0; k < nk; ++k) b.J.col(ng + k) = d_side * basis[layout.line_kind(k)];
-    b.J.rightCols(kMaxLocalParams - ng - nk).setZero();
-    b.Jx = projection_.road_column(d, 0) * inv_sigma_ + d_side * (line.m + 2.0 * line.c_per_mm * x);
+  const int n = static_cast<int>(picks_.size()), ng = layout.num_global();
+  PickRows& rows = *state.rows;
+  projection_.differentiate(n);
+  // Along the line: the road point moves along x and sideways with the line's slope.
+  projection_.road_column(0, n, du_, dv_);
+  projection_.road_column(1, n, side_u_, side_v_);
+  const auto s = slope_.head(n);
+  rows.jx0.head(n) = (du_.head(n) + side_u_.head(n) * s) * inv_sigma_;
+  rows.jx1.head(n) = (dv_.head(n) + side_v_.head(n) * s) * inv_sigma_;
+  const auto j0 = rows.jx0.head(n), j1 = rows.jx1.head(n);
+  // Each column seen along b_u = (-Jx1, Jx0) and b_x = Jx (PickRows).
+  const auto seen_along = [&](const Array& cu, const Array& cv, int k) {
+    rows.au[k].head(n) = (-j1 * cu.head(n) + j0 * cv.head(n)) * inv_sigma_;
+    rows.ax[k].head(n) = (j0 * cu.head(n) + j1 * cv.head(n)) * inv_sigma_;
+  };
+  for (int k = 0; k < ng; ++k) {
+    projection_.pose_column(layout.global(k), n, du_, dv_);
+    seen_along(du_, dv_, k);
   }
+  // y0, m and c move the road point sideways by 1, x and x^2.
+  for (int k = 0; k < layout.num_line_kinds(); ++k) {
+    const int col = ng + k;
+    seen_along(side_u_, side_v_, col);
+    switch (layout.line_kind(k)) {
+      case kY0: break;
+      case kSlope:
+        rows.au[col].head(n) *= x_.head(n);
+        rows.ax[col].head(n) *= x_.head(n);
+        break;
+      default:
+        rows.au[col].head(n) *= x_.head(n).square();
+        rows.ax[col].head(n) *= x_.head(n).square();
+    }
+  }
+  return rows.complete(n);
 }
 
 }  // namespace ccdlane::solver

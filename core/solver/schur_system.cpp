@@ -1,119 +1,81 @@
-// Schur elimination of the per-pick x_i. A pick's rows touch the globals, its own line
-// and its x, so its contribution is accumulated in a zero-padded local block per line
-// (fixed size, vectorised) and scattered into the reduced matrix once per line.
+// Schur elimination of the per-pick x_i, over the picks' rows (PickRows) line by line.
+//
+// Eliminating x_i with curvature |Jx|^2 (1 + lambda) leaves J^T P J with
+//   P = I - Jx Jx^T / (|Jx|^2 (1 + lambda)) = (b_u b_u^T + lambda / (1 + lambda) b_x b_x^T) / |Jx|^2
+// in the pick's directions b_u, b_x: two rank-one rows, one when undamped. Each entry of
+// a line's block is then a weighted dot product over the line's picks.
 #include "core/solver/schur_system.hpp"
-
-#include <array>
 
 namespace ccdlane::solver {
 
-namespace {
-
-// Calls f.template operator()<M>() with M = the layout's local size, a compile-time
-// constant in each branch (1 .. kMaxLocalParams).
-template <class F>
-decltype(auto) with_local_size(int m, F&& f) {
-  switch (m) {
-    case 1: return f.template operator()<1>();
-    case 2: return f.template operator()<2>();
-    case 3: return f.template operator()<3>();
-    case 4: return f.template operator()<4>();
-    case 5: return f.template operator()<5>();
-    case 6: return f.template operator()<6>();
-    case 7: return f.template operator()<7>();
-    default: return f.template operator()<kMaxLocalParams>();
+PickRows::PickRows(int max_picks) {
+  for (Array* a : {&r0, &r1, &jx0, &jx1, &ru, &rx, &w}) a->setZero(max_picks);
+  for (int k = 0; k < kMaxLocalParams; ++k) {
+    au[k].setZero(max_picks);
+    ax[k].setZero(max_picks);
   }
 }
 
-// Adds each pick's Schur-reduced contribution to its line's local block, for M local
-// columns (fixed at compile time so the small products unroll and vectorise).
-//
-// Eliminating x_i with curvature |Jx|^2 (1 + lambda) leaves J^T P J with
-//   P = I - Jx Jx^T / (|Jx|^2 (1 + lambda)) = (u u^T + lambda / (1 + lambda) Jx Jx^T) / |Jx|^2,
-// u = Jx turned by 90 degrees (in 2-D, I - Jx Jx^T / |Jx|^2 = u u^T / |Jx|^2): two rank-one
-// updates, one when undamped, instead of J^T J minus an outer product.
-template <int M>
-void accumulate_picks(std::span<const Pick> picks, const SolverState& state, double lambda,
-                      std::array<LocalMatrix, kMaxLaneLines>& H, std::array<LocalVector, kMaxLaneLines>& h) {
+void PickRows::set(int i, const Vec2& r, const PickJacobian& J, const Vec2& Jx, int m) {
+  r0[i] = r.x();
+  r1[i] = r.y();
+  jx0[i] = Jx.x();
+  jx1[i] = Jx.y();
+  const Vec2 bu(-Jx.y(), Jx.x());
+  for (int k = 0; k < m; ++k) {
+    au[k][i] = bu.dot(J.col(k));
+    ax[k][i] = Jx.dot(J.col(k));
+  }
+}
+
+bool PickRows::complete(int n) {
+  const auto j0 = jx0.head(n), j1 = jx1.head(n), a = r0.head(n), b = r1.head(n);
+  ru.head(n) = -j1 * a + j0 * b;
+  rx.head(n) = j0 * a + j1 * b;
+  w.head(n) = j0 * j0 + j1 * j1;
+  if (!(w.head(n) > 0.0).all()) return false;
+  w.head(n) = w.head(n).inverse();
+  return true;
+}
+
+void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
+  const PickRows& rows = *state.rows;
+  const int m = layout.local_size();
+  LineNormals& out = state.normals;
+  for (int j = 0; j < layout.num_lines(); ++j) {
+    const int b = segments.begin[j], n = segments.size(j);
+    const auto w = rows.w.segment(b, n);
+    LocalMatrix& Hf = out.H_fixed[j];
+    LocalMatrix& Hd = out.H_damped[j];
+    for (int c = 0; c < m; ++c) {
+      const auto au_c = rows.au[c].segment(b, n), ax_c = rows.ax[c].segment(b, n);
+      for (int k = 0; k <= c; ++k) {
+        Hf(k, c) = Hf(c, k) = (rows.au[k].segment(b, n) * au_c * w).sum();
+        Hd(k, c) = Hd(c, k) = (rows.ax[k].segment(b, n) * ax_c * w).sum();
+      }
+      out.h_fixed[j][c] = (au_c * rows.ru.segment(b, n) * w).sum();
+      out.h_damped[j][c] = (ax_c * rows.rx.segment(b, n) * w).sum();
+    }
+  }
+}
+
+void build_reduced_system(const ParameterLayout& layout, const SolverState& state, double lambda, ReducedMatrix& N,
+                          ReducedVector& g) {
+  const int n = layout.size(), ng = layout.num_global(), m = layout.local_size();
   const double damped_share = lambda / (1.0 + lambda);
-  for (std::size_t i = 0; i < picks.size(); ++i) {
-    const PickBlock& b = state.blocks[i];
-    const int j = picks[i].line;
-    const auto J = b.J.template leftCols<M>();
-    auto Hj = H[j].template topLeftCorner<M, M>();
-    auto hj = h[j].template head<M>();
-    const double jj = b.Jx.squaredNorm();
-    if (!(jj > 0.0)) {  // x_i does not move this pick: nothing to eliminate
-      Hj.noalias() += J.transpose() * J;
-      hj.noalias() += J.transpose() * b.r;
-      continue;
-    }
-    const double inv_jj = 1.0 / jj;
-    const Vec2 u(-b.Jx.y(), b.Jx.x());
-    const Eigen::Matrix<double, 1, M> a = u.transpose() * J;
-    const Eigen::Matrix<double, 1, M> a_scaled = a * inv_jj;
-    Hj.noalias() += a.transpose() * a_scaled;
-    hj.noalias() += a_scaled.transpose() * u.dot(b.r);
-    if (damped_share > 0.0) {
-      const Eigen::Matrix<double, 1, M> c = b.Jx.transpose() * J;
-      const Eigen::Matrix<double, 1, M> c_scaled = c * (damped_share * inv_jj);
-      Hj.noalias() += c.transpose() * c_scaled;
-      hj.noalias() += c_scaled.transpose() * b.Jx.dot(b.r);
-    }
-  }
-}
-
-// x_i steps for a reduced step, and the linearised cost decrease, for M local columns.
-template <int M>
-BackSubstitution back_substitute_picks(const ParameterLayout& layout, std::span<const Pick> picks,
-                                       const SolverState& state, double lambda, const ReducedVector& step, double* dx) {
-  BackSubstitution out;
-  const double damping = 1.0 + lambda;
-  std::array<Eigen::Matrix<double, M, 1>, kMaxLaneLines> local;
-  for (int j = 0; j < layout.num_lines(); ++j) local[j] = layout.gather_local(step, j).template head<M>();
-  // Predicted decrease per residual block: |r|^2 - |r + u|^2 = -(2 r.u + u.u), computed
-  // from u directly so that it does not vanish in the rounding of two nearly equal costs.
-  double decrease = 0.0;
-  for (std::size_t i = 0; i < picks.size(); ++i) {
-    const PickBlock& b = state.blocks[i];
-    const Vec2 Jp = b.J.template leftCols<M>() * local[picks[i].line];
-    const double c = b.Jx.squaredNorm() * damping;
-    dx[i] = c > 0.0 ? -b.Jx.dot(b.r + Jp) / c : 0.0;
-    out.x_step_squared_norm += dx[i] * dx[i];
-    const Vec2 u = Jp + b.Jx * dx[i];
-    decrease -= 2.0 * b.r.dot(u) + u.squaredNorm();
-  }
-  out.predicted_decrease = decrease;
-  return out;
-}
-
-}  // namespace
-
-void build_reduced_system(const ParameterLayout& layout, std::span<const Pick> picks, const SolverState& state,
-                          double lambda, ReducedMatrix& N, ReducedVector& g) {
-  const int n = layout.size(), ng = layout.num_global();
-  const int num_lines = layout.num_lines();
-  std::array<LocalMatrix, kMaxLaneLines> H;
-  std::array<LocalVector, kMaxLaneLines> h;
-  for (int j = 0; j < num_lines; ++j) {
-    H[j].setZero();
-    h[j].setZero();
-  }
-  with_local_size(layout.local_size(), [&]<int M>() { accumulate_picks<M>(picks, state, lambda, H, h); });
-
+  const LineNormals& parts = state.normals;
+  N.setZero(n, n);
+  g.setZero(n);
   // Scatter each line's local block: its globals overlap every other line's, its own
   // kinds sit at the line's offset. Plain loops: the sizes are tiny, and Eigen's dynamic
   // block expressions cost more than the arithmetic here.
-  const int m = layout.local_size();
-  N.setZero(n, n);
-  g.setZero(n);
-  for (int j = 0; j < num_lines; ++j) {
+  for (int j = 0; j < layout.num_lines(); ++j) {
     const int shift = layout.line_offset(j) - ng;
     const auto reduced = [&](int local) { return local < ng ? local : local + shift; };
     for (int c = 0; c < m; ++c) {
       const int rc = reduced(c);
-      for (int k = 0; k < m; ++k) N(reduced(k), rc) += H[j](k, c);
-      g[rc] += h[j][c];
+      for (int k = 0; k < m; ++k) N(reduced(k), rc) += parts.H_fixed[j](k, c) + damped_share * parts.H_damped[j](k, c);
+      g[rc] += parts.h_fixed[j][c] + damped_share * parts.h_damped[j][c];
     }
   }
   for (int p = 0; p < state.priors.count; ++p) {
@@ -126,11 +88,35 @@ void build_reduced_system(const ParameterLayout& layout, std::span<const Pick> p
   }
 }
 
-BackSubstitution back_substitute(const ParameterLayout& layout, std::span<const Pick> picks, const SolverState& state,
-                                 double lambda, const ReducedVector& step, double* dx) {
-  BackSubstitution out = with_local_size(layout.local_size(), [&]<int M>() {
-    return back_substitute_picks<M>(layout, picks, state, lambda, step, dx);
-  });
+BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
+                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx,
+                                 std::array<Eigen::ArrayXd, 2>& scratch) {
+  const PickRows& rows = *state.rows;
+  const int m = layout.local_size();
+  const double damping = 1.0 + lambda;
+  BackSubstitution out;
+  for (int j = 0; j < layout.num_lines(); ++j) {
+    const int b = segments.begin[j], n = segments.size(j);
+    const LocalVector delta = layout.gather_local(step, j);
+    // The change of each pick's residuals along b_u (p) and b_x (q) from the parameters.
+    auto p = scratch[0].segment(b, n), q = scratch[1].segment(b, n);
+    p = rows.au[0].segment(b, n) * delta[0];
+    q = rows.ax[0].segment(b, n) * delta[0];
+    for (int k = 1; k < m; ++k) {
+      p += rows.au[k].segment(b, n) * delta[k];
+      q += rows.ax[k].segment(b, n) * delta[k];
+    }
+    // x_i's step, then its own change along b_x (b_x.Jx = |Jx|^2 = 1 / w).
+    const auto w = rows.w.segment(b, n), rx = rows.rx.segment(b, n), ru = rows.ru.segment(b, n);
+    Eigen::Map<Eigen::ArrayXd> dxj(dx + b, n);
+    dxj = -(rx + q) * w / damping;
+    q += dxj / w;
+    out.x_step_squared_norm += dxj.square().sum();
+    // Predicted decrease per pick: |r|^2 - |r + u|^2 = -(2 r.u + u.u) for the change u of
+    // its residuals, from u directly (along b_u and b_x, each of squared length 1 / w) so
+    // that it does not vanish in the rounding of two nearly equal costs.
+    out.predicted_decrease -= ((2.0 * (ru * p + rx * q) + p * p + q * q) * w).sum();
+  }
   for (int k = 0; k < state.priors.count; ++k) {
     const PriorRow& row = state.priors.rows[k];
     const double u = row.a.dot(step);

@@ -13,7 +13,8 @@ struct SolverState {
   CameraPose pose;
   std::array<LaneLine, kMaxLaneLines> lines{};
   double* x = nullptr;         // per pick: its distance ahead along its line, mm
-  PickBlock* blocks = nullptr; // per pick: residuals and Jacobians at this point
+  PickRows* rows = nullptr;    // per pick: residuals and Jacobians at this point
+  LineNormals normals;         // the rows' sums per line (accumulate_normals)
   PriorRows priors;
   double cost = 0.0;
 };

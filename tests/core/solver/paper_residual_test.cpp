@@ -45,7 +45,7 @@ struct Fixture {
   test::SyntheticScene scene;
   std::vector<Vec2> ideal;
   std::vector<double> x;
-  std::vector<PickBlock> blocks;
+  PickRows rows{16};
   ParameterLayout layout;
   SolverState state;
 
@@ -55,12 +55,11 @@ struct Fixture {
     const CameraModel cam(scene.camera, scene.truth);
     for (const Pick& p : scene.picks) ideal.push_back(*cam.ideal_from_observed(Vec2(p.px, p.py)));
     x.assign(scene.picks.size(), 0.0);
-    blocks.resize(x.size());
     state.pose = scene.truth;
     state.pose.attitude.psi += 0.01;  // off the truth: residuals are not zero
     std::copy(scene.lines.begin(), scene.lines.end(), state.lines.begin());
     state.x = x.data();
-    state.blocks = blocks.data();
+    state.rows = &rows;
   }
 };
 
@@ -72,8 +71,8 @@ TEST(PaperResidual, ResidualsAreTheSpecificationsAtTheOptimalX) {
   for (std::size_t i = 0; i < f.x.size(); ++i) {
     const LaneLine& line = f.state.lines[f.scene.picks[i].line];
     const Vec2 r = spec_residuals(f.scene.camera, f.state.pose, f.ideal[i], line, f.x[i]);
-    EXPECT_NEAR(f.blocks[i].r.x(), r.x(), 1e-9 * r.norm() + 1e-6);
-    EXPECT_NEAR(f.blocks[i].r.y(), r.y(), 1e-9 * r.norm() + 1e-6);
+    EXPECT_NEAR(f.rows.r0[i], r.x(), 1e-9 * r.norm() + 1e-6);
+    EXPECT_NEAR(f.rows.r1[i], r.y(), 1e-9 * r.norm() + 1e-6);
     // No other x does better.
     for (const double dx : {-1.0, 1.0}) {
       const Vec2 other = spec_residuals(f.scene.camera, f.state.pose, f.ideal[i], line, f.x[i] + dx);
@@ -120,11 +119,11 @@ TEST(PaperResidual, JacobiansMatchFiniteDifferencesAtFixedX) {
           h);
       const int local = p.line < 0 ? k : f.layout.num_global() + (k - f.layout.line_offset(line));
       for (int c = 0; c < 2; ++c)
-        EXPECT_NEAR(f.blocks[i].J(c, local), fd[c], 1e-6 * (std::abs(fd[c]) + 1e3)) << "param " << k << " pick " << i;
+        EXPECT_NEAR(f.rows.jacobian_column(static_cast<int>(i), local)[c], fd[c], 1e-6 * (std::abs(fd[c]) + 1e3)) << "param " << k << " pick " << i;
     }
     const Eigen::VectorXd fd = test::central_difference([&](double t) { return r_at(ReducedVector::Zero(n), t); }, 1e-3);
-    EXPECT_NEAR(f.blocks[i].Jx.x(), fd[0], 1e-6 * (std::abs(fd[0]) + 1.0));
-    EXPECT_NEAR(f.blocks[i].Jx.y(), fd[1], 1e-6 * (std::abs(fd[1]) + 1.0));
+    EXPECT_NEAR(f.rows.jx0[i], fd[0], 1e-6 * (std::abs(fd[0]) + 1.0));
+    EXPECT_NEAR(f.rows.jx1[i], fd[1], 1e-6 * (std::abs(fd[1]) + 1.0));
   }
 }
 

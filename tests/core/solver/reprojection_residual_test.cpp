@@ -17,7 +17,7 @@ namespace {
 struct Fixture {
   test::SyntheticScene scene;
   std::vector<double> x;
-  std::vector<PickBlock> blocks;
+  PickRows rows{16};
   ParameterLayout layout{test::all_free(), 2};
   SolverPriors priors;
   SolverState state;
@@ -26,12 +26,11 @@ struct Fixture {
     scene = test::small_curved_scene(seed);
     x = scene.x_mm;
     for (double& xi : x) xi *= 1.01;  // off the truth: residuals are not zero
-    blocks.resize(x.size());
     state.pose = scene.truth;
     std::copy(scene.lines.begin(), scene.lines.end(), state.lines.begin());
     state.lines[1].c_per_mm += 3e-7;
     state.x = x.data();
-    state.blocks = blocks.data();
+    state.rows = &rows;
   }
 };
 
@@ -47,8 +46,8 @@ TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
     const LaneLine& l = f.state.lines[p.line];
     const Vec2 px = *camera.pixel_from_point(Vec3(f.x[i], l.y0_mm + l.m * f.x[i] + l.c_per_mm * f.x[i] * f.x[i], 0));
     const Vec2 r = (px - Vec2(p.px, p.py)) / 0.5;
-    EXPECT_NEAR(f.blocks[i].r.x(), r.x(), 1e-9);
-    EXPECT_NEAR(f.blocks[i].r.y(), r.y(), 1e-9);
+    EXPECT_NEAR(f.rows.r0[i], r.x(), 1e-9);
+    EXPECT_NEAR(f.rows.r1[i], r.y(), 1e-9);
     cost += r.squaredNorm();
   }
   EXPECT_NEAR(f.state.cost, cost, 1e-9 * cost);
@@ -60,7 +59,7 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
     ReprojectionResidual model(f.scene.camera, 16);
     model.configure(f.layout, f.scene.picks, 0.5, f.priors);
     ASSERT_TRUE(model.evaluate(f.state));
-    const std::vector<PickBlock> analytic = f.blocks;
+    const PickRows analytic = f.rows;
     const SolverState base = f.state;
     const std::vector<double> x0 = f.x;
     const auto residuals_at = [&](const ReducedVector& step, int pick_moved, double dx) {
@@ -68,12 +67,12 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
       std::vector<double> x = x0;
       if (pick_moved >= 0) x[pick_moved] += dx;
       s.x = x.data();
-      std::vector<PickBlock> b(x.size());
-      s.blocks = b.data();
+      PickRows b(static_cast<int>(x.size()));
+      s.rows = &b;
       f.layout.apply_step(step, s.pose, s.lines.data());
       EXPECT_TRUE(model.evaluate(s));
       Eigen::VectorXd r(2 * x.size());
-      for (std::size_t i = 0; i < x.size(); ++i) r.segment<2>(2 * i) = b[i].r;
+      for (std::size_t i = 0; i < x.size(); ++i) r.segment<2>(2 * i) = b.residual(static_cast<int>(i));
       return r;
     };
     const int n = f.layout.size();
@@ -102,8 +101,8 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
         double col[2] = {0, 0};
         if (p.line < 0 || p.line == line) {
           const int local = p.line < 0 ? k : f.layout.num_global() + (k - f.layout.line_offset(line));
-          col[0] = analytic[i].J(0, local);
-          col[1] = analytic[i].J(1, local);
+          col[0] = analytic.jacobian_column(static_cast<int>(i), local)[0];
+          col[1] = analytic.jacobian_column(static_cast<int>(i), local)[1];
         }
         for (int c = 0; c < 2; ++c)
           EXPECT_NEAR(col[c], fd[2 * i + c], 1e-5 * (1.0 + std::abs(fd[2 * i + c])))
@@ -113,8 +112,8 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
     for (std::size_t i = 0; i < x0.size(); ++i) {
       const Eigen::VectorXd fd = test::central_difference(
           [&](double t) { return residuals_at(ReducedVector::Zero(n), static_cast<int>(i), t); }, 1e-3);
-      EXPECT_NEAR(analytic[i].Jx.x(), fd[2 * i], 1e-7 * (1.0 + std::abs(fd[2 * i])));
-      EXPECT_NEAR(analytic[i].Jx.y(), fd[2 * i + 1], 1e-7 * (1.0 + std::abs(fd[2 * i + 1])));
+      EXPECT_NEAR(analytic.jx0[i], fd[2 * i], 1e-7 * (1.0 + std::abs(fd[2 * i])));
+      EXPECT_NEAR(analytic.jx1[i], fd[2 * i + 1], 1e-7 * (1.0 + std::abs(fd[2 * i + 1])));
     }
   }
 }

@@ -4,6 +4,7 @@
 #include "core/solver/road_projection.hpp"
 
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -17,51 +18,71 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   CameraSpec spec = test::reference_camera();
   spec.cx = 385.0;  // an off-centre principal point too
+  constexpr int kPoints = 25;
+  RoadProjection projection(kPoints);
+  Eigen::ArrayXd xs(kPoints), ys(kPoints), du(kPoints), dv(kPoints);
   int compared = 0;
-  for (int trial = 0; trial < 500; ++trial) {
+  for (int trial = 0; trial < 40; ++trial) {
     const CameraPose pose{{deg_to_rad(10 * u(rng)), deg_to_rad(3 + 8 * u(rng)), deg_to_rad(10 * u(rng))},
                           1400 + 300 * u(rng), 5.05 + 0.5 * u(rng)};
     const CameraModel camera(spec, pose);
-    RoadProjection projection;
     projection.set_camera(camera);
-    const Vec3 X(20000 + 18000 * u(rng), 6000 * u(rng), 0.0);
-    PointJacobian d_point;
-    PoseJacobian2 d_pose;
-    const auto expected = camera.pixel_from_point(X, &d_point, &d_pose);
-    RoadProjection::Chain chain;
-    ASSERT_EQ(projection.start(X.x(), X.y(), chain), expected.has_value()) << trial;
-    if (!expected) continue;
-    ++compared;
-    const auto near = [](const Vec2& a, const Vec2& b, const char* what) {
-      EXPECT_LE((a - b).norm(), 1e-10 * (1.0 + b.norm())) << what << ": " << a.transpose() << " vs " << b.transpose();
-    };
-    near(projection.pixel(chain), *expected, "pixel");
-    RoadProjection::Derivatives d;
-    projection.derivatives(chain, d);
-    near(projection.road_column(d, 0), d_point.col(0), "d/dx");
-    near(projection.road_column(d, 1), d_point.col(1), "d/dy");
-    for (int p = 0; p < kPoseParams; ++p)
-      near(projection.pose_column(d, static_cast<PoseParam>(p)), d_pose.col(p), "d/dpose");
+    // The points CameraModel can see, projected together.
+    std::vector<Vec3> points;
+    while (static_cast<int>(points.size()) < kPoints) {
+      const Vec3 X(20000 + 18000 * u(rng), 6000 * u(rng), 0.0);
+      if (camera.pixel_from_point(X)) points.push_back(X);
+    }
+    for (int i = 0; i < kPoints; ++i) {
+      xs[i] = points[i].x();
+      ys[i] = points[i].y();
+    }
+    ASSERT_TRUE(projection.project(xs, ys, kPoints)) << trial;
+    projection.differentiate(kPoints);
+    for (int i = 0; i < kPoints; ++i) {
+      PointJacobian d_point;
+      PoseJacobian2 d_pose;
+      const Vec2 expected = *camera.pixel_from_point(points[i], &d_point, &d_pose);
+      const auto near = [](const Vec2& a, const Vec2& b, const char* what) {
+        EXPECT_LE((a - b).norm(), 1e-10 * (1.0 + b.norm())) << what << ": " << a.transpose() << " vs " << b.transpose();
+      };
+      near(Vec2(projection.u()[i], projection.v()[i]), expected, "pixel");
+      for (int axis = 0; axis < 2; ++axis) {
+        projection.road_column(axis, kPoints, du, dv);
+        near(Vec2(du[i], dv[i]), d_point.col(axis), "d/d road");
+      }
+      for (int p = 0; p < kPoseParams; ++p) {
+        projection.pose_column(static_cast<PoseParam>(p), kPoints, du, dv);
+        near(Vec2(du[i], dv[i]), d_pose.col(p), "d/dpose");
+      }
+      ++compared;
+    }
   }
-  EXPECT_GT(compared, 400);
+  EXPECT_EQ(compared, 40 * kPoints);
 }
 
 TEST(RoadProjection, RejectsWhatCameraModelRejects) {
   const CameraSpec spec = test::reference_camera();
   const CameraModel camera(spec, CameraPose{{0.0, deg_to_rad(3.0), 0.0}, 1400.0, 5.05});
-  RoadProjection projection;
+  RoadProjection projection(2);
   projection.set_camera(camera);
-  RoadProjection::Chain chain;
-  EXPECT_FALSE(projection.start(-5000.0, 0.0, chain));  // behind the camera
+  // One point in view and one behind the camera: the batch is refused.
+  Eigen::ArrayXd xs(2), ys(2);
+  xs << 20000.0, -5000.0;
+  ys << 0.0, 0.0;
+  EXPECT_TRUE(projection.project(xs, ys, 1));
+  EXPECT_FALSE(projection.project(xs, ys, 2));
   EXPECT_FALSE(camera.pixel_from_point(Vec3(-5000.0, 0.0, 0.0)).has_value());
   // Pincushion distortion has an edge of field: beyond it neither gives a pixel.
   CameraSpec pincushion = spec;
   pincushion.k_px2 = 2e-6;
   const CameraModel wide(pincushion, CameraPose{{0.0, deg_to_rad(3.0), 0.0}, 1400.0, 5.05});
   projection.set_camera(wide);
-  const Vec3 far_side(3000.0, 9000.0, 0.0);
-  EXPECT_EQ(projection.start(far_side.x(), far_side.y(), chain), wide.pixel_from_point(far_side).has_value());
-  EXPECT_FALSE(projection.start(far_side.x(), far_side.y(), chain));
+  xs << 20000.0, 3000.0;
+  ys << 0.0, 9000.0;
+  EXPECT_FALSE(wide.pixel_from_point(Vec3(3000.0, 9000.0, 0.0)).has_value());
+  EXPECT_FALSE(projection.project(xs, ys, 2));
+  EXPECT_TRUE(projection.project(xs, ys, 1));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // x_i steps, and the linearised cost decrease computed directly.
 #include "core/solver/schur_system.hpp"
 
+#include <array>
 #include <random>
 #include <vector>
 
@@ -13,24 +14,32 @@ namespace {
 
 struct RandomProblem {
   ParameterLayout layout;
-  std::vector<Pick> picks;
-  std::vector<PickBlock> blocks;
+  std::vector<Pick> picks;       // sorted by line, as the solver keeps them
+  LineSegments segments;
+  std::vector<PickJacobian> J;   // each pick's Jacobian over its local parameters
+  std::vector<Vec2> Jx, r;       // and over its x, and its residuals
+  PickRows rows;
   std::vector<double> x;
   SolverState state;
 
-  RandomProblem(std::uint64_t seed, FreeSet free, int num_lines, int num_picks) : layout(free, num_lines) {
+  RandomProblem(std::uint64_t seed, FreeSet free, int num_lines, int num_picks)
+      : layout(free, num_lines), rows(num_picks) {
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> g(0.0, 1.0);
     for (int i = 0; i < num_picks; ++i) {
-      picks.push_back({i % num_lines, 0.0, 0.0});
-      PickBlock b;
-      for (int c = 0; c < layout.local_size(); ++c) b.J.col(c) = Vec2(g(rng), g(rng));
-      b.Jx = Vec2(g(rng), g(rng));
-      b.r = Vec2(g(rng), g(rng));
-      blocks.push_back(b);
+      const int line = i * num_lines / num_picks;
+      picks.push_back({line, 0.0, 0.0});
+      segments.begin[line + 1] = i + 1;
+      PickJacobian Ji = PickJacobian::Zero();
+      for (int c = 0; c < layout.local_size(); ++c) Ji.col(c) = Vec2(g(rng), g(rng));
+      J.push_back(Ji);
+      Jx.emplace_back(g(rng), g(rng));
+      r.emplace_back(g(rng), g(rng));
+      rows.set(i, r.back(), J.back(), Jx.back(), layout.local_size());
     }
+    EXPECT_TRUE(rows.complete(num_picks));
     x.assign(num_picks, 0.0);
-    state.blocks = blocks.data();
+    state.rows = &rows;
     state.x = x.data();
     // Two dense prior rows (one coupling two lines' y0, like the lane width).
     state.priors.count = 2;
@@ -41,28 +50,29 @@ struct RandomProblem {
     state.priors.rows[0].a[0] = 2.0;
     state.priors.rows[1].a[layout.line_index(0, kY0)] = 1.5;
     state.priors.rows[1].a[layout.line_index(num_lines - 1, kY0)] = -1.5;
+    accumulate_normals(layout, segments, state);
   }
 
   // The whole Jacobian over (reduced parameters, x_1..x_N), rows of picks then priors.
   Eigen::MatrixXd full_jacobian() const {
     const int n = layout.size(), N = static_cast<int>(picks.size());
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * N + state.priors.count, n + N);
+    Eigen::MatrixXd full = Eigen::MatrixXd::Zero(2 * N + state.priors.count, n + N);
     for (int i = 0; i < N; ++i) {
       const int line = picks[i].line;
-      for (int c = 0; c < layout.num_global(); ++c) J.block<2, 1>(2 * i, c) = blocks[i].J.col(c);
+      for (int c = 0; c < layout.num_global(); ++c) full.block<2, 1>(2 * i, c) = J[i].col(c);
       for (int c = 0; c < layout.num_line_kinds(); ++c)
-        J.block<2, 1>(2 * i, layout.line_offset(line) + c) = blocks[i].J.col(layout.num_global() + c);
-      J.block<2, 1>(2 * i, n + i) = blocks[i].Jx;
+        full.block<2, 1>(2 * i, layout.line_offset(line) + c) = J[i].col(layout.num_global() + c);
+      full.block<2, 1>(2 * i, n + i) = Jx[i];
     }
-    for (int k = 0; k < state.priors.count; ++k) J.row(2 * N + k).head(n) = state.priors.rows[k].a.transpose();
-    return J;
+    for (int k = 0; k < state.priors.count; ++k) full.row(2 * N + k).head(n) = state.priors.rows[k].a.transpose();
+    return full;
   }
   Eigen::VectorXd full_residual() const {
     const int N = static_cast<int>(picks.size());
-    Eigen::VectorXd r(2 * N + state.priors.count);
-    for (int i = 0; i < N; ++i) r.segment<2>(2 * i) = blocks[i].r;
-    for (int k = 0; k < state.priors.count; ++k) r[2 * N + k] = state.priors.rows[k].r;
-    return r;
+    Eigen::VectorXd full(2 * N + state.priors.count);
+    for (int i = 0; i < N; ++i) full.segment<2>(2 * i) = r[i];
+    for (int k = 0; k < state.priors.count; ++k) full[2 * N + k] = state.priors.rows[k].r;
+    return full;
   }
 };
 
@@ -82,11 +92,12 @@ TEST(SchurSystem, ReducedStepEqualsTheFullSystemsStep) {
 
     ReducedMatrix Nr;
     ReducedVector g;
-    build_reduced_system(p.layout, p.picks, p.state, lambda, Nr, g);
+    build_reduced_system(p.layout, p.state, lambda, Nr, g);
     const ReducedVector step = Nr.ldlt().solve(-g);
     for (int k = 0; k < n; ++k) EXPECT_NEAR(step[k], full[k], 1e-9 * (1 + std::abs(full[k]))) << "lambda " << lambda;
     std::vector<double> dx(N);
-    const BackSubstitution bs = back_substitute(p.layout, p.picks, p.state, lambda, step, dx.data());
+    std::array<Eigen::ArrayXd, 2> scratch{Eigen::ArrayXd(N), Eigen::ArrayXd(N)};
+    const BackSubstitution bs = back_substitute(p.layout, p.segments, p.state, lambda, step, dx.data(), scratch);
     double dx2 = 0.0;
     for (int i = 0; i < N; ++i) {
       EXPECT_NEAR(dx[i], full[n + i], 1e-9 * (1 + std::abs(full[n + i])));
@@ -110,9 +121,17 @@ TEST(SchurSystem, UndampedReducedMatrixIsTheInverseMarginalCovariance) {
   const Eigen::MatrixXd cov = (J.transpose() * J).inverse();
   ReducedMatrix Nr;
   ReducedVector g;
-  build_reduced_system(p.layout, p.picks, p.state, 0.0, Nr, g);
+  build_reduced_system(p.layout, p.state, 0.0, Nr, g);
   const Eigen::MatrixXd marginal = Eigen::MatrixXd(Nr).inverse();
   EXPECT_LT((marginal - cov.topLeftCorner(n, n)).norm(), 1e-9 * cov.topLeftCorner(n, n).norm());
+}
+
+TEST(SchurSystem, APickWhoseXMovesNothingCannotBeEliminated) {
+  PickRows rows(2);
+  rows.set(0, Vec2(1.0, 2.0), PickJacobian::Ones(), Vec2(0.3, -0.1), 2);
+  rows.set(1, Vec2(1.0, 2.0), PickJacobian::Ones(), Vec2::Zero(), 2);
+  EXPECT_TRUE(rows.complete(1));
+  EXPECT_FALSE(rows.complete(2));
 }
 
 }  // namespace
