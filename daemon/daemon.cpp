@@ -26,16 +26,6 @@ namespace {
 
 constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
 
-PipelineOptions pipeline_options(const Config& c) {
-  PipelineOptions o;
-  o.queue_depth = c.daemon.queue_depth;
-  o.stall_timeout_ns = static_cast<std::int64_t>(c.daemon.stall_timeout_s * 1e9);
-  o.capture_priority = c.realtime.capture_priority;
-  o.processing_priority = c.realtime.processing_priority;
-  o.gyro_priority = c.realtime.gyro_priority;
-  return o;
-}
-
 // Everything the status thread reads once a second, gathered without allocating.
 class StatusTicker {
  public:

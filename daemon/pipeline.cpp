@@ -31,6 +31,16 @@ void name_this_thread(const char* name) { pthread_setname_np(pthread_self(), nam
 
 }  // namespace
 
+PipelineOptions pipeline_options(const Config& c) {
+  PipelineOptions o;
+  o.queue_depth = c.daemon.queue_depth;
+  o.stall_timeout_ns = static_cast<std::int64_t>(c.daemon.stall_timeout_s * 1e9);
+  o.capture_priority = c.realtime.capture_priority;
+  o.processing_priority = c.realtime.processing_priority;
+  o.gyro_priority = c.realtime.gyro_priority;
+  return o;
+}
+
 Pipeline::Pipeline(FrameSource& source, AttitudeProvider* gyro, FrameProcessor& processor, LaneSink& sink,
                    RealtimeSetup& realtime, const PipelineOptions& options)
     : source_(source),
@@ -72,6 +82,13 @@ void Pipeline::stop() {
   frame_bell_.ring();
   for (std::thread& t : threads_) t.join();
   threads_.clear();
+  // Joined, so this thread may take the consumer's side: what capture queued after
+  // processing last looked is counted, so that in = processed + dropped + unprocessed.
+  std::uint32_t index = 0;
+  while (queued_.try_pop(index)) {
+    frames_unprocessed_.fetch_add(1, std::memory_order_relaxed);
+    if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
+  }
 }
 
 void Pipeline::wait_for_run() {
@@ -237,6 +254,7 @@ PipelineTotals Pipeline::totals() const {
   t.frames_processed = frames_processed_.load(std::memory_order_relaxed);
   t.frames_dropped = frames_dropped_.load(std::memory_order_relaxed);
   t.frames_ok = frames_ok_.load(std::memory_order_relaxed);
+  t.frames_unprocessed = frames_unprocessed_.load(std::memory_order_relaxed);
   for (int i = 0; i < kEstimateFailureKinds; ++i)
     t.not_ok_by_reason[static_cast<std::size_t>(i)] = not_ok_by_reason_[i].load(std::memory_order_relaxed);
   t.no_attitude = no_attitude_.load(std::memory_order_relaxed);

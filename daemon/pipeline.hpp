@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/config/config.hpp"
 #include "daemon/attitude_provider.hpp"
 #include "daemon/doorbell.hpp"
 #include "daemon/frame_processor.hpp"
@@ -35,6 +36,9 @@ struct PipelineOptions {
   std::size_t latency_queue = 16384;           // latency samples waiting for the status thread
 };
 
+// The options ccdlaned runs its pipeline with: [daemon] and [realtime].
+PipelineOptions pipeline_options(const Config& config);
+
 class Pipeline {
  public:
   // Allocates everything the threads will use: queue_depth + 2 frames of the (open)
@@ -51,7 +55,7 @@ class Pipeline {
   // make a thread's creation fail).
   void run();
   // Stops and joins every thread: within capture_timeout_ms plus one frame's processing.
-  // Frames still queued are not processed. Idempotent.
+  // Frames still queued are not processed (totals().frames_unprocessed). Idempotent.
   void stop();
 
   // A finite source ended and every frame it delivered was processed or dropped.
@@ -101,7 +105,8 @@ class Pipeline {
   bool stopped_ = false;
 
   // Counters: one writer each, read by the status thread.
-  std::atomic<std::uint64_t> frames_in_{0}, frames_processed_{0}, frames_dropped_{0}, frames_ok_{0};
+  std::atomic<std::uint64_t> frames_in_{0}, frames_processed_{0}, frames_dropped_{0}, frames_ok_{0},
+      frames_unprocessed_{0};
   std::atomic<std::uint64_t> not_ok_by_reason_[kEstimateFailureKinds] = {};
   std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, latency_samples_lost_{0};
   std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
