@@ -102,12 +102,13 @@ void Pipeline::wait_for_run() {
 void Pipeline::set_camera_state(CameraState state) {
   if (camera_state_.load(std::memory_order_relaxed) == state) return;
   const CameraState before = camera_state_.exchange(state, std::memory_order_relaxed);
-  // Asking the source for its problem text may allocate (FrameSource returns a string):
-  // only on a change of state, never per frame.
-  const std::string problem = state == CameraState::streaming ? std::string() : source_.last_problem();
+  // Copied, not returned as a string: a camera that comes and goes must not make the
+  // allocation count of the status move.
+  char problem[sizeof problem_] = "";
+  if (state != CameraState::streaming) source_.copy_last_problem(problem, sizeof problem);
   {
     std::lock_guard<std::mutex> lock(problem_mutex_);
-    std::snprintf(problem_, sizeof problem_, "%s", problem.c_str());
+    std::snprintf(problem_, sizeof problem_, "%s", problem);
   }
   if (state == CameraState::streaming) {
     if (before != CameraState::starting)
@@ -116,7 +117,7 @@ void Pipeline::set_camera_state(CameraState state) {
     log_line(LogLevel::info, "camera", "%s: end of stream", camera_name_.c_str());
   } else {
     log_line(LogLevel::warning, "camera", "%s: %s%s%s", camera_name_.c_str(), to_string(state),
-             problem.empty() ? "" : ": ", problem.c_str());
+             problem[0] == '\0' ? "" : ": ", problem);
   }
 }
 
@@ -130,8 +131,10 @@ void Pipeline::capture_loop() {
 
   while (!stop_.load(std::memory_order_acquire)) {
     FrameMeta meta;
+    capture_call_ns_.store(monotonic_ns(), std::memory_order_relaxed);
     const CaptureStatus status =
         source_.capture(pool_.view(static_cast<int>(current)), meta, options_.capture_timeout_ms);
+    capture_call_ns_.store(0, std::memory_order_relaxed);
     const std::int64_t now = monotonic_ns();
     const SourceCounters c = source_.counters();
     source_frames_.store(c.frames, std::memory_order_relaxed);
@@ -143,6 +146,7 @@ void Pipeline::capture_loop() {
     switch (status) {
       case CaptureStatus::frame: {
         last_frame_ns = now;
+        last_frame_ns_.store(now, std::memory_order_relaxed);
         slots_[current] = SlotMeta{meta, now};
         frames_in_.fetch_add(1, std::memory_order_relaxed);
         set_camera_state(CameraState::streaming);
@@ -266,6 +270,7 @@ PipelineTotals Pipeline::totals() const {
   t.source.timeouts = source_timeouts_.load(std::memory_order_relaxed);
   t.source.reconnects = source_reconnects_.load(std::memory_order_relaxed);
   t.camera = camera_state_.load(std::memory_order_relaxed);
+  if (stuck_silence_ns() >= options_.stall_timeout_ns) t.camera = CameraState::stalled;
   t.ready = ready();
   return t;
 }
@@ -275,8 +280,21 @@ void Pipeline::drain_latency(LatencyWindow& window) {
   while (latencies_.try_pop(us)) window.add(us);
 }
 
+std::int64_t Pipeline::stuck_silence_ns() const {
+  if (camera_state_.load(std::memory_order_relaxed) != CameraState::streaming) return 0;
+  const std::int64_t call = capture_call_ns_.load(std::memory_order_relaxed);
+  const std::int64_t last = last_frame_ns_.load(std::memory_order_relaxed);
+  const std::int64_t now = monotonic_ns();
+  if (call == 0 || last == 0 || now - call <= 2 * std::int64_t{options_.capture_timeout_ms} * 1'000'000) return 0;
+  return now - last;
+}
+
 void Pipeline::camera_problem(char* out, std::size_t size) const {
   if (size == 0) return;
+  if (const std::int64_t silent = stuck_silence_ns(); silent >= options_.stall_timeout_ns) {
+    std::snprintf(out, size, "no frame for %.1f s (the capture call has not returned)", static_cast<double>(silent) * 1e-9);
+    return;
+  }
   std::lock_guard<std::mutex> lock(problem_mutex_);
   std::snprintf(out, size, "%s", problem_);
 }

@@ -67,6 +67,9 @@ class Pipeline {
   // Moves the latency samples gathered since the last call into `window` (one reader).
   void drain_latency(LatencyWindow& window);
   // The source's last problem as the capture thread last saw it; "" while streaming.
+  // When a streaming camera has given no frame for stall_timeout_ns and the capture call
+  // has overrun its timeout (a driver blocked inside a device that stopped answering),
+  // the camera is reported stalled from here: the capture thread cannot say so itself.
   void camera_problem(char* out, std::size_t size) const;
   const FramePool& pool() const { return pool_; }
 
@@ -81,6 +84,9 @@ class Pipeline {
   void gyro_loop();
   void process_one(std::uint32_t index);
   void set_camera_state(CameraState state);
+  // How long a camera said to be streaming has been without a frame while the capture
+  // call is stuck (past twice its timeout); 0 otherwise.
+  std::int64_t stuck_silence_ns() const;
   void wait_for_run();
 
   FrameSource& source_;
@@ -112,6 +118,8 @@ class Pipeline {
   std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
       source_reconnects_{0};
   std::atomic<CameraState> camera_state_{CameraState::starting};
+  std::atomic<std::int64_t> last_frame_ns_{0};    // CLOCK_MONOTONIC of the last frame captured
+  std::atomic<std::int64_t> capture_call_ns_{0};  // when the current capture() call began; 0 between calls
 
   mutable std::mutex problem_mutex_;  // taken only on camera state changes and by status
   char problem_[256] = {};

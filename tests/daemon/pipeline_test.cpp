@@ -6,9 +6,11 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
-#include <optional>
 #include <cstdlib>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -185,6 +187,53 @@ TEST(Pipeline, AStalledCameraIsReportedWithItsProblem) {
   EXPECT_EQ(t.frames_in, 20u);
   EXPECT_EQ(t.frames_processed + t.frames_dropped, 20u);
   EXPECT_EQ(sink.records().back().frame, 19u);
+}
+
+// A driver that does not return from capture() (Aravis releasing a camera that stopped
+// answering) cannot report anything itself: the pipeline says stalled from the age of
+// the last frame, and streaming again once frames come.
+class HangingSource : public TestPatternSource {
+ public:
+  HangingSource(const TestPatternOptions& o, std::uint64_t frames_before) : TestPatternSource(o), before_(frames_before) {}
+  CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override {
+    if (++calls_ == before_ + 1) {
+      while (!release_.load()) std::this_thread::sleep_for(1ms);
+    }
+    return TestPatternSource::capture(into, meta, timeout_ms);
+  }
+  void release() { release_.store(true); }
+
+ private:
+  std::uint64_t before_;
+  std::uint64_t calls_ = 0;
+  std::atomic<bool> release_{false};
+};
+
+TEST(Pipeline, ACaptureCallThatDoesNotReturnIsReportedAsAStall) {
+  RecordingSink sink(100000);
+  HangingSource source(small_frames(0, 500), /*frames_before=*/10);
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor;
+  Rig rig;
+  PipelineOptions options;
+  options.stall_timeout_ns = 100'000'000;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
+  pipeline.start();
+  pipeline.run();
+  ASSERT_TRUE(eventually([&] { return sink.count() >= 10; }));
+  ASSERT_TRUE(eventually([&] { return pipeline.totals().camera == CameraState::stalled; }));
+  char problem[256];
+  pipeline.camera_problem(problem, sizeof problem);
+  EXPECT_EQ(std::string(problem).rfind("no frame for ", 0), 0u) << problem;
+  EXPECT_NE(std::string(problem).find(" s (the capture call has not returned)"), std::string::npos) << problem;
+  EXPECT_EQ(sink.count(), 10u);
+  source.release();
+  ASSERT_TRUE(eventually([&] { return sink.count() >= 20; }));
+  EXPECT_EQ(pipeline.totals().camera, CameraState::streaming);
+  pipeline.camera_problem(problem, sizeof problem);
+  EXPECT_STREQ(problem, "");
+  pipeline.stop();
+  allocation_counter::stop_counting();
 }
 
 TEST(Pipeline, StopsPromptlyWhileStreaming) {
