@@ -242,7 +242,7 @@ TEST(CcdlanedEndToEnd, AStalledCameraSilencesTheWatchdogUntilItIsBack) {
     for (std::string& m : notifications_for(std::chrono::milliseconds(100))) before.push_back(std::move(m));
   ASSERT_EQ(count_equal(before, "READY=1"), 1) << log();
   before = notifications_for(std::chrono::milliseconds(1200));
-  EXPECT_GE(count_equal(before, "WATCHDOG=1"), 5) << "pinged every 100 ms while frames flow";
+  EXPECT_GE(count_equal(before, "WATCHDOG=1"), 3) << "pinged (every 100 ms) while frames flow";
   const std::size_t lanes_before_stall = got.lanes.size();
   ASSERT_GT(lanes_before_stall, 20u) << log();
 
