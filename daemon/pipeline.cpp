@@ -106,6 +106,9 @@ void Pipeline::set_camera_state(CameraState state) {
   // allocation count of the status move.
   char problem[sizeof problem_] = "";
   if (state != CameraState::streaming) source_.copy_last_problem(problem, sizeof problem);
+  // The pipeline may call a stall before the driver has a word for it.
+  if (state == CameraState::stalled && problem[0] == '\0')
+    std::snprintf(problem, sizeof problem, "no frame for %.1f s", static_cast<double>(options_.stall_timeout_ns) * 1e-9);
   {
     std::lock_guard<std::mutex> lock(problem_mutex_);
     std::snprintf(problem_, sizeof problem_, "%s", problem);

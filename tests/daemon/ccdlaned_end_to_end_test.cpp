@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -54,6 +55,20 @@ void subscribe(lcm::LCM& bus, Received& got) {
       &got);
 }
 
+// Each test in its own private network namespace (a hermetic udpm bus), subscribed to
+// the daemon's lane and status channels.
+class CcdlanedEndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+    bus_ = std::make_unique<lcm::LCM>(kUrl);
+    ASSERT_TRUE(bus_->good());
+    subscribe(*bus_, got);
+  }
+  std::unique_ptr<lcm::LCM> bus_;
+  Received got;
+};
+
 // Renders `frames` frames of the default synthetic drive (with its gyro columns).
 std::string render(const test::TempDir& dir, int frames, const std::vector<std::string>& extra = {}) {
   const std::string config = dir.write("synth.toml", "");
@@ -91,12 +106,8 @@ void expect_same(const ordered_json& daemon, const ordered_json& replay, const s
 
 // The daemon on a frame directory (no gyro device: the frames.csv columns give the
 // priors, as in replay), paced fast and not looping: it stops by itself at the end.
-TEST(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  Received got;
-  subscribe(bus, got);
+TEST_F(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
+  lcm::LCM& bus = *bus_;
 
   test::TempDir dir;
   constexpr int kFrames = 40;
@@ -139,12 +150,8 @@ TEST(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
 // The 3DM-GX1 emulator (another process, on a pty behind a link) hangs up every 1.3 s
 // for 300 ms: frames keep being processed and published throughout, the status counts
 // the hang-ups and the reconnects, and the gyro comes back.
-TEST(CcdlanedEndToEnd, GyroHangUpsDoNotStopTheLaneMessages) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  Received got;
-  subscribe(bus, got);
+TEST_F(CcdlanedEndToEnd, GyroHangUpsDoNotStopTheLaneMessages) {
+  lcm::LCM& bus = *bus_;
 
   test::TempDir dir;
   const std::string frames = render(dir, 20, {"--no-gyro"});  // the gyro device is the only source of priors
@@ -199,12 +206,8 @@ int count_equal(const std::vector<std::string>& v, const std::string& what) {
 // blocks in Aravis until the frozen camera answers or times out), the status says the
 // camera is stalled and systemd's watchdog hears nothing; after SIGCONT the driver
 // reconnects, WATCHDOG=1 comes back and so do the lane messages.
-TEST(CcdlanedEndToEnd, AStalledCameraSilencesTheWatchdogUntilItIsBack) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  Received got;
-  subscribe(bus, got);
+TEST_F(CcdlanedEndToEnd, AStalledCameraSilencesTheWatchdogUntilItIsBack) {
+  lcm::LCM& bus = *bus_;
 
   test::TempDir dir;
   test::ChildProcess camera({"/usr/bin/arv-fake-gv-camera-0.8", "-i", "127.0.0.1"},
