@@ -26,16 +26,6 @@ namespace {
 
 constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
 
-PipelineOptions pipeline_options(const Config& c) {
-  PipelineOptions o;
-  o.queue_depth = c.daemon.queue_depth;
-  o.stall_timeout_ns = static_cast<std::int64_t>(c.daemon.stall_timeout_s * 1e9);
-  o.capture_priority = c.realtime.capture_priority;
-  o.processing_priority = c.realtime.processing_priority;
-  o.gyro_priority = c.realtime.gyro_priority;
-  return o;
-}
-
 // Everything the status thread reads once a second, gathered without allocating.
 class StatusTicker {
  public:
@@ -92,16 +82,21 @@ std::string solver_observability_problem(const Config& c) {
   // solver.md, "What is and is not observable": scale and focal length never are from
   // one image of parallel lines; roll about the lane direction is absorbed by moving free
   // lines sideways unless a gyro, a roll prior or a lane-width prior pins it. Synthetic
-  // frames carry their drive's gyro reading and frame directories their recorded one.
+  // frames carry their drive's gyro reading and frame directories (most) their recorded one.
   if (free.has(FreeParam::H) && !p.H_mm)
     return "solver.free: H is free without [prior] H_mm: the camera height is not observable (scale); fix it or add the prior";
   if (free.has(FreeParam::f) && !p.f_mm)
     return "solver.free: f is free without [prior] f_mm: the focal length is not observable from one image; fix it or add the prior";
-  const bool gyro = !c.gyro.device.empty() || c.source.kind == SourceKind::synth || c.source.kind == SourceKind::frames;
-  if (free.has(FreeParam::phi) && free.has(FreeParam::y0) && !gyro && !p.phi_deg && !p.lane_width_mm)
-    return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] "
-           "lane_width_mm: the roll is not observable; add one of them or fix phi";
-  return "";
+  if (!free.has(FreeParam::phi) || !free.has(FreeParam::y0) || !c.gyro.device.empty() || p.phi_deg || p.lane_width_mm)
+    return "";
+  const std::string no_recorded_gyro = frames_without_gyro(c);
+  if (no_recorded_gyro.empty()) return "";
+  // A frame directory is expected to carry its gyro: name the file that does not.
+  if (c.source.kind == SourceKind::frames)
+    return no_recorded_gyro + " and there is no [gyro] device, no [prior] phi_deg and no [prior] lane_width_mm, "
+                              "while solver.free has phi and y0: the roll is not observable; add one of them or fix phi";
+  return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] "
+         "lane_width_mm: the roll is not observable; add one of them or fix phi";
 }
 
 std::string daemon_config_problem(const Config& config) {

@@ -31,6 +31,16 @@ void name_this_thread(const char* name) { pthread_setname_np(pthread_self(), nam
 
 }  // namespace
 
+PipelineOptions pipeline_options(const Config& c) {
+  PipelineOptions o;
+  o.queue_depth = c.daemon.queue_depth;
+  o.stall_timeout_ns = static_cast<std::int64_t>(c.daemon.stall_timeout_s * 1e9);
+  o.capture_priority = c.realtime.capture_priority;
+  o.processing_priority = c.realtime.processing_priority;
+  o.gyro_priority = c.realtime.gyro_priority;
+  return o;
+}
+
 Pipeline::Pipeline(FrameSource& source, AttitudeProvider* gyro, FrameProcessor& processor, LaneSink& sink,
                    RealtimeSetup& realtime, const PipelineOptions& options)
     : source_(source),
@@ -72,6 +82,13 @@ void Pipeline::stop() {
   frame_bell_.ring();
   for (std::thread& t : threads_) t.join();
   threads_.clear();
+  // Joined, so this thread may take the consumer's side: what capture queued after
+  // processing last looked is counted, so that in = processed + dropped + unprocessed.
+  std::uint32_t index = 0;
+  while (queued_.try_pop(index)) {
+    frames_unprocessed_.fetch_add(1, std::memory_order_relaxed);
+    if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
+  }
 }
 
 void Pipeline::wait_for_run() {
@@ -85,12 +102,16 @@ void Pipeline::wait_for_run() {
 void Pipeline::set_camera_state(CameraState state) {
   if (camera_state_.load(std::memory_order_relaxed) == state) return;
   const CameraState before = camera_state_.exchange(state, std::memory_order_relaxed);
-  // Asking the source for its problem text may allocate (FrameSource returns a string):
-  // only on a change of state, never per frame.
-  const std::string problem = state == CameraState::streaming ? std::string() : source_.last_problem();
+  // Copied, not returned as a string: a camera that comes and goes must not make the
+  // allocation count of the status move.
+  char problem[sizeof problem_] = "";
+  if (state != CameraState::streaming) source_.copy_last_problem(problem, sizeof problem);
+  // The pipeline may call a stall before the driver has a word for it.
+  if (state == CameraState::stalled && problem[0] == '\0')
+    std::snprintf(problem, sizeof problem, "no frame for %.1f s", static_cast<double>(options_.stall_timeout_ns) * 1e-9);
   {
     std::lock_guard<std::mutex> lock(problem_mutex_);
-    std::snprintf(problem_, sizeof problem_, "%s", problem.c_str());
+    std::snprintf(problem_, sizeof problem_, "%s", problem);
   }
   if (state == CameraState::streaming) {
     if (before != CameraState::starting)
@@ -99,7 +120,7 @@ void Pipeline::set_camera_state(CameraState state) {
     log_line(LogLevel::info, "camera", "%s: end of stream", camera_name_.c_str());
   } else {
     log_line(LogLevel::warning, "camera", "%s: %s%s%s", camera_name_.c_str(), to_string(state),
-             problem.empty() ? "" : ": ", problem.c_str());
+             problem[0] == '\0' ? "" : ": ", problem);
   }
 }
 
@@ -113,8 +134,10 @@ void Pipeline::capture_loop() {
 
   while (!stop_.load(std::memory_order_acquire)) {
     FrameMeta meta;
+    capture_call_ns_.store(monotonic_ns(), std::memory_order_relaxed);
     const CaptureStatus status =
         source_.capture(pool_.view(static_cast<int>(current)), meta, options_.capture_timeout_ms);
+    capture_call_ns_.store(0, std::memory_order_relaxed);
     const std::int64_t now = monotonic_ns();
     const SourceCounters c = source_.counters();
     source_frames_.store(c.frames, std::memory_order_relaxed);
@@ -126,6 +149,7 @@ void Pipeline::capture_loop() {
     switch (status) {
       case CaptureStatus::frame: {
         last_frame_ns = now;
+        last_frame_ns_.store(now, std::memory_order_relaxed);
         slots_[current] = SlotMeta{meta, now};
         frames_in_.fetch_add(1, std::memory_order_relaxed);
         set_camera_state(CameraState::streaming);
@@ -237,6 +261,7 @@ PipelineTotals Pipeline::totals() const {
   t.frames_processed = frames_processed_.load(std::memory_order_relaxed);
   t.frames_dropped = frames_dropped_.load(std::memory_order_relaxed);
   t.frames_ok = frames_ok_.load(std::memory_order_relaxed);
+  t.frames_unprocessed = frames_unprocessed_.load(std::memory_order_relaxed);
   for (int i = 0; i < kEstimateFailureKinds; ++i)
     t.not_ok_by_reason[static_cast<std::size_t>(i)] = not_ok_by_reason_[i].load(std::memory_order_relaxed);
   t.no_attitude = no_attitude_.load(std::memory_order_relaxed);
@@ -248,6 +273,7 @@ PipelineTotals Pipeline::totals() const {
   t.source.timeouts = source_timeouts_.load(std::memory_order_relaxed);
   t.source.reconnects = source_reconnects_.load(std::memory_order_relaxed);
   t.camera = camera_state_.load(std::memory_order_relaxed);
+  if (stuck_silence_ns() >= options_.stall_timeout_ns) t.camera = CameraState::stalled;
   t.ready = ready();
   return t;
 }
@@ -257,8 +283,21 @@ void Pipeline::drain_latency(LatencyWindow& window) {
   while (latencies_.try_pop(us)) window.add(us);
 }
 
+std::int64_t Pipeline::stuck_silence_ns() const {
+  if (camera_state_.load(std::memory_order_relaxed) != CameraState::streaming) return 0;
+  const std::int64_t call = capture_call_ns_.load(std::memory_order_relaxed);
+  const std::int64_t last = last_frame_ns_.load(std::memory_order_relaxed);
+  const std::int64_t now = monotonic_ns();
+  if (call == 0 || last == 0 || now - call <= 2 * std::int64_t{options_.capture_timeout_ms} * 1'000'000) return 0;
+  return now - last;
+}
+
 void Pipeline::camera_problem(char* out, std::size_t size) const {
   if (size == 0) return;
+  if (const std::int64_t silent = stuck_silence_ns(); silent >= options_.stall_timeout_ns) {
+    std::snprintf(out, size, "no frame for %.1f s (the capture call has not returned)", static_cast<double>(silent) * 1e-9);
+    return;
+  }
   std::lock_guard<std::mutex> lock(problem_mutex_);
   std::snprintf(out, size, "%s", problem_);
 }

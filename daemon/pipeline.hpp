@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/config/config.hpp"
 #include "daemon/attitude_provider.hpp"
 #include "daemon/doorbell.hpp"
 #include "daemon/frame_processor.hpp"
@@ -35,6 +36,9 @@ struct PipelineOptions {
   std::size_t latency_queue = 16384;           // latency samples waiting for the status thread
 };
 
+// The options ccdlaned runs its pipeline with: [daemon] and [realtime].
+PipelineOptions pipeline_options(const Config& config);
+
 class Pipeline {
  public:
   // Allocates everything the threads will use: queue_depth + 2 frames of the (open)
@@ -51,7 +55,7 @@ class Pipeline {
   // make a thread's creation fail).
   void run();
   // Stops and joins every thread: within capture_timeout_ms plus one frame's processing.
-  // Frames still queued are not processed. Idempotent.
+  // Frames still queued are not processed (totals().frames_unprocessed). Idempotent.
   void stop();
 
   // A finite source ended and every frame it delivered was processed or dropped.
@@ -63,6 +67,9 @@ class Pipeline {
   // Moves the latency samples gathered since the last call into `window` (one reader).
   void drain_latency(LatencyWindow& window);
   // The source's last problem as the capture thread last saw it; "" while streaming.
+  // When a streaming camera has given no frame for stall_timeout_ns and the capture call
+  // has overrun its timeout (a driver blocked inside a device that stopped answering),
+  // the camera is reported stalled from here: the capture thread cannot say so itself.
   void camera_problem(char* out, std::size_t size) const;
   const FramePool& pool() const { return pool_; }
 
@@ -77,6 +84,9 @@ class Pipeline {
   void gyro_loop();
   void process_one(std::uint32_t index);
   void set_camera_state(CameraState state);
+  // How long a camera said to be streaming has been without a frame while the capture
+  // call is stuck (past twice its timeout); 0 otherwise.
+  std::int64_t stuck_silence_ns() const;
   void wait_for_run();
 
   FrameSource& source_;
@@ -101,12 +111,15 @@ class Pipeline {
   bool stopped_ = false;
 
   // Counters: one writer each, read by the status thread.
-  std::atomic<std::uint64_t> frames_in_{0}, frames_processed_{0}, frames_dropped_{0}, frames_ok_{0};
+  std::atomic<std::uint64_t> frames_in_{0}, frames_processed_{0}, frames_dropped_{0}, frames_ok_{0},
+      frames_unprocessed_{0};
   std::atomic<std::uint64_t> not_ok_by_reason_[kEstimateFailureKinds] = {};
   std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, latency_samples_lost_{0};
   std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
       source_reconnects_{0};
   std::atomic<CameraState> camera_state_{CameraState::starting};
+  std::atomic<std::int64_t> last_frame_ns_{0};    // CLOCK_MONOTONIC of the last frame captured
+  std::atomic<std::int64_t> capture_call_ns_{0};  // when the current capture() call began; 0 between calls
 
   mutable std::mutex problem_mutex_;  // taken only on camera state changes and by status
   char problem_[256] = {};

@@ -18,6 +18,7 @@ struct PipelineTotals {
   std::uint64_t frames_processed = 0;  // estimated and handed to the sink
   std::uint64_t frames_dropped = 0;    // oldest queued frames dropped for newer ones
   std::uint64_t frames_ok = 0;
+  std::uint64_t frames_unprocessed = 0;  // still queued when the pipeline stopped
   std::array<std::uint64_t, kEstimateFailureKinds> not_ok_by_reason{};
   std::uint64_t no_attitude = 0;       // processed without a gyro reading although a gyro is configured
   std::uint64_t publish_errors = 0;

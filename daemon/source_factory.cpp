@@ -5,6 +5,7 @@
 
 #include "daemon/synth_source.hpp"
 #include "drivers/camera/camera_factory.hpp"
+#include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/frame_directory_source.hpp"
 
 namespace ccdlane {
@@ -74,6 +75,24 @@ std::string frame_source_unavailable(const Config& config) {
   const SourceKindRow* row = row_of(config.source.kind);
   if (row && row->make) return "";
   return std::string("source.kind: \"") + (row ? row->name : "?") + "\" is not available in this build of ccdlaned";
+}
+
+std::string frames_without_gyro(const Config& config) {
+  switch (config.source.kind) {
+    case SourceKind::synth: return "";
+    case SourceKind::frames:
+      try {
+        const FrameDirectory directory(config.source.path);
+        if (directory.has_gyro_columns()) return "";
+        return "source.path: " + directory.csv_path() + " has no gyro columns (roll_deg, pitch_deg)";
+      } catch (const FrameDirectoryError&) {
+        return "";
+      }
+    case SourceKind::v4l2:
+    case SourceKind::aravis: break;
+  }
+  const SourceKindRow* row = row_of(config.source.kind);
+  return std::string("source.kind: \"") + (row ? row->name : "?") + "\" frames carry no gyro reading";
 }
 
 std::unique_ptr<FrameSource> make_frame_source(const Config& config) {

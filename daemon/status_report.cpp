@@ -88,6 +88,7 @@ const status_t& StatusReport::update(const StatusInputs& in) {
   m.gyro_samples_total = total(in.gyro_counters.samples);
   m.gyro_errors_total = total(in.gyro_counters.errors);
   m.gyro_timeouts_total = total(in.gyro_counters.timeouts);
+  m.gyro_reconnects_total = total(in.gyro_counters.reconnects);
   m.no_attitude_total = total(t.no_attitude);
   m.publish_errors_total = total(t.publish_errors);
   m.latency_samples_lost_total = total(t.latency_samples_lost);
@@ -102,11 +103,16 @@ void StatusReport::summary_line(char* out, std::size_t size) const {
   const double seconds = m.period_us > 0 ? static_cast<double>(m.period_us) * 1e-6 : 1.0;
   const char* camera = to_string(static_cast<CameraState>(m.camera_state));
   const char* gyro = to_string(static_cast<GyroState>(m.gyro_state));
-  std::snprintf(out, size, "%s %.1f fps, %.0f%% ok, %lld dropped, p99 %.1f ms, gyro %s, %lld allocations%s%s", camera,
+  // A gyro that keeps hanging up is worth a glance in `systemctl status`; one that never
+  // did needs no words.
+  char reconnects[40] = "";
+  if (m.gyro_reconnects_total > 0)
+    std::snprintf(reconnects, sizeof reconnects, " (%lld reconnects)", static_cast<long long>(m.gyro_reconnects_total));
+  std::snprintf(out, size, "%s %.1f fps, %.0f%% ok, %lld dropped, p99 %.1f ms, gyro %s%s, %lld allocations%s%s", camera,
                 m.frames_processed / seconds, std::isnan(m.ok_rate) ? 0.0 : 100.0 * m.ok_rate,
                 static_cast<long long>(m.frames_dropped_total), static_cast<double>(m.latency_p99_us) * 1e-3, gyro,
-                static_cast<long long>(m.allocations_since_ready), m.camera_problem.empty() ? "" : "; camera: ",
-                m.camera_problem.c_str());
+                reconnects, static_cast<long long>(m.allocations_since_ready),
+                m.camera_problem.empty() ? "" : "; camera: ", m.camera_problem.c_str());
 }
 
 }  // namespace ccdlane

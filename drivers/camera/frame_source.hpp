@@ -2,7 +2,9 @@
 // road): capture one frame into a caller-owned buffer of the fixed pool.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <string>
 
@@ -58,6 +60,12 @@ class FrameSource {
   virtual std::string describe() const = 0;
   // The last problem, for status lines ("" when none): e.g. "device lost: ENODEV".
   virtual std::string last_problem() const = 0;
+  // The same, copied NUL-terminated into `out` (cut to fit) for the capture thread, which
+  // must not allocate once the daemon is ready: sources that keep the text in a fixed
+  // buffer override this; the default goes through last_problem().
+  virtual void copy_last_problem(char* out, std::size_t size) const {
+    if (size > 0) std::snprintf(out, size, "%s", last_problem().c_str());
+  }
   virtual SourceCounters counters() const = 0;
 };
 

@@ -34,6 +34,9 @@ class V4l2Camera final : public FrameSource {
   void close() override;
   std::string describe() const override { return description_; }
   std::string last_problem() const override { return problem_.str(); }
+  void copy_last_problem(char* out, std::size_t size) const override {
+    if (size > 0) std::snprintf(out, size, "%s", problem_.c_str());
+  }
   SourceCounters counters() const override { return counters_; }
 
   DeviceState state() const { return state_; }

@@ -40,6 +40,9 @@ class FrameDirectorySource final : public FrameSource {
   void close() override;
   std::string describe() const override;
   std::string last_problem() const override;
+  void copy_last_problem(char* out, std::size_t size) const override {
+    if (size > 0) std::snprintf(out, size, "%s", problem_.data());
+  }
   SourceCounters counters() const override { return counters_; }
 
   // The directory's index (valid after open()): rows, malformed-row issues, truth.

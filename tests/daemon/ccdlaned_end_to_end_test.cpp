@@ -1,12 +1,16 @@
 // ccdlaned end to end on a real multicast bus in a private network namespace: rendered
-// frames in, one lane message per frame out, the same estimates as `ccdlane replay`; and
-// the gyro emulator hanging up mid-run without the lane messages stopping.
+// frames in, one lane message per frame out, the same estimates as `ccdlane replay`; the
+// gyro emulator hanging up mid-run without the lane messages stopping; and a GigE Vision
+// camera that stops sending (the simulator frozen) silencing the watchdog until the
+// driver has reconnected.
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -20,6 +24,7 @@
 #include <ccdlane/status_t.hpp>
 #include "daemon/lane_message.hpp"
 #include "tests/daemon/child_process.hpp"
+#include "tests/daemon/notify_socket.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
@@ -49,6 +54,20 @@ void subscribe(lcm::LCM& bus, Received& got) {
       +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, Received* g) { g->statuses.push_back(*m); },
       &got);
 }
+
+// Each test in its own private network namespace (a hermetic udpm bus), subscribed to
+// the daemon's lane and status channels.
+class CcdlanedEndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+    bus_ = std::make_unique<lcm::LCM>(kUrl);
+    ASSERT_TRUE(bus_->good());
+    subscribe(*bus_, got);
+  }
+  std::unique_ptr<lcm::LCM> bus_;
+  Received got;
+};
 
 // Renders `frames` frames of the default synthetic drive (with its gyro columns).
 std::string render(const test::TempDir& dir, int frames, const std::vector<std::string>& extra = {}) {
@@ -87,12 +106,8 @@ void expect_same(const ordered_json& daemon, const ordered_json& replay, const s
 
 // The daemon on a frame directory (no gyro device: the frames.csv columns give the
 // priors, as in replay), paced fast and not looping: it stops by itself at the end.
-TEST(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  Received got;
-  subscribe(bus, got);
+TEST_F(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
+  lcm::LCM& bus = *bus_;
 
   test::TempDir dir;
   constexpr int kFrames = 40;
@@ -134,13 +149,9 @@ TEST(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
 
 // The 3DM-GX1 emulator (another process, on a pty behind a link) hangs up every 1.3 s
 // for 300 ms: frames keep being processed and published throughout, the status counts
-// the hang-ups, and the gyro comes back.
-TEST(CcdlanedEndToEnd, GyroHangUpsDoNotStopTheLaneMessages) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  Received got;
-  subscribe(bus, got);
+// the hang-ups and the reconnects, and the gyro comes back.
+TEST_F(CcdlanedEndToEnd, GyroHangUpsDoNotStopTheLaneMessages) {
+  lcm::LCM& bus = *bus_;
 
   test::TempDir dir;
   const std::string frames = render(dir, 20, {"--no-gyro"});  // the gyro device is the only source of priors
@@ -175,12 +186,111 @@ TEST(CcdlanedEndToEnd, GyroHangUpsDoNotStopTheLaneMessages) {
   ASSERT_FALSE(got.statuses.empty());
   const status_t& last = got.statuses.back();
   EXPECT_GE(last.gyro_errors_total, 2) << "hang-ups are counted: " << log;
+  // Each hang-up the session recovered from is one reconnect (the last may still be under way).
+  EXPECT_GE(last.gyro_reconnects_total, 2) << log;
+  EXPECT_LE(last.gyro_reconnects_total, last.gyro_errors_total) << log;
   EXPECT_EQ(last.allocations_since_ready, 0);
   // Some frames had the gyro's priors and some (while it was away) had none; status ticks
   // and hang-ups both come about once a second, so the state seen at ticks is no proof.
   EXPECT_GT(last.gyro_samples_total, 0);
   EXPECT_GT(last.no_attitude_total, 0) << log;
   EXPECT_LT(last.no_attitude_total, last.frames_processed_total) << log;
+}
+
+int count_equal(const std::vector<std::string>& v, const std::string& what) {
+  return static_cast<int>(std::count(v.begin(), v.end(), what));
+}
+
+// Aravis' GigE Vision camera simulator (the camera of the driver's own tests) is frozen
+// with SIGSTOP for 3 s: the driver sees no frame and gives the camera up (releasing it
+// blocks in Aravis until the frozen camera answers or times out), the status says the
+// camera is stalled and systemd's watchdog hears nothing; after SIGCONT the driver
+// reconnects, WATCHDOG=1 comes back and so do the lane messages.
+TEST_F(CcdlanedEndToEnd, AStalledCameraSilencesTheWatchdogUntilItIsBack) {
+  lcm::LCM& bus = *bus_;
+
+  test::TempDir dir;
+  test::ChildProcess camera({"/usr/bin/arv-fake-gv-camera-0.8", "-i", "127.0.0.1"},
+                            test::ChildOptions{{}, dir.file("camera.out"), dir.file("camera.err"), {}});
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // until it listens
+  // No gyro: a roll prior makes the free set well-posed. The fake's diagonal ramp shows
+  // no lanes, so the messages say ok = false with a reason; they still come one a frame.
+  const std::string config = dir.write("daemon.toml",
+                                       "[source]\nkind = \"aravis\"\ncamera = \"127.0.0.1\"\nrate_hz = 30\n"
+                                       "[prior]\nphi_deg = [0.0, 1.0]\n[daemon]\nstall_timeout_s = 1.0\n");
+  test::NotifySocket notify(dir.file("notify"));
+  test::ChildProcess daemon({kDaemon, "--config", config},
+                            test::ChildOptions{{"NOTIFY_SOCKET=" + notify.path(), "WATCHDOG_USEC=300000"}, "",
+                                               dir.file("stderr"), {}});
+  const auto log = [&] { return test::read_file(dir.file("stderr")); };
+  // Notifications while the bus is served, so that lane messages are not lost meanwhile.
+  const auto notifications_for = [&](std::chrono::milliseconds span) {
+    std::vector<std::string> all;
+    const auto end = Clock::now() + span;
+    while (Clock::now() < end) {
+      bus.handleTimeout(20);
+      for (std::string& m : notify.drain()) all.push_back(std::move(m));
+    }
+    return all;
+  };
+  const auto has_status_with = [](const std::vector<std::string>& v, const std::string& what) {
+    return std::any_of(v.begin(), v.end(), [&](const std::string& m) {
+      return m.rfind("STATUS=", 0) == 0 && m.find(what) != std::string::npos;
+    });
+  };
+
+  std::vector<std::string> before;
+  const auto ready_by = Clock::now() + std::chrono::seconds(15);
+  while (count_equal(before, "READY=1") == 0 && Clock::now() < ready_by)
+    for (std::string& m : notifications_for(std::chrono::milliseconds(100))) before.push_back(std::move(m));
+  ASSERT_EQ(count_equal(before, "READY=1"), 1) << log();
+  before = notifications_for(std::chrono::milliseconds(1200));
+  EXPECT_GE(count_equal(before, "WATCHDOG=1"), 3) << "pinged (every 100 ms) while frames flow";
+  const std::size_t lanes_before_stall = got.lanes.size();
+  ASSERT_GT(lanes_before_stall, 20u) << log();
+
+  camera.signal(SIGSTOP);
+  notifications_for(std::chrono::milliseconds(300));  // frames already on their way
+  const std::size_t lanes_at_stall = got.lanes.size();
+  const std::vector<std::string> stalled = notifications_for(std::chrono::milliseconds(2700));
+  EXPECT_EQ(count_equal(stalled, "WATCHDOG=1"), 0) << "no frames, no watchdog pings";
+  std::string statuses;
+  for (const std::string& m : stalled) statuses += m.rfind("STATUS=", 0) == 0 ? m + "\n" : "";
+  EXPECT_TRUE(has_status_with(stalled, "STATUS=recovering ") || has_status_with(stalled, "STATUS=stalled "))
+      << statuses << log();
+  // Why depends on how far the driver got: stuck releasing the camera ("no frame for
+  // 1.3 s (the capture call has not returned)"), or already failing to reopen it.
+  EXPECT_TRUE(has_status_with(stalled, "; camera: ")) << "the status says why: " << statuses;
+  EXPECT_EQ(got.lanes.size(), lanes_at_stall) << "no lane messages without frames";
+  ASSERT_FALSE(got.statuses.empty());
+  const status_t& during = got.statuses.back();
+  EXPECT_TRUE(during.camera_state == status_t::CAMERA_RECOVERING || during.camera_state == status_t::CAMERA_STALLED)
+      << static_cast<int>(during.camera_state);
+  EXPECT_FALSE(during.camera_problem.empty());
+
+  camera.signal(SIGCONT);
+  // The simulator hands control to a new client once the old one's heartbeat has expired
+  // (3 s); the driver retries with backoff meanwhile.
+  std::vector<std::string> after;
+  const auto back_by = Clock::now() + std::chrono::seconds(20);
+  while (count_equal(after, "WATCHDOG=1") < 3 && Clock::now() < back_by)
+    for (std::string& m : notifications_for(std::chrono::milliseconds(100))) after.push_back(std::move(m));
+  EXPECT_GE(count_equal(after, "WATCHDOG=1"), 3) << "pings again once frames flow: " << log();
+  for (std::string& m : notifications_for(std::chrono::milliseconds(1100))) after.push_back(std::move(m));
+  EXPECT_TRUE(has_status_with(after, "STATUS=streaming ")) << log();
+  EXPECT_GT(got.lanes.size(), lanes_at_stall + 20) << "lane messages continue: " << log();
+
+  daemon.signal(SIGTERM);
+  const auto exit_status = daemon.wait_exit(2000);
+  while (bus.handleTimeout(100) > 0) {
+  }
+  ASSERT_TRUE(exit_status.has_value()) << log();
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << log();
+  const status_t& last = got.statuses.back();
+  EXPECT_GE(last.source_reconnects_total, 1) << log();
+  EXPECT_EQ(last.allocations_since_ready, 0) << "reconnecting allocates inside Aravis (malloc), not in ccdlaned";
+  EXPECT_NE(log().find("aravis:127.0.0.1: no frame for 1000 ms; reopening"), std::string::npos) << log();
+  EXPECT_NE(log().find("streaming again"), std::string::npos) << log();
 }
 
 }  // namespace

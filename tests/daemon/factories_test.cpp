@@ -13,6 +13,7 @@
 #include "daemon/gyro_factory.hpp"
 #include "daemon/processor_factory.hpp"
 #include "daemon/source_factory.hpp"
+#include "tests/support/run_process.hpp"
 
 namespace ccdlane {
 namespace {
@@ -139,10 +140,40 @@ TEST(ConfigProblem, RollNeedsAGyroARollPriorOrALaneWidthPrior) {
   Config roll_fixed = c;
   roll_fixed.solver.free.remove(FreeParam::phi);
   EXPECT_EQ(daemon_config_problem(roll_fixed), "");
-  Config recorded = c;  // frame directories carry their gyro columns
-  recorded.source.kind = SourceKind::frames;
-  recorded.source.path = "x";
-  EXPECT_EQ(daemon_config_problem(recorded), "");
+}
+
+// A frame directory's gyro is its frames.csv columns: with them the roll is pinned, without
+// them (and no gyro device, no prior) the configuration is refused naming the file.
+TEST(ConfigProblem, AFrameDirectoryWithoutGyroColumnsCannotPinTheRoll) {
+  Config c = default_config();
+  c.source.kind = SourceKind::frames;
+  test::TempDir with, without;
+  with.write("frames.csv", "file,t_ns,roll_deg,pitch_deg,yaw_deg\n0.pgm,0,0.5,-3,0\n");
+  without.write("frames.csv", "file,t_ns,truth_phi_deg\n0.pgm,0,0.5\n");
+  c.source.path = with.path();
+  EXPECT_EQ(frames_without_gyro(c), "");
+  EXPECT_EQ(daemon_config_problem(c), "");
+
+  c.source.path = without.path();
+  EXPECT_EQ(frames_without_gyro(c), "source.path: " + without.file("frames.csv") + " has no gyro columns (roll_deg, pitch_deg)");
+  EXPECT_EQ(daemon_config_problem(c),
+            "source.path: " + without.file("frames.csv") +
+                " has no gyro columns (roll_deg, pitch_deg) and there is no [gyro] device, no [prior] phi_deg and no "
+                "[prior] lane_width_mm, while solver.free has phi and y0: the roll is not observable; add one of them "
+                "or fix phi");
+  Config with_device = c;
+  with_device.gyro.device = "/dev/ttyUSB0";
+  EXPECT_EQ(daemon_config_problem(with_device), "");
+  Config roll_prior = c;
+  roll_prior.prior.phi_deg = Prior{0.0, 1.0};
+  EXPECT_EQ(daemon_config_problem(roll_prior), "");
+  Config roll_fixed = c;
+  roll_fixed.solver.free.remove(FreeParam::phi);
+  EXPECT_EQ(daemon_config_problem(roll_fixed), "");
+
+  // A directory that cannot be read is not called gyro-less: opening it says what is wrong.
+  c.source.path = without.file("missing");
+  EXPECT_EQ(daemon_config_problem(c), "");
 }
 
 TEST(ConfigProblem, ScaleAndFocalLengthNeedPriorsEvenWithAGyro) {

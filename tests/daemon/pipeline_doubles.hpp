@@ -123,6 +123,7 @@ class FakeGyro : public AttitudeProvider {
   void last_problem(char* out, std::size_t size) const override { std::snprintf(out, size, "%s", ""); }
   GyroCounters counters() const override { return {}; }
   std::string describe() const override { return "fake gyro"; }
+  bool running() const { return running_.load(); }
   bool ran() const { return ran_.load(); }
 
  private:

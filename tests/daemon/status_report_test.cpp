@@ -35,6 +35,7 @@ TEST(StatusReport, PeriodCountsAreDifferencesOfTotals) {
   second.latency = LatencySummary{29, 180, 1234, 1500};
   second.gyro = GyroState::stale;
   second.gyro_counters.samples = 200;
+  second.gyro_counters.reconnects = 2;
   second.gyro_problem = "no sample for 0.5 s";
   second.totals.source.timeouts = 3;
   second.totals.no_attitude = 7;
@@ -57,13 +58,14 @@ TEST(StatusReport, PeriodCountsAreDifferencesOfTotals) {
   EXPECT_EQ(m.gyro_state, status_t::GYRO_STALE);
   EXPECT_EQ(m.gyro_problem, "no sample for 0.5 s");
   EXPECT_EQ(m.gyro_samples_total, 200);
+  EXPECT_EQ(m.gyro_reconnects_total, 2);
   EXPECT_EQ(m.source_timeouts_total, 3);
   EXPECT_EQ(m.no_attitude_total, 7);
   EXPECT_EQ(m.ready, 1);
 
   char line[256];
   report.summary_line(line, sizeof line);
-  EXPECT_STREQ(line, "streaming 29.0 fps, 86% ok, 2 dropped, p99 1.2 ms, gyro stale, 0 allocations");
+  EXPECT_STREQ(line, "streaming 29.0 fps, 86% ok, 2 dropped, p99 1.2 ms, gyro stale (2 reconnects), 0 allocations");
 }
 
 TEST(StatusReport, NothingProcessedMeansNoRateAndTheProblemIsShown) {

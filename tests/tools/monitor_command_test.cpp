@@ -4,14 +4,20 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <chrono>
 #include <set>
+#include <thread>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <ccdlane/lane_estimate_t.hpp>
+#include <ccdlane/status_t.hpp>
 #include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
+#include "daemon/lane_message.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -95,6 +101,36 @@ TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
     saw_status = saw_status || line.find("| camera streaming, gyro none") != std::string::npos;
   }
   EXPECT_TRUE(saw_status) << r.out;
+}
+
+// The gyro's reconnect count comes from the status message, and only when there is a gyro.
+TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  test::TempDir dir;
+  test::ChildProcess monitor({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
+                             test::ChildOptions{{}, dir.file("out"), dir.file("err"), {}});
+  lcm::LCM bus(kUrl);
+  ASSERT_TRUE(bus.good());
+  LaneEstimate e;
+  e.ok = true;
+  lane_estimate_t lane;
+  status_t status{};
+  status.camera_state = status_t::CAMERA_STREAMING;
+  status.gyro_state = status_t::GYRO_OK;
+  status.gyro_reconnects_total = 3;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(2300);
+  for (std::uint64_t frame = 0; std::chrono::steady_clock::now() < end; ++frame) {
+    e.frame = frame;
+    to_message(e, 0, 0, lane);
+    bus.publish("CCDLANE_LANES", &lane);
+    if (frame % 10 == 0) bus.publish("CCDLANE_STATUS", &status);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const auto exit_status = monitor.wait_exit(3000);
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
+  const std::string out = test::read_file(dir.file("out"));
+  EXPECT_NE(out.find("| camera streaming, gyro ok, gyro reconnects 3, p99 "), std::string::npos) << out;
 }
 
 TEST(MonitorCommandAlone, NothingOnTheBusIsExitOneWithOneLine) {

@@ -102,8 +102,8 @@ class Monitor {
   void on_status(const status_t& m) { last_status_ = m; }
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
-  //  heading 0.07 deg, departure none | 30 msg/s | camera streaming, gyro ok, p99 1.2 ms,
-  //  dropped 0, allocations 0"
+  //  heading 0.07 deg, departure none | 30 msg/s | camera streaming, gyro ok, gyro reconnects 0,
+  //  p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
   void print_line() {
     char text[512];
     int n = 0;
@@ -120,9 +120,13 @@ class Monitor {
     }
     if (last_status_ && n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
       const status_t& s = *last_status_;
+      char gyro_reconnects[48] = "";
+      if (s.gyro_state != status_t::GYRO_NONE)
+        std::snprintf(gyro_reconnects, sizeof gyro_reconnects, ", gyro reconnects %lld",
+                      static_cast<long long>(s.gyro_reconnects_total));
       std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
-                    " | camera %s, gyro %s, p99 %.1f ms, dropped %lld, allocations %lld",
-                    camera_state_name(s.camera_state), gyro_state_name(s.gyro_state),
+                    " | camera %s, gyro %s%s, p99 %.1f ms, dropped %lld, allocations %lld",
+                    camera_state_name(s.camera_state), gyro_state_name(s.gyro_state), gyro_reconnects,
                     static_cast<double>(s.latency_p99_us) * 1e-3, static_cast<long long>(s.frames_dropped_total),
                     static_cast<long long>(s.allocations_since_ready));
     }
