@@ -1,6 +1,7 @@
-// [lcm] publish_frames on memq://: the decorator publishes each processed frame with the
-// estimate's frame number and timestamp and the gyro reading used, returns the inner
-// processor's estimate untouched, and is only put in place when the key asks for it.
+// [lcm] publish_frames on memq://: the decorator publishes each processed frame under the
+// source's sequence number and frame time (as the pipeline keys its lane message, whatever
+// the inner estimate says) with the gyro reading used, returns the inner processor's
+// estimate untouched, and is only put in place when the key asks for it.
 #include "daemon/frame_publisher.hpp"
 
 #include <vector>
@@ -14,7 +15,7 @@ namespace ccdlane {
 namespace {
 
 // The inner processor: an estimate numbered and timed its own way, so the test sees
-// which numbers the published frame carries.
+// that the published frame carries the source's numbers instead.
 class NumberingProcessor : public FrameProcessor {
  public:
   LaneEstimate process(const ImageView&, const FrameMeta& meta, std::optional<Gx1Angles>) override {
@@ -33,7 +34,7 @@ void on_frame(const lcm::ReceiveBuffer*, const std::string&, const frame_t* m, s
   got->push_back(*m);
 }
 
-TEST(FramePublisher, PublishesEachProcessedFrameUnderTheEstimatesNumber) {
+TEST(FramePublisher, PublishesEachProcessedFrameUnderTheSourcesNumberAndFrameTime) {
   lcm::LCM bus("memq://");
   ASSERT_TRUE(bus.good());
   std::vector<frame_t> got;
@@ -48,7 +49,8 @@ TEST(FramePublisher, PublishesEachProcessedFrameUnderTheEstimatesNumber) {
     const ImageView image{pixels.data(), 24, 10, 64, PixelFormat::mono8, 8};
     FrameMeta meta;
     meta.sequence = k;
-    meta.t_ns = 5;
+    meta.t_ns = 5 + static_cast<std::int64_t>(k);  // the capture clock
+    if (k != 2) meta.recorded_t_ns = static_cast<std::int64_t>(k) * 33'000'000;  // a recorded frame's own time
     const std::optional<Gx1Angles> gyro = k == 1 ? std::nullopt : std::optional<Gx1Angles>(Gx1Angles{0.5, -1.0, 33.0});
     const LaneEstimate e = publisher.process(image, meta, gyro);
     EXPECT_EQ(e.frame, k + 1000);
@@ -56,8 +58,8 @@ TEST(FramePublisher, PublishesEachProcessedFrameUnderTheEstimatesNumber) {
     while (got.size() < k + 1 && bus.handleTimeout(1000) > 0) {}
     ASSERT_EQ(got.size(), k + 1);
     const frame_t& m = got.back();
-    EXPECT_EQ(m.sequence, static_cast<std::int64_t>(k + 1000));
-    EXPECT_EQ(m.t_ns, static_cast<std::int64_t>(k) * 40'000'000);
+    EXPECT_EQ(m.sequence, static_cast<std::int64_t>(k));
+    EXPECT_EQ(m.t_ns, k != 2 ? static_cast<std::int64_t>(k) * 33'000'000 : 7) << "as recorded, else the capture time";
     EXPECT_EQ(m.has_gyro, k != 1);
     if (k != 1) {
       EXPECT_EQ(m.gyro_yaw_deg, 33.0);
