@@ -8,8 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include "daemon/pipeline.hpp"
 #include "daemon/test_pattern.hpp"
 #include "drivers/frames/frame_message.hpp"
+#include "tests/daemon/pipeline_doubles.hpp"
 
 namespace ccdlane {
 namespace {
@@ -72,6 +74,46 @@ TEST(FramePublisher, PublishesEachProcessedFrameUnderTheSourcesNumberAndFrameTim
   EXPECT_EQ(counting.calls, 3);
   EXPECT_EQ(publisher.published(), 3u);
   EXPECT_EQ(publisher.failed(), 0u);
+}
+
+// In the daemon's pipeline, behind a queue that drops: the frames on the bus are exactly
+// the frames processed, in processing order, under the numbers and times of their lane
+// messages; so a log replays through the same estimator states the daemon went through.
+TEST(FramePublisher, InThePipelineTheFramesSentAreTheFramesProcessedAfterDrops) {
+  constexpr std::uint64_t kFrames = 400;
+  lcm::LCM bus("memq://");
+  ASSERT_TRUE(bus.good());
+  std::vector<frame_t> got;
+  got.reserve(kFrames);
+  bus.subscribeFunction("CCDLANE_FRAMES", &on_frame, &got);
+  test::RecordingSink sink(kFrames);
+  TestPatternSource source(test::small_frames(kFrames, 0));  // as fast as it can render
+  ASSERT_EQ(source.open(), "");
+  FramePublishingProcessor processor(std::make_unique<TestPatternProcessor>(/*work_us=*/300), bus, "CCDLANE_FRAMES",
+                                     source.width(), source.height(), source.format());
+  RealtimeConfig realtime_config;
+  RealtimeSetup realtime{realtime_config};
+  PipelineOptions options;
+  options.queue_depth = 1;
+  Pipeline pipeline(source, nullptr, processor, sink, realtime, options);
+  pipeline.start();
+  pipeline.run();
+  ASSERT_TRUE(test::eventually([&] { return pipeline.finished(); }, std::chrono::seconds(60)));
+  pipeline.stop();
+  while (bus.handleTimeout(0) > 0) {
+  }
+
+  const PipelineTotals t = pipeline.totals();
+  const auto lanes = sink.records();
+  EXPECT_GT(t.frames_dropped, 0u) << "the processor is far slower than the source";
+  ASSERT_EQ(got.size(), lanes.size());
+  ASSERT_EQ(processor.published(), lanes.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(static_cast<std::uint64_t>(got[i].sequence), lanes[i].frame) << "frame " << i;
+    ImageView image;
+    ASSERT_EQ(frame_image(got[i], image), "");
+    EXPECT_TRUE(test_pattern_intact(image, lanes[i].frame)) << "the pixels of the frame processed, not a later one's";
+  }
 }
 
 TEST(FramePublisher, AFrameOfAnotherSizeIsCountedNotSent) {
