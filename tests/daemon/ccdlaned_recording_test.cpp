@@ -42,12 +42,11 @@
 namespace ccdlane {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
 
-const std::string kDaemon = CCDLANE_DAEMON;
-const std::string kTool = CCDLANE_TOOL;
-const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
+const std::string kUrl = test::kBusUrl;
+const std::string kDaemon = CCDLANE_DAEMON, kTool = CCDLANE_TOOL;
 // Raw frames (~0.5 MB) are all dropped by the default receive buffer (platform-notes.md).
 const std::string kRecordingUrl = kUrl + "&recv_buf_size=8388608";
 
