@@ -8,8 +8,6 @@
 #include <span>
 #include <utility>
 
-#include <Eigen/Cholesky>
-
 #include "core/solver/schur_system.hpp"
 
 namespace ccdlane::solver {
@@ -17,9 +15,38 @@ namespace ccdlane::solver {
 struct LmWorkspace {
   ReducedMatrix N, A;
   ReducedVector g, scale, step;
-  Eigen::LDLT<ReducedMatrix> ldlt{kMaxReducedParams};
   double* dx = nullptr;  // per pick
 };
+
+// Solves A x = b in place (x into b) by an unpivoted Cholesky factorisation of A's lower
+// triangle, for the damped, unit-diagonal systems of the loop below: positive definite
+// whenever lambda > 0, and of at most kMaxReducedParams unknowns, where plain loops beat
+// a general pivoting factorisation several times over. False when a pivot is not
+// positive (A is not positive definite to working precision).
+inline bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
+  const int n = static_cast<int>(A.rows());
+  for (int c = 0; c < n; ++c) {
+    double pivot = A(c, c);
+    for (int k = 0; k < c; ++k) pivot -= A(c, k) * A(c, k);
+    if (!(pivot > 0.0)) return false;
+    const double d = std::sqrt(pivot);
+    A(c, c) = d;
+    for (int r = c + 1; r < n; ++r) {
+      double v = A(r, c);
+      for (int k = 0; k < c; ++k) v -= A(r, k) * A(c, k);
+      A(r, c) = v / d;
+    }
+  }
+  for (int r = 0; r < n; ++r) {  // L y = b
+    for (int k = 0; k < r; ++k) b[r] -= A(r, k) * b[k];
+    b[r] /= A(r, r);
+  }
+  for (int r = n - 1; r >= 0; --r) {  // L^T x = y
+    for (int k = r + 1; k < n; ++k) b[r] -= A(k, r) * b[k];
+    b[r] /= A(r, r);
+  }
+  return true;
+}
 
 struct LmOptions {
   int max_iterations = 50;
@@ -65,12 +92,15 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, std::
     ++out.iterations;
     build_reduced_system(layout, picks, *current, lambda, ws.N, ws.g);
     for (int k = 0; k < n; ++k) ws.scale[k] = ws.N(k, k) > 0.0 ? 1.0 / std::sqrt(ws.N(k, k)) : 1.0;
-    ws.A = ws.scale.asDiagonal() * ws.N * ws.scale.asDiagonal();
-    ws.A.diagonal().array() += lambda;
-    ws.ldlt.compute(ws.A);
-    ws.step = -ws.ldlt.solve(ws.scale.cwiseProduct(ws.g));
+    ws.A.resize(n, n);
+    for (int c = 0; c < n; ++c) {
+      for (int r = c; r < n; ++r) ws.A(r, c) = ws.scale[r] * ws.N(r, c) * ws.scale[c];  // lower triangle
+      ws.A(c, c) += lambda;
+    }
+    ws.step = -ws.scale.cwiseProduct(ws.g);
+    const bool factored = cholesky_solve(ws.A, ws.step);
     ws.step.array() *= ws.scale.array();
-    if (ws.ldlt.info() != Eigen::Success || !ws.step.allFinite()) {
+    if (!factored || !ws.step.allFinite()) {
       if (!(lambda < 1e30)) {
         out.status = SolveStatus::numerical_failure;
         return out;

@@ -91,7 +91,7 @@ BackSubstitution back_substitute_picks(const ParameterLayout& layout, std::span<
 
 void build_reduced_system(const ParameterLayout& layout, std::span<const Pick> picks, const SolverState& state,
                           double lambda, ReducedMatrix& N, ReducedVector& g) {
-  const int n = layout.size(), ng = layout.num_global(), nk = layout.num_line_kinds();
+  const int n = layout.size(), ng = layout.num_global();
   const int num_lines = layout.num_lines();
   std::array<LocalMatrix, kMaxLaneLines> H;
   std::array<LocalVector, kMaxLaneLines> h;
@@ -101,21 +101,28 @@ void build_reduced_system(const ParameterLayout& layout, std::span<const Pick> p
   }
   with_local_size(layout.local_size(), [&]<int M>() { accumulate_picks<M>(picks, state, lambda, H, h); });
 
+  // Scatter each line's local block: its globals overlap every other line's, its own
+  // kinds sit at the line's offset. Plain loops: the sizes are tiny, and Eigen's dynamic
+  // block expressions cost more than the arithmetic here.
+  const int m = layout.local_size();
   N.setZero(n, n);
   g.setZero(n);
   for (int j = 0; j < num_lines; ++j) {
-    const int o = layout.line_offset(j);
-    N.topLeftCorner(ng, ng) += H[j].topLeftCorner(ng, ng);
-    N.block(0, o, ng, nk) = H[j].block(0, ng, ng, nk);
-    N.block(o, 0, nk, ng) = H[j].block(ng, 0, nk, ng);
-    N.block(o, o, nk, nk) = H[j].block(ng, ng, nk, nk);
-    g.head(ng) += h[j].head(ng);
-    g.segment(o, nk) = h[j].segment(ng, nk);
+    const int shift = layout.line_offset(j) - ng;
+    const auto reduced = [&](int local) { return local < ng ? local : local + shift; };
+    for (int c = 0; c < m; ++c) {
+      const int rc = reduced(c);
+      for (int k = 0; k < m; ++k) N(reduced(k), rc) += H[j](k, c);
+      g[rc] += h[j][c];
+    }
   }
-  for (int k = 0; k < state.priors.count; ++k) {
-    const PriorRow& row = state.priors.rows[k];
-    N.noalias() += row.a * row.a.transpose();
-    g += row.a * row.r;
+  for (int p = 0; p < state.priors.count; ++p) {
+    const PriorRow& row = state.priors.rows[p];
+    for (int c = 0; c < n; ++c) {
+      if (row.a[c] == 0.0) continue;  // a prior touches one or two parameters
+      for (int k = 0; k < n; ++k) N(k, c) += row.a[k] * row.a[c];
+      g[c] += row.a[c] * row.r;
+    }
   }
 }
 
