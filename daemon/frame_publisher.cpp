@@ -19,7 +19,8 @@ LaneEstimate FramePublishingProcessor::process(const ImageView& image, const Fra
   const LaneEstimate estimate = inner_->process(image, meta, attitude);
   // Wall-clock time of the capture: meta.t_ns is CLOCK_MONOTONIC.
   const std::int64_t utime = realtime_us() - (monotonic_ns() - meta.t_ns) / 1000;
-  const FrameRecord record{estimate.frame, estimate.t_ns, utime, attitude};
+  // Keyed as the pipeline keys the lane message: the source's sequence and frame time.
+  const FrameRecord record{meta.sequence, meta.frame_t_ns(), utime, attitude};
   int size = -1;
   if (to_frame_message(image, record, message_))
     size = message_.encode(bytes_.data(), 0, static_cast<int>(bytes_.size()));

@@ -6,24 +6,25 @@
 #include <cstdio>
 #include <cstring>
 
-#include "daemon/log.hpp"
-
 namespace ccdlane {
 
-Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, gx1::SessionOptions options)
-    : device_(std::move(device)), options_(options) {}
+Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, Gx1LineSink log, gx1::SessionOptions options)
+    : device_(std::move(device)), log_(std::move(log)), options_(options) {}
 
-Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, gx1::SessionOptions options)
+Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, Gx1LineSink log, gx1::SessionOptions options)
     : device_("emulated"),
+      log_(std::move(log)),
       options_(options),
-      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), [](const char* line) {
-        log_line(LogLevel::info, "gyro", "emulator: %s", line);
+      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), [this](const char* line) {
+        char text[320];
+        std::snprintf(text, sizeof text, "emulator: %s", line);
+        if (log_) log_(LogLevel::info, text);
       })) {}
 
 Gx1AttitudeProvider::~Gx1AttitudeProvider() { close(); }
 
 void Gx1AttitudeProvider::note(const char* line) {
-  log_line(LogLevel::notice, "gyro", "%s", line);
+  if (log_) log_(LogLevel::notice, line);
   std::lock_guard<std::mutex> lock(problem_mutex_);
   std::snprintf(problem_, sizeof problem_, "%s", line);
 }
@@ -65,6 +66,14 @@ std::optional<Gx1Angles> Gx1AttitudeProvider::attitude_at(std::int64_t t_ns) con
   const gx1::AttitudeQuery q = session_->attitude_at(t_ns);
   if (q.status != gx1::AttitudeStatus::ok) return std::nullopt;
   return q.angles;
+}
+
+std::optional<std::int64_t> Gx1AttitudeProvider::newest_sample_ns() const {
+  if (!session_) return std::nullopt;
+  const std::uint64_t n = session_->history().count();
+  gx1::Gx1Sample newest;
+  if (n == 0 || !session_->history().sample(n - 1, newest)) return std::nullopt;
+  return newest.t_ns;
 }
 
 GyroState Gx1AttitudeProvider::state() const {

@@ -7,6 +7,7 @@
 
 #include "core/synth/synth_drive.hpp"
 #include "daemon/gx1_attitude_provider.hpp"
+#include "daemon/log.hpp"
 #include "daemon/synth_source.hpp"
 
 namespace ccdlane {
@@ -26,6 +27,9 @@ gx1::AttitudeScript follow_synth_drive(const Config& config) {
   };
 }
 
+// The gyro's events go to the daemon's log.
+void log_gyro_line(LogLevel level, const char* line) { log_line(level, "gyro", "%s", line); }
+
 }  // namespace
 
 std::string attitude_provider_unavailable(const Config&) { return ""; }
@@ -35,9 +39,9 @@ std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config) {
   if (config.gyro.device == "emulated") {
     gx1::EmulatorOptions o;
     o.attitude = follow_synth_drive(config);
-    return std::make_unique<Gx1AttitudeProvider>(std::move(o));
+    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log_gyro_line);
   }
-  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device);
+  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log_gyro_line);
 }
 
 }  // namespace ccdlane

@@ -16,7 +16,7 @@ class LaneEstimatorProcessor final : public FrameProcessor {
   // Gyro roll/pitch become priors inside the estimator (camera_attitude_from_gx1,
   // [gyro] sigma_deg, a [prior] entry overriding); yaw is never used.
   LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) override {
-    return estimator_.estimate(image, meta.sequence, meta.t_ns, attitude);
+    return estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude);
   }
 
  private:

@@ -224,7 +224,7 @@ void Pipeline::process_one(std::uint32_t index) {
   if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
 
   estimate.frame = slot.meta.sequence;
-  estimate.t_ns = slot.meta.t_ns;
+  estimate.t_ns = slot.meta.frame_t_ns();  // as recorded for recorded sources; the gyro above used the capture clock
   estimate.latency_us = (monotonic_ns() - slot.received_ns) / 1000;
   const std::int64_t publish_utime = realtime_us();
   if (!sink_.publish_lane(estimate, publish_utime - estimate.latency_us, publish_utime))

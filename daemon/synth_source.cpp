@@ -62,6 +62,7 @@ CaptureStatus SynthSource::capture(const MutableImageView& into, FrameMeta& meta
   for (int y = 0; y < height_; ++y) std::memcpy(into.row(y), src + row_bytes * static_cast<std::size_t>(y), row_bytes);
   meta.sequence = next_;
   meta.t_ns = monotonic_ns();
+  meta.recorded_t_ns = drive_.t_ns(next_);  // the drive's clock, as `ccdlane synth` stamps frame n
   if (options_.gyro_in_meta) meta.gyro = gyro_[k];
   else meta.gyro.reset();
   ++next_;

@@ -34,7 +34,8 @@ class SynthSource final : public FrameSource {
   int height() const override { return height_; }
   PixelFormat format() const override { return format_; }
   // Sleeps until frame n is due (open time + n / rate_hz) and copies rendered frame
-  // n mod count into `into`; meta.sequence = n, meta.gyro = that frame's gyro reading.
+  // n mod count into `into`; meta.sequence = n, meta.recorded_t_ns = n / [synth] rate_hz
+  // (the drive's time, going on through the loops), meta.gyro = that frame's gyro reading.
   CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override;
   void close() override {}
   std::string describe() const override;

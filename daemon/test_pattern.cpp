@@ -96,7 +96,7 @@ LaneEstimate TestPatternProcessor::process(const ImageView& image, const FrameMe
   }
   LaneEstimate e;
   e.frame = meta.sequence;
-  e.t_ns = meta.t_ns;
+  e.t_ns = meta.frame_t_ns();
   if (!test_pattern_intact(image, meta.sequence)) {
     damaged_.fetch_add(1, std::memory_order_relaxed);
     e.ok = false;

@@ -31,11 +31,15 @@ double SynthDrive::vehicle_position_mm(double t) const {
   return p;
 }
 
+std::int64_t SynthDrive::t_ns(std::uint64_t k) const {
+  return static_cast<std::int64_t>(std::llround(static_cast<double>(k) / synth_.rate_hz * 1e9));
+}
+
 SynthFrame SynthDrive::frame(std::uint64_t k) const {
   SynthFrame f;
   f.index = k;
   const double t = static_cast<double>(k) / synth_.rate_hz;
-  f.t_ns = static_cast<std::int64_t>(std::llround(t * 1e9));
+  f.t_ns = t_ns(k);
   f.odometer_mm = synth_.speed_mps * 1000.0 * t;
 
   const double p = vehicle_position_mm(t);

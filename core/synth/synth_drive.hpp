@@ -40,6 +40,8 @@ class SynthDrive {
 
   // The truth of frame k (pure: any k, any order, same answer for the same seed).
   SynthFrame frame(std::uint64_t k) const;
+  // frame(k).t_ns alone: k / [synth] rate_hz, in ns (cheap, no allocation).
+  std::int64_t t_ns(std::uint64_t k) const;
 
   // Where road line j (0 = leftmost) lies laterally, relative to the road's centre.
   double line_position_mm(int j) const;

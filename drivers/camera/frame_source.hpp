@@ -24,7 +24,15 @@ enum class CaptureStatus : std::uint8_t {
 struct FrameMeta {
   std::uint64_t sequence = 0;   // the source's own frame counter (gaps = dropped frames)
   std::int64_t t_ns = 0;        // CLOCK_MONOTONIC, from the driver where it gives one
-  std::optional<Gx1Angles> gyro;  // a recorded gyro reading (frame directories only)
+  std::optional<Gx1Angles> gyro;  // a recorded gyro reading (frame directories, synth)
+  // The frame's own timestamp when the source plays a recording (frame directory, the
+  // synthetic drive): its t_ns as recorded, which estimates and re-recorded frames carry,
+  // so that a frame keeps its identity however fast it is played. t_ns stays the capture
+  // time on this machine's clock, which a live gyro and the latencies are measured on.
+  std::optional<std::int64_t> recorded_t_ns;
+
+  // The timestamp a frame goes out under (lane estimates, frame_t): as recorded, else t_ns.
+  std::int64_t frame_t_ns() const { return recorded_t_ns.value_or(t_ns); }
 };
 
 struct SourceCounters {

@@ -52,6 +52,11 @@ std::string FrameDirectorySource::open() {
     period_ns_ = (dir.row(dir.size() - 1).t_ns - dir.row(0).t_ns) / static_cast<std::int64_t>(dir.size() - 1);
   }
   if (period_ns_ <= 0) period_ns_ = kDefaultPeriodNs;
+  // A loop's next pass is stamped as if the recording went on: one recorded mean period
+  // after its last frame, so that frame times never go backwards.
+  const std::int64_t span = dir.row(dir.size() - 1).t_ns - dir.row(0).t_ns;
+  const std::int64_t recorded_period = dir.size() >= 2 ? span / static_cast<std::int64_t>(dir.size() - 1) : 0;
+  pass_span_ns_ = span + (recorded_period > 0 ? recorded_period : kDefaultPeriodNs);
   next_ = 0;
   pass_ = 0;
   started_ = false;
@@ -83,6 +88,7 @@ CaptureStatus FrameDirectorySource::capture(const MutableImageView& into, FrameM
   const std::size_t i = next_++;
   meta.sequence = pass_ * dir.data_rows() + dir.row(i).index;
   meta.t_ns = monotonic_ns();
+  meta.recorded_t_ns = dir.row(i).t_ns + static_cast<std::int64_t>(pass_) * pass_span_ns_;
   meta.gyro = dir.row(i).gyro;
   // When this frame's successor is due (after the last row, the wrap adds one period).
   if (next_ < dir.size())

@@ -32,8 +32,10 @@ class FrameDirectorySource final : public FrameSource {
   int significant_bits() const { return significant_bits_; }
 
   // Sleeps until the frame is due (CLOCK_MONOTONIC), decodes it into `into`. meta.t_ns
-  // is the monotonic delivery time; meta.sequence counts every frame delivered or
-  // skipped, so it equals the frames.csv row during the first pass. A damaged frame
+  // is the monotonic delivery time, meta.recorded_t_ns the row's t_ns (later passes of a
+  // loop: shifted by one recording length each); meta.sequence counts every frame
+  // delivered or skipped, so it equals the frames.csv row during the first pass (as in
+  // `ccdlane replay` of the directory). A damaged frame
   // returns `error` (counted; last_problem() names file and reason) and the next call
   // goes on with the next frame.
   CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override;
@@ -62,6 +64,7 @@ class FrameDirectorySource final : public FrameSource {
   std::int64_t next_due_ns_ = 0;
   bool started_ = false;
   std::int64_t period_ns_ = 0; // between passes when looping, and for rate_hz
+  std::int64_t pass_span_ns_ = 0; // recorded time from one pass's first frame to the next's
   SourceCounters counters_;
   std::array<char, 512> problem_{};
 };

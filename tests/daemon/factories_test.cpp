@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/synth/synth_drive.hpp"
 #include "daemon/clock.hpp"
 #include "daemon/daemon.hpp"
 #include "daemon/gyro_factory.hpp"
@@ -43,6 +44,10 @@ TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   EXPECT_EQ(m.sequence, 3u);
   EXPECT_EQ(a, b);
   EXPECT_EQ(m.gyro->roll_deg, m0.gyro->roll_deg);
+  // Stamped with the drive's time, as `ccdlane synth` stamps its frames, going on past the loop.
+  EXPECT_EQ(m0.frame_t_ns(), 0);
+  EXPECT_EQ(m.frame_t_ns(), SynthDrive(c).frame(3).t_ns);
+  EXPECT_GT(m.frame_t_ns(), 0);
 
   // And the estimator finds the lane it shows.
   const LaneEstimate e = processor->process(va, m0, m0.gyro);

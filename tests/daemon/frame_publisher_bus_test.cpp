@@ -16,11 +16,11 @@
 
 #include "core/config/config_loader.hpp"
 #include "core/image/image_buffer.hpp"
-#include "core/lane/lane_estimator.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "daemon/allocation_counter.hpp"
 #include "daemon/frame_publisher.hpp"
+#include "daemon/lane_estimator_processor.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -30,20 +30,8 @@
 namespace ccdlane {
 namespace {
 
-const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
+const std::string kUrl = test::kBusUrl;
 const std::string kConfig = CCDLANE_SOURCE_DIR "/tools/demo/reference-camera.toml";
-
-// What ccdlaned's processing thread runs: the lane estimator.
-class EstimatorProcessor : public FrameProcessor {
- public:
-  explicit EstimatorProcessor(const Config& config) : estimator_(config) {}
-  LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) override {
-    return estimator_.estimate(image, meta.sequence, meta.t_ns, attitude);
-  }
-
- private:
-  LaneEstimator estimator_;
-};
 
 class NothingProcessor : public FrameProcessor {
  public:
@@ -116,7 +104,7 @@ TEST_F(FramePublisherBus, WhatLcmLoggerRecordsReplaysToTheSameEstimates) {
 
   lcm::LCM bus(kUrl);
   ASSERT_TRUE(bus.good());
-  FramePublishingProcessor processor(std::make_unique<EstimatorProcessor>(config), bus, "CCDLANE_FRAMES",
+  FramePublishingProcessor processor(std::make_unique<LaneEstimatorProcessor>(config), bus, "CCDLANE_FRAMES",
                                      config.camera.Nu, config.camera.Nv, PixelFormat::mono8);
   SynthFrames synth(config);
   constexpr std::uint64_t kFrames = 15;

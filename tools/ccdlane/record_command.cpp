@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -19,14 +18,14 @@
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "daemon/channels.hpp"
+#include "daemon/clock.hpp"
+#include "daemon/gx1_attitude_provider.hpp"
 #include "drivers/camera/camera_factory.hpp"
 #include "drivers/camera/frame_pool.hpp"
 #include "drivers/common/device_state.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
 #include "drivers/frames/frame_log.hpp"
-#include "drivers/gx1/gx1_emulator.hpp"
-#include "drivers/gx1/gx1_session.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {
@@ -41,40 +40,29 @@ struct RecordArgs {
   double fps = 30.0;
 };
 
-std::int64_t realtime_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000 + ts.tv_nsec / 1000;
-}
-
 bool is_log_path(const std::string& out) {
   constexpr std::string_view kSuffix = ".lcmlog";
   return out.size() > kSuffix.size() && out.compare(out.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0;
 }
 
-// The live 3DM-GX1 of [gyro] device (or the emulator for "emulated"), read by its own
-// thread into the session's history; frames take the reading interpolated at their time.
+// The live 3DM-GX1 of [gyro] device (or the emulator for "emulated"): the daemon's
+// Gx1AttitudeProvider, read by its own thread; frames take the reading interpolated at
+// their time. Once it streams, its problems (not the emulator's chatter) go to stderr;
+// a failed open is the one line of the error it throws.
 class LiveGyro {
  public:
   explicit LiveGyro(const std::string& device) {
-    std::string path = device;
-    if (device == "emulated") {
-      emulator_ = std::make_unique<gx1::Gx1Emulator>(gx1::EmulatorOptions{}, [](const char*) {});
-      if (const int rc = emulator_->start(); rc < 0)
-        throw std::runtime_error("gyro: cannot start the emulator: " + std::string(std::strerror(-rc)));
-      path = emulator_->device_path();
-    }
-    session_ = std::make_unique<gx1::Gx1Session>(path, gx1::SessionOptions{}, [](const char* line) {
-      std::cerr << "ccdlane record: gyro: " << line << '\n';
-    });
-    if (const int rc = session_->open(); rc < 0)
-      throw std::runtime_error("gyro: " + device + ": cannot open: " + std::strerror(-rc));
-    thread_ = std::thread([this] {
-      while (!stop_.load()) session_->poll_once(50);
-    });
+    const Gx1LineSink log = [this](LogLevel level, const char* line) {
+      if (level != LogLevel::info && streaming_.load()) std::cerr << "ccdlane record: gyro: " << line << '\n';
+    };
+    if (device == "emulated") provider_ = std::make_unique<Gx1AttitudeProvider>(gx1::EmulatorOptions{}, log, options_);
+    else provider_ = std::make_unique<Gx1AttitudeProvider>(device, log, options_);
+    if (const std::string why = provider_->open(); !why.empty()) throw std::runtime_error(why);
+    streaming_.store(true);
+    thread_ = std::thread([this] { provider_->run(stop_); });
     // Frames are recorded once the gyro streams, so that every frame has a reading.
     const std::int64_t give_up = monotonic_ns() + 2'000'000'000;
-    while (session_->history().count() == 0) {
+    while (!provider_->newest_sample_ns()) {
       if (monotonic_ns() > give_up) {
         stop_thread();
         throw std::runtime_error("gyro: " + device + ": no sample within 2 s of opening it");
@@ -90,17 +78,12 @@ class LiveGyro {
   // interpolated between two samples rather than the last one held. Recording is not
   // real time: the camera's driver buffers hold the frames meanwhile.
   std::optional<Gx1Angles> at(std::int64_t t_ns) {
-    const std::int64_t give_up = monotonic_ns() + session_->options().max_age_ns;
-    for (gx1::Gx1Sample newest; monotonic_ns() < give_up; std::this_thread::sleep_for(std::chrono::milliseconds(1))) {
-      const std::uint64_t n = session_->history().count();
-      if (n > 0 && session_->history().sample(n - 1, newest) && newest.t_ns >= t_ns) break;
-    }
-    const gx1::AttitudeQuery q = session_->attitude_at(t_ns);
-    if (q.status != gx1::AttitudeStatus::ok) {
-      ++missing_;
-      return std::nullopt;
-    }
-    return q.angles;
+    for (const std::int64_t give_up = monotonic_ns() + options_.max_age_ns; monotonic_ns() < give_up;
+         std::this_thread::sleep_for(std::chrono::milliseconds(1)))
+      if (const auto newest = provider_->newest_sample_ns(); newest && *newest >= t_ns) break;
+    const std::optional<Gx1Angles> angles = provider_->attitude_at(t_ns);
+    missing_ += !angles;
+    return angles;
   }
   std::uint64_t missing() const { return missing_; }
 
@@ -108,13 +91,12 @@ class LiveGyro {
   void stop_thread() {
     stop_.store(true);
     if (thread_.joinable()) thread_.join();
-    session_->close();
-    if (emulator_) emulator_->stop();
+    provider_->close();
   }
 
-  std::unique_ptr<gx1::Gx1Emulator> emulator_;
-  std::unique_ptr<gx1::Gx1Session> session_;
-  std::atomic<bool> stop_{false};
+  const gx1::SessionOptions options_{};
+  std::unique_ptr<Gx1AttitudeProvider> provider_;
+  std::atomic<bool> stop_{false}, streaming_{false};
   std::thread thread_;
   std::uint64_t missing_ = 0;
 };

@@ -62,6 +62,9 @@ TEST(FrameDirectorySource, DeliversEveryFrameThenEndsAndReportsDamage) {
       ASSERT_TRUE(meta.gyro);
       EXPECT_EQ(meta.gyro->roll_deg, double(meta.sequence));
       EXPECT_EQ(meta.gyro->pitch_deg, 0.5);
+      // Played at 10 kHz, recorded 1 ms apart: each frame keeps its recorded time.
+      EXPECT_EQ(meta.recorded_t_ns, static_cast<std::int64_t>(meta.sequence) * 1'000'000);
+      EXPECT_EQ(meta.frame_t_ns(), *meta.recorded_t_ns);
     }
   }
   EXPECT_EQ(st, (std::vector<CaptureStatus>{CaptureStatus::frame, CaptureStatus::frame, CaptureStatus::error,
@@ -73,7 +76,7 @@ TEST(FrameDirectorySource, DeliversEveryFrameThenEndsAndReportsDamage) {
   EXPECT_NE(src.describe().find("frames:" + rec.path + " 16x8 mono8"), std::string::npos) << src.describe();
 }
 
-TEST(FrameDirectorySource, LoopsWithIncreasingSequenceNumbers) {
+TEST(FrameDirectorySource, LoopsWithIncreasingSequenceNumbersAndFrameTimes) {
   Recording rec(3, 1'000'000);
   FrameDirectorySource src({rec.path, 10'000.0, true, 0, 0});
   ASSERT_EQ(src.open(), "");
@@ -86,6 +89,8 @@ TEST(FrameDirectorySource, LoopsWithIncreasingSequenceNumbers) {
     EXPECT_EQ(b.px[0], k % 3);
     EXPECT_GE(meta.t_ns, last_t);
     last_t = meta.t_ns;
+    // 0, 1, 2 ms as recorded; each later pass one recording (3 ms: 2 ms + one period) on.
+    EXPECT_EQ(meta.recorded_t_ns, static_cast<std::int64_t>(k) * 1'000'000) << "frame " << k;
   }
 }
 
