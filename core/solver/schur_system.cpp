@@ -38,25 +38,58 @@ bool PickRows::complete(int n) {
   return true;
 }
 
-void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
-  const PickRows& rows = *state.rows;
-  const int m = layout.local_size();
-  LineNormals& out = state.normals;
-  for (int j = 0; j < layout.num_lines(); ++j) {
-    const int b = segments.begin[j], n = segments.size(j);
-    const auto w = rows.w.segment(b, n);
-    LocalMatrix& Hf = out.H_fixed[j];
-    LocalMatrix& Hd = out.H_damped[j];
-    for (int c = 0; c < m; ++c) {
-      const auto au_c = rows.au[c].segment(b, n), ax_c = rows.ax[c].segment(b, n);
-      for (int k = 0; k <= c; ++k) {
-        Hf(k, c) = Hf(c, k) = (rows.au[k].segment(b, n) * au_c * w).sum();
-        Hd(k, c) = Hd(c, k) = (rows.ax[k].segment(b, n) * ax_c * w).sum();
-      }
-      out.h_fixed[j][c] = (au_c * rows.ru.segment(b, n) * w).sum();
-      out.h_damped[j][c] = (ax_c * rows.rx.segment(b, n) * w).sum();
-    }
+namespace {
+
+// Calls f.template operator()<M>() with M = the layout's local size, a compile-time
+// constant in each branch (1 .. kMaxLocalParams).
+template <class F>
+void with_local_size(int m, F&& f) {
+  switch (m) {
+    case 1: return f.template operator()<1>();
+    case 2: return f.template operator()<2>();
+    case 3: return f.template operator()<3>();
+    case 4: return f.template operator()<4>();
+    case 5: return f.template operator()<5>();
+    case 6: return f.template operator()<6>();
+    case 7: return f.template operator()<7>();
+    default: return f.template operator()<kMaxLocalParams>();
   }
+}
+
+// Each pick's two rows into its line's parts as weighted rank-one updates of fixed size M
+// (unrolled and vectorised over the parameters): with a dozen picks per line, one pass
+// over the picks beats M (M + 3) short dot products over them.
+template <int M>
+void accumulate_picks(const ParameterLayout& layout, const LineSegments& segments, const PickRows& rows,
+                      LineNormals& out) {
+  using Row = Eigen::Matrix<double, M, 1>;
+  for (int j = 0; j < layout.num_lines(); ++j) {
+    Eigen::Matrix<double, M, M> Hf = Eigen::Matrix<double, M, M>::Zero(), Hd = Hf;
+    Row hf = Row::Zero(), hd = Row::Zero();
+    for (int i = segments.begin[j]; i < segments.begin[j + 1]; ++i) {
+      Row a, x;
+      for (int k = 0; k < M; ++k) {
+        a[k] = rows.au[k][i];
+        x[k] = rows.ax[k][i];
+      }
+      const Row aw = a * rows.w[i], xw = x * rows.w[i];
+      Hf.noalias() += aw * a.transpose();
+      Hd.noalias() += xw * x.transpose();
+      hf += aw * rows.ru[i];
+      hd += xw * rows.rx[i];
+    }
+    out.H_fixed[j].template topLeftCorner<M, M>() = Hf;
+    out.H_damped[j].template topLeftCorner<M, M>() = Hd;
+    out.h_fixed[j].template head<M>() = hf;
+    out.h_damped[j].template head<M>() = hd;
+  }
+}
+
+}  // namespace
+
+void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
+  with_local_size(layout.local_size(),
+                  [&]<int M>() { accumulate_picks<M>(layout, segments, *state.rows, state.normals); });
 }
 
 void build_reduced_system(const ParameterLayout& layout, const SolverState& state, double lambda, ReducedMatrix& N,
