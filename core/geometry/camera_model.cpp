@@ -17,7 +17,7 @@ CameraModel::CameraModel(const CameraSpec& spec, const CameraPose& pose) : spec_
 void CameraModel::set_pose(const CameraPose& pose) {
   pose_ = pose;
   T_ = ccdlane::attitude_matrix(pose.attitude, &dT_[0], &dT_[1], &dT_[2]);
-  lens_in_film_ = Vec3(0.0, -spec_.yM_mm, pose.f_mm - spec_.zM_mm);
+  lens_in_film_ = lens_in_film(spec_, pose.f_mm);
 }
 
 Vec3 CameraModel::chip_origin() const {

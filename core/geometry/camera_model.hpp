@@ -37,6 +37,8 @@ class CameraModel {
   Vec2 principal_point() const { return {spec_.cx, spec_.cy}; }
   Vec3 chip_origin() const;  // O_F, fixed frame
   Vec3 lens_centre(PoseJacobian3* d_pose = nullptr) const;  // L, fixed frame
+  // L - H e3 in film components, (0, -yM, f - zM): where the lens sits from the mount.
+  static Vec3 lens_in_film(const CameraSpec& spec, double f_mm) { return {0.0, -spec.yM_mm, f_mm - spec.zM_mm}; }
 
   // 1-based ideal pixel <-> film-frame chip coordinates (x̄, ȳ) in mm, z̄ = 0.
   Vec2 chip_from_pixel(const Vec2& ideal_px) const;

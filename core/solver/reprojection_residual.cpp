@@ -6,7 +6,7 @@
 namespace ccdlane::solver {
 
 ReprojectionResidual::ReprojectionResidual(const CameraSpec& spec, int max_picks)
-    : camera_(spec, CameraPose{}), projection_(max_picks) {
+    : spec_(spec), projection_(max_picks) {
   for (Array* a : {&px_, &py_, &x_, &y_, &slope_, &du_, &dv_, &side_u_, &side_v_}) a->setZero(max_picks);
 }
 
@@ -24,8 +24,7 @@ void ReprojectionResidual::configure(const ParameterLayout& layout, std::span<co
 
 bool ReprojectionResidual::evaluate_cost(SolverState& state) {
   const int n = static_cast<int>(picks_.size());
-  camera_.set_pose(state.pose);
-  projection_.set_camera(camera_);
+  projection_.set_camera(spec_, state.pose);
   for (int i = 0; i < n; ++i) {  // each pick's road point, on its own line
     const LaneLine& line = state.lines[picks_[i].line];
     const double x = state.x[i];

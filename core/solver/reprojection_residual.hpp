@@ -32,7 +32,7 @@ class ReprojectionResidual {
   bool evaluate(SolverState& state) { return evaluate_cost(state) && evaluate_jacobians(state); }
 
  private:
-  CameraModel camera_;
+  CameraSpec spec_;
   RoadProjection projection_;
   const ParameterLayout* layout_ = nullptr;
   std::span<const Pick> picks_;

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "core/geometry/attitude.hpp"
+
 namespace ccdlane::solver {
 
 RoadProjection::RoadProjection(int max_points) {
@@ -12,12 +14,11 @@ RoadProjection::RoadProjection(int max_points) {
   axis_[0] = axis_[1] = axis_[2] = Vec3::UnitZ();
 }
 
-void RoadProjection::set_camera(const CameraModel& camera) {
-  const CameraSpec& spec = camera.spec();
-  const CameraPose& pose = camera.pose();
-  Tt_ = camera.attitude_matrix().transpose();
-  lens_in_film_ = Tt_ * (camera.lens_centre() - Vec3(0.0, 0.0, pose.H_mm));
-  lens_seen_ = Tt_ * camera.lens_centre();
+void RoadProjection::set_camera(const CameraSpec& spec, const CameraPose& pose) {
+  Tt_ = attitude_matrix(pose.attitude).transpose();
+  // L - H e3 = T a with a the lens in film components, so T^T (X - L) = T^T X - a - H T^T e3.
+  lens_in_film_ = CameraModel::lens_in_film(spec, pose.f_mm);
+  lens_seen_ = lens_in_film_ + pose.H_mm * Tt_.col(2);
   const double cp = std::cos(pose.attitude.psi), sp = std::sin(pose.attitude.psi);
   axis_[kPsi] = Tt_.col(2);
   axis_[kTheta] = Tt_ * Vec3(-sp, cp, 0.0);
@@ -25,7 +26,7 @@ void RoadProjection::set_camera(const CameraModel& camera) {
   su_ = pose.f_mm / spec.pitch_u();
   sv_ = pose.f_mm / spec.pitch_v();
   inv_f_ = 1.0 / pose.f_mm;
-  centre_ = camera.principal_point();
+  centre_ = Vec2(spec.cx, spec.cy);
   k_ = spec.k_px2;
 }
 

@@ -26,8 +26,8 @@ class RoadProjection {
   // Room for `max_points` points: every array is allocated here, never later.
   explicit RoadProjection(int max_points);
 
-  // Per-pose constants from a CameraModel whose pose is set.
-  void set_camera(const CameraModel& camera);
+  // Per-pose constants (geometry.md; only the attitude matrix, not its derivatives).
+  void set_camera(const CameraSpec& spec, const CameraPose& pose);
 
   // Projects the road points (x[i], y[i], 0), i < n. False when some point is not in
   // front of the lens or beyond the distortion model's field (CameraModel's rules).

@@ -26,7 +26,7 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
     const CameraPose pose{{deg_to_rad(10 * u(rng)), deg_to_rad(3 + 8 * u(rng)), deg_to_rad(10 * u(rng))},
                           1400 + 300 * u(rng), 5.05 + 0.5 * u(rng)};
     const CameraModel camera(spec, pose);
-    projection.set_camera(camera);
+    projection.set_camera(spec, pose);
     // The points CameraModel can see, projected together.
     std::vector<Vec3> points;
     while (static_cast<int>(points.size()) < kPoints) {
@@ -65,7 +65,7 @@ TEST(RoadProjection, RejectsWhatCameraModelRejects) {
   const CameraSpec spec = test::reference_camera();
   const CameraModel camera(spec, CameraPose{{0.0, deg_to_rad(3.0), 0.0}, 1400.0, 5.05});
   RoadProjection projection(2);
-  projection.set_camera(camera);
+  projection.set_camera(spec, camera.pose());
   // One point in view and one behind the camera: the batch is refused.
   Eigen::ArrayXd xs(2), ys(2);
   xs << 20000.0, -5000.0;
@@ -77,7 +77,7 @@ TEST(RoadProjection, RejectsWhatCameraModelRejects) {
   CameraSpec pincushion = spec;
   pincushion.k_px2 = 2e-6;
   const CameraModel wide(pincushion, CameraPose{{0.0, deg_to_rad(3.0), 0.0}, 1400.0, 5.05});
-  projection.set_camera(wide);
+  projection.set_camera(pincushion, wide.pose());
   xs << 20000.0, 3000.0;
   ys << 0.0, 9000.0;
   EXPECT_FALSE(wide.pixel_from_point(Vec3(3000.0, 9000.0, 0.0)).has_value());
