@@ -14,13 +14,10 @@
 namespace ccdlane::solver {
 
 struct LmWorkspace {
-  explicit LmWorkspace(int max_picks) : dx(static_cast<std::size_t>(max_picks)) {
-    for (Eigen::ArrayXd& a : scratch) a.setZero(max_picks);
-  }
+  explicit LmWorkspace(int max_picks) : dx(static_cast<std::size_t>(max_picks)) {}
   ReducedMatrix N, A;
   ReducedVector g, scale, step;
-  std::vector<double> dx;                 // per pick
-  std::array<Eigen::ArrayXd, 2> scratch;  // per pick, for back_substitute
+  std::vector<double> dx;  // per pick
 };
 
 // Solves A x = b in place (x into b) by an unpivoted Cholesky factorisation of A's lower
@@ -123,7 +120,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
       reject();
       continue;
     }
-    const BackSubstitution bs = back_substitute(layout, segments, *current, lambda, ws.step, ws.dx.data(), ws.scratch);
+    const BackSubstitution bs = back_substitute(layout, segments, *current, lambda, ws.step, ws.dx.data());
 
     double x_norm2 = 0.0;
     for (int i = 0; i < num_picks; ++i) x_norm2 += current->x[i] * current->x[i];

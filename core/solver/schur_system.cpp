@@ -121,35 +121,52 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
   }
 }
 
-BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
-                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx,
-                                 std::array<Eigen::ArrayXd, 2>& scratch) {
-  const PickRows& rows = *state.rows;
-  const int m = layout.local_size();
-  const double damping = 1.0 + lambda;
+namespace {
+
+// x_i steps for a reduced step, and the linearised cost decrease, one pass over the
+// picks with M local parameters fixed at compile time (as accumulate_picks).
+template <int M>
+BackSubstitution back_substitute_picks(const ParameterLayout& layout, const LineSegments& segments,
+                                       const PickRows& rows, double lambda, const ReducedVector& step, double* dx) {
+  using Row = Eigen::Matrix<double, M, 1>;
+  const double inv_damping = 1.0 / (1.0 + lambda);
   BackSubstitution out;
+  double decrease = 0.0, dx2 = 0.0;
   for (int j = 0; j < layout.num_lines(); ++j) {
-    const int b = segments.begin[j], n = segments.size(j);
-    const LocalVector delta = layout.gather_local(step, j);
-    // The change of each pick's residuals along b_u (p) and b_x (q) from the parameters.
-    auto p = scratch[0].segment(b, n), q = scratch[1].segment(b, n);
-    p = rows.au[0].segment(b, n) * delta[0];
-    q = rows.ax[0].segment(b, n) * delta[0];
-    for (int k = 1; k < m; ++k) {
-      p += rows.au[k].segment(b, n) * delta[k];
-      q += rows.ax[k].segment(b, n) * delta[k];
+    const Row delta = layout.gather_local(step, j).template head<M>();
+    for (int i = segments.begin[j]; i < segments.begin[j + 1]; ++i) {
+      // The change of the pick's residuals along b_u (p) and b_x (q) from the parameters.
+      Row a, x;
+      for (int k = 0; k < M; ++k) {
+        a[k] = rows.au[k][i];
+        x[k] = rows.ax[k][i];
+      }
+      const double p = a.dot(delta);
+      double q = x.dot(delta);
+      // x_i's step, and with it q's change Jx.Jx dx_i = -(rx + q) / (1 + lambda).
+      const double absorbed = -(rows.rx[i] + q) * inv_damping;
+      dx[i] = absorbed * rows.w[i];
+      q += absorbed;
+      dx2 += dx[i] * dx[i];
+      // Predicted decrease: |r|^2 - |r + u|^2 = -(2 r.u + u.u) for the change u of the
+      // residuals, from u directly (along b_u and b_x, each of squared length 1 / w) so
+      // that it does not vanish in the rounding of two nearly equal costs.
+      decrease -= (2.0 * (rows.ru[i] * p + rows.rx[i] * q) + p * p + q * q) * rows.w[i];
     }
-    // x_i's step, then its own change along b_x (b_x.Jx = |Jx|^2 = 1 / w).
-    const auto w = rows.w.segment(b, n), rx = rows.rx.segment(b, n), ru = rows.ru.segment(b, n);
-    Eigen::Map<Eigen::ArrayXd> dxj(dx + b, n);
-    dxj = -(rx + q) * w / damping;
-    q += dxj / w;
-    out.x_step_squared_norm += dxj.square().sum();
-    // Predicted decrease per pick: |r|^2 - |r + u|^2 = -(2 r.u + u.u) for the change u of
-    // its residuals, from u directly (along b_u and b_x, each of squared length 1 / w) so
-    // that it does not vanish in the rounding of two nearly equal costs.
-    out.predicted_decrease -= ((2.0 * (ru * p + rx * q) + p * p + q * q) * w).sum();
   }
+  out.predicted_decrease = decrease;
+  out.x_step_squared_norm = dx2;
+  return out;
+}
+
+}  // namespace
+
+BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
+                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx) {
+  BackSubstitution out;
+  with_local_size(layout.local_size(), [&]<int M>() {
+    out = back_substitute_picks<M>(layout, segments, *state.rows, lambda, step, dx);
+  });
   for (int k = 0; k < state.priors.count; ++k) {
     const PriorRow& row = state.priors.rows[k];
     const double u = row.a.dot(step);

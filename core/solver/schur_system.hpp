@@ -24,10 +24,8 @@ struct BackSubstitution {
 };
 
 // The x_i steps that go with a reduced step (into dx), and the cost decrease the
-// linearised problem predicts for the whole step. `scratch` holds two arrays of the
-// picks' size.
+// linearised problem predicts for the whole step.
 BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
-                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx,
-                                 std::array<Eigen::ArrayXd, 2>& scratch);
+                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx);
 
 }  // namespace ccdlane::solver

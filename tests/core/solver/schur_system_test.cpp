@@ -96,8 +96,7 @@ TEST(SchurSystem, ReducedStepEqualsTheFullSystemsStep) {
     const ReducedVector step = Nr.ldlt().solve(-g);
     for (int k = 0; k < n; ++k) EXPECT_NEAR(step[k], full[k], 1e-9 * (1 + std::abs(full[k]))) << "lambda " << lambda;
     std::vector<double> dx(N);
-    std::array<Eigen::ArrayXd, 2> scratch{Eigen::ArrayXd(N), Eigen::ArrayXd(N)};
-    const BackSubstitution bs = back_substitute(p.layout, p.segments, p.state, lambda, step, dx.data(), scratch);
+    const BackSubstitution bs = back_substitute(p.layout, p.segments, p.state, lambda, step, dx.data());
     double dx2 = 0.0;
     for (int i = 0; i < N; ++i) {
       EXPECT_NEAR(dx[i], full[n + i], 1e-9 * (1 + std::abs(full[n + i])));
