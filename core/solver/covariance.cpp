@@ -23,6 +23,41 @@
 
 namespace ccdlane::solver {
 
+bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor, ReducedMatrix& inverse) {
+  const int n = static_cast<int>(S.rows());
+  ReducedMatrix& L = factor;
+  L.setZero(n, n);
+  for (int c = 0; c < n; ++c) {
+    double pivot = S(c, c);
+    for (int k = 0; k < c; ++k) pivot -= L(c, k) * L(c, k);
+    if (!(pivot > 0.0)) return false;
+    L(c, c) = std::sqrt(pivot);
+    for (int r = c + 1; r < n; ++r) {
+      double v = S(r, c);
+      for (int k = 0; k < c; ++k) v -= L(r, k) * L(c, k);
+      L(r, c) = v / L(c, c);
+    }
+  }
+  // L^-1 in place of L, column by column from the left, each top-down: X(r, c) needs
+  // L's own row r right of column c (not yet overwritten) and X's column c above row r.
+  for (int c = 0; c < n; ++c) {
+    L(c, c) = 1.0 / L(c, c);
+    for (int r = c + 1; r < n; ++r) {
+      double v = 0.0;
+      for (int k = c; k < r; ++k) v += L(r, k) * L(k, c);
+      L(r, c) = -v / L(r, r);
+    }
+  }
+  inverse.resize(n, n);
+  for (int c = 0; c < n; ++c)
+    for (int r = c; r < n; ++r) {
+      double v = 0.0;
+      for (int k = r; k < n; ++k) v += L(k, r) * L(k, c);
+      inverse(r, c) = inverse(c, r) = v;
+    }
+  return true;
+}
+
 CovarianceAnalysis analyse_covariance(const ReducedMatrix& N, double variance_scale, CovarianceWorkspace& ws,
                                       ReducedMatrix& covariance) {
   CovarianceAnalysis out;
@@ -31,19 +66,20 @@ CovarianceAnalysis analyse_covariance(const ReducedMatrix& N, double variance_sc
   if (n == 0) return out;
   ws.scale.resize(n);
   for (int k = 0; k < n; ++k) ws.scale[k] = N(k, k) > 0.0 ? 1.0 / std::sqrt(N(k, k)) : 0.0;
-  ws.S = ws.scale.asDiagonal() * N * ws.scale.asDiagonal();
+  ws.S.resize(n, n);
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < n; ++r) ws.S(r, c) = ws.scale[r] * N(r, c) * ws.scale[c];
 
   // Fast path, the usual case: lambda_min(S) >= 1 / trace(S^-1) and lambda_max(S) <=
   // trace(S) <= n, so a small trace of the inverse proves full rank without the
   // eigen-decomposition.
-  ws.ldlt.compute(ws.S);
-  if (ws.scale.minCoeff() > 0.0 && ws.ldlt.info() == Eigen::Success && ws.ldlt.vectorD().minCoeff() > 0.0) {
-    ws.inverse = ws.ldlt.solve(ReducedMatrix::Identity(n, n));
+  if (ws.scale.minCoeff() > 0.0 && invert_positive_definite(ws.S, ws.factor, ws.inverse)) {
     const double trace = ws.inverse.trace();
     if (std::isfinite(trace) && trace > 0.0 && trace * n * kRankTolerance < 1.0) {
       out.rank = n;
       for (int k = 0; k < n; ++k) out.determined[k] = true;
-      covariance = variance_scale * (ws.scale.asDiagonal() * ws.inverse * ws.scale.asDiagonal());
+      for (int c = 0; c < n; ++c)
+        for (int r = 0; r < n; ++r) covariance(r, c) = variance_scale * ws.scale[r] * ws.inverse(r, c) * ws.scale[c];
       return out;
     }
   }

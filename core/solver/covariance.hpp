@@ -4,7 +4,6 @@
 
 #include <array>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "core/solver/solver_types.hpp"
@@ -12,9 +11,8 @@
 namespace ccdlane::solver {
 
 struct CovarianceWorkspace {
-  ReducedMatrix S, inverse;
+  ReducedMatrix S, factor, inverse;
   ReducedVector scale;
-  Eigen::LDLT<ReducedMatrix> ldlt{kMaxReducedParams};
   Eigen::SelfAdjointEigenSolver<ReducedMatrix> eigen{kMaxReducedParams};
 };
 
@@ -30,6 +28,10 @@ constexpr double kRankTolerance = 1e-10;
 // A parameter is undetermined when its share of the undetermined directions (the squared
 // norm of its row of their unit eigenvectors) exceeds this.
 constexpr double kNullShareTolerance = 1e-12;
+
+// The inverse of a symmetric positive definite S (its lower triangle is read) through its
+// Cholesky factor L (into `factor`): S^-1 = L^-T L^-1. False when a pivot is not positive.
+bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor, ReducedMatrix& inverse);
 
 // `N`: the reduced normal matrix (x_i eliminated, no damping). Fills `covariance` with
 // variance_scale * pseudo-inverse of N over the determined directions; rows and columns

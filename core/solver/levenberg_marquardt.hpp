@@ -16,12 +16,12 @@ namespace ccdlane::solver {
 struct LmWorkspace {
   explicit LmWorkspace(int max_picks) : dx(static_cast<std::size_t>(max_picks)) {}
   ReducedMatrix N, A;
-  ReducedVector g, scale, step;
+  ReducedVector g, step;
   std::vector<double> dx;  // per pick
 };
 
 // Solves A x = b in place (x into b) by an unpivoted Cholesky factorisation of A's lower
-// triangle, for the damped, unit-diagonal systems of the loop below: positive definite
+// triangle, for the damped systems N + lambda diag(N) of the loop below: positive definite
 // whenever lambda > 0, and of at most kMaxReducedParams unknowns, where plain loops beat
 // a general pivoting factorisation several times over. False when a pivot is not
 // positive (A is not positive definite to working precision).
@@ -76,8 +76,9 @@ bool linearise(Model& model, const ParameterLayout& layout, const LineSegments& 
   return true;
 }
 
-// Marquardt's scale-invariant damping: the reduced system is scaled to unit diagonal and
-// lambda added to it, with Nielsen's update of lambda from the gain ratio. `current`
+// Marquardt's scale-invariant damping, N + lambda diag(N) (the same step as lambda added
+// to the system scaled to unit diagonal, without the scaling's square roots), with
+// Nielsen's update of lambda from the gain ratio. `current`
 // holds an evaluated, linearised state on entry and the best state on return (still
 // linearised, for the covariance); `candidate` is scratch. The picks are sorted by line
 // (`segments`).
@@ -91,7 +92,6 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
   LmOutcome out;
   const int n = layout.size();
   double lambda = options.initial_damping, nu = 2.0;
-  ws.scale.setOnes(n);
   const auto reject = [&] {
     lambda *= nu;
     nu *= 2.0;
@@ -103,15 +103,14 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
   while (out.iterations < options.max_iterations) {
     ++out.iterations;
     build_reduced_system(layout, *current, lambda, ws.N, ws.g);
-    for (int k = 0; k < n; ++k) ws.scale[k] = ws.N(k, k) > 0.0 ? 1.0 / std::sqrt(ws.N(k, k)) : 1.0;
     ws.A.resize(n, n);
     for (int c = 0; c < n; ++c) {
-      for (int r = c; r < n; ++r) ws.A(r, c) = ws.scale[r] * ws.N(r, c) * ws.scale[c];  // lower triangle
-      ws.A(c, c) += lambda;
+      for (int r = c; r < n; ++r) ws.A(r, c) = ws.N(r, c);  // lower triangle
+      // A parameter nothing depends on has a zero diagonal: damp it as a unit one.
+      ws.A(c, c) += lambda * (ws.N(c, c) > 0.0 ? ws.N(c, c) : 1.0);
     }
-    ws.step = -ws.scale.cwiseProduct(ws.g);
+    ws.step = -ws.g;
     const bool factored = cholesky_solve(ws.A, ws.step);
-    ws.step.array() *= ws.scale.array();
     if (!factored || !ws.step.allFinite()) {
       if (!(lambda < 1e30)) {
         out.status = SolveStatus::numerical_failure;
