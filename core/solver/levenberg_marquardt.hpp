@@ -27,25 +27,29 @@ struct LmWorkspace {
 // positive (A is not positive definite to working precision).
 inline bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
   const int n = static_cast<int>(A.rows());
+  // The diagonal's reciprocals: the solves below are serial chains, and a multiplication
+  // is a fraction of a division's latency.
+  std::array<double, kMaxReducedParams> inv_diag{};
   for (int c = 0; c < n; ++c) {
     double pivot = A(c, c);
     for (int k = 0; k < c; ++k) pivot -= A(c, k) * A(c, k);
     if (!(pivot > 0.0)) return false;
     const double d = std::sqrt(pivot);
     A(c, c) = d;
+    inv_diag[c] = 1.0 / d;
     for (int r = c + 1; r < n; ++r) {
       double v = A(r, c);
       for (int k = 0; k < c; ++k) v -= A(r, k) * A(c, k);
-      A(r, c) = v / d;
+      A(r, c) = v * inv_diag[c];
     }
   }
   for (int r = 0; r < n; ++r) {  // L y = b
     for (int k = 0; k < r; ++k) b[r] -= A(r, k) * b[k];
-    b[r] /= A(r, r);
+    b[r] *= inv_diag[r];
   }
   for (int r = n - 1; r >= 0; --r) {  // L^T x = y
     for (int k = r + 1; k < n; ++k) b[r] -= A(k, r) * b[k];
-    b[r] /= A(r, r);
+    b[r] *= inv_diag[r];
   }
   return true;
 }
