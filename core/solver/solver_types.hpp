@@ -1,4 +1,4 @@
-// Fixed-capacity Eigen types and per-pick blocks shared by the pieces of the lane solver.
+// Fixed-capacity Eigen types and the per-pick rows shared by the pieces of the lane solver.
 #pragma once
 
 #include <array>
