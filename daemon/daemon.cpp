@@ -201,11 +201,14 @@ int run_daemon(const Config& config) {
   if (gyro) gyro->close();
   status.tick();    // the last word on the bus; udpm sends synchronously, nothing is left queued
   const status_t& s = status.last();
+  // in = processed + dropped + left queued at the stop: every frame is accounted for.
   log_line(LogLevel::info, "stop",
-           "%lld frames in, %lld processed, %lld dropped, %lld not ok, %lld allocations after ready",
+           "%lld frames in, %lld processed, %lld dropped, %lld left queued at stop, %lld not ok, "
+           "%lld allocations after ready",
            static_cast<long long>(s.frames_in_total), static_cast<long long>(s.frames_processed_total),
-           static_cast<long long>(s.frames_dropped_total), static_cast<long long>(s.frames_not_ok_total),
-           static_cast<long long>(s.allocations_since_ready));
+           static_cast<long long>(s.frames_dropped_total),
+           static_cast<long long>(pipeline.totals().frames_unprocessed),
+           static_cast<long long>(s.frames_not_ok_total), static_cast<long long>(s.allocations_since_ready));
   return 0;
 }
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,16 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
   const std::string log = test::read_file(d.stderr_path);
   EXPECT_EQ(count_of(log, "SIGTERM: stopping"), 1) << log;
   EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << log;
+  // The stop line accounts for every frame: in = processed + dropped + left queued.
+  long long in = -1, processed = -1, dropped = -1, queued = -1;
+  const std::size_t at = log.rfind("stop: ");  // the last stop line: the totals
+  ASSERT_NE(at, std::string::npos) << log;
+  ASSERT_EQ(std::sscanf(log.c_str() + at, "stop: %lld frames in, %lld processed, %lld dropped, %lld left queued", &in,
+                        &processed, &dropped, &queued),
+            4)
+      << log.substr(at);
+  EXPECT_GT(in, 0);
+  EXPECT_EQ(in, processed + dropped + queued) << log.substr(at);
 }
 
 TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
