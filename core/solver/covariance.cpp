@@ -18,45 +18,12 @@
 // proportion to sin(pitch), and such a yaw is not determined either.
 #include "core/solver/covariance.hpp"
 
+#include "core/solver/cholesky.hpp"
+
 #include <cmath>
 #include <limits>
 
 namespace ccdlane::solver {
-
-bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor, ReducedMatrix& inverse) {
-  const int n = static_cast<int>(S.rows());
-  ReducedMatrix& L = factor;
-  L.setZero(n, n);
-  for (int c = 0; c < n; ++c) {
-    double pivot = S(c, c);
-    for (int k = 0; k < c; ++k) pivot -= L(c, k) * L(c, k);
-    if (!(pivot > 0.0)) return false;
-    L(c, c) = std::sqrt(pivot);
-    for (int r = c + 1; r < n; ++r) {
-      double v = S(r, c);
-      for (int k = 0; k < c; ++k) v -= L(r, k) * L(c, k);
-      L(r, c) = v / L(c, c);
-    }
-  }
-  // L^-1 in place of L, column by column from the left, each top-down: X(r, c) needs
-  // L's own row r right of column c (not yet overwritten) and X's column c above row r.
-  for (int c = 0; c < n; ++c) {
-    L(c, c) = 1.0 / L(c, c);
-    for (int r = c + 1; r < n; ++r) {
-      double v = 0.0;
-      for (int k = c; k < r; ++k) v += L(r, k) * L(k, c);
-      L(r, c) = -v / L(r, r);
-    }
-  }
-  inverse.resize(n, n);
-  for (int c = 0; c < n; ++c)
-    for (int r = c; r < n; ++r) {
-      double v = 0.0;
-      for (int k = r; k < n; ++k) v += L(k, r) * L(k, c);
-      inverse(r, c) = inverse(c, r) = v;
-    }
-  return true;
-}
 
 CovarianceAnalysis analyse_covariance(const ReducedMatrix& N, double variance_scale, CovarianceWorkspace& ws,
                                       ReducedMatrix& covariance) {

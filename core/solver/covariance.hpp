@@ -29,10 +29,6 @@ constexpr double kRankTolerance = 1e-10;
 // norm of its row of their unit eigenvectors) exceeds this.
 constexpr double kNullShareTolerance = 1e-12;
 
-// The inverse of a symmetric positive definite S (its lower triangle is read) through its
-// Cholesky factor L (into `factor`): S^-1 = L^-T L^-1. False when a pivot is not positive.
-bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor, ReducedMatrix& inverse);
-
 // `N`: the reduced normal matrix (x_i eliminated, no damping). Fills `covariance` with
 // variance_scale * pseudo-inverse of N over the determined directions; rows and columns
 // of undetermined parameters are NaN.

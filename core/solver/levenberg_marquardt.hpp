@@ -4,11 +4,11 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <utility>
 #include <vector>
 
+#include "core/solver/cholesky.hpp"
 #include "core/solver/schur_system.hpp"
 
 namespace ccdlane::solver {
@@ -20,43 +20,9 @@ struct LmWorkspace {
   std::vector<double> dx;  // per pick
 };
 
-// Solves A x = b in place (x into b) by an unpivoted Cholesky factorisation of A's lower
-// triangle, for the damped systems N + lambda diag(N) of the loop below: positive definite
-// whenever lambda > 0, and of at most kMaxReducedParams unknowns, where plain loops beat
-// a general pivoting factorisation several times over. False when a pivot is not
-// positive (A is not positive definite to working precision).
-inline bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
-  const int n = static_cast<int>(A.rows());
-  // The diagonal's reciprocals: the solves below are serial chains, and a multiplication
-  // is a fraction of a division's latency.
-  std::array<double, kMaxReducedParams> inv_diag{};
-  for (int c = 0; c < n; ++c) {
-    double pivot = A(c, c);
-    for (int k = 0; k < c; ++k) pivot -= A(c, k) * A(c, k);
-    if (!(pivot > 0.0)) return false;
-    const double d = std::sqrt(pivot);
-    A(c, c) = d;
-    inv_diag[c] = 1.0 / d;
-    for (int r = c + 1; r < n; ++r) {
-      double v = A(r, c);
-      for (int k = 0; k < c; ++k) v -= A(r, k) * A(c, k);
-      A(r, c) = v * inv_diag[c];
-    }
-  }
-  for (int r = 0; r < n; ++r) {  // L y = b
-    for (int k = 0; k < r; ++k) b[r] -= A(r, k) * b[k];
-    b[r] *= inv_diag[r];
-  }
-  for (int r = n - 1; r >= 0; --r) {  // L^T x = y
-    for (int k = r + 1; k < n; ++k) b[r] -= A(k, r) * b[k];
-    b[r] *= inv_diag[r];
-  }
-  return true;
-}
-
 struct LmOptions {
   int max_iterations = 50;
-  // The first lambda, relative to the unit diagonal: Madsen, Nielsen & Tingleff's tau
+  // The first lambda, relative to the normal matrix's diagonal: Madsen, Nielsen & Tingleff's tau
   // ("Methods for non-linear least squares problems", 2004): 1e-6 when the start is
   // believed good (a warm start), 1e-3 or even 1 otherwise.
   double initial_damping = 1e-3;
@@ -87,8 +53,8 @@ bool linearise(Model& model, const ParameterLayout& layout, const LineSegments& 
 // linearised, for the covariance); `candidate` is scratch. The picks are sorted by line
 // (`segments`).
 // Model: bool evaluate_cost(SolverState&) filling residuals, priors and cost (and, for
-// variable projection, x), then void evaluate_jacobians(SolverState&) for the same state:
-// Jacobians are computed only for steps that are taken.
+// variable projection, x), then bool evaluate_jacobians(SolverState&) for the same state
+// (false when they cannot be had): Jacobians are computed only for steps that are taken.
 template <class Model>
 LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const LineSegments& segments,
                               int num_picks, const LmOptions& options, SolverState*& current,
@@ -113,6 +79,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
       // A parameter nothing depends on has a zero diagonal: damp it as a unit one.
       ws.A(c, c) += lambda * (ws.N(c, c) > 0.0 ? ws.N(c, c) : 1.0);
     }
+    // Positive definite whenever lambda > 0 (and N is semi-definite).
     ws.step = -ws.g;
     const bool factored = cholesky_solve(ws.A, ws.step);
     if (!factored || !ws.step.allFinite()) {

@@ -85,44 +85,6 @@ void accumulate_picks(const ParameterLayout& layout, const LineSegments& segment
   }
 }
 
-}  // namespace
-
-void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
-  with_local_size(layout.local_size(),
-                  [&]<int M>() { accumulate_picks<M>(layout, segments, *state.rows, state.normals); });
-}
-
-void build_reduced_system(const ParameterLayout& layout, const SolverState& state, double lambda, ReducedMatrix& N,
-                          ReducedVector& g) {
-  const int n = layout.size(), ng = layout.num_global(), m = layout.local_size();
-  const double damped_share = lambda / (1.0 + lambda);
-  const LineNormals& parts = state.normals;
-  N.setZero(n, n);
-  g.setZero(n);
-  // Scatter each line's local block: its globals overlap every other line's, its own
-  // kinds sit at the line's offset. Plain loops: the sizes are tiny, and Eigen's dynamic
-  // block expressions cost more than the arithmetic here.
-  for (int j = 0; j < layout.num_lines(); ++j) {
-    const int shift = layout.line_offset(j) - ng;
-    const auto reduced = [&](int local) { return local < ng ? local : local + shift; };
-    for (int c = 0; c < m; ++c) {
-      const int rc = reduced(c);
-      for (int k = 0; k < m; ++k) N(reduced(k), rc) += parts.H_fixed[j](k, c) + damped_share * parts.H_damped[j](k, c);
-      g[rc] += parts.h_fixed[j][c] + damped_share * parts.h_damped[j][c];
-    }
-  }
-  for (int p = 0; p < state.priors.count; ++p) {
-    const PriorRow& row = state.priors.rows[p];
-    for (int c = 0; c < n; ++c) {
-      if (row.a[c] == 0.0) continue;  // a prior touches one or two parameters
-      for (int k = 0; k < n; ++k) N(k, c) += row.a[k] * row.a[c];
-      g[c] += row.a[c] * row.r;
-    }
-  }
-}
-
-namespace {
-
 // x_i steps for a reduced step, and the linearised cost decrease, one pass over the
 // picks with M local parameters fixed at compile time (as accumulate_picks).
 template <int M>
@@ -160,6 +122,41 @@ BackSubstitution back_substitute_picks(const ParameterLayout& layout, const Line
 }
 
 }  // namespace
+
+void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
+  with_local_size(layout.local_size(),
+                  [&]<int M>() { accumulate_picks<M>(layout, segments, *state.rows, state.normals); });
+}
+
+void build_reduced_system(const ParameterLayout& layout, const SolverState& state, double lambda, ReducedMatrix& N,
+                          ReducedVector& g) {
+  const int n = layout.size(), ng = layout.num_global(), m = layout.local_size();
+  const double damped_share = lambda / (1.0 + lambda);
+  const LineNormals& parts = state.normals;
+  N.setZero(n, n);
+  g.setZero(n);
+  // Scatter each line's local block: its globals overlap every other line's, its own
+  // kinds sit at the line's offset. Plain loops: the sizes are tiny, and Eigen's dynamic
+  // block expressions cost more than the arithmetic here.
+  for (int j = 0; j < layout.num_lines(); ++j) {
+    const int shift = layout.line_offset(j) - ng;
+    const auto reduced = [&](int local) { return local < ng ? local : local + shift; };
+    for (int c = 0; c < m; ++c) {
+      const int rc = reduced(c);
+      for (int k = 0; k < m; ++k) N(reduced(k), rc) += parts.H_fixed[j](k, c) + damped_share * parts.H_damped[j](k, c);
+      g[rc] += parts.h_fixed[j][c] + damped_share * parts.h_damped[j][c];
+    }
+  }
+  for (int p = 0; p < state.priors.count; ++p) {
+    const PriorRow& row = state.priors.rows[p];
+    for (int c = 0; c < n; ++c) {
+      if (row.a[c] == 0.0) continue;  // a prior touches one or two parameters
+      for (int k = 0; k < n; ++k) N(k, c) += row.a[k] * row.a[c];
+      g[c] += row.a[c] * row.r;
+    }
+  }
+}
+
 
 BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
                                  const SolverState& state, double lambda, const ReducedVector& step, double* dx) {

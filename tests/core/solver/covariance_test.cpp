@@ -19,22 +19,6 @@ Eigen::MatrixXd random_jacobian(std::mt19937_64& rng, int rows, int cols) {
   return J;
 }
 
-TEST(Covariance, InvertsPositiveDefiniteMatricesOfEverySize) {
-  std::mt19937_64 rng(7);
-  for (int n = 1; n <= kMaxReducedParams; ++n) {
-    const Eigen::MatrixXd J = random_jacobian(rng, n + 4, n);
-    const ReducedMatrix S = J.transpose() * J;
-    ReducedMatrix factor, inverse;
-    ASSERT_TRUE(invert_positive_definite(S, factor, inverse)) << n;
-    const Eigen::MatrixXd expected = Eigen::MatrixXd(S).inverse();
-    const double cond = S.norm() * expected.norm();
-    EXPECT_LE((Eigen::MatrixXd(inverse) - expected).norm(), 1e-14 * cond * expected.norm()) << n;
-  }
-  ReducedMatrix singular(2, 2), factor, inverse;
-  singular << 1.0, 1.0, 1.0, 1.0;
-  EXPECT_FALSE(invert_positive_definite(singular, factor, inverse));
-}
-
 TEST(Covariance, FullRankGivesTheScaledInverse) {
   std::mt19937_64 rng(1);
   Eigen::MatrixXd J = random_jacobian(rng, 40, 6);

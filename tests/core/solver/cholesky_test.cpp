@@ -1,12 +1,12 @@
-// The LM loop's small Cholesky solve against Eigen's, and its refusal of matrices that
-// are not positive definite.
+// The small Cholesky solve and inverse against Eigen's, and their refusal of matrices
+// that are not positive definite.
 #include <limits>
 #include <random>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include "core/solver/levenberg_marquardt.hpp"
+#include "core/solver/cholesky.hpp"
 
 namespace ccdlane::solver {
 namespace {
@@ -43,6 +43,25 @@ TEST(CholeskySolve, RefusesMatricesThatAreNotPositiveDefinite) {
   ReducedMatrix nan(1, 1);
   nan << std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(cholesky_solve(nan, b));
+}
+
+TEST(CholeskyInverse, MatchesEigenOnPositiveDefiniteMatricesOfEverySize) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int n = 1; n <= kMaxReducedParams; ++n) {
+    Eigen::MatrixXd J(n + 4, n);
+    for (int r = 0; r < J.rows(); ++r)
+      for (int c = 0; c < n; ++c) J(r, c) = g(rng);
+    const ReducedMatrix S = J.transpose() * J;
+    ReducedMatrix factor, inverse;
+    ASSERT_TRUE(invert_positive_definite(S, factor, inverse)) << n;
+    const Eigen::MatrixXd expected = Eigen::MatrixXd(S).inverse();
+    const double cond = S.norm() * expected.norm();
+    EXPECT_LE((Eigen::MatrixXd(inverse) - expected).norm(), 1e-14 * cond * expected.norm()) << n;
+  }
+  ReducedMatrix singular(2, 2), factor, inverse;
+  singular << 1.0, 1.0, 1.0, 1.0;
+  EXPECT_FALSE(invert_positive_definite(singular, factor, inverse));
 }
 
 }  // namespace
