@@ -19,7 +19,7 @@ Mat3 turned(const Vec3& w, const Mat3& t) {
 
 }  // namespace
 
-Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT_dphi) {
+Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT_dphi, Mat3* turning_axes) {
   const double cz = std::cos(a.psi), sz = std::sin(a.psi);
   const double cy = std::cos(a.theta), sy = std::sin(a.theta);
   const double cx = std::cos(a.phi), sx = std::sin(a.phi);
@@ -34,6 +34,7 @@ Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT
   if (dT_dpsi) *dT_dpsi = turned(Vec3::UnitZ(), t);
   if (dT_dtheta) *dT_dtheta = turned(Vec3(-sz, cz, 0.0), t);
   if (dT_dphi) *dT_dphi = turned(r0, t);
+  if (turning_axes) *turning_axes << Vec3::UnitZ(), Vec3(-sz, cz, 0.0), r0;
   return t;
 }
 

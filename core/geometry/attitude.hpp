@@ -13,8 +13,10 @@ struct Attitude {
 };
 
 // The matrix mapping film-frame components to fixed-frame components. Each optional
-// out-parameter receives the element-wise derivative of T with respect to that angle.
+// out-parameter receives the element-wise derivative of T with respect to that angle;
+// `turning_axes` the fixed-frame axes (columns: yaw, pitch, roll) that a change of each
+// angle turns the camera about, dT = [w]x T.
 Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi = nullptr, Mat3* dT_dtheta = nullptr,
-                     Mat3* dT_dphi = nullptr);
+                     Mat3* dT_dphi = nullptr, Mat3* turning_axes = nullptr);
 
 }  // namespace ccdlane

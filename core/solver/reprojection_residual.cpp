@@ -6,8 +6,8 @@
 namespace ccdlane::solver {
 
 ReprojectionResidual::ReprojectionResidual(const CameraSpec& spec, int max_picks)
-    : spec_(spec), projection_(max_picks) {
-  for (Array* a : {&px_, &py_, &x_, &y_, &slope_, &du_, &dv_, &side_u_, &side_v_}) a->setZero(max_picks);
+    : spec_(spec), projection_(max_picks), along_x_(max_picks), along_u_(max_picks) {
+  for (Array* a : {&px_, &py_, &x_, &y_, &slope_}) a->setZero(max_picks);
 }
 
 void ReprojectionResidual::configure(const ParameterLayout& layout, std::span<const Pick> picks, double pixel_sigma,
@@ -48,25 +48,19 @@ bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
   PickRows& rows = *state.rows;
   projection_.differentiate(n);
   // Along the line: the road point moves along x and sideways with the line's slope.
-  projection_.road_column(0, n, du_, dv_);
-  projection_.road_column(1, n, side_u_, side_v_);
-  const auto s = slope_.head(n);
-  rows.jx0.head(n) = (du_.head(n) + side_u_.head(n) * s) * inv_sigma_;
-  rows.jx1.head(n) = (dv_.head(n) + side_v_.head(n) * s) * inv_sigma_;
-  const auto j0 = rows.jx0.head(n), j1 = rows.jx1.head(n);
-  // Each column seen along b_u = (-Jx1, Jx0) and b_x = Jx (PickRows).
-  const auto seen_along = [&](const Array& cu, const Array& cv, int k) {
-    rows.au[k].head(n) = (-j1 * cu.head(n) + j0 * cv.head(n)) * inv_sigma_;
-    rows.ax[k].head(n) = (j0 * cu.head(n) + j1 * cv.head(n)) * inv_sigma_;
-  };
+  projection_.road_direction(slope_, inv_sigma_, n, rows.jx0, rows.jx1);
+  if (!rows.complete(n)) return false;
+  // Every column seen along b_x = Jx and b_u = Jx turned (PickRows), from their covectors.
+  projection_.pull_back(rows.jx0, rows.jx1, inv_sigma_, n, along_x_, along_u_);
   for (int k = 0; k < ng; ++k) {
-    projection_.pose_column(layout.global(k), n, du_, dv_);
-    seen_along(du_, dv_, k);
+    projection_.pose_along(along_u_, layout.global(k), n, rows.au[k]);
+    projection_.pose_along(along_x_, layout.global(k), n, rows.ax[k]);
   }
   // y0, m and c move the road point sideways by 1, x and x^2.
   for (int k = 0; k < layout.num_line_kinds(); ++k) {
     const int col = ng + k;
-    seen_along(side_u_, side_v_, col);
+    projection_.road_along(along_u_, 1, n, rows.au[col]);
+    projection_.road_along(along_x_, 1, n, rows.ax[col]);
     switch (layout.line_kind(k)) {
       case kY0: break;
       case kSlope:
@@ -78,7 +72,7 @@ bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
         rows.ax[col].head(n) *= x_.head(n).square();
     }
   }
-  return rows.complete(n);
+  return true;
 }
 
 }  // namespace ccdlane::solver

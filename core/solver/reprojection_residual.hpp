@@ -39,8 +39,9 @@ class ReprojectionResidual {
   double inv_sigma_ = 1.0;
   const SolverPriors* priors_ = nullptr;
   // Per pick, sized at construction: the observed pixel, the road point, its line's
-  // slope there, and two columns of scratch.
-  Array px_, py_, x_, y_, slope_, du_, dv_, side_u_, side_v_;
+  // slope there; the covectors of b_x and b_u.
+  Array px_, py_, x_, y_, slope_;
+  RoadProjection::Covectors along_x_, along_u_;
 };
 
 }  // namespace ccdlane::solver

@@ -1,4 +1,4 @@
-// The solver's projection kernel as array expressions (see the header).
+// The solver's projection kernel as passes over the points (see the header).
 #include "core/solver/road_projection.hpp"
 
 #include <cmath>
@@ -7,22 +7,25 @@
 
 namespace ccdlane::solver {
 
+RoadProjection::Covectors::Covectors(int max_points) {
+  for (int c = 0; c < 3; ++c) {
+    film[c].setZero(max_points);
+    turn[c].setZero(max_points);
+  }
+}
+
 RoadProjection::RoadProjection(int max_points) {
-  for (Array* a : {&dx_, &dy_, &dz_, &iz_, &wx_, &wy_, &gain_, &dgain_, &u_, &v_, &D00_, &D01_, &D02_, &D10_,
-                   &D11_, &D12_, &owx_, &owy_, &seen_x_, &seen_y_, &seen_z_, &scratch_})
+  for (Array* a : {&dx_, &dy_, &dz_, &iz_, &wx_, &wy_, &gain_, &dgain_, &u_, &v_, &oxx_, &oxy_, &oyy_, &scratch_})
     a->setZero(max_points);
-  axis_[0] = axis_[1] = axis_[2] = Vec3::UnitZ();
 }
 
 void RoadProjection::set_camera(const CameraSpec& spec, const CameraPose& pose) {
-  Tt_ = attitude_matrix(pose.attitude).transpose();
+  Mat3 turning_axes;
+  Tt_ = attitude_matrix(pose.attitude, nullptr, nullptr, nullptr, &turning_axes).transpose();
+  axes_in_film_ = Tt_ * turning_axes;
   // L - H e3 = T a with a the lens in film components, so T^T (X - L) = T^T X - a - H T^T e3.
   lens_in_film_ = CameraModel::lens_in_film(spec, pose.f_mm);
   lens_seen_ = lens_in_film_ + pose.H_mm * Tt_.col(2);
-  const double cp = std::cos(pose.attitude.psi), sp = std::sin(pose.attitude.psi);
-  axis_[kPsi] = Tt_.col(2);
-  axis_[kTheta] = Tt_ * Vec3(-sp, cp, 0.0);
-  axis_[kPhi] = Vec3::UnitZ();
   su_ = pose.f_mm / spec.pitch_u();
   sv_ = pose.f_mm / spec.pitch_v();
   inv_f_ = 1.0 / pose.f_mm;
@@ -56,52 +59,87 @@ bool RoadProjection::project(const Array& x, const Array& y, int n) {
 }
 
 void RoadProjection::differentiate(int n) {
-  const auto wx = wx_.head(n), wy = wy_.head(n), iz = iz_.head(n), gain = gain_.head(n);
-  // d pixel / d w = g I + 2 g' w w^T; its (xx, yy) entries go through D00/D11 first.
-  auto a = scratch_.head(n), oxy = D01_.head(n), oxx = D00_.head(n), oyy = D11_.head(n);
-  a = 2.0 * dgain_.head(n);
-  oxy = a * wx * wy;
-  oxx = gain + a * wx * wx;
-  oyy = gain + a * wy * wy;
-  owx_.head(n) = oxx * wx + oxy * wy;
-  owy_.head(n) = oxy * wx + oyy * wy;
-  // D = (d pixel / d w)(d w / d d), d w / d d = [[-su/dz, 0, -wx/dz], [0, -sv/dz, -wy/dz]].
-  D02_.head(n) = -owx_.head(n) * iz;
-  D12_.head(n) = -owy_.head(n) * iz;
-  D10_.head(n) = -oxy * su_ * iz;
-  D01_.head(n) = -oxy * sv_ * iz;  // oxy's last use
-  D00_.head(n) = -oxx * su_ * iz;
-  D11_.head(n) = -oyy * sv_ * iz;
-  seen_x_.head(n) = dx_.head(n) + lens_in_film_.x();
-  seen_y_.head(n) = dy_.head(n) + lens_in_film_.y();
-  seen_z_.head(n) = dz_.head(n) + lens_in_film_.z();
+  // d pixel / d w = g I + 2 g' w w^T.
+  const auto wx = wx_.head(n), wy = wy_.head(n), gain = gain_.head(n);
+  const auto a = 2.0 * dgain_.head(n);
+  oxy_.head(n) = a * wx * wy;
+  oxx_.head(n) = gain + a * wx * wx;
+  oyy_.head(n) = gain + a * wy * wy;
 }
 
-void RoadProjection::fixed_direction(const Vec3& w, int n, Array& du, Array& dv) const {
-  du.head(n) = D00_.head(n) * w.x() + D01_.head(n) * w.y() + D02_.head(n) * w.z();
-  dv.head(n) = D10_.head(n) * w.x() + D11_.head(n) * w.y() + D12_.head(n) * w.z();
+// d w / d d = -(1 / d_z) [[su, 0, w_x], [0, sv, w_y]]: the ideal pixel w = -(su d_x, sv d_y) / d_z.
+
+void RoadProjection::road_direction(const Array& slope, double scale, int n, Array& du, Array& dv) const {
+  const double* s = slope.data();
+  const double *iz = iz_.data(), *wx = wx_.data(), *wy = wy_.data();
+  const double *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
+  double *out_u = du.data(), *out_v = dv.data();
+  const Vec3 e0 = Tt_.col(0), e1 = Tt_.col(1);  // road x and road y in film components
+  for (int i = 0; i < n; ++i) {
+    const double ex = e0.x() + s[i] * e1.x(), ey = e0.y() + s[i] * e1.y(), ez = e0.z() + s[i] * e1.z();
+    const double m = -scale * iz[i];
+    const double dwx = m * (su_ * ex + wx[i] * ez), dwy = m * (sv_ * ey + wy[i] * ez);
+    out_u[i] = oxx[i] * dwx + oxy[i] * dwy;
+    out_v[i] = oxy[i] * dwx + oyy[i] * dwy;
+  }
 }
 
-void RoadProjection::road_column(int axis, int n, Array& du, Array& dv) const {
-  fixed_direction(Tt_.col(axis), n, du, dv);
+void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& along,
+                               Covectors& across) const {
+  const double *p0 = b0.data(), *p1 = b1.data();
+  const double *dx = dx_.data(), *dy = dy_.data(), *dz = dz_.data(), *iz = iz_.data();
+  const double *wx = wx_.data(), *wy = wy_.data(), *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
+  double *af0 = along.film[0].data(), *af1 = along.film[1].data(), *af2 = along.film[2].data();
+  double *at0 = along.turn[0].data(), *at1 = along.turn[1].data(), *at2 = along.turn[2].data();
+  double *cf0 = across.film[0].data(), *cf1 = across.film[1].data(), *cf2 = across.film[2].data();
+  double *ct0 = across.turn[0].data(), *ct1 = across.turn[1].data(), *ct2 = across.turn[2].data();
+  const Vec3 a = lens_in_film_;
+  for (int i = 0; i < n; ++i) {
+    const double c0 = scale * p0[i], c1 = scale * p1[i];
+    // rho = b^T d pixel / d w (symmetric), for b = (c0, c1) and (-c1, c0).
+    const double rx = c0 * oxx[i] + c1 * oxy[i], ry = c0 * oxy[i] + c1 * oyy[i];
+    const double qx = c0 * oxy[i] - c1 * oxx[i], qy = c0 * oyy[i] - c1 * oxy[i];
+    // film = rho^T d w / d d; turn = film x (d + a).
+    const double m = -iz[i], sx = dx[i] + a.x(), sy = dy[i] + a.y(), sz = dz[i] + a.z();
+    const double f0 = m * su_ * rx, f1 = m * sv_ * ry, f2 = m * (rx * wx[i] + ry * wy[i]);
+    const double g0 = m * su_ * qx, g1 = m * sv_ * qy, g2 = m * (qx * wx[i] + qy * wy[i]);
+    af0[i] = f0;
+    af1[i] = f1;
+    af2[i] = f2;
+    at0[i] = f1 * sz - f2 * sy;
+    at1[i] = f2 * sx - f0 * sz;
+    at2[i] = f0 * sy - f1 * sx;
+    cf0[i] = g0;
+    cf1[i] = g1;
+    cf2[i] = g2;
+    ct0[i] = g1 * sz - g2 * sy;
+    ct1[i] = g2 * sx - g0 * sz;
+    ct2[i] = g0 * sy - g1 * sx;
+  }
 }
 
-void RoadProjection::pose_column(PoseParam p, int n, Array& du, Array& dv) const {
+namespace {
+
+// w . v[i] for a direction w fixed over the points.
+void dot(const Vec3& w, const std::array<Eigen::ArrayXd, 3>& v, int n, Eigen::ArrayXd& out) {
+  out.head(n) = v[0].head(n) * w.x() + v[1].head(n) * w.y() + v[2].head(n) * w.z();
+}
+
+}  // namespace
+
+void RoadProjection::road_along(const Covectors& b, int axis, int n, Array& out) const {
+  dot(Tt_.col(axis), b.film, n, out);
+}
+
+void RoadProjection::pose_along(const Covectors& b, PoseParam p, int n, Array& out) const {
   switch (p) {
-    case kHeight: fixed_direction(-Tt_.col(2), n, du, dv); return;
-    case kFocal:  // f moves the lens along the axis (d_z shrinks) and scales the ideal image.
-      du.head(n) = -D02_.head(n) + owx_.head(n) * inv_f_;
-      dv.head(n) = -D12_.head(n) + owy_.head(n) * inv_f_;
+    case kHeight: dot(-Tt_.col(2), b.film, n, out); return;
+    case kFocal:
+      // f moves the lens along the axis (d_z shrinks by 1) and scales the ideal image:
+      // d pixel / d f = -D e_z + (d pixel / d w) w / f, and b^T (d pixel / d w) w = -film_z d_z.
+      out.head(n) = -b.film[2].head(n) * (1.0 + dz_.head(n) * inv_f_);
       return;
-    default: {
-      // D (seen x axis), the cross product written out per point.
-      const Vec3& a = axis_[p];
-      const auto sx = seen_x_.head(n), sy = seen_y_.head(n), sz = seen_z_.head(n);
-      du.head(n) = D00_.head(n) * (sy * a.z() - sz * a.y()) + D01_.head(n) * (sz * a.x() - sx * a.z()) +
-                   D02_.head(n) * (sx * a.y() - sy * a.x());
-      dv.head(n) = D10_.head(n) * (sy * a.z() - sz * a.y()) + D11_.head(n) * (sz * a.x() - sx * a.z()) +
-                   D12_.head(n) * (sx * a.y() - sy * a.x());
-    }
+    default: dot(axes_in_film_.col(p), b.turn, n, out);
   }
 }
 

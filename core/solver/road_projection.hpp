@@ -1,17 +1,25 @@
-// Projection of road points (z = 0) with all the derivatives the solver needs, over all
+// Projection of road points (z = 0) with the derivatives the solver needs, over all
 // picks at once: the solver's hot loop. Same model and results as
 // CameraModel::pixel_from_point (tested to rounding), arranged for speed: one array per
-// quantity (structure of arrays), every step a coefficient-wise Eigen expression over the
-// points, which Eigen vectorises (two or four points per instruction) and which leaves
-// the points' division and square-root chains independent of each other.
+// quantity (structure of arrays), each step one pass over the points that the compiler
+// vectorises (two or four points per instruction), which also leaves the points'
+// division and square-root chains independent of each other.
 //
-// With v = X - H e3 and the lens offset a (film frame, from the mount), a road point is
-// seen along d = T^T v - a. Turning the camera by an angle with fixed-frame axis w moves
-// d by -T^T (w x v) = (T^T v) x (T^T w) = (d + a) x w_F: one cross product per angle with
-// the film-frame axes w_F, instead of a 3x3 product with dT. For T = Rz Ry Rx P the
-// fixed-frame axes are e_z (yaw), Rz e_y (pitch) and Rz Ry e_x = T e_z (roll, about the
-// optical axis: the film's own z).
+// The solver never needs a pixel Jacobian column itself, only its components along two
+// per-pick pixel directions (the Schur elimination's b_x and b_u). So the derivatives are
+// pulled back: for a pixel-space covector b, R = b^T (d pixel / d d) is a covector on d,
+// the point seen from the lens in film components, and any column then costs one dot
+// product with a direction that is the same for every point:
+//  * moving the road point along a fixed-frame direction e moves d by T^T e: R . T^T e;
+//  * turning the camera by an angle with fixed-frame axis w moves d by
+//    -T^T (w x v) = (d + a) x w_F (v = X - H e3, a the lens offset, w_F = T^T w), so
+//    b^T d pixel / d angle = R . ((d + a) x w_F) = w_F . (R x (d + a)): the "turn"
+//    covector R x (d + a), dotted with the angle's film-frame axis.
+// Per point that is two 3-vectors per covector instead of a 2x3 matrix times a cross
+// product per column.
 #pragma once
+
+#include <array>
 
 #include <Eigen/Core>
 
@@ -22,6 +30,13 @@ namespace ccdlane::solver {
 class RoadProjection {
  public:
   using Array = Eigen::ArrayXd;
+
+  // A pixel-space covector b seen through the projection, per point (see above):
+  // film = b^T d pixel / d d and turn = film x (d + a).
+  struct Covectors {
+    explicit Covectors(int max_points);
+    std::array<Array, 3> film, turn;
+  };
 
   // Room for `max_points` points: every array is allocated here, never later.
   explicit RoadProjection(int max_points);
@@ -36,29 +51,30 @@ class RoadProjection {
   const Array& u() const { return u_; }
   const Array& v() const { return v_; }
 
-  // The derivatives of the last project()'s pixels (call once before the columns).
+  // The derivatives of the last project()'s pixels (call once before the others below).
   void differentiate(int n);
-  // d pixel / d(road x) (axis 0) or d(road y) (axis 1), into (du, dv).
-  void road_column(int axis, int n, Array& du, Array& dv) const;
-  // d pixel / d(pose parameter p), into (du, dv).
-  void pose_column(PoseParam p, int n, Array& du, Array& dv) const;
+  // scale * d pixel / d(road point) along the road directions (1, slope[i], 0), into (du, dv).
+  void road_direction(const Array& slope, double scale, int n, Array& du, Array& dv) const;
+  // The covectors of b = scale (b0[i], b1[i]) (`along`) and of b turned a quarter turn,
+  // scale (-b1[i], b0[i]) (`across`), in one pass.
+  void pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& along, Covectors& across) const;
+  // b^T d pixel / d(road x, axis 0, or road y, axis 1), from b's covectors.
+  void road_along(const Covectors& b, int axis, int n, Array& out) const;
+  // b^T d pixel / d(pose parameter p), from b's covectors.
+  void pose_along(const Covectors& b, PoseParam p, int n, Array& out) const;
 
  private:
-  // D w for a direction w constant over the points: D = d pixel / d(d).
-  void fixed_direction(const Vec3& w, int n, Array& du, Array& dv) const;
-
   Mat3 Tt_ = Mat3::Identity();
   Vec3 lens_in_film_ = Vec3::Zero(), lens_seen_ = Vec3::Zero();
-  Vec3 axis_[3];
+  Mat3 axes_in_film_ = Mat3::Identity();  // the angles' turning axes w_F (columns)
   double su_ = 1.0, sv_ = 1.0, inv_f_ = 1.0, k_ = 0.0;
   Vec2 centre_ = Vec2::Zero();
 
   // Per point: d (film frame), 1 / d_z, the ideal pixel w (relative to the principal
-  // point), the distortion gain g and dg / d|w|^2, the observed pixel (u, v); then
-  // D = d pixel / d d (row-major D00..D12), (d pixel / d w) w, and d + a.
-  Array dx_, dy_, dz_, iz_, wx_, wy_, gain_, dgain_, u_, v_;
-  Array D00_, D01_, D02_, D10_, D11_, D12_, owx_, owy_, seen_x_, seen_y_, seen_z_;
-  mutable Array scratch_;
+  // point), the distortion gain g and dg / d|w|^2, the observed pixel (u, v); then the
+  // symmetric d pixel / d w (oxx, oxy, oyy).
+  Array dx_, dy_, dz_, iz_, wx_, wy_, gain_, dgain_, u_, v_, oxx_, oxy_, oyy_;
+  Array scratch_;
 };
 
 }  // namespace ccdlane::solver

@@ -1,6 +1,7 @@
 // The attitude matrix: conventions of geometry.md and derivatives.
 #include "core/geometry/attitude.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
@@ -45,6 +46,17 @@ TEST(Attitude, DerivativesMatchFiniteDifferences) {
     *mm[k] -= h;
     const Mat3 n = (attitude_matrix(p) - attitude_matrix(m)) / (2 * h);
     EXPECT_LE((n - d[k]).norm(), 1e-9) << "angle " << k;
+  }
+}
+
+TEST(Attitude, EachAngleTurnsAboutItsAxis) {
+  const Attitude a{0.3, -0.2, 1.1};
+  Mat3 d[3], axes;
+  const Mat3 t = attitude_matrix(a, &d[0], &d[1], &d[2], &axes);
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 w = axes.col(k);
+    EXPECT_NEAR(w.norm(), 1.0, 1e-15) << "angle " << k;
+    for (int c = 0; c < 3; ++c) EXPECT_LE((w.cross(t.col(c)) - d[k].col(c)).norm(), 1e-15) << "angle " << k;
   }
 }
 

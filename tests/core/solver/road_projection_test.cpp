@@ -1,6 +1,6 @@
 // RoadProjection, the solver's fused kernel, against CameraModel::pixel_from_point: the
-// same pixel and the same derivatives over the road point and the pose, and the same
-// points rejected.
+// same pixel, the same derivatives over the road point and the pose (seen along
+// arbitrary pixel directions, as the solver sees them), and the same points rejected.
 #include "core/solver/road_projection.hpp"
 
 #include <random>
@@ -20,7 +20,10 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
   spec.cx = 385.0;  // an off-centre principal point too
   constexpr int kPoints = 25;
   RoadProjection projection(kPoints);
-  Eigen::ArrayXd xs(kPoints), ys(kPoints), du(kPoints), dv(kPoints);
+  Eigen::ArrayXd xs(kPoints), ys(kPoints), slope(kPoints), b0(kPoints), b1(kPoints), du(kPoints), dv(kPoints);
+  Eigen::ArrayXd along(kPoints), across(kPoints);
+  RoadProjection::Covectors along_b(kPoints), across_b(kPoints);
+  constexpr double kScale = 0.7;
   int compared = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const CameraPose pose{{deg_to_rad(10 * u(rng)), deg_to_rad(3 + 8 * u(rng)), deg_to_rad(10 * u(rng))},
@@ -36,9 +39,14 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
     for (int i = 0; i < kPoints; ++i) {
       xs[i] = points[i].x();
       ys[i] = points[i].y();
+      slope[i] = 0.2 * u(rng);
+      b0[i] = u(rng);  // an arbitrary pixel-space direction per point
+      b1[i] = u(rng);
     }
     ASSERT_TRUE(projection.project(xs, ys, kPoints)) << trial;
     projection.differentiate(kPoints);
+    projection.road_direction(slope, kScale, kPoints, du, dv);
+    projection.pull_back(b0, b1, kScale, kPoints, along_b, across_b);
     for (int i = 0; i < kPoints; ++i) {
       PointJacobian d_point;
       PoseJacobian2 d_pose;
@@ -47,13 +55,19 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
         EXPECT_LE((a - b).norm(), 1e-10 * (1.0 + b.norm())) << what << ": " << a.transpose() << " vs " << b.transpose();
       };
       near(Vec2(projection.u()[i], projection.v()[i]), expected, "pixel");
+      near(Vec2(du[i], dv[i]), kScale * (d_point.col(0) + slope[i] * d_point.col(1)), "d/d road direction");
+      // Each column seen along b and along b turned a quarter turn.
+      const Vec2 b(b0[i], b1[i]), b_turned(-b1[i], b0[i]);
+      const auto seen = [&](const Vec2& column) { return Vec2(kScale * b.dot(column), kScale * b_turned.dot(column)); };
       for (int axis = 0; axis < 2; ++axis) {
-        projection.road_column(axis, kPoints, du, dv);
-        near(Vec2(du[i], dv[i]), d_point.col(axis), "d/d road");
+        projection.road_along(along_b, axis, kPoints, along);
+        projection.road_along(across_b, axis, kPoints, across);
+        near(Vec2(along[i], across[i]), seen(d_point.col(axis)), "d/d road, seen along b");
       }
       for (int p = 0; p < kPoseParams; ++p) {
-        projection.pose_column(static_cast<PoseParam>(p), kPoints, du, dv);
-        near(Vec2(du[i], dv[i]), d_pose.col(p), "d/dpose");
+        projection.pose_along(along_b, static_cast<PoseParam>(p), kPoints, along);
+        projection.pose_along(across_b, static_cast<PoseParam>(p), kPoints, across);
+        near(Vec2(along[i], across[i]), seen(d_pose.col(p)), "d/dpose, seen along b");
       }
       ++compared;
     }
