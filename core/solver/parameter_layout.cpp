@@ -68,11 +68,4 @@ double ParameterLayout::squared_norm(const CameraPose& pose, const LaneLine* lin
   return sum;
 }
 
-LocalVector ParameterLayout::gather_local(const ReducedVector& v, int line) const {
-  LocalVector local = LocalVector::Zero();
-  local.head(num_global_) = v.head(num_global_);
-  local.segment(num_global_, num_line_kinds_) = v.segment(line_offset(line), num_line_kinds_);
-  return local;
-}
-
 }  // namespace ccdlane::solver

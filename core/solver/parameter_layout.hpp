@@ -33,8 +33,12 @@ class ParameterLayout {
   void apply_step(const ReducedVector& step, CameraPose& pose, LaneLine* lines) const;
   // Squared norm of the free parameters' values (radians, mm): the scale of a step.
   double squared_norm(const CameraPose& pose, const LaneLine* lines) const;
-  // The local part (globals, then line `line`'s kinds) of a reduced vector, zero-padded.
-  LocalVector gather_local(const ReducedVector& v, int line) const;
+  // Where local parameter `local` of line `line` (globals, then the line's kinds) sits in
+  // the reduced vector: the globals are shared by every line, its own kinds sit at the
+  // line's offset.
+  int reduced_index(int line, int local) const {
+    return local < num_global_ ? local : local + line * num_line_kinds_;
+  }
 
  private:
   int num_global_ = 0;

@@ -34,28 +34,44 @@ void RoadProjection::set_camera(const CameraSpec& spec, const CameraPose& pose) 
 }
 
 bool RoadProjection::project(const Array& x, const Array& y, int n) {
-  const auto X = x.head(n), Y = y.head(n);
-  auto dx = dx_.head(n), dy = dy_.head(n), dz = dz_.head(n), iz = iz_.head(n);
-  dz = X * Tt_(2, 0) + Y * Tt_(2, 1) - lens_seen_.z();
-  if (!(dz > 0.0).all()) return false;
-  dx = X * Tt_(0, 0) + Y * Tt_(0, 1) - lens_seen_.x();
-  dy = X * Tt_(1, 0) + Y * Tt_(1, 1) - lens_seen_.y();
-  iz = dz.inverse();
-  auto wx = wx_.head(n), wy = wy_.head(n);
-  wx = -su_ * dx * iz;
-  wy = -sv_ * dy * iz;
-  // Division-model distortion (distortion.cpp): g = 2 / (1 + s), s = sqrt(1 - 4 k rho),
-  // rho = |w|^2, written as g = 2 s t with t = 1 / (s (1 + s)), and dg/drho = 2 k t g.
-  auto s = scratch_.head(n), gain = gain_.head(n), dgain = dgain_.head(n);
-  s = 1.0 - 4.0 * k_ * (wx * wx + wy * wy);
-  if (!(s > 0.0).all()) return false;
-  s = s.sqrt();
-  dgain = (s * (1.0 + s)).inverse();  // t, for now
-  gain = 2.0 * s * dgain;
-  dgain = 2.0 * k_ * dgain * gain;
-  u_.head(n) = centre_.x() + gain * wx;
-  v_.head(n) = centre_.y() + gain * wy;
-  return true;
+  const double *X = x.data(), *Y = y.data();
+  double *dx = dx_.data(), *dy = dy_.data(), *dz = dz_.data(), *iz = iz_.data();
+  double *wx = wx_.data(), *wy = wy_.data(), *gain = gain_.data(), *dgain = dgain_.data();
+  double *u = u_.data(), *v = v_.data();
+  // Locals, not members: the stores below could alias members, which would keep the
+  // compiler from vectorising the loop.
+  const Mat3 t = Tt_;
+  const Vec3 o = lens_seen_;
+  const double su = su_, sv = sv_, k = k_, cx = centre_.x(), cy = centre_.y();
+  double* field = scratch_.data();  // 1 - 4 k |w|^2: positive inside the distortion model's field
+  // One pass without a branch, so that it vectorises: a point that cannot be seen makes
+  // NaNs or infinities of its own values only, and is found after the loop.
+  // The arrays are distinct (no point's output is another's input): no alias checks.
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double z = X[i] * t(2, 0) + Y[i] * t(2, 1) - o.z();
+    const double xf = X[i] * t(0, 0) + Y[i] * t(0, 1) - o.x(), yf = X[i] * t(1, 0) + Y[i] * t(1, 1) - o.y();
+    const double inv_z = 1.0 / z;
+    const double px = -su * xf * inv_z, py = -sv * yf * inv_z;
+    // Division-model distortion (distortion.cpp): g = 2 / (1 + s), s = sqrt(1 - 4 k rho),
+    // rho = |w|^2, written as g = 2 s t with t = 1 / (s (1 + s)), and dg/drho = 2 k t g.
+    const double s2 = 1.0 - 4.0 * k * (px * px + py * py);
+    field[i] = s2;
+    const double s = std::sqrt(s2);
+    const double tt = 1.0 / (s * (1.0 + s));
+    const double g = 2.0 * s * tt;
+    dx[i] = xf;
+    dy[i] = yf;
+    dz[i] = z;
+    iz[i] = inv_z;
+    wx[i] = px;
+    wy[i] = py;
+    gain[i] = g;
+    dgain[i] = 2.0 * k * tt * g;
+    u[i] = cx + g * px;
+    v[i] = cy + g * py;
+  }
+  return (dz_.head(n) > 0.0).all() && (scratch_.head(n) > 0.0).all();
 }
 
 void RoadProjection::differentiate(int n) {
@@ -75,10 +91,13 @@ void RoadProjection::road_direction(const Array& slope, double scale, int n, Arr
   const double *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
   double *out_u = du.data(), *out_v = dv.data();
   const Vec3 e0 = Tt_.col(0), e1 = Tt_.col(1);  // road x and road y in film components
+  const double su = su_, sv = sv_;  // locals: see project()
+  // The arrays are distinct (no point's output is another's input): no alias checks.
+#pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
     const double ex = e0.x() + s[i] * e1.x(), ey = e0.y() + s[i] * e1.y(), ez = e0.z() + s[i] * e1.z();
     const double m = -scale * iz[i];
-    const double dwx = m * (su_ * ex + wx[i] * ez), dwy = m * (sv_ * ey + wy[i] * ez);
+    const double dwx = m * (su * ex + wx[i] * ez), dwy = m * (sv * ey + wy[i] * ez);
     out_u[i] = oxx[i] * dwx + oxy[i] * dwy;
     out_v[i] = oxy[i] * dwx + oyy[i] * dwy;
   }
@@ -94,6 +113,9 @@ void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, i
   double *cf0 = across.film[0].data(), *cf1 = across.film[1].data(), *cf2 = across.film[2].data();
   double *ct0 = across.turn[0].data(), *ct1 = across.turn[1].data(), *ct2 = across.turn[2].data();
   const Vec3 a = lens_in_film_;
+  const double su = su_, sv = sv_;  // locals: see project()
+  // The arrays are distinct (no point's output is another's input): no alias checks.
+#pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
     const double c0 = scale * p0[i], c1 = scale * p1[i];
     // rho = b^T d pixel / d w (symmetric), for b = (c0, c1) and (-c1, c0).
@@ -101,8 +123,8 @@ void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, i
     const double qx = c0 * oxy[i] - c1 * oxx[i], qy = c0 * oyy[i] - c1 * oxy[i];
     // film = rho^T d w / d d; turn = film x (d + a).
     const double m = -iz[i], sx = dx[i] + a.x(), sy = dy[i] + a.y(), sz = dz[i] + a.z();
-    const double f0 = m * su_ * rx, f1 = m * sv_ * ry, f2 = m * (rx * wx[i] + ry * wy[i]);
-    const double g0 = m * su_ * qx, g1 = m * sv_ * qy, g2 = m * (qx * wx[i] + qy * wy[i]);
+    const double f0 = m * su * rx, f1 = m * sv * ry, f2 = m * (rx * wx[i] + ry * wy[i]);
+    const double g0 = m * su * qx, g1 = m * sv * qy, g2 = m * (qx * wx[i] + qy * wy[i]);
     af0[i] = f0;
     af1[i] = f1;
     af2[i] = f2;

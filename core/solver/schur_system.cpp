@@ -85,6 +85,34 @@ void accumulate_picks(const ParameterLayout& layout, const LineSegments& segment
   }
 }
 
+// Where line j's local parameters sit in the reduced vector.
+template <int M>
+std::array<int, M> reduced_indices(const ParameterLayout& layout, int j) {
+  std::array<int, M> index{};
+  for (int k = 0; k < M; ++k) index[k] = layout.reduced_index(j, k);
+  return index;
+}
+
+// Each line's block at damping lambda, scattered into the reduced system (plain loops:
+// the sizes are tiny, and Eigen's dynamic block expressions cost more than the
+// arithmetic here).
+template <int M>
+void scatter_lines(const ParameterLayout& layout, const LineNormals& parts, double lambda, ReducedMatrix& N,
+                   ReducedVector& g) {
+  const double damped_share = lambda / (1.0 + lambda);
+  for (int j = 0; j < layout.num_lines(); ++j) {
+    const std::array<int, M> at = reduced_indices<M>(layout, j);
+    const auto H = (parts.H_fixed[j].template topLeftCorner<M, M>() +
+                    damped_share * parts.H_damped[j].template topLeftCorner<M, M>())
+                       .eval();
+    const auto h = (parts.h_fixed[j].template head<M>() + damped_share * parts.h_damped[j].template head<M>()).eval();
+    for (int c = 0; c < M; ++c) {
+      for (int k = 0; k < M; ++k) N(at[k], at[c]) += H(k, c);
+      g[at[c]] += h[c];
+    }
+  }
+}
+
 // x_i steps for a reduced step, and the linearised cost decrease, one pass over the
 // picks with M local parameters fixed at compile time (as accumulate_picks).
 template <int M>
@@ -95,7 +123,9 @@ BackSubstitution back_substitute_picks(const ParameterLayout& layout, const Line
   BackSubstitution out;
   double decrease = 0.0, dx2 = 0.0;
   for (int j = 0; j < layout.num_lines(); ++j) {
-    const Row delta = layout.gather_local(step, j).template head<M>();
+    const std::array<int, M> at = reduced_indices<M>(layout, j);
+    Row delta;
+    for (int k = 0; k < M; ++k) delta[k] = step[at[k]];
     for (int i = segments.begin[j]; i < segments.begin[j + 1]; ++i) {
       // The change of the pick's residuals along b_u (p) and b_x (q) from the parameters.
       Row a, x;
@@ -130,23 +160,10 @@ void accumulate_normals(const ParameterLayout& layout, const LineSegments& segme
 
 void build_reduced_system(const ParameterLayout& layout, const SolverState& state, double lambda, ReducedMatrix& N,
                           ReducedVector& g) {
-  const int n = layout.size(), ng = layout.num_global(), m = layout.local_size();
-  const double damped_share = lambda / (1.0 + lambda);
-  const LineNormals& parts = state.normals;
+  const int n = layout.size();
   N.setZero(n, n);
   g.setZero(n);
-  // Scatter each line's local block: its globals overlap every other line's, its own
-  // kinds sit at the line's offset. Plain loops: the sizes are tiny, and Eigen's dynamic
-  // block expressions cost more than the arithmetic here.
-  for (int j = 0; j < layout.num_lines(); ++j) {
-    const int shift = layout.line_offset(j) - ng;
-    const auto reduced = [&](int local) { return local < ng ? local : local + shift; };
-    for (int c = 0; c < m; ++c) {
-      const int rc = reduced(c);
-      for (int k = 0; k < m; ++k) N(reduced(k), rc) += parts.H_fixed[j](k, c) + damped_share * parts.H_damped[j](k, c);
-      g[rc] += parts.h_fixed[j][c] + damped_share * parts.h_damped[j][c];
-    }
-  }
+  with_local_size(layout.local_size(), [&]<int M>() { scatter_lines<M>(layout, state.normals, lambda, N, g); });
   for (int p = 0; p < state.priors.count; ++p) {
     const PriorRow& row = state.priors.rows[p];
     for (int c = 0; c < n; ++c) {
@@ -156,7 +173,6 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
     }
   }
 }
-
 
 BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
                                  const SolverState& state, double lambda, const ReducedVector& step, double* dx) {

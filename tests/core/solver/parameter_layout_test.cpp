@@ -51,11 +51,12 @@ TEST(ParameterLayout, StepsLandOnTheirParametersOnly) {
   EXPECT_DOUBLE_EQ(lines[1].y0_mm, -1750.0);
   EXPECT_DOUBLE_EQ(layout.squared_norm(pose, lines), 0.7 * 0.7 + 1410.0 * 1410.0 + 0.011 * 0.011 + 0.022 * 0.022);
 
-  const LocalVector local = layout.gather_local(step, 1);
-  EXPECT_DOUBLE_EQ(local[0], 0.5);
-  EXPECT_DOUBLE_EQ(local[1], 10.0);
-  EXPECT_DOUBLE_EQ(local[2], 0.002);
-  EXPECT_DOUBLE_EQ(local.tail(kMaxLocalParams - 3).squaredNorm(), 0.0);
+  // Line 1's local parameters: the two globals, then its own slope.
+  EXPECT_EQ(layout.reduced_index(1, 0), 0);
+  EXPECT_EQ(layout.reduced_index(1, 1), 1);
+  EXPECT_EQ(layout.reduced_index(1, 2), 3);
+  EXPECT_EQ(layout.reduced_index(0, 2), 2);
+  EXPECT_EQ(step[layout.reduced_index(1, 2)], 0.002);
 }
 
 }  // namespace
