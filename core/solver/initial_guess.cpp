@@ -2,15 +2,38 @@
 #include "core/solver/initial_guess.hpp"
 
 #include <array>
+#include <cmath>
+#include <limits>
 
 namespace ccdlane::solver {
 
 int ground_points_of_picks(const CameraModel& camera, std::span<const Pick> picks, Vec2* ground) {
-  for (std::size_t i = 0; i < picks.size(); ++i) {
-    const auto g = camera.ground_point_from_pixel(Vec2(picks[i].px, picks[i].py));
-    if (!g) return static_cast<int>(i);
-    ground[i] = g->head<2>();
+  // CameraModel::ground_point_from_pixel for every pick in one branch-free pass (this
+  // runs on every solve). The ray from the cell at chip position c (film frame) through
+  // the lens runs along r = T (c, -f), and c is the undistorted offset v / (1 + k |v|^2)
+  // times the pitch, so r ~ T (v_x p_u, v_y p_v, -f (1 + k |v|^2)): the distortion's
+  // division cancels in the intersection with the road, L - L_z r_xy / r_z.
+  const CameraSpec& spec = camera.spec();
+  const Mat3& T = camera.attitude_matrix();
+  const Vec3 L = camera.lens_centre();
+  const double cx = spec.cx, cy = spec.cy, k = spec.k_px2, pu = spec.pitch_u(), pv = spec.pitch_v();
+  const double f = camera.pose().f_mm;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const int n = static_cast<int>(picks.size());
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double vx = picks[i].px - cx, vy = picks[i].py - cy;
+    const double scale = 1.0 + k * (vx * vx + vy * vy);  // > 0 inside the model's field
+    const double a = vx * pu, b = vy * pv, c = -f * scale;
+    const double rz = T(2, 0) * a + T(2, 1) * b + T(2, 2) * c;
+    // The ray reaches the road only going down from the lens: the cell above it.
+    const bool seen = (scale > 0.0) & (rz * scale > 0.0);
+    const double t = (seen ? L.z() : nan) / rz;
+    ground[i] = Vec2(L.x() - t * (T(0, 0) * a + T(0, 1) * b + T(0, 2) * c),
+                     L.y() - t * (T(1, 0) * a + T(1, 1) * b + T(1, 2) * c));
   }
+  for (int i = 0; i < n; ++i)
+    if (std::isnan(ground[i].x())) return i;
   return -1;
 }
 
