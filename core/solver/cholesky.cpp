@@ -1,13 +1,33 @@
 // Cholesky factorisation, solve and inverse in plain loops (see the header).
+//
+// The sizes the solver meets are a handful (3 angles and a y0 per line: 5 for two
+// lines), so each kernel is a template over the size, instantiated for 1..kUnrolledSizes
+// and dispatched at run time: at a compile-time size the loops unroll completely, which
+// removes the loop branches (mispredicted at every size change of the triangular loops)
+// from the factorisation's serial chain of square roots and divisions. Larger systems
+// take the same code with the size at run time (N = 0).
 #include "core/solver/cholesky.hpp"
 
 #include <array>
 #include <cmath>
 
 namespace ccdlane::solver {
+namespace {
 
-bool cholesky_factor(ReducedMatrix& A) {
-  const int n = static_cast<int>(A.rows());
+constexpr int kUnrolledSizes = 8;
+
+// Column-major n x n storage, as ReducedMatrix holds it.
+template <int N>
+struct Square {
+  double* a;
+  int runtime_n;
+  int n() const { return N > 0 ? N : runtime_n; }
+  double& operator()(int r, int c) const { return a[r + c * n()]; }
+};
+
+template <int N>
+bool factor(Square<N> A) {
+  const int n = A.n();
   for (int c = 0; c < n; ++c) {
     double pivot = A(c, c);
     for (int k = 0; k < c; ++k) pivot -= A(c, k) * A(c, k);
@@ -24,9 +44,10 @@ bool cholesky_factor(ReducedMatrix& A) {
   return true;
 }
 
-bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
-  if (!cholesky_factor(A)) return false;
-  const int n = static_cast<int>(A.rows());
+template <int N>
+bool solve(Square<N> A, double* b) {
+  if (!factor(A)) return false;
+  const int n = A.n();
   // The diagonal's reciprocals: the solves below are serial chains, and a multiplication
   // is a fraction of a division's latency.
   std::array<double, kMaxReducedParams> inv_diag{};
@@ -42,13 +63,12 @@ bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
   return true;
 }
 
-bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor, ReducedMatrix& inverse) {
-  const int n = static_cast<int>(S.rows());
-  ReducedMatrix& L = factor;
-  L = S;
-  if (!cholesky_factor(L)) return false;
-  // L^-1 in place of L, column by column from the left, each top-down: X(r, c) needs
-  // L's own row r right of column c (not yet overwritten) and X's column c above row r.
+// L^-1 in place of the factor L, then S^-1 = L^-T L^-1 into `inverse` (both triangles).
+template <int N>
+void invert_factor(Square<N> L, Square<N> inverse) {
+  const int n = L.n();
+  // Column by column from the left, each top-down: X(r, c) needs L's own row r right of
+  // column c (not yet overwritten) and X's column c above row r.
   for (int c = 0; c < n; ++c) {
     L(c, c) = 1.0 / L(c, c);
     for (int r = c + 1; r < n; ++r) {
@@ -57,14 +77,51 @@ bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor, Red
       L(r, c) = -v / L(r, r);
     }
   }
-  inverse.resize(n, n);
   for (int c = 0; c < n; ++c)
     for (int r = c; r < n; ++r) {
       double v = 0.0;
       for (int k = r; k < n; ++k) v += L(k, r) * L(k, c);
       inverse(r, c) = inverse(c, r) = v;
     }
-  return true;
+}
+
+// Calls f.template operator()<N>() with N = n when n <= kUnrolledSizes, else N = 0.
+template <class F>
+bool with_size(int n, F&& f) {
+  switch (n) {
+    case 1: return f.template operator()<1>();
+    case 2: return f.template operator()<2>();
+    case 3: return f.template operator()<3>();
+    case 4: return f.template operator()<4>();
+    case 5: return f.template operator()<5>();
+    case 6: return f.template operator()<6>();
+    case 7: return f.template operator()<7>();
+    case kUnrolledSizes: return f.template operator()<kUnrolledSizes>();
+    default: return f.template operator()<0>();
+  }
+}
+
+}  // namespace
+
+bool cholesky_factor(ReducedMatrix& A) {
+  const int n = static_cast<int>(A.rows());
+  return with_size(n, [&]<int N>() { return factor(Square<N>{A.data(), n}); });
+}
+
+bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
+  const int n = static_cast<int>(A.rows());
+  return with_size(n, [&]<int N>() { return solve(Square<N>{A.data(), n}, b.data()); });
+}
+
+bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor_out, ReducedMatrix& inverse) {
+  const int n = static_cast<int>(S.rows());
+  factor_out = S;
+  inverse.resize(n, n);
+  return with_size(n, [&]<int N>() {
+    if (!factor(Square<N>{factor_out.data(), n})) return false;
+    invert_factor(Square<N>{factor_out.data(), n}, Square<N>{inverse.data(), n});
+    return true;
+  });
 }
 
 }  // namespace ccdlane::solver
