@@ -144,7 +144,11 @@ namespace {
 
 // w . v[i] for a direction w fixed over the points.
 void dot(const Vec3& w, const std::array<Eigen::ArrayXd, 3>& v, int n, Eigen::ArrayXd& out) {
-  out.head(n) = v[0].head(n) * w.x() + v[1].head(n) * w.y() + v[2].head(n) * w.z();
+  const double *v0 = v[0].data(), *v1 = v[1].data(), *v2 = v[2].data();
+  const double w0 = w.x(), w1 = w.y(), w2 = w.z();
+  double* o = out.data();
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) o[i] = v0[i] * w0 + v1[i] * w1 + v2[i] * w2;
 }
 
 }  // namespace
