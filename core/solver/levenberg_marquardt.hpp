@@ -73,12 +73,9 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
   while (out.iterations < options.max_iterations) {
     ++out.iterations;
     build_reduced_system(layout, *current, lambda, ws.N, ws.g);
-    ws.A.resize(n, n);
-    for (int c = 0; c < n; ++c) {
-      for (int r = c; r < n; ++r) ws.A(r, c) = ws.N(r, c);  // lower triangle
-      // A parameter nothing depends on has a zero diagonal: damp it as a unit one.
-      ws.A(c, c) += lambda * (ws.N(c, c) > 0.0 ? ws.N(c, c) : 1.0);
-    }
+    ws.A = ws.N;
+    // A parameter nothing depends on has a zero diagonal: damp it as a unit one.
+    for (int c = 0; c < n; ++c) ws.A(c, c) += lambda * (ws.N(c, c) > 0.0 ? ws.N(c, c) : 1.0);
     // Positive definite whenever lambda > 0 (and N is semi-definite).
     ws.step = -ws.g;
     const bool factored = cholesky_solve(ws.A, ws.step);
@@ -92,8 +89,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
     }
     const BackSubstitution bs = back_substitute(layout, segments, *current, lambda, ws.step, ws.dx.data());
 
-    double x_norm2 = 0.0;
-    for (int i = 0; i < num_picks; ++i) x_norm2 += current->x[i] * current->x[i];
+    const double x_norm2 = Eigen::Map<const Eigen::ArrayXd>(current->x, num_picks).square().sum();
     const double step_norm = std::sqrt(ws.step.squaredNorm() + bs.x_step_squared_norm);
     const double param_norm = std::sqrt(layout.squared_norm(current->pose, current->lines.data()) + x_norm2);
     if (step_norm <= kStepTolerance * (param_norm + kStepTolerance)) {
@@ -104,7 +100,8 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
     candidate->pose = current->pose;
     candidate->lines = current->lines;
     layout.apply_step(ws.step, candidate->pose, candidate->lines.data());
-    for (int i = 0; i < num_picks; ++i) candidate->x[i] = current->x[i] + ws.dx[i];
+    Eigen::Map<Eigen::ArrayXd>(candidate->x, num_picks) =
+        Eigen::Map<const Eigen::ArrayXd>(current->x, num_picks) + Eigen::Map<const Eigen::ArrayXd>(ws.dx.data(), num_picks);
     if (!model.evaluate_cost(*candidate) || !std::isfinite(candidate->cost)) {
       reject();
       continue;
