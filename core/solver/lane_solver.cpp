@@ -206,7 +206,7 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
     if (!warm) options.initial_damping = PaperResidual::kColdInitialDamping;
     if (evaluated) outcome = levenberg_marquardt(paper, layout, segments, num_picks, options, current, candidate, lm);
   } else {
-    reprojection.configure(layout, picks, r.pixel_sigma, r.priors);
+    reprojection.configure(layout, segments, picks, r.pixel_sigma, r.priors);
     evaluated = reprojection.evaluate_cost(*current) && linearise(reprojection, layout, segments, *current);
     if (!warm) options.initial_damping = ReprojectionResidual::kColdInitialDamping;
     if (evaluated)

@@ -10,9 +10,10 @@ ReprojectionResidual::ReprojectionResidual(const CameraSpec& spec, int max_picks
   for (Array* a : {&px_, &py_, &x_, &y_, &slope_}) a->setZero(max_picks);
 }
 
-void ReprojectionResidual::configure(const ParameterLayout& layout, std::span<const Pick> picks, double pixel_sigma,
-                                     const SolverPriors& priors) {
+void ReprojectionResidual::configure(const ParameterLayout& layout, const LineSegments& segments,
+                                     std::span<const Pick> picks, double pixel_sigma, const SolverPriors& priors) {
   layout_ = &layout;
+  segments_ = &segments;
   picks_ = picks;
   inv_sigma_ = 1.0 / pixel_sigma;
   priors_ = &priors;
@@ -25,12 +26,15 @@ void ReprojectionResidual::configure(const ParameterLayout& layout, std::span<co
 bool ReprojectionResidual::evaluate_cost(SolverState& state) {
   const int n = static_cast<int>(picks_.size());
   projection_.set_camera(spec_, state.pose);
-  for (int i = 0; i < n; ++i) {  // each pick's road point, on its own line
-    const LaneLine& line = state.lines[picks_[i].line];
-    const double x = state.x[i];
-    x_[i] = x;
-    y_[i] = line_y(line, x);
-    slope_[i] = line.m + 2.0 * line.c_per_mm * x;
+  for (int j = 0; j < layout_->num_lines(); ++j) {  // each pick's road point, on its own line
+    const LaneLine line = state.lines[j];
+    const int end = segments_->begin[j + 1];
+    for (int i = segments_->begin[j]; i < end; ++i) {
+      const double x = state.x[i];
+      x_[i] = x;
+      y_[i] = line_y(line, x);
+      slope_[i] = line.m + 2.0 * line.c_per_mm * x;
+    }
   }
   if (!projection_.project(x_, y_, n)) return false;
   PickRows& rows = *state.rows;

@@ -20,8 +20,9 @@ class ReprojectionResidual {
 
   ReprojectionResidual(const CameraSpec& spec, int max_picks);
 
-  void configure(const ParameterLayout& layout, std::span<const Pick> picks, double pixel_sigma,
-                 const SolverPriors& priors);
+  // `picks` sorted by line (`segments`).
+  void configure(const ParameterLayout& layout, const LineSegments& segments, std::span<const Pick> picks,
+                 double pixel_sigma, const SolverPriors& priors);
 
   // Residuals and cost J at `state` (its x are kept). False when some road point cannot
   // be seen (behind the lens or beyond the distortion model's field).
@@ -35,6 +36,7 @@ class ReprojectionResidual {
   CameraSpec spec_;
   RoadProjection projection_;
   const ParameterLayout* layout_ = nullptr;
+  const LineSegments* segments_ = nullptr;
   std::span<const Pick> picks_;
   double inv_sigma_ = 1.0;
   const SolverPriors* priors_ = nullptr;

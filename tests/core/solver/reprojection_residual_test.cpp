@@ -2,6 +2,8 @@
 // points, and every analytic Jacobian column matches central finite differences.
 #include "core/solver/reprojection_residual.hpp"
 
+#include <algorithm>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -15,7 +17,8 @@ namespace ccdlane::solver {
 namespace {
 
 struct Fixture {
-  test::SyntheticScene scene;
+  test::SyntheticScene scene;  // its picks sorted by line, as the solver keeps them
+  LineSegments segments;
   std::vector<double> x;
   PickRows rows{16};
   ParameterLayout layout{test::all_free(), 2};
@@ -24,6 +27,16 @@ struct Fixture {
 
   explicit Fixture(std::uint64_t seed) {
     scene = test::small_curved_scene(seed);
+    std::vector<std::size_t> order(scene.picks.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return scene.picks[a].line < scene.picks[b].line; });
+    const test::SyntheticScene interleaved = scene;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      scene.picks[i] = interleaved.picks[order[i]];
+      scene.x_mm[i] = interleaved.x_mm[order[i]];
+      segments.begin[scene.picks[i].line + 1] = static_cast<int>(i) + 1;
+    }
     x = scene.x_mm;
     for (double& xi : x) xi *= 1.01;  // off the truth: residuals are not zero
     state.pose = scene.truth;
@@ -37,7 +50,7 @@ struct Fixture {
 TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
   Fixture f(1);
   ReprojectionResidual model(f.scene.camera, 16);
-  model.configure(f.layout, f.scene.picks, 0.5, f.priors);
+  model.configure(f.layout, f.segments, f.scene.picks, 0.5, f.priors);
   ASSERT_TRUE(model.evaluate(f.state));
   const CameraModel camera(f.scene.camera, f.state.pose);
   double cost = 0.0;
@@ -57,7 +70,7 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
   for (std::uint64_t seed = 2; seed < 6; ++seed) {
     Fixture f(seed);
     ReprojectionResidual model(f.scene.camera, 16);
-    model.configure(f.layout, f.scene.picks, 0.5, f.priors);
+    model.configure(f.layout, f.segments, f.scene.picks, 0.5, f.priors);
     ASSERT_TRUE(model.evaluate(f.state));
     const PickRows analytic = f.rows;
     const SolverState base = f.state;
@@ -122,7 +135,7 @@ TEST(ReprojectionResidual, PointBehindTheCameraFailsTheEvaluation) {
   Fixture f(7);
   f.x[3] = -5000.0;
   ReprojectionResidual model(f.scene.camera, 16);
-  model.configure(f.layout, f.scene.picks, 0.5, f.priors);
+  model.configure(f.layout, f.segments, f.scene.picks, 0.5, f.priors);
   EXPECT_FALSE(model.evaluate(f.state));
 }
 
