@@ -123,34 +123,41 @@ void scatter_lines(const ParameterLayout& layout, const LineNormals& parts, doub
 template <int M>
 BackSubstitution back_substitute_picks(const ParameterLayout& layout, const LineSegments& segments,
                                        const PickRows& rows, double lambda, const ReducedVector& step, double* dx) {
-  using Row = Eigen::Matrix<double, M, 1>;
   const double inv_damping = 1.0 / (1.0 + lambda);
-  BackSubstitution out;
+  std::array<const double*, M> au, ax;
+  for (int k = 0; k < M; ++k) {
+    au[k] = rows.au[k].data();
+    ax[k] = rows.ax[k].data();
+  }
+  const double *ru = rows.ru.data(), *rx = rows.rx.data(), *w = rows.w.data();
   double decrease = 0.0, dx2 = 0.0;
   for (int j = 0; j < layout.num_lines(); ++j) {
     const std::array<int, M> at = reduced_indices<M>(layout, j);
-    Row delta;
+    std::array<double, M> delta;
     for (int k = 0; k < M; ++k) delta[k] = step[at[k]];
+    // Vectorised over the line's picks, the two sums included (their order is the
+    // compiler's, which the rounding of a step's norm and its predicted decrease allows).
+#pragma omp simd reduction(+ : decrease, dx2)
     for (int i = segments.begin[j]; i < segments.begin[j + 1]; ++i) {
       // The change of the pick's residuals along b_u (p) and b_x (q) from the parameters.
-      Row a, x;
+      double p = 0.0, q = 0.0;
       for (int k = 0; k < M; ++k) {
-        a[k] = rows.au[k][i];
-        x[k] = rows.ax[k][i];
+        p += au[k][i] * delta[k];
+        q += ax[k][i] * delta[k];
       }
-      const double p = a.dot(delta);
-      double q = x.dot(delta);
       // x_i's step, and with it q's change Jx.Jx dx_i = -(rx + q) / (1 + lambda).
-      const double absorbed = -(rows.rx[i] + q) * inv_damping;
-      dx[i] = absorbed * rows.w[i];
+      const double absorbed = -(rx[i] + q) * inv_damping;
+      const double step_x = absorbed * w[i];
+      dx[i] = step_x;
       q += absorbed;
-      dx2 += dx[i] * dx[i];
+      dx2 += step_x * step_x;
       // Predicted decrease: |r|^2 - |r + u|^2 = -(2 r.u + u.u) for the change u of the
       // residuals, from u directly (along b_u and b_x, each of squared length 1 / w) so
       // that it does not vanish in the rounding of two nearly equal costs.
-      decrease -= (2.0 * (rows.ru[i] * p + rows.rx[i] * q) + p * p + q * q) * rows.w[i];
+      decrease -= (2.0 * (ru[i] * p + rx[i] * q) + p * p + q * q) * w[i];
     }
   }
+  BackSubstitution out;
   out.predicted_decrease = decrease;
   out.x_step_squared_norm = dx2;
   return out;
