@@ -1,5 +1,6 @@
 // Attitude matrix and its angle derivatives, in closed form: the solver sets a pose on
-// every cost evaluation, so this runs one sincos per angle and no matrix products.
+// every cost evaluation, so this runs one sincos per angle (none for a solver's small
+// step, AttitudeTrig::moved) and no matrix products.
 #include "core/geometry/attitude.hpp"
 
 #include <cmath>
@@ -19,10 +20,40 @@ Mat3 turned(const Vec3& w, const Mat3& t) {
 
 }  // namespace
 
-Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT_dphi, Mat3* turning_axes) {
-  const double cz = std::cos(a.psi), sz = std::sin(a.psi);
-  const double cy = std::cos(a.theta), sy = std::sin(a.theta);
-  const double cx = std::cos(a.phi), sx = std::sin(a.phi);
+AttitudeTrig AttitudeTrig::of(const Attitude& a) {
+  return {std::sin(a.psi), std::cos(a.psi), std::sin(a.theta), std::cos(a.theta), std::sin(a.phi), std::cos(a.phi)};
+}
+
+namespace {
+
+// sin and cos of a + d from those of a, with d's own by their Taylor series to d^11 and
+// d^12: for |d| <= 1/8 the remainders are below 1e-21 relative.
+void add_small_angle(double d, double& s, double& c) {
+  const double d2 = d * d;
+  const double sin_d =
+      d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0 * (1.0 - d2 / 110.0)))));
+  const double cos_d =
+      1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0 * (1.0 - d2 / 132.0)))));
+  const double s0 = s, c0 = c;
+  s = s0 * cos_d + c0 * sin_d;
+  c = c0 * cos_d - s0 * sin_d;
+}
+
+}  // namespace
+
+AttitudeTrig AttitudeTrig::moved(const Attitude& from, const Attitude& to) const {
+  const double d_psi = to.psi - from.psi, d_theta = to.theta - from.theta, d_phi = to.phi - from.phi;
+  if (!(std::abs(d_psi) <= kSmallTurn && std::abs(d_theta) <= kSmallTurn && std::abs(d_phi) <= kSmallTurn))
+    return of(to);
+  AttitudeTrig t = *this;
+  add_small_angle(d_psi, t.sin_psi, t.cos_psi);
+  add_small_angle(d_theta, t.sin_theta, t.cos_theta);
+  add_small_angle(d_phi, t.sin_phi, t.cos_phi);
+  return t;
+}
+
+Mat3 AttitudeTrig::matrix(Mat3* turning_axes) const {
+  const double cz = cos_psi, sz = sin_psi, cy = cos_theta, sy = sin_theta, cx = cos_phi, sx = sin_phi;
   // R = Rz Ry Rx written out; P then takes film x to R's second column, film y to its
   // third and film z (the optical axis, at zero angles fixed x) to its first.
   const Vec3 r0(cz * cy, sz * cy, -sy);
@@ -31,10 +62,17 @@ Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT
   Mat3 t;
   t << r1, r2, r0;
   // The turning axes: yaw about fixed z, pitch about Rz e_y, roll about Rz Ry e_x = r0.
-  if (dT_dpsi) *dT_dpsi = turned(Vec3::UnitZ(), t);
-  if (dT_dtheta) *dT_dtheta = turned(Vec3(-sz, cz, 0.0), t);
-  if (dT_dphi) *dT_dphi = turned(r0, t);
   if (turning_axes) *turning_axes << Vec3::UnitZ(), Vec3(-sz, cz, 0.0), r0;
+  return t;
+}
+
+Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT_dphi, Mat3* turning_axes) {
+  Mat3 axes;
+  const Mat3 t = AttitudeTrig::of(a).matrix(&axes);
+  if (dT_dpsi) *dT_dpsi = turned(axes.col(0), t);
+  if (dT_dtheta) *dT_dtheta = turned(axes.col(1), t);
+  if (dT_dphi) *dT_dphi = turned(axes.col(2), t);
+  if (turning_axes) *turning_axes = axes;
   return t;
 }
 

@@ -12,6 +12,22 @@ struct Attitude {
   double phi = 0.0;    // roll about the viewing direction
 };
 
+// The sines and cosines of an attitude's angles, from which T follows without further
+// trigonometry.
+struct AttitudeTrig {
+  double sin_psi = 0.0, cos_psi = 1.0, sin_theta = 0.0, cos_theta = 1.0, sin_phi = 0.0, cos_phi = 1.0;
+
+  static AttitudeTrig of(const Attitude& a);
+  // The trig of `to`, given that this is the trig of `from`: by the angle-sum formulas
+  // when no angle moved by more than kSmallTurn (a solver's step; a few multiplications,
+  // within a few ulp of of(to)), else of(to).
+  AttitudeTrig moved(const Attitude& from, const Attitude& to) const;
+  static constexpr double kSmallTurn = 0.125;  // radians
+
+  // T (attitude_matrix below) from the trig; `turning_axes` as there.
+  Mat3 matrix(Mat3* turning_axes = nullptr) const;
+};
+
 // The matrix mapping film-frame components to fixed-frame components. Each optional
 // out-parameter receives the element-wise derivative of T with respect to that angle;
 // `turning_axes` the fixed-frame axes (columns: yaw, pitch, roll) that a change of each

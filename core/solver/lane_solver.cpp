@@ -230,18 +230,23 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
   // Mark positions and the reprojection RMS: from the whitened residuals in
   // reprojection mode; the paper's index is not in pixels, so there the marks are
   // projected.
-  if (r.mode == SolverMode::paper) camera.set_pose(state.pose);
-  double sum_sq = 0.0;
-  for (std::size_t i = 0; i < picks.size(); ++i) {
+  const int num_picks = static_cast<int>(picks.size());
+  for (int i = 0; i < num_picks; ++i) {
     const double x = state.x[i];
-    const Vec2 point(x, line_y(state.lines[picks[i].line], x));
-    points[order[i]] = point;  // in the request's order
-    if (r.mode == SolverMode::reprojection) {
-      sum_sq += state.rows->residual(static_cast<int>(i)).squaredNorm() * r.pixel_sigma * r.pixel_sigma;
-      continue;
+    points[order[i]] = Vec2(x, line_y(state.lines[picks[i].line], x));  // in the request's order
+  }
+  double sum_sq = 0.0;
+  if (r.mode == SolverMode::reprojection) {
+    const PickRows& rows = *state.rows;
+    sum_sq = (rows.r0.head(num_picks).square() + rows.r1.head(num_picks).square()).sum() * r.pixel_sigma *
+             r.pixel_sigma;
+  } else {
+    camera.set_pose(state.pose);
+    for (int i = 0; i < num_picks; ++i) {
+      const Vec2& point = points[order[i]];
+      const auto px = camera.pixel_from_point(Vec3(point.x(), point.y(), 0.0));
+      sum_sq += px ? (*px - Vec2(picks[i].px, picks[i].py)).squaredNorm() : std::numeric_limits<double>::infinity();
     }
-    const auto px = camera.pixel_from_point(Vec3(point.x(), point.y(), 0.0));
-    sum_sq += px ? (*px - Vec2(picks[i].px, picks[i].py)).squaredNorm() : std::numeric_limits<double>::infinity();
   }
   result.points_mm = std::span<const Vec2>(points.data(), picks.size());
   result.rms_px = picks.empty() ? 0.0 : std::sqrt(sum_sq / static_cast<double>(picks.size()));

@@ -14,6 +14,7 @@ void ReprojectionResidual::configure(const ParameterLayout& layout, const LineSe
                                      std::span<const Pick> picks, double pixel_sigma, const SolverPriors& priors) {
   layout_ = &layout;
   segments_ = &segments;
+  projection_.forget_pose();
   picks_ = picks;
   inv_sigma_ = 1.0 / pixel_sigma;
   priors_ = &priors;

@@ -41,8 +41,13 @@ class RoadProjection {
   // Room for `max_points` points: every array is allocated here, never later.
   explicit RoadProjection(int max_points);
 
-  // Per-pose constants (geometry.md; only the attitude matrix, not its derivatives).
+  // Per-pose constants (geometry.md; only the attitude matrix, not its derivatives). The
+  // angles' trig comes from the previous pose's when they moved little (AttitudeTrig::
+  // moved), so a pose's pixels depend on the poses set before it by a few ulp.
   void set_camera(const CameraSpec& spec, const CameraPose& pose);
+  // Starts afresh: the next pose's trig is computed outright. A solve calls this first,
+  // so that its results depend on its own input only.
+  void forget_pose() { has_trig_ = false; }
 
   // Projects the road points (x[i], y[i], 0), i < n. False when some point is not in
   // front of the lens or beyond the distortion model's field (CameraModel's rules).
@@ -64,6 +69,9 @@ class RoadProjection {
   void pose_along(const Covectors& b, PoseParam p, int n, Array& out) const;
 
  private:
+  AttitudeTrig trig_;
+  Attitude trig_angles_;  // the angles of trig_
+  bool has_trig_ = false;
   Mat3 Tt_ = Mat3::Identity();
   Vec3 lens_in_film_ = Vec3::Zero(), lens_seen_ = Vec3::Zero();
   Mat3 axes_in_film_ = Mat3::Identity();  // the angles' turning axes w_F (columns)

@@ -1,6 +1,10 @@
 // The attitude matrix: conventions of geometry.md and derivatives.
 #include "core/geometry/attitude.hpp"
 
+#include <cmath>
+#include <random>
+#include <utility>
+
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
@@ -58,6 +62,35 @@ TEST(Attitude, EachAngleTurnsAboutItsAxis) {
     EXPECT_NEAR(w.norm(), 1.0, 1e-15) << "angle " << k;
     for (int c = 0; c < 3; ++c) EXPECT_LE((w.cross(t.col(c)) - d[k].col(c)).norm(), 1e-15) << "angle " << k;
   }
+}
+
+// A solver's small steps: the trig carried along by the angle-sum formulas stays within a
+// few ulp of the trig computed outright, step after step; a large step is computed
+// outright.
+TEST(Attitude, TrigMovedBySmallStepsStaysExact) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> angle(-0.3, 0.3), step(-AttitudeTrig::kSmallTurn, AttitudeTrig::kSmallTurn);
+  for (int walk = 0; walk < 20; ++walk) {
+    Attitude a{angle(rng), angle(rng), angle(rng)};
+    AttitudeTrig trig = AttitudeTrig::of(a);
+    for (int k = 1; k <= 50; ++k) {  // the solver's default max_iterations
+      const double scale = std::pow(10.0, -(k % 8));  // steps from 1e-7 to the largest allowed
+      const Attitude next{a.psi + scale * step(rng), a.theta + scale * step(rng), a.phi + scale * step(rng)};
+      trig = trig.moved(a, next);
+      a = next;
+      const AttitudeTrig exact = AttitudeTrig::of(a);
+      for (const auto& [carried, direct] : {std::pair{trig.sin_psi, exact.sin_psi}, {trig.cos_psi, exact.cos_psi},
+                                             {trig.sin_theta, exact.sin_theta}, {trig.cos_theta, exact.cos_theta},
+                                             {trig.sin_phi, exact.sin_phi}, {trig.cos_phi, exact.cos_phi}})
+        EXPECT_NEAR(carried, direct, 2e-15) << "walk " << walk << " step " << k;
+    }
+    EXPECT_LE((trig.matrix() - attitude_matrix(a)).norm(), 4e-15);
+  }
+  // Beyond kSmallTurn the step is not carried: the result is the outright trig, bit for bit.
+  const Attitude from{0.1, 0.2, 0.3}, to{0.1, 0.2 + 2 * AttitudeTrig::kSmallTurn, 0.3};
+  const AttitudeTrig far = AttitudeTrig::of(from).moved(from, to);
+  EXPECT_EQ(far.sin_theta, AttitudeTrig::of(to).sin_theta);
+  EXPECT_EQ(far.cos_theta, AttitudeTrig::of(to).cos_theta);
 }
 
 }  // namespace
