@@ -6,7 +6,7 @@
 namespace ccdlane::solver {
 
 ReprojectionResidual::ReprojectionResidual(const CameraSpec& spec, int max_picks)
-    : spec_(spec), projection_(max_picks), along_x_(max_picks), along_u_(max_picks) {
+    : spec_(spec), projection_(max_picks), seen_(max_picks) {
   for (Array* a : {&px_, &py_, &x_, &y_, &slope_}) a->setZero(max_picks);
 }
 
@@ -56,16 +56,12 @@ bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
   projection_.road_direction(slope_, inv_sigma_, n, rows.jx0, rows.jx1);
   if (!rows.complete(n)) return false;
   // Every column seen along b_x = Jx and b_u = Jx turned (PickRows), from their covectors.
-  projection_.pull_back(rows.jx0, rows.jx1, inv_sigma_, n, along_x_, along_u_);
-  for (int k = 0; k < ng; ++k) {
-    projection_.pose_along(along_u_, layout.global(k), n, rows.au[k]);
-    projection_.pose_along(along_x_, layout.global(k), n, rows.ax[k]);
-  }
+  projection_.pull_back(rows.jx0, rows.jx1, inv_sigma_, n, seen_);
+  for (int k = 0; k < ng; ++k) projection_.pose_along(seen_, layout.global(k), n, rows.ax[k], rows.au[k]);
   // y0, m and c move the road point sideways by 1, x and x^2.
   for (int k = 0; k < layout.num_line_kinds(); ++k) {
     const int col = ng + k;
-    projection_.road_along(along_u_, 1, n, rows.au[col]);
-    projection_.road_along(along_x_, 1, n, rows.ax[col]);
+    projection_.road_along(seen_, 1, n, rows.ax[col], rows.au[col]);
     switch (layout.line_kind(k)) {
       case kY0: break;
       case kSlope:

@@ -41,9 +41,9 @@ class ReprojectionResidual {
   double inv_sigma_ = 1.0;
   const SolverPriors* priors_ = nullptr;
   // Per pick, sized at construction: the observed pixel, the road point, its line's
-  // slope there; the covectors of b_x and b_u.
+  // slope there; the covectors of b_x and b_u (b_x turned).
   Array px_, py_, x_, y_, slope_;
-  RoadProjection::Covectors along_x_, along_u_;
+  RoadProjection::Covectors seen_;
 };
 
 }  // namespace ccdlane::solver

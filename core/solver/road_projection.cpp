@@ -8,10 +8,8 @@
 namespace ccdlane::solver {
 
 RoadProjection::Covectors::Covectors(int max_points) {
-  for (int c = 0; c < 3; ++c) {
-    film[c].setZero(max_points);
-    turn[c].setZero(max_points);
-  }
+  for (auto* v : {&film, &turn, &film_across, &turn_across})
+    for (Array& a : *v) a.setZero(max_points);
 }
 
 RoadProjection::RoadProjection(int max_points) {
@@ -48,7 +46,7 @@ bool RoadProjection::project(const Array& x, const Array& y, int n) {
   const Mat3 t = Tt_;
   const Vec3 o = lens_seen_;
   const double su = su_, sv = sv_, k = k_, cx = centre_.x(), cy = centre_.y();
-  double* field = scratch_.data();  // 1 - 4 k |w|^2: positive inside the distortion model's field
+  double* seen = scratch_.data();  // 1 where the point can be seen, else 0
   // One pass without a branch, so that it vectorises: a point that cannot be seen makes
   // NaNs or infinities of its own values only, and is found after the loop.
   // The arrays are distinct (no point's output is another's input): no alias checks.
@@ -61,7 +59,8 @@ bool RoadProjection::project(const Array& x, const Array& y, int n) {
     // Division-model distortion (distortion.cpp): g = 2 / (1 + s), s = sqrt(1 - 4 k rho),
     // rho = |w|^2, written as g = 2 s t with t = 1 / (s (1 + s)), and dg/drho = 2 k t g.
     const double s2 = 1.0 - 4.0 * k * (px * px + py * py);
-    field[i] = s2;
+    // In front of the lens and inside the distortion model's field (NaNs fail both).
+    seen[i] = (z > 0.0) & (s2 > 0.0) ? 1.0 : 0.0;
     const double s = std::sqrt(s2);
     const double tt = 1.0 / (s * (1.0 + s));
     const double g = 2.0 * s * tt;
@@ -76,7 +75,7 @@ bool RoadProjection::project(const Array& x, const Array& y, int n) {
     u[i] = cx + g * px;
     v[i] = cy + g * py;
   }
-  return (dz_.head(n) > 0.0).all() && (scratch_.head(n) > 0.0).all();
+  return n == 0 || scratch_.head(n).minCoeff() > 0.0;  // a vectorised reduction
 }
 
 void RoadProjection::differentiate(int n) {
@@ -108,15 +107,14 @@ void RoadProjection::road_direction(const Array& slope, double scale, int n, Arr
   }
 }
 
-void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& along,
-                               Covectors& across) const {
+void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& out) const {
   const double *p0 = b0.data(), *p1 = b1.data();
   const double *dx = dx_.data(), *dy = dy_.data(), *dz = dz_.data(), *iz = iz_.data();
   const double *wx = wx_.data(), *wy = wy_.data(), *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
-  double *af0 = along.film[0].data(), *af1 = along.film[1].data(), *af2 = along.film[2].data();
-  double *at0 = along.turn[0].data(), *at1 = along.turn[1].data(), *at2 = along.turn[2].data();
-  double *cf0 = across.film[0].data(), *cf1 = across.film[1].data(), *cf2 = across.film[2].data();
-  double *ct0 = across.turn[0].data(), *ct1 = across.turn[1].data(), *ct2 = across.turn[2].data();
+  double *af0 = out.film[0].data(), *af1 = out.film[1].data(), *af2 = out.film[2].data();
+  double *at0 = out.turn[0].data(), *at1 = out.turn[1].data(), *at2 = out.turn[2].data();
+  double *cf0 = out.film_across[0].data(), *cf1 = out.film_across[1].data(), *cf2 = out.film_across[2].data();
+  double *ct0 = out.turn_across[0].data(), *ct1 = out.turn_across[1].data(), *ct2 = out.turn_across[2].data();
   const Vec3 a = lens_in_film_;
   const double su = su_, sv = sv_;  // locals: see project()
   // The arrays are distinct (no point's output is another's input): no alias checks.
@@ -147,30 +145,39 @@ void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, i
 
 namespace {
 
-// w . v[i] for a direction w fixed over the points.
-void dot(const Vec3& w, const std::array<Eigen::ArrayXd, 3>& v, int n, Eigen::ArrayXd& out) {
+using Vectors = std::array<Eigen::ArrayXd, 3>;
+
+// w . v[i] into a[i] and w . c[i] into b[i], for a direction w fixed over the points.
+void dot(const Vec3& w, const Vectors& v, const Vectors& c, int n, Eigen::ArrayXd& a, Eigen::ArrayXd& b) {
   const double *v0 = v[0].data(), *v1 = v[1].data(), *v2 = v[2].data();
+  const double *c0 = c[0].data(), *c1 = c[1].data(), *c2 = c[2].data();
   const double w0 = w.x(), w1 = w.y(), w2 = w.z();
-  double* o = out.data();
+  double *out_a = a.data(), *out_b = b.data();
 #pragma GCC ivdep
-  for (int i = 0; i < n; ++i) o[i] = v0[i] * w0 + v1[i] * w1 + v2[i] * w2;
+  for (int i = 0; i < n; ++i) {
+    out_a[i] = v0[i] * w0 + v1[i] * w1 + v2[i] * w2;
+    out_b[i] = c0[i] * w0 + c1[i] * w1 + c2[i] * w2;
+  }
 }
 
 }  // namespace
 
-void RoadProjection::road_along(const Covectors& b, int axis, int n, Array& out) const {
-  dot(Tt_.col(axis), b.film, n, out);
+void RoadProjection::road_along(const Covectors& b, int axis, int n, Array& along, Array& across) const {
+  dot(Tt_.col(axis), b.film, b.film_across, n, along, across);
 }
 
-void RoadProjection::pose_along(const Covectors& b, PoseParam p, int n, Array& out) const {
+void RoadProjection::pose_along(const Covectors& b, PoseParam p, int n, Array& along, Array& across) const {
   switch (p) {
-    case kHeight: dot(-Tt_.col(2), b.film, n, out); return;
-    case kFocal:
+    case kHeight: dot(-Tt_.col(2), b.film, b.film_across, n, along, across); return;
+    case kFocal: {
       // f moves the lens along the axis (d_z shrinks by 1) and scales the ideal image:
       // d pixel / d f = -D e_z + (d pixel / d w) w / f, and b^T (d pixel / d w) w = -film_z d_z.
-      out.head(n) = -b.film[2].head(n) * (1.0 + dz_.head(n) * inv_f_);
+      const auto gain = -(1.0 + dz_.head(n) * inv_f_);
+      along.head(n) = b.film[2].head(n) * gain;
+      across.head(n) = b.film_across[2].head(n) * gain;
       return;
-    default: dot(axes_in_film_.col(p), b.turn, n, out);
+    }
+    default: dot(axes_in_film_.col(p), b.turn, b.turn_across, n, along, across);
   }
 }
 

@@ -31,11 +31,12 @@ class RoadProjection {
  public:
   using Array = Eigen::ArrayXd;
 
-  // A pixel-space covector b seen through the projection, per point (see above):
-  // film = b^T d pixel / d d and turn = film x (d + a).
+  // Pixel-space covectors b and b turned a quarter turn, (-b1, b0), seen through the
+  // projection per point (see above): film = b^T d pixel / d d and turn = film x (d + a)
+  // for b, and the same for b turned ("across").
   struct Covectors {
     explicit Covectors(int max_points);
-    std::array<Array, 3> film, turn;
+    std::array<Array, 3> film, turn, film_across, turn_across;
   };
 
   // Room for `max_points` points: every array is allocated here, never later.
@@ -60,13 +61,13 @@ class RoadProjection {
   void differentiate(int n);
   // scale * d pixel / d(road point) along the road directions (1, slope[i], 0), into (du, dv).
   void road_direction(const Array& slope, double scale, int n, Array& du, Array& dv) const;
-  // The covectors of b = scale (b0[i], b1[i]) (`along`) and of b turned a quarter turn,
-  // scale (-b1[i], b0[i]) (`across`), in one pass.
-  void pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& along, Covectors& across) const;
-  // b^T d pixel / d(road x, axis 0, or road y, axis 1), from b's covectors.
-  void road_along(const Covectors& b, int axis, int n, Array& out) const;
-  // b^T d pixel / d(pose parameter p), from b's covectors.
-  void pose_along(const Covectors& b, PoseParam p, int n, Array& out) const;
+  // The covectors of b = scale (b0[i], b1[i]) and of b turned, in one pass.
+  void pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& out) const;
+  // b^T d pixel / d(road x, axis 0, or road y, axis 1) into `along`, the same for b
+  // turned into `across`, from b's covectors.
+  void road_along(const Covectors& b, int axis, int n, Array& along, Array& across) const;
+  // b^T d pixel / d(pose parameter p) into `along`, the same for b turned into `across`.
+  void pose_along(const Covectors& b, PoseParam p, int n, Array& along, Array& across) const;
 
  private:
   AttitudeTrig trig_;

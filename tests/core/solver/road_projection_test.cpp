@@ -22,7 +22,7 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
   RoadProjection projection(kPoints);
   Eigen::ArrayXd xs(kPoints), ys(kPoints), slope(kPoints), b0(kPoints), b1(kPoints), du(kPoints), dv(kPoints);
   Eigen::ArrayXd along(kPoints), across(kPoints);
-  RoadProjection::Covectors along_b(kPoints), across_b(kPoints);
+  RoadProjection::Covectors covectors(kPoints);
   constexpr double kScale = 0.7;
   int compared = 0;
   for (int trial = 0; trial < 40; ++trial) {
@@ -46,7 +46,7 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
     ASSERT_TRUE(projection.project(xs, ys, kPoints)) << trial;
     projection.differentiate(kPoints);
     projection.road_direction(slope, kScale, kPoints, du, dv);
-    projection.pull_back(b0, b1, kScale, kPoints, along_b, across_b);
+    projection.pull_back(b0, b1, kScale, kPoints, covectors);
     for (int i = 0; i < kPoints; ++i) {
       PointJacobian d_point;
       PoseJacobian2 d_pose;
@@ -60,13 +60,11 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
       const Vec2 b(b0[i], b1[i]), b_turned(-b1[i], b0[i]);
       const auto seen = [&](const Vec2& column) { return Vec2(kScale * b.dot(column), kScale * b_turned.dot(column)); };
       for (int axis = 0; axis < 2; ++axis) {
-        projection.road_along(along_b, axis, kPoints, along);
-        projection.road_along(across_b, axis, kPoints, across);
+        projection.road_along(covectors, axis, kPoints, along, across);
         near(Vec2(along[i], across[i]), seen(d_point.col(axis)), "d/d road, seen along b");
       }
       for (int p = 0; p < kPoseParams; ++p) {
-        projection.pose_along(along_b, static_cast<PoseParam>(p), kPoints, along);
-        projection.pose_along(across_b, static_cast<PoseParam>(p), kPoints, across);
+        projection.pose_along(covectors, static_cast<PoseParam>(p), kPoints, along, across);
         near(Vec2(along[i], across[i]), seen(d_pose.col(p)), "d/dpose, seen along b");
       }
       ++compared;
