@@ -6,7 +6,7 @@
 namespace ccdlane::solver {
 
 ReprojectionResidual::ReprojectionResidual(const CameraSpec& spec, int max_picks)
-    : spec_(spec), projection_(max_picks), seen_(max_picks) {
+    : projection_(spec, max_picks), seen_(max_picks) {
   for (Array* a : {&px_, &py_, &x_, &y_, &slope_}) a->setZero(max_picks);
 }
 
@@ -26,7 +26,7 @@ void ReprojectionResidual::configure(const ParameterLayout& layout, const LineSe
 
 bool ReprojectionResidual::evaluate_cost(SolverState& state) {
   const int n = static_cast<int>(picks_.size());
-  projection_.set_camera(spec_, state.pose);
+  projection_.set_pose(state.pose);
   for (int j = 0; j < layout_->num_lines(); ++j) {  // each pick's road point, on its own line
     const LaneLine line = state.lines[j];
     const int end = segments_->begin[j + 1];

@@ -33,7 +33,6 @@ class ReprojectionResidual {
   bool evaluate(SolverState& state) { return evaluate_cost(state) && evaluate_jacobians(state); }
 
  private:
-  CameraSpec spec_;
   RoadProjection projection_;
   const ParameterLayout* layout_ = nullptr;
   const LineSegments* segments_ = nullptr;

@@ -12,28 +12,34 @@ RoadProjection::Covectors::Covectors(int max_points) {
     for (Array& a : *v) a.setZero(max_points);
 }
 
-RoadProjection::RoadProjection(int max_points) {
+RoadProjection::RoadProjection(const CameraSpec& spec, int max_points)
+    : spec_(spec),
+      inv_pitch_u_(1.0 / spec.pitch_u()),
+      inv_pitch_v_(1.0 / spec.pitch_v()),
+      centre_(spec.cx, spec.cy),
+      k_(spec.k_px2) {
   for (Array* a : {&dx_, &dy_, &dz_, &iz_, &wx_, &wy_, &gain_, &dgain_, &u_, &v_, &oxx_, &oxy_, &oyy_, &scratch_})
     a->setZero(max_points);
 }
 
-void RoadProjection::set_camera(const CameraSpec& spec, const CameraPose& pose) {
+void RoadProjection::set_pose(const CameraPose& pose) {
   // From the previous pose's trig by the step between them: the solver's poses move in
   // small steps, and three sincos calls would cost a fifth of a 20-pick cost evaluation.
   trig_ = has_trig_ ? trig_.moved(trig_angles_, pose.attitude) : AttitudeTrig::of(pose.attitude);
   trig_angles_ = pose.attitude;
   has_trig_ = true;
-  Mat3 turning_axes;
-  Tt_ = trig_.matrix(&turning_axes).transpose();
-  axes_in_film_ = Tt_ * turning_axes;
+  Tt_ = trig_.matrix().transpose();
+  // The turning axes (AttitudeTrig::matrix) in film components: yaw's fixed z, pitch's
+  // (-sin psi, cos psi, 0), and roll's optical axis, the film's own z.
+  axes_in_film_.col(kPsi) = Tt_.col(2);
+  axes_in_film_.col(kTheta) = -trig_.sin_psi * Tt_.col(0) + trig_.cos_psi * Tt_.col(1);
+  axes_in_film_.col(kPhi) = Vec3::UnitZ();
   // L - H e3 = T a with a the lens in film components, so T^T (X - L) = T^T X - a - H T^T e3.
-  lens_in_film_ = CameraModel::lens_in_film(spec, pose.f_mm);
+  lens_in_film_ = CameraModel::lens_in_film(spec_, pose.f_mm);
   lens_seen_ = lens_in_film_ + pose.H_mm * Tt_.col(2);
-  su_ = pose.f_mm / spec.pitch_u();
-  sv_ = pose.f_mm / spec.pitch_v();
-  inv_f_ = 1.0 / pose.f_mm;
-  centre_ = Vec2(spec.cx, spec.cy);
-  k_ = spec.k_px2;
+  f_ = pose.f_mm;
+  su_ = pose.f_mm * inv_pitch_u_;
+  sv_ = pose.f_mm * inv_pitch_v_;
 }
 
 bool RoadProjection::project(const Array& x, const Array& y, int n) {
@@ -172,7 +178,7 @@ void RoadProjection::pose_along(const Covectors& b, PoseParam p, int n, Array& a
     case kFocal: {
       // f moves the lens along the axis (d_z shrinks by 1) and scales the ideal image:
       // d pixel / d f = -D e_z + (d pixel / d w) w / f, and b^T (d pixel / d w) w = -film_z d_z.
-      const auto gain = -(1.0 + dz_.head(n) * inv_f_);
+      const auto gain = -(1.0 + dz_.head(n) * (1.0 / f_));
       along.head(n) = b.film[2].head(n) * gain;
       across.head(n) = b.film_across[2].head(n) * gain;
       return;

@@ -39,13 +39,14 @@ class RoadProjection {
     std::array<Array, 3> film, turn, film_across, turn_across;
   };
 
-  // Room for `max_points` points: every array is allocated here, never later.
-  explicit RoadProjection(int max_points);
+  // A camera of this spec, room for `max_points` points: every array is allocated here,
+  // never later.
+  RoadProjection(const CameraSpec& spec, int max_points);
 
   // Per-pose constants (geometry.md; only the attitude matrix, not its derivatives). The
   // angles' trig comes from the previous pose's when they moved little (AttitudeTrig::
   // moved), so a pose's pixels depend on the poses set before it by a few ulp.
-  void set_camera(const CameraSpec& spec, const CameraPose& pose);
+  void set_pose(const CameraPose& pose);
   // Starts afresh: the next pose's trig is computed outright. A solve calls this first,
   // so that its results depend on its own input only.
   void forget_pose() { has_trig_ = false; }
@@ -76,8 +77,11 @@ class RoadProjection {
   Mat3 Tt_ = Mat3::Identity();
   Vec3 lens_in_film_ = Vec3::Zero(), lens_seen_ = Vec3::Zero();
   Mat3 axes_in_film_ = Mat3::Identity();  // the angles' turning axes w_F (columns)
-  double su_ = 1.0, sv_ = 1.0, inv_f_ = 1.0, k_ = 0.0;
-  Vec2 centre_ = Vec2::Zero();
+  CameraSpec spec_;
+  double inv_pitch_u_, inv_pitch_v_;
+  Vec2 centre_;
+  double k_;
+  double f_ = 1.0, su_ = 1.0, sv_ = 1.0;  // the pose's focal length, and in pixels
 
   // Per point: d (film frame), 1 / d_z, the ideal pixel w (relative to the principal
   // point), the distortion gain g and dg / d|w|^2, the observed pixel (u, v); then the

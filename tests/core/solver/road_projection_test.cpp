@@ -19,7 +19,7 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
   CameraSpec spec = test::reference_camera();
   spec.cx = 385.0;  // an off-centre principal point too
   constexpr int kPoints = 25;
-  RoadProjection projection(kPoints);
+  RoadProjection projection(spec, kPoints);
   Eigen::ArrayXd xs(kPoints), ys(kPoints), slope(kPoints), b0(kPoints), b1(kPoints), du(kPoints), dv(kPoints);
   Eigen::ArrayXd along(kPoints), across(kPoints);
   RoadProjection::Covectors covectors(kPoints);
@@ -29,7 +29,7 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
     const CameraPose pose{{deg_to_rad(10 * u(rng)), deg_to_rad(3 + 8 * u(rng)), deg_to_rad(10 * u(rng))},
                           1400 + 300 * u(rng), 5.05 + 0.5 * u(rng)};
     const CameraModel camera(spec, pose);
-    projection.set_camera(spec, pose);
+    projection.set_pose(pose);
     // The points CameraModel can see, projected together.
     std::vector<Vec3> points;
     while (static_cast<int>(points.size()) < kPoints) {
@@ -76,8 +76,8 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
 TEST(RoadProjection, RejectsWhatCameraModelRejects) {
   const CameraSpec spec = test::reference_camera();
   const CameraModel camera(spec, CameraPose{{0.0, deg_to_rad(3.0), 0.0}, 1400.0, 5.05});
-  RoadProjection projection(2);
-  projection.set_camera(spec, camera.pose());
+  RoadProjection projection(spec, 2);
+  projection.set_pose(camera.pose());
   // One point in view and one behind the camera: the batch is refused.
   Eigen::ArrayXd xs(2), ys(2);
   xs << 20000.0, -5000.0;
@@ -89,12 +89,13 @@ TEST(RoadProjection, RejectsWhatCameraModelRejects) {
   CameraSpec pincushion = spec;
   pincushion.k_px2 = 2e-6;
   const CameraModel wide(pincushion, CameraPose{{0.0, deg_to_rad(3.0), 0.0}, 1400.0, 5.05});
-  projection.set_camera(pincushion, wide.pose());
+  RoadProjection wide_projection(pincushion, 2);
+  wide_projection.set_pose(wide.pose());
   xs << 20000.0, 3000.0;
   ys << 0.0, 9000.0;
   EXPECT_FALSE(wide.pixel_from_point(Vec3(3000.0, 9000.0, 0.0)).has_value());
-  EXPECT_FALSE(projection.project(xs, ys, 2));
-  EXPECT_TRUE(projection.project(xs, ys, 1));
+  EXPECT_FALSE(wide_projection.project(xs, ys, 2));
+  EXPECT_TRUE(wide_projection.project(xs, ys, 1));
 }
 
 }  // namespace
