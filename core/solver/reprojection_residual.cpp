@@ -51,9 +51,8 @@ bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
   const ParameterLayout& layout = *layout_;
   const int n = static_cast<int>(picks_.size()), ng = layout.num_global();
   PickRows& rows = *state.rows;
-  projection_.differentiate(n);
   // Along the line: the road point moves along x and sideways with the line's slope.
-  projection_.road_direction(slope_, inv_sigma_, n, rows.jx0, rows.jx1);
+  projection_.differentiate(slope_, inv_sigma_, n, rows.jx0, rows.jx1);
   if (!rows.complete(n)) return false;
   // Every column seen along b_x = Jx and b_u = Jx turned (PickRows), from their covectors.
   projection_.pull_back(rows.jx0, rows.jx1, inv_sigma_, n, seen_);

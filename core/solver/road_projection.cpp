@@ -84,32 +84,30 @@ bool RoadProjection::project(const Array& x, const Array& y, int n) {
   return n == 0 || scratch_.head(n).minCoeff() > 0.0;  // a vectorised reduction
 }
 
-void RoadProjection::differentiate(int n) {
-  // d pixel / d w = g I + 2 g' w w^T.
-  const auto wx = wx_.head(n), wy = wy_.head(n), gain = gain_.head(n);
-  const auto a = 2.0 * dgain_.head(n);
-  oxy_.head(n) = a * wx * wy;
-  oxx_.head(n) = gain + a * wx * wx;
-  oyy_.head(n) = gain + a * wy * wy;
-}
-
 // d w / d d = -(1 / d_z) [[su, 0, w_x], [0, sv, w_y]]: the ideal pixel w = -(su d_x, sv d_y) / d_z.
 
-void RoadProjection::road_direction(const Array& slope, double scale, int n, Array& du, Array& dv) const {
+void RoadProjection::differentiate(const Array& slope, double scale, int n, Array& du, Array& dv) {
   const double* s = slope.data();
-  const double *iz = iz_.data(), *wx = wx_.data(), *wy = wy_.data();
-  const double *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
+  const double *iz = iz_.data(), *wx = wx_.data(), *wy = wy_.data(), *gain = gain_.data(), *dgain = dgain_.data();
+  double *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
   double *out_u = du.data(), *out_v = dv.data();
   const Vec3 e0 = Tt_.col(0), e1 = Tt_.col(1);  // road x and road y in film components
   const double su = su_, sv = sv_;  // locals: see project()
   // The arrays are distinct (no point's output is another's input): no alias checks.
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
+    // d pixel / d w = g I + 2 g' w w^T, kept for pull_back().
+    const double a = 2.0 * dgain[i];
+    const double o_xy = a * wx[i] * wy[i], o_xx = gain[i] + a * wx[i] * wx[i], o_yy = gain[i] + a * wy[i] * wy[i];
+    oxx[i] = o_xx;
+    oxy[i] = o_xy;
+    oyy[i] = o_yy;
+    // The road direction e = (1, slope, 0) in film components, through d w / d d.
     const double ex = e0.x() + s[i] * e1.x(), ey = e0.y() + s[i] * e1.y(), ez = e0.z() + s[i] * e1.z();
     const double m = -scale * iz[i];
     const double dwx = m * (su * ex + wx[i] * ez), dwy = m * (sv * ey + wy[i] * ez);
-    out_u[i] = oxx[i] * dwx + oxy[i] * dwy;
-    out_v[i] = oxy[i] * dwx + oyy[i] * dwy;
+    out_u[i] = o_xx * dwx + o_xy * dwy;
+    out_v[i] = o_xy * dwx + o_yy * dwy;
   }
 }
 

@@ -58,10 +58,10 @@ class RoadProjection {
   const Array& u() const { return u_; }
   const Array& v() const { return v_; }
 
-  // The derivatives of the last project()'s pixels (call once before the others below).
-  void differentiate(int n);
-  // scale * d pixel / d(road point) along the road directions (1, slope[i], 0), into (du, dv).
-  void road_direction(const Array& slope, double scale, int n, Array& du, Array& dv) const;
+  // The derivatives of the last project()'s pixels (call once before the others below),
+  // and with them the first column every user needs: scale * d pixel / d(road point)
+  // along the road directions (1, slope[i], 0), into (du, dv).
+  void differentiate(const Array& slope, double scale, int n, Array& du, Array& dv);
   // The covectors of b = scale (b0[i], b1[i]) and of b turned, in one pass.
   void pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& out) const;
   // b^T d pixel / d(road x, axis 0, or road y, axis 1) into `along`, the same for b

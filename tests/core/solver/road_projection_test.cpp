@@ -44,8 +44,7 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
       b1[i] = u(rng);
     }
     ASSERT_TRUE(projection.project(xs, ys, kPoints)) << trial;
-    projection.differentiate(kPoints);
-    projection.road_direction(slope, kScale, kPoints, du, dv);
+    projection.differentiate(slope, kScale, kPoints, du, dv);
     projection.pull_back(b0, b1, kScale, kPoints, covectors);
     for (int i = 0; i < kPoints; ++i) {
       PointJacobian d_point;
