@@ -1,8 +1,8 @@
 // Cholesky factorisation, solve and inverse in plain loops (see the header).
 //
 // The sizes the solver meets are a handful (3 angles and a y0 per line: 5 for two
-// lines), so each kernel is a template over the size, instantiated for 1..kUnrolledSizes
-// and dispatched at run time: at a compile-time size the loops unroll completely, which
+// lines), so each kernel is a template over the size, instantiated for 1..kMaxFixedSize
+// and dispatched at run time (fixed_size.hpp): at a compile-time size the loops unroll completely, which
 // removes the loop branches (mispredicted at every size change of the triangular loops)
 // from the factorisation's serial chain of square roots and divisions. Larger systems
 // take the same code with the size at run time (N = 0).
@@ -11,10 +11,10 @@
 #include <array>
 #include <cmath>
 
+#include "core/solver/fixed_size.hpp"
+
 namespace ccdlane::solver {
 namespace {
-
-constexpr int kUnrolledSizes = 8;
 
 // Column-major n x n storage, as ReducedMatrix holds it.
 template <int N>
@@ -85,39 +85,23 @@ void invert_factor(Square<N> L, Square<N> inverse) {
     }
 }
 
-// Calls f.template operator()<N>() with N = n when n <= kUnrolledSizes, else N = 0.
-template <class F>
-bool with_size(int n, F&& f) {
-  switch (n) {
-    case 1: return f.template operator()<1>();
-    case 2: return f.template operator()<2>();
-    case 3: return f.template operator()<3>();
-    case 4: return f.template operator()<4>();
-    case 5: return f.template operator()<5>();
-    case 6: return f.template operator()<6>();
-    case 7: return f.template operator()<7>();
-    case kUnrolledSizes: return f.template operator()<kUnrolledSizes>();
-    default: return f.template operator()<0>();
-  }
-}
-
 }  // namespace
 
 bool cholesky_factor(ReducedMatrix& A) {
   const int n = static_cast<int>(A.rows());
-  return with_size(n, [&]<int N>() { return factor(Square<N>{A.data(), n}); });
+  return with_fixed_size<0>(n, [&]<int N>() { return factor(Square<N>{A.data(), n}); });
 }
 
 bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
   const int n = static_cast<int>(A.rows());
-  return with_size(n, [&]<int N>() { return solve(Square<N>{A.data(), n}, b.data()); });
+  return with_fixed_size<0>(n, [&]<int N>() { return solve(Square<N>{A.data(), n}, b.data()); });
 }
 
 bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor_out, ReducedMatrix& inverse) {
   const int n = static_cast<int>(S.rows());
   factor_out = S;
   inverse.resize(n, n);
-  return with_size(n, [&]<int N>() {
+  return with_fixed_size<0>(n, [&]<int N>() {
     if (!factor(Square<N>{factor_out.data(), n})) return false;
     invert_factor(Square<N>{factor_out.data(), n}, Square<N>{inverse.data(), n});
     return true;

@@ -111,14 +111,29 @@ void RoadProjection::differentiate(const Array& slope, double scale, int n, Arra
   }
 }
 
+namespace {
+
+// Point i's film covector f and its turn covector f x s into three arrays each.
+inline void put_covector(double* const film[3], double* const turn[3], int i, double f0, double f1, double f2,
+                         double sx, double sy, double sz) {
+  film[0][i] = f0;
+  film[1][i] = f1;
+  film[2][i] = f2;
+  turn[0][i] = f1 * sz - f2 * sy;
+  turn[1][i] = f2 * sx - f0 * sz;
+  turn[2][i] = f0 * sy - f1 * sx;
+}
+
+}  // namespace
+
 void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, int n, Covectors& out) const {
   const double *p0 = b0.data(), *p1 = b1.data();
   const double *dx = dx_.data(), *dy = dy_.data(), *dz = dz_.data(), *iz = iz_.data();
   const double *wx = wx_.data(), *wy = wy_.data(), *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
-  double *af0 = out.film[0].data(), *af1 = out.film[1].data(), *af2 = out.film[2].data();
-  double *at0 = out.turn[0].data(), *at1 = out.turn[1].data(), *at2 = out.turn[2].data();
-  double *cf0 = out.film_across[0].data(), *cf1 = out.film_across[1].data(), *cf2 = out.film_across[2].data();
-  double *ct0 = out.turn_across[0].data(), *ct1 = out.turn_across[1].data(), *ct2 = out.turn_across[2].data();
+  double* const film[3] = {out.film[0].data(), out.film[1].data(), out.film[2].data()};
+  double* const turn[3] = {out.turn[0].data(), out.turn[1].data(), out.turn[2].data()};
+  double* const film_across[3] = {out.film_across[0].data(), out.film_across[1].data(), out.film_across[2].data()};
+  double* const turn_across[3] = {out.turn_across[0].data(), out.turn_across[1].data(), out.turn_across[2].data()};
   const Vec3 a = lens_in_film_;
   const double su = su_, sv = sv_;  // locals: see project()
   // The arrays are distinct (no point's output is another's input): no alias checks.
@@ -130,20 +145,8 @@ void RoadProjection::pull_back(const Array& b0, const Array& b1, double scale, i
     const double qx = c0 * oxy[i] - c1 * oxx[i], qy = c0 * oyy[i] - c1 * oxy[i];
     // film = rho^T d w / d d; turn = film x (d + a).
     const double m = -iz[i], sx = dx[i] + a.x(), sy = dy[i] + a.y(), sz = dz[i] + a.z();
-    const double f0 = m * su * rx, f1 = m * sv * ry, f2 = m * (rx * wx[i] + ry * wy[i]);
-    const double g0 = m * su * qx, g1 = m * sv * qy, g2 = m * (qx * wx[i] + qy * wy[i]);
-    af0[i] = f0;
-    af1[i] = f1;
-    af2[i] = f2;
-    at0[i] = f1 * sz - f2 * sy;
-    at1[i] = f2 * sx - f0 * sz;
-    at2[i] = f0 * sy - f1 * sx;
-    cf0[i] = g0;
-    cf1[i] = g1;
-    cf2[i] = g2;
-    ct0[i] = g1 * sz - g2 * sy;
-    ct1[i] = g2 * sx - g0 * sz;
-    ct2[i] = g0 * sy - g1 * sx;
+    put_covector(film, turn, i, m * su * rx, m * sv * ry, m * (rx * wx[i] + ry * wy[i]), sx, sy, sz);
+    put_covector(film_across, turn_across, i, m * su * qx, m * sv * qy, m * (qx * wx[i] + qy * wy[i]), sx, sy, sz);
   }
 }
 

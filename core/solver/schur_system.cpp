@@ -8,7 +8,11 @@
 
 #include <limits>
 
+#include "core/solver/fixed_size.hpp"
+
 namespace ccdlane::solver {
+
+static_assert(kMaxLocalParams <= kMaxFixedSize, "every local size has its fixed-size kernels");
 
 PickRows::PickRows(int max_picks) {
   for (Array* a : {&r0, &r1, &jx0, &jx1, &ru, &rx, &w}) a->setZero(max_picks);
@@ -45,25 +49,6 @@ bool PickRows::complete(int n) {
 
 namespace {
 
-// Calls f.template operator()<M>() with M = the layout's local size, a compile-time
-// constant in each branch (1 .. kMaxLocalParams).
-template <class F>
-void with_local_size(int m, F&& f) {
-  switch (m) {
-    case 1: return f.template operator()<1>();
-    case 2: return f.template operator()<2>();
-    case 3: return f.template operator()<3>();
-    case 4: return f.template operator()<4>();
-    case 5: return f.template operator()<5>();
-    case 6: return f.template operator()<6>();
-    case 7: return f.template operator()<7>();
-    default: return f.template operator()<kMaxLocalParams>();
-  }
-}
-
-// Each pick's two rows into its line's parts as weighted rank-one updates of fixed size M
-// (unrolled and vectorised over the parameters): with a dozen picks per line, one pass
-// over the picks beats M (M + 3) short dot products over them.
 template <int M>
 void accumulate_picks(const ParameterLayout& layout, const LineSegments& segments, const PickRows& rows,
                       LineNormals& out) {
@@ -166,7 +151,7 @@ BackSubstitution back_substitute_picks(const ParameterLayout& layout, const Line
 }  // namespace
 
 void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
-  with_local_size(layout.local_size(),
+  with_fixed_size<kMaxLocalParams>(layout.local_size(),
                   [&]<int M>() { accumulate_picks<M>(layout, segments, *state.rows, state.normals); });
 }
 
@@ -175,7 +160,8 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
   const int n = layout.size();
   N.setZero(n, n);
   g.setZero(n);
-  with_local_size(layout.local_size(), [&]<int M>() { scatter_lines<M>(layout, state.normals, lambda, N, g); });
+  with_fixed_size<kMaxLocalParams>(layout.local_size(),
+                                   [&]<int M>() { scatter_lines<M>(layout, state.normals, lambda, N, g); });
   for (int p = 0; p < state.priors.count; ++p) {
     const PriorRow& row = state.priors.rows[p];
     for (int c = 0; c < n; ++c) {
@@ -189,7 +175,7 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
 BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
                                  const SolverState& state, double lambda, const ReducedVector& step, double* dx) {
   BackSubstitution out;
-  with_local_size(layout.local_size(), [&]<int M>() {
+  with_fixed_size<kMaxLocalParams>(layout.local_size(), [&]<int M>() {
     out = back_substitute_picks<M>(layout, segments, *state.rows, lambda, step, dx);
   });
   for (int k = 0; k < state.priors.count; ++k) {
