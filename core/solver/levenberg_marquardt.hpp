@@ -89,7 +89,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
     }
     const BackSubstitution bs = back_substitute(layout, segments, *current, lambda, ws.step, ws.dx.data());
 
-    const double x_norm2 = Eigen::Map<const Eigen::ArrayXd>(current->x, num_picks).square().sum();
+    const double x_norm2 = Eigen::Map<const Eigen::ArrayXd>(current->x, num_picks).square().sum();  // vectorised
     const double step_norm = std::sqrt(ws.step.squaredNorm() + bs.x_step_squared_norm);
     const double param_norm = std::sqrt(layout.squared_norm(current->pose, current->lines.data()) + x_norm2);
     if (step_norm <= kStepTolerance * (param_norm + kStepTolerance)) {
@@ -100,8 +100,8 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
     candidate->pose = current->pose;
     candidate->lines = current->lines;
     layout.apply_step(ws.step, candidate->pose, candidate->lines.data());
-    Eigen::Map<Eigen::ArrayXd>(candidate->x, num_picks) =
-        Eigen::Map<const Eigen::ArrayXd>(current->x, num_picks) + Eigen::Map<const Eigen::ArrayXd>(ws.dx.data(), num_picks);
+    const auto picks_x = [num_picks](double* x) { return Eigen::Map<Eigen::ArrayXd>(x, num_picks); };
+    picks_x(candidate->x) = picks_x(current->x) + picks_x(ws.dx.data());
     if (!model.evaluate_cost(*candidate) || !std::isfinite(candidate->cost)) {
       reject();
       continue;

@@ -87,7 +87,7 @@ class RoadProjection {
   // point), the distortion gain g and dg / d|w|^2, the observed pixel (u, v); then the
   // symmetric d pixel / d w (oxx, oxy, oyy).
   Array dx_, dy_, dz_, iz_, wx_, wy_, gain_, dgain_, u_, v_, oxx_, oxy_, oyy_;
-  Array scratch_;
+  Array scratch_;  // project(): 1 where the point is seen, else 0
 };
 
 }  // namespace ccdlane::solver
