@@ -86,8 +86,6 @@ struct LaneSolver::Impl {
     state_a.rows = &rows_a;
     state_b.x = x_b.data();
     state_b.rows = &rows_b;
-    for (PriorRows* rows : {&state_a.priors, &state_b.priors})
-      for (PriorRow& row : rows->rows) row.a.setZero(kMaxReducedParams);
   }
 
   const SolveResult& solve(const SolveRequest& request);

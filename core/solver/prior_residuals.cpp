@@ -5,12 +5,11 @@ namespace ccdlane::solver {
 namespace {
 
 // Appends r = (value - mean) / sigma with d r / d(value) = gain / sigma at `index`.
-void add_row(PriorRows& rows, const ParameterLayout& layout, const Prior& prior, double value, int index,
-             double gain, double& cost) {
+void add_row(PriorRows& rows, const Prior& prior, double value, int index, double gain, double& cost) {
   PriorRow& row = rows.rows[rows.count++];
   row.r = (value - prior.mean) / prior.sigma;
-  row.a.setZero(layout.size());
-  if (index >= 0) row.a[index] = gain / prior.sigma;
+  row.size = 0;
+  row.add(index, gain / prior.sigma);
   cost += row.r * row.r;
 }
 
@@ -31,21 +30,20 @@ void evaluate_priors(const SolverPriors& priors, const ParameterLayout& layout, 
   rows.count = 0;
   const double per_rad = rad_to_deg(1.0);
   if (priors.psi_deg)
-    add_row(rows, layout, *priors.psi_deg, rad_to_deg(pose.attitude.psi), layout.global_index(kPsi), per_rad, cost);
+    add_row(rows, *priors.psi_deg, rad_to_deg(pose.attitude.psi), layout.global_index(kPsi), per_rad, cost);
   if (priors.theta_deg)
-    add_row(rows, layout, *priors.theta_deg, rad_to_deg(pose.attitude.theta), layout.global_index(kTheta), per_rad,
-            cost);
+    add_row(rows, *priors.theta_deg, rad_to_deg(pose.attitude.theta), layout.global_index(kTheta), per_rad, cost);
   if (priors.phi_deg)
-    add_row(rows, layout, *priors.phi_deg, rad_to_deg(pose.attitude.phi), layout.global_index(kPhi), per_rad, cost);
-  if (priors.H_mm) add_row(rows, layout, *priors.H_mm, pose.H_mm, layout.global_index(kHeight), 1.0, cost);
-  if (priors.f_mm) add_row(rows, layout, *priors.f_mm, pose.f_mm, layout.global_index(kFocal), 1.0, cost);
+    add_row(rows, *priors.phi_deg, rad_to_deg(pose.attitude.phi), layout.global_index(kPhi), per_rad, cost);
+  if (priors.H_mm) add_row(rows, *priors.H_mm, pose.H_mm, layout.global_index(kHeight), 1.0, cost);
+  if (priors.f_mm) add_row(rows, *priors.f_mm, pose.f_mm, layout.global_index(kFocal), 1.0, cost);
   if (priors.lane_width_mm && layout.num_lines() >= 2) {
     const auto [left, right] = outermost_lines(lines, layout.num_lines());
-    add_row(rows, layout, *priors.lane_width_mm, lines[left].y0_mm - lines[right].y0_mm,
-            layout.line_index(left, kY0), 1.0, cost);
+    add_row(rows, *priors.lane_width_mm, lines[left].y0_mm - lines[right].y0_mm, layout.line_index(left, kY0), 1.0,
+            cost);
     // The right-hand line enters with the opposite sign (a no-op when y0 is fixed).
-    if (const int k = layout.line_index(right, kY0); k >= 0 && left != right)
-      rows.rows[rows.count - 1].a[k] -= 1.0 / priors.lane_width_mm->sigma;
+    PriorRow& row = rows.rows[rows.count - 1];
+    if (left != right) row.add(layout.line_index(right, kY0), -1.0 / priors.lane_width_mm->sigma);
   }
 }
 

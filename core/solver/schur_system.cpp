@@ -168,10 +168,9 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
       layout.local_size(), [&]<int M>() { scatter_lines<M>(layout, state.normals, lambda, N, g); });
   for (int p = 0; p < state.priors.count; ++p) {
     const PriorRow& row = state.priors.rows[p];
-    for (int c = 0; c < n; ++c) {
-      if (row.a[c] == 0.0) continue;  // a prior touches one or two parameters
-      for (int k = 0; k < n; ++k) N(k, c) += row.a[k] * row.a[c];
-      g[c] += row.a[c] * row.r;
+    for (int c = 0; c < row.size; ++c) {
+      for (int k = 0; k < row.size; ++k) N(row.index[k], row.index[c]) += row.value[k] * row.value[c];
+      g[row.index[c]] += row.value[c] * row.r;
     }
   }
 }
@@ -184,7 +183,8 @@ BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegmen
   });
   for (int k = 0; k < state.priors.count; ++k) {
     const PriorRow& row = state.priors.rows[k];
-    const double u = row.a.dot(step);
+    double u = 0.0;
+    for (int e = 0; e < row.size; ++e) u += row.value[e] * step[row.index[e]];
     out.predicted_decrease -= 2.0 * row.r * u + u * u;
   }
   return out;

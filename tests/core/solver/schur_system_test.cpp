@@ -41,15 +41,12 @@ struct RandomProblem {
     x.assign(num_picks, 0.0);
     state.rows = &rows;
     state.x = x.data();
-    // Two dense prior rows (one coupling two lines' y0, like the lane width).
+    // Two prior rows (one coupling two lines' y0, like the lane width).
     state.priors.count = 2;
-    for (PriorRow& row : state.priors.rows) {
-      row.a = ReducedVector::Zero(layout.size());
-      row.r = g(rng);
-    }
-    state.priors.rows[0].a[0] = 2.0;
-    state.priors.rows[1].a[layout.line_index(0, kY0)] = 1.5;
-    state.priors.rows[1].a[layout.line_index(num_lines - 1, kY0)] = -1.5;
+    for (PriorRow& row : state.priors.rows) row.r = g(rng);
+    state.priors.rows[0].add(0, 2.0);
+    state.priors.rows[1].add(layout.line_index(0, kY0), 1.5);
+    state.priors.rows[1].add(layout.line_index(num_lines - 1, kY0), -1.5);
     accumulate_normals(layout, segments, state);
   }
 
@@ -64,7 +61,8 @@ struct RandomProblem {
         full.block<2, 1>(2 * i, layout.line_offset(line) + c) = J[i].col(layout.num_global() + c);
       full.block<2, 1>(2 * i, n + i) = Jx[i];
     }
-    for (int k = 0; k < state.priors.count; ++k) full.row(2 * N + k).head(n) = state.priors.rows[k].a.transpose();
+    for (int k = 0; k < state.priors.count; ++k)
+      for (int c = 0; c < n; ++c) full(2 * N + k, c) = state.priors.rows[k].at(c);
     return full;
   }
   Eigen::VectorXd full_residual() const {
