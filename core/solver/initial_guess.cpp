@@ -7,17 +7,16 @@
 
 namespace ccdlane::solver {
 
-int ground_points_of_picks(const CameraModel& camera, std::span<const Pick> picks, Vec2* ground) {
+int ground_points_of_picks(const CameraSpec& spec, const CameraPose& pose, std::span<const Pick> picks, Vec2* ground) {
   // CameraModel::ground_point_from_pixel for every pick in one branch-free pass (this
   // runs on every solve). The ray from the cell at chip position c (film frame) through
   // the lens runs along r = T (c, -f), and c is the undistorted offset v / (1 + k |v|^2)
   // times the pitch, so r ~ T (v_x p_u, v_y p_v, -f (1 + k |v|^2)): the distortion's
   // division cancels in the intersection with the road, L - L_z r_xy / r_z.
-  const CameraSpec& spec = camera.spec();
-  const Mat3& T = camera.attitude_matrix();
-  const Vec3 L = camera.lens_centre();
+  const Mat3 T = attitude_matrix(pose.attitude);  // not CameraModel: no derivatives needed
+  const Vec3 L = Vec3(0.0, 0.0, pose.H_mm) + T * CameraModel::lens_in_film(spec, pose.f_mm);
   const double cx = spec.cx, cy = spec.cy, k = spec.k_px2, pu = spec.pitch_u(), pv = spec.pitch_v();
-  const double f = camera.pose().f_mm;
+  const double f = pose.f_mm;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const int n = static_cast<int>(picks.size());
 #pragma GCC ivdep

@@ -8,9 +8,10 @@
 
 namespace ccdlane::solver {
 
-// Ground points of the picks at `camera`'s pose into `ground`. Returns the index of the
-// first pick whose ray misses the road (or has no undistorted pixel), or -1.
-int ground_points_of_picks(const CameraModel& camera, std::span<const Pick> picks, Vec2* ground);
+// Ground points of the picks seen by a camera of `spec` at `pose` into `ground`
+// (CameraModel::ground_point_from_pixel's). Returns the index of the first pick whose ray
+// misses the road (or has no undistorted pixel), or -1.
+int ground_points_of_picks(const CameraSpec& spec, const CameraPose& pose, std::span<const Pick> picks, Vec2* ground);
 
 // Per line, the least-squares line y = y0 + m x through its picks' ground points (m = 0
 // unless `fit_slope`, or when its points do not spread along x); c = 0. A line without

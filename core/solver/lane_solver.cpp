@@ -177,8 +177,7 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
   const int num_picks = static_cast<int>(picks.size());
   layout = ParameterLayout(r.free, r.num_lines);
 
-  camera.set_pose(r.initial_pose);
-  if (const int miss = ground_points_of_picks(camera, picks, ground.data()); miss >= 0) {
+  if (const int miss = ground_points_of_picks(camera.spec(), r.initial_pose, picks, ground.data()); miss >= 0) {
     result.failed_pick = order[miss];
     result.status = SolveStatus::no_ground_point;
     return result;
@@ -197,6 +196,7 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
   bool evaluated = false;
   LmOutcome outcome;
   if (r.mode == SolverMode::paper) {
+    camera.set_pose(r.initial_pose);
     for (std::size_t i = 0; i < picks.size(); ++i)
       ideal[i] = *camera.ideal_from_observed(Vec2(picks[i].px, picks[i].py));  // exists: ground point did
     paper.configure(layout, picks, std::span<const Vec2>(ideal.data(), picks.size()));

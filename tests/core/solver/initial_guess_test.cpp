@@ -16,7 +16,7 @@ TEST(InitialGuess, GroundPointsAtTheTruePoseAreTheMarks) {
   const test::SyntheticScene scene = test::make_scene(rng, {});
   const CameraModel camera(scene.camera, scene.truth);
   std::vector<Vec2> ground(scene.picks.size());
-  EXPECT_EQ(ground_points_of_picks(camera, scene.picks, ground.data()), -1);
+  EXPECT_EQ(ground_points_of_picks(camera.spec(), camera.pose(), scene.picks, ground.data()), -1);
   for (std::size_t i = 0; i < ground.size(); ++i) {
     EXPECT_NEAR(ground[i].x(), scene.x_mm[i], 1e-6 * scene.x_mm[i]);
     EXPECT_NEAR(ground[i].y(), scene.lines[scene.picks[i].line].y0_mm, 1e-6 * scene.x_mm[i]);
@@ -41,7 +41,7 @@ TEST(InitialGuess, GroundPointsAreCameraModelsOwn) {
       std::vector<Pick> picks;
       for (int i = 0; i < 40; ++i) picks.push_back({0, 400.0 + 400.0 * u(rng), 300.0 + 300.0 * u(rng)});
       std::vector<Vec2> ground(picks.size());
-      const int first_miss = ground_points_of_picks(camera, picks, ground.data());
+      const int first_miss = ground_points_of_picks(camera.spec(), camera.pose(), picks, ground.data());
       int expected_miss = -1;
       for (std::size_t i = 0; i < picks.size(); ++i) {
         const auto g = camera.ground_point_from_pixel(Vec2(picks[i].px, picks[i].py));
@@ -67,7 +67,7 @@ TEST(InitialGuess, PickAboveTheHorizonIsNamed) {
   scene.picks[2].py = 1.0;  // top row: sky for any attitude within a few degrees
   const CameraModel camera(scene.camera, scene.truth);
   std::vector<Vec2> ground(scene.picks.size());
-  EXPECT_EQ(ground_points_of_picks(camera, scene.picks, ground.data()), 2);
+  EXPECT_EQ(ground_points_of_picks(camera.spec(), camera.pose(), scene.picks, ground.data()), 2);
 }
 
 TEST(InitialGuess, LineFitRecoversStraightLinesExactly) {
