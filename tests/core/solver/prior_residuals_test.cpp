@@ -57,5 +57,17 @@ TEST(PriorResiduals, LaneWidthBetweenTheOutermostLines) {
   EXPECT_EQ(count_free_priors(priors, single), 0);
 }
 
+TEST(PriorResiduals, RowsKeepTheirNonzeroEntriesOnly) {
+  PriorRow row;
+  row.add(3, 1.0);
+  row.add(-1, 5.0);  // a fixed parameter: nothing to add
+  row.add(3, 0.5);   // the same parameter again: summed
+  row.add(1, -2.0);
+  EXPECT_EQ(row.size, 2);
+  EXPECT_EQ(row.at(3), 1.5);
+  EXPECT_EQ(row.at(1), -2.0);
+  EXPECT_EQ(row.at(0), 0.0);
+}
+
 }  // namespace
 }  // namespace ccdlane::solver
