@@ -18,14 +18,6 @@ Mat3 turned(const Vec3& w, const Mat3& t) {
   return d;
 }
 
-}  // namespace
-
-AttitudeTrig AttitudeTrig::of(const Attitude& a) {
-  return {std::sin(a.psi), std::cos(a.psi), std::sin(a.theta), std::cos(a.theta), std::sin(a.phi), std::cos(a.phi)};
-}
-
-namespace {
-
 // sin and cos of a + d from those of a, with d's own by their Taylor series to d^11 and
 // d^12 (Horner, coefficients as constants: a division by 6.0 would be a division): for
 // |d| <= 1/8 the remainders are below 1e-21 relative.
@@ -42,6 +34,10 @@ void add_small_angle(double d, double& s, double& c) {
 }
 
 }  // namespace
+
+AttitudeTrig AttitudeTrig::of(const Attitude& a) {
+  return {std::sin(a.psi), std::cos(a.psi), std::sin(a.theta), std::cos(a.theta), std::sin(a.phi), std::cos(a.phi)};
+}
 
 AttitudeTrig AttitudeTrig::moved(const Attitude& from, const Attitude& to) const {
   const double d_psi = to.psi - from.psi, d_theta = to.theta - from.theta, d_phi = to.phi - from.phi;
@@ -68,13 +64,12 @@ Mat3 AttitudeTrig::matrix(Mat3* turning_axes) const {
   return t;
 }
 
-Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT_dphi, Mat3* turning_axes) {
+Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi, Mat3* dT_dtheta, Mat3* dT_dphi) {
   Mat3 axes;
   const Mat3 t = AttitudeTrig::of(a).matrix(&axes);
   if (dT_dpsi) *dT_dpsi = turned(axes.col(0), t);
   if (dT_dtheta) *dT_dtheta = turned(axes.col(1), t);
   if (dT_dphi) *dT_dphi = turned(axes.col(2), t);
-  if (turning_axes) *turning_axes = axes;
   return t;
 }
 

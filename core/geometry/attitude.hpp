@@ -24,15 +24,15 @@ struct AttitudeTrig {
   AttitudeTrig moved(const Attitude& from, const Attitude& to) const;
   static constexpr double kSmallTurn = 0.125;  // radians
 
-  // T (attitude_matrix below) from the trig; `turning_axes` as there.
+  // T (attitude_matrix below) from the trig. `turning_axes` receives the fixed-frame axes
+  // (columns: yaw, pitch, roll) that a change of each angle turns the camera about:
+  // dT = [w]x T.
   Mat3 matrix(Mat3* turning_axes = nullptr) const;
 };
 
 // The matrix mapping film-frame components to fixed-frame components. Each optional
-// out-parameter receives the element-wise derivative of T with respect to that angle;
-// `turning_axes` the fixed-frame axes (columns: yaw, pitch, roll) that a change of each
-// angle turns the camera about, dT = [w]x T.
+// out-parameter receives the element-wise derivative of T with respect to that angle.
 Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi = nullptr, Mat3* dT_dtheta = nullptr,
-                     Mat3* dT_dphi = nullptr, Mat3* turning_axes = nullptr);
+                     Mat3* dT_dphi = nullptr);
 
 }  // namespace ccdlane

@@ -28,12 +28,9 @@ void RoadProjection::set_pose(const CameraPose& pose) {
   trig_ = has_trig_ ? trig_.moved(trig_angles_, pose.attitude) : AttitudeTrig::of(pose.attitude);
   trig_angles_ = pose.attitude;
   has_trig_ = true;
-  Tt_ = trig_.matrix().transpose();
-  // The turning axes (AttitudeTrig::matrix) in film components: yaw's fixed z, pitch's
-  // (-sin psi, cos psi, 0), and roll's optical axis, the film's own z.
-  axes_in_film_.col(kPsi) = Tt_.col(2);
-  axes_in_film_.col(kTheta) = -trig_.sin_psi * Tt_.col(0) + trig_.cos_psi * Tt_.col(1);
-  axes_in_film_.col(kPhi) = Vec3::UnitZ();
+  Mat3 turning_axes;
+  Tt_ = trig_.matrix(&turning_axes).transpose();
+  axes_in_film_ = Tt_ * turning_axes;
   // L - H e3 = T a with a the lens in film components, so T^T (X - L) = T^T X - a - H T^T e3.
   lens_in_film_ = CameraModel::lens_in_film(spec_, pose.f_mm);
   lens_seen_ = lens_in_film_ + pose.H_mm * Tt_.col(2);

@@ -56,7 +56,8 @@ TEST(Attitude, DerivativesMatchFiniteDifferences) {
 TEST(Attitude, EachAngleTurnsAboutItsAxis) {
   const Attitude a{0.3, -0.2, 1.1};
   Mat3 d[3], axes;
-  const Mat3 t = attitude_matrix(a, &d[0], &d[1], &d[2], &axes);
+  const Mat3 t = attitude_matrix(a, &d[0], &d[1], &d[2]);
+  EXPECT_EQ(AttitudeTrig::of(a).matrix(&axes), t);
   for (int k = 0; k < 3; ++k) {
     const Vec3 w = axes.col(k);
     EXPECT_NEAR(w.norm(), 1.0, 1e-15) << "angle " << k;
