@@ -51,8 +51,8 @@ namespace {
 
 // Each pick's two rows into its line's parts as weighted rank-one updates of fixed size M
 // (unrolled and vectorised over the parameters): with a dozen picks per line, one pass
-// over the picks beats M (M + 3) short dot products over them (measured; so did a lower
-// triangle only, in scalar code, and the sums vectorised over the picks instead).
+// over the picks beats M (M + 3) short dot products over them. Measured slower too: the
+// lower triangles only (scalar code) and the sums vectorised over the picks.
 template <int M>
 void accumulate_picks(const ParameterLayout& layout, const LineSegments& segments, const PickRows& rows,
                       LineNormals& out) {
