@@ -7,24 +7,16 @@
 #include <gtest/gtest.h>
 
 #include "core/solver/cholesky.hpp"
+#include "tests/core/solver/random_matrix.hpp"
 
 namespace ccdlane::solver {
 namespace {
-
-// A rows x cols matrix of independent standard normal entries.
-Eigen::MatrixXd gaussian_matrix(std::mt19937_64& rng, int rows, int cols) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::MatrixXd m(rows, cols);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) m(r, c) = g(rng);
-  return m;
-}
 
 TEST(CholeskySolve, MatchesEigenOnRandomPositiveDefiniteSystems) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> g(0.0, 1.0);
   for (int n = 1; n <= kMaxReducedParams; ++n) {
-    const Eigen::MatrixXd B = gaussian_matrix(rng, n + 3, n);
+    const Eigen::MatrixXd B = test::gaussian_matrix(rng, n + 3, n);
     const Eigen::MatrixXd spd = B.transpose() * B + 1e-3 * Eigen::MatrixXd::Identity(n, n);
     Eigen::VectorXd b(n);
     for (int k = 0; k < n; ++k) b[k] = g(rng);
@@ -55,7 +47,7 @@ TEST(CholeskySolve, RefusesMatricesThatAreNotPositiveDefinite) {
 TEST(CholeskyInverse, MatchesEigenOnPositiveDefiniteMatricesOfEverySize) {
   std::mt19937_64 rng(7);
   for (int n = 1; n <= kMaxReducedParams; ++n) {
-    const Eigen::MatrixXd J = gaussian_matrix(rng, n + 4, n);
+    const Eigen::MatrixXd J = test::gaussian_matrix(rng, n + 4, n);
     const ReducedMatrix S = J.transpose() * J;
     ReducedMatrix factor, inverse;
     ASSERT_TRUE(invert_positive_definite(S, factor, inverse)) << n;

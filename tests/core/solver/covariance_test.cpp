@@ -8,20 +8,14 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "tests/core/solver/random_matrix.hpp"
+
 namespace ccdlane::solver {
 namespace {
 
-Eigen::MatrixXd random_jacobian(std::mt19937_64& rng, int rows, int cols) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::MatrixXd J(rows, cols);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) J(r, c) = g(rng);
-  return J;
-}
-
 TEST(Covariance, FullRankGivesTheScaledInverse) {
   std::mt19937_64 rng(1);
-  Eigen::MatrixXd J = random_jacobian(rng, 40, 6);
+  Eigen::MatrixXd J = test::gaussian_matrix(rng, 40, 6);
   J.col(2) *= 1e4;   // mm against radians: units must not matter
   J.col(4) *= 1e-3;
   const ReducedMatrix N = J.transpose() * J;
@@ -39,7 +33,7 @@ TEST(Covariance, ExactNullDirectionMarksOnlyItsParametersUndetermined) {
   std::mt19937_64 rng(2);
   // Parameters 1 and 3 move together without changing anything (like roll and a line's
   // offset); 0, 2 and 4 are determined.
-  Eigen::MatrixXd J = random_jacobian(rng, 30, 5);
+  Eigen::MatrixXd J = test::gaussian_matrix(rng, 30, 5);
   J.col(3) = -2.0e3 * J.col(1);
   const ReducedMatrix N = J.transpose() * J;
   CovarianceWorkspace ws;
@@ -63,7 +57,7 @@ TEST(Covariance, ExactNullDirectionMarksOnlyItsParametersUndetermined) {
 
 TEST(Covariance, ParameterWithoutInformationIsUndetermined) {
   std::mt19937_64 rng(3);
-  Eigen::MatrixXd J = random_jacobian(rng, 20, 4);
+  Eigen::MatrixXd J = test::gaussian_matrix(rng, 20, 4);
   J.col(2).setZero();  // e.g. a line without picks
   CovarianceWorkspace ws;
   ReducedMatrix cov;
@@ -78,8 +72,8 @@ TEST(Covariance, WeakButRealInformationIsNotRankDeficiency) {
   // A direction 1e4 times less well known than the parameters (information ratio 1e-8)
   // is still determined, with a correspondingly large sigma.
   std::mt19937_64 rng(4);
-  Eigen::MatrixXd J = random_jacobian(rng, 30, 3);
-  const Eigen::VectorXd other = random_jacobian(rng, 30, 1).col(0).normalized();
+  Eigen::MatrixXd J = test::gaussian_matrix(rng, 30, 3);
+  const Eigen::VectorXd other = test::gaussian_matrix(rng, 30, 1).col(0).normalized();
   J.col(2) = J.col(1) + 1e-4 * other * J.col(1).norm();
   const ReducedMatrix N = J.transpose() * J;
   CovarianceWorkspace ws;
