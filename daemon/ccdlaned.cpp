@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "daemon/daemon.hpp"
 
 namespace {

@@ -6,19 +6,19 @@
 #include <memory>
 
 #include "daemon/allocation_counter.hpp"
-#include "daemon/clock.hpp"
+#include "base/clock.hpp"
 #include "daemon/frame_publisher.hpp"
-#include "daemon/gyro_factory.hpp"
+#include "app/gyro_factory.hpp"
 #include "daemon/latency_window.hpp"
-#include "daemon/lcm_publisher.hpp"
-#include "daemon/log.hpp"
+#include "bus/lcm_publisher.hpp"
+#include "base/log.hpp"
 #include "daemon/pipeline.hpp"
 #include "daemon/processor_factory.hpp"
 #include "daemon/realtime.hpp"
 #include "daemon/sd_notifier.hpp"
 #include "daemon/service_heartbeat.hpp"
 #include "daemon/signal_waiter.hpp"
-#include "daemon/source_factory.hpp"
+#include "app/source_factory.hpp"
 #include "daemon/status_report.hpp"
 
 namespace ccdlane {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 
 namespace ccdlane {
 

@@ -4,10 +4,10 @@
 
 #include <optional>
 
-#include "core/geometry/gx1_attitude.hpp"
-#include "core/image/image_view.hpp"
+#include "base/gx1_angles.hpp"
+#include "base/image_view.hpp"
 #include "core/lane/lane_estimate.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 

@@ -1,9 +1,9 @@
 // Raw frames onto the bus from the processing thread, into buffers sized at start-up.
 #include "daemon/frame_publisher.hpp"
 
-#include "daemon/channels.hpp"
-#include "daemon/clock.hpp"
-#include "drivers/frames/frame_message.hpp"
+#include "bus/channels.hpp"
+#include "base/clock.hpp"
+#include "bus/frame_message.hpp"
 
 namespace ccdlane {
 

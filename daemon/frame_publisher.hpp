@@ -13,10 +13,10 @@
 #include <ccdlane/frame_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "daemon/frame_processor.hpp"
-#include "daemon/lcm_publisher.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "bus/lcm_publisher.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 

@@ -2,7 +2,7 @@
 // daemon and replay give the same estimates for the same frames and gyro readings.
 #pragma once
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "core/lane/lane_estimator.hpp"
 #include "daemon/frame_processor.hpp"
 
@@ -11,7 +11,7 @@ namespace ccdlane {
 class LaneEstimatorProcessor final : public FrameProcessor {
  public:
   // Allocates the estimator's workspaces for config.camera's Nu x Nv.
-  explicit LaneEstimatorProcessor(const Config& config) : estimator_(config) {}
+  explicit LaneEstimatorProcessor(const Config& config) : estimator_(config.estimator_options()) {}
 
   // Gyro roll/pitch become priors inside the estimator (camera_attitude_from_gx1,
   // [gyro] sigma_deg, a [prior] entry overriding); yaw is never used.

@@ -10,8 +10,8 @@
 #include <stdexcept>
 
 #include "daemon/allocation_counter.hpp"
-#include "daemon/clock.hpp"
-#include "daemon/log.hpp"
+#include "base/clock.hpp"
+#include "base/log.hpp"
 
 namespace ccdlane {
 namespace {

@@ -12,17 +12,17 @@
 #include <thread>
 #include <vector>
 
-#include "core/config/config.hpp"
-#include "daemon/attitude_provider.hpp"
+#include "app/config.hpp"
+#include "app/attitude_provider.hpp"
 #include "daemon/doorbell.hpp"
 #include "daemon/frame_processor.hpp"
-#include "daemon/lane_sink.hpp"
+#include "bus/lane_sink.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/pipeline_totals.hpp"
 #include "daemon/realtime.hpp"
-#include "daemon/spsc_ring.hpp"
+#include "base/spsc_ring.hpp"
 #include "drivers/camera/frame_pool.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 

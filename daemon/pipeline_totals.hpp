@@ -4,12 +4,10 @@
 #include <array>
 #include <cstdint>
 
-#include "drivers/camera/frame_source.hpp"
+#include "base/device_states.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
-
-enum class CameraState : std::uint8_t { starting, streaming, stalled, recovering, ended };  // = status_t CAMERA_*
-const char* to_string(CameraState s);  // "starting", "streaming", "stalled", "recovering", "ended"
 
 constexpr int kEstimateFailureKinds = 6;  // EstimateFailure::none .. rank_deficient
 

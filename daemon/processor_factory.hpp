@@ -3,9 +3,9 @@
 
 #include <memory>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "daemon/frame_processor.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 

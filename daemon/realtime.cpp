@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "daemon/log.hpp"
+#include "base/log.hpp"
 
 namespace ccdlane {
 namespace {

@@ -8,7 +8,7 @@
 #include <atomic>
 #include <cstddef>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 
 namespace ccdlane {
 

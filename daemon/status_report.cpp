@@ -7,7 +7,7 @@
 #include <cstring>
 #include <limits>
 
-#include "daemon/lcm_publisher.hpp"
+#include "bus/lcm_publisher.hpp"
 
 namespace ccdlane {
 namespace {

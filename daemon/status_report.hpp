@@ -8,7 +8,7 @@
 
 #include <ccdlane/status_t.hpp>
 
-#include "daemon/attitude_provider.hpp"
+#include "app/attitude_provider.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/pipeline_totals.hpp"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <span>
 
-#include "core/config/detection_config.hpp"
+#include "core/detection/detection_config.hpp"
 #include "core/solver/lane_solver.hpp"
 
 namespace ccdlane {

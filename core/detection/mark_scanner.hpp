@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/detection/lane_marks.hpp"
-#include "core/image/image_view.hpp"
+#include "base/image_view.hpp"
 
 namespace ccdlane {
 

@@ -12,6 +12,15 @@ struct Attitude {
   double phi = 0.0;    // roll about the viewing direction
 };
 
+// The same angles in degrees, as configuration files and people give them.
+struct AttitudeDeg {
+  double psi_deg = 0.0;
+  double theta_deg = 0.0;
+  double phi_deg = 0.0;
+
+  bool operator==(const AttitudeDeg&) const = default;
+};
+
 // The sines and cosines of an attitude's angles, from which T follows without further
 // trigonometry.
 struct AttitudeTrig {

@@ -2,16 +2,10 @@
 // geometry.md (gx1.md section 13).
 #pragma once
 
+#include "base/gx1_angles.hpp"
 #include "core/geometry/attitude.hpp"
 
 namespace ccdlane {
-
-// Sensor angles as the 3DM-GX1 reports them, degrees.
-struct Gx1Angles {
-  double roll_deg = 0.0;
-  double pitch_deg = 0.0;
-  double yaw_deg = 0.0;
-};
 
 // With the sensor's printed axes aligned to the camera (x along the optical axis, y to
 // the right of the picture, z down): phi = roll, theta = -pitch, psi = -yaw. Another

@@ -25,21 +25,21 @@ std::optional<Prior> gyro_prior(const std::optional<Prior>& configured, double g
 
 }  // namespace
 
-LaneEstimator::LaneEstimator(const Config& config)
+LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
     : config_(config),
       detector_(config.camera, config.detection),
       solver_(config.camera, config.detection.max_picks, kMaxLaneLines),
       picks_(static_cast<std::size_t>(config.detection.max_picks)),
       residual_px_(picks_.size()),
       scratch_(picks_.size()),
-      last_pose_(config.nominal_pose()) {
+      last_pose_(config.nominal_pose) {
   reset();
 }
 
 void LaneEstimator::reset() {
   have_last_ = false;
   misses_ = 0;
-  last_pose_ = config_.nominal_pose();
+  last_pose_ = config_.nominal_pose;
   tracker_.reset();
 }
 
@@ -51,7 +51,7 @@ void LaneEstimator::miss() {
 }
 
 CameraPose LaneEstimator::guess_pose(const std::optional<Gx1Angles>& gyro) const {
-  CameraPose pose = have_last_ ? last_pose_ : config_.nominal_pose();
+  CameraPose pose = have_last_ ? last_pose_ : config_.nominal_pose;
   if (gyro) {  // the gyro knows this frame's roll and pitch better than the last frame does
     const Attitude a = camera_attitude_from_gx1(*gyro);
     pose.attitude.theta = a.theta;
@@ -66,7 +66,7 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
   req.free = config_.solver.free;
   req.pixel_sigma = config_.solver.pixel_sigma;
   req.max_iterations = config_.solver.max_iterations;
-  const PriorConfig& p = config_.prior;
+  const SolverPriors& p = config_.priors;
   req.priors = {p.psi_deg, p.theta_deg, p.phi_deg, p.H_mm, p.f_mm, p.lane_width_mm};
   if (p.lane_width_mm && num_lines_ > 2) {
     // The solver's lane-width prior holds between the outermost lines; with more than
@@ -82,8 +82,8 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
   }
   if (gyro) {
     const Attitude a = camera_attitude_from_gx1(*gyro);
-    req.priors.theta_deg = gyro_prior(p.theta_deg, a.theta, config_.gyro.sigma_deg);
-    req.priors.phi_deg = gyro_prior(p.phi_deg, a.phi, config_.gyro.sigma_deg);
+    req.priors.theta_deg = gyro_prior(p.theta_deg, a.theta, config_.gyro_sigma_deg);
+    req.priors.phi_deg = gyro_prior(p.phi_deg, a.phi, config_.gyro_sigma_deg);
   }
   req.initial_pose = initial;
   req.picks = std::span<const Pick>(picks_.data(), static_cast<std::size_t>(num_picks_));
@@ -280,7 +280,7 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   misses_ = 0;
 
   const LaneMetrics m = lane_metrics({e.lines.data(), static_cast<std::size_t>(n)}, e.psi_deg,
-                                     config_.attitude.psi_deg, config_.detection.departure_mm);
+                                     rad_to_deg(config_.nominal_pose.attitude.psi), config_.detection.departure_mm);
   e.heading_deg = m.heading_deg;
   if (!m.has_lane) {
     e.ok = false;

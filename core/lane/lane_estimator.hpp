@@ -8,20 +8,31 @@
 #include <span>
 #include <vector>
 
-#include "core/config/config.hpp"
+#include "core/detection/detection_config.hpp"
 #include "core/detection/lane_detector.hpp"
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/lane/lane_estimate.hpp"
 #include "core/lane/lane_tracker.hpp"
 #include "core/solver/lane_solver.hpp"
+#include "core/solver/solver_options.hpp"
 
 namespace ccdlane {
 
+// What the estimator is built from (the configuration maps onto it: Config::estimator_options).
+struct LaneEstimatorOptions {
+  CameraSpec camera;
+  CameraPose nominal_pose;      // the mount: the guess before any frame, and the yaw heading is measured from
+  SolverOptions solver;
+  SolverPriors priors;          // a prior here overrides the gyro's for the same angle
+  double gyro_sigma_deg = 0.5;  // the gyro's roll and pitch become priors with this sigma
+  DetectionConfig detection;
+};
+
 class LaneEstimator {
  public:
-  // Sizes every workspace (detector, solver, pick buffers) from the configuration. May
+  // Sizes every workspace (detector, solver, pick buffers) from the options. May
   // allocate and throw (std::bad_alloc); estimate() then never does either.
-  explicit LaneEstimator(const Config& config);
+  explicit LaneEstimator(const LaneEstimatorOptions& options);
 
   // One frame: `image` must be camera.Nu x camera.Nv. `gyro` is the 3DM-GX1 reading at
   // this frame, if any. The result stays valid until the next call. latency_us is left
@@ -48,7 +59,7 @@ class LaneEstimator {
   void fill_estimate(const SolveResult& result);
   void miss();
 
-  Config config_;
+  LaneEstimatorOptions config_;
   LaneDetector detector_;
   LaneSolver solver_;
   LaneTracker tracker_;

@@ -9,8 +9,8 @@
 #include <optional>
 #include <span>
 
-#include "core/config/config.hpp"
 #include "core/geometry/camera_model.hpp"
+#include "core/solver/solver_options.hpp"
 
 namespace ccdlane {
 
@@ -33,20 +33,13 @@ struct LaneLine {
   double c_per_mm = 0.0;
 };
 
-// Priors in interface units (degrees, mm); empty = none. Gyro roll/pitch arrive here.
-// Used in reprojection mode only: the paper's index takes no priors (solver.md). A
-// lane-width prior needs at least two lines and is ignored with fewer.
-struct SolverPriors {
-  std::optional<Prior> psi_deg, theta_deg, phi_deg, H_mm, f_mm, lane_width_mm;
-};
-
 // What one solve is asked to do. Fixed parameters keep their value from `initial_pose`
 // and `initial_lines`. Beyond solver.md's roll/offset family and scale (free H without a
 // prior), note: a free heading m per line makes the lines' parallelism, and with it yaw
 // and (for straight lines) pitch, undetermined. Such requests come back rank_deficient.
 struct SolveRequest {
   SolverMode mode = SolverMode::reprojection;
-  FreeSet free = SolverConfig::default_free();
+  FreeSet free = SolverOptions::default_free();
   double pixel_sigma = 0.5;
   int max_iterations = 50;
   SolverPriors priors;

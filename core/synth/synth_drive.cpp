@@ -8,8 +8,11 @@
 
 namespace ccdlane {
 
-SynthDrive::SynthDrive(const Config& config)
-    : synth_(config.synth), mount_(config.attitude), H_mm_(config.H_mm), f_mm_(config.f_mm) {
+SynthDrive::SynthDrive(const SynthConfig& scene, const CameraPose& mount)
+    : synth_(scene),
+      mount_{rad_to_deg(mount.attitude.psi), rad_to_deg(mount.attitude.theta), rad_to_deg(mount.attitude.phi)},
+      H_mm_(mount.H_mm),
+      f_mm_(mount.f_mm) {
   const std::uint64_t s = synth_.seed;
   for (int i = 0; i < 3; ++i) bump_phase_[i] = 2 * kPi * synth::unit(synth::hash(s, 11, static_cast<std::uint64_t>(i)));
   roll_phase_ = 2 * kPi * synth::unit(synth::hash(s, 12));

@@ -6,9 +6,10 @@
 #include <array>
 #include <cstdint>
 
-#include "core/config/config.hpp"
+#include "base/gx1_angles.hpp"
+#include "core/geometry/attitude.hpp"
 #include "core/geometry/camera_model.hpp"
-#include "core/geometry/gx1_attitude.hpp"
+#include "core/synth/synth_config.hpp"
 
 namespace ccdlane {
 
@@ -34,9 +35,9 @@ struct SynthFrame {
 
 class SynthDrive {
  public:
-  // Uses config.synth for the road and motion, [attitude] as the mounting attitude,
-  // [mount] H_mm and [camera] f_mm.
-  explicit SynthDrive(const Config& config);
+  // `scene` gives the road and the motion; `mount` is the camera's nominal pose on the
+  // vehicle (its attitude, height and focal length), on which the motion is added.
+  SynthDrive(const SynthConfig& scene, const CameraPose& mount);
 
   // The truth of frame k (pure: any k, any order, same answer for the same seed).
   SynthFrame frame(std::uint64_t k) const;

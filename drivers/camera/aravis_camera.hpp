@@ -9,8 +9,8 @@
 #include <string>
 
 #include "drivers/camera/camera_settings.hpp"
-#include "drivers/common/device_state.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "drivers/device_state.hpp"
+#include "drivers/frame_source.hpp"
 #include "drivers/camera/pixel_conversion.hpp"
 
 // Aravis' types, kept out of the header (glib would come with them).

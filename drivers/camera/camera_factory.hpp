@@ -6,7 +6,7 @@
 #include <string>
 
 #include "drivers/camera/camera_settings.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 

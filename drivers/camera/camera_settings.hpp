@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/image/image_view.hpp"
+#include "base/image_view.hpp"
 
 namespace ccdlane {
 

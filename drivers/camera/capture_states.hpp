@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <optional>
 
-#include "core/image/image_view.hpp"
-#include "drivers/camera/frame_source.hpp"
-#include "drivers/common/device_state.hpp"
+#include "base/image_view.hpp"
+#include "drivers/frame_source.hpp"
+#include "drivers/device_state.hpp"
 
 namespace ccdlane {
 

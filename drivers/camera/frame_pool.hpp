@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/image/image_view.hpp"
-#include "drivers/camera/frame_source.hpp"
+#include "base/image_view.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 

@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/image/image_view.hpp"
+#include "base/image_view.hpp"
 
 namespace ccdlane {
 

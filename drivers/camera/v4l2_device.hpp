@@ -2,7 +2,7 @@
 // goes through: it returns -errno and never logs (the caller knows the context).
 #pragma once
 
-#include "drivers/common/unique_fd.hpp"
+#include "base/unique_fd.hpp"
 
 namespace ccdlane {
 

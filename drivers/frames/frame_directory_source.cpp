@@ -2,7 +2,7 @@
 // does not accumulate into drift.
 #include "drivers/frames/frame_directory_source.hpp"
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 
 #include <time.h>
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "drivers/camera/frame_source.hpp"
+#include "drivers/frame_source.hpp"
 #include "drivers/frames/frame_directory.hpp"
 
 namespace ccdlane {

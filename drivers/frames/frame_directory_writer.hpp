@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/geometry/gx1_attitude.hpp"
-#include "core/image/image_view.hpp"
+#include "base/gx1_angles.hpp"
+#include "base/image_view.hpp"
 #include "drivers/frames/frame_directory_error.hpp"
 
 namespace ccdlane {

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/geometry/gx1_attitude.hpp"
+#include "base/gx1_angles.hpp"
 #include "drivers/frames/frame_directory_error.hpp"
 
 namespace ccdlane {

@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "drivers/common/unique_fd.hpp"
+#include "base/unique_fd.hpp"
 
 namespace ccdlane {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/image/image_view.hpp"
+#include "base/image_view.hpp"
 
 namespace ccdlane {
 

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/geometry/gx1_attitude.hpp"
+#include "base/gx1_angles.hpp"
 
 namespace ccdlane::gx1 {
 

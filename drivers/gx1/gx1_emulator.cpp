@@ -15,7 +15,7 @@
 #include <cstring>
 #include <numbers>
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {

@@ -13,8 +13,8 @@
 #include <thread>
 #include <vector>
 
-#include "core/geometry/gx1_attitude.hpp"
-#include "drivers/common/unique_fd.hpp"
+#include "base/gx1_angles.hpp"
+#include "base/unique_fd.hpp"
 #include "drivers/gx1/driver_log.hpp"
 #include "drivers/gx1/gx1_protocol.hpp"
 

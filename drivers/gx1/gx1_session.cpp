@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {

@@ -11,7 +11,7 @@
 #include <span>
 #include <string>
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "drivers/gx1/attitude_history.hpp"
 #include "drivers/gx1/gx1_protocol.hpp"
 #include "drivers/gx1/serial_port.hpp"

@@ -8,8 +8,8 @@
 #include <span>
 #include <string>
 
-#include "drivers/common/device_state.hpp"
-#include "drivers/common/unique_fd.hpp"
+#include "drivers/device_state.hpp"
+#include "base/unique_fd.hpp"
 #include "drivers/gx1/driver_log.hpp"
 
 namespace ccdlane::gx1 {

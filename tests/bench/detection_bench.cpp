@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "core/detection/lane_detector.hpp"
 #include "core/lane/lane_estimator.hpp"
 #include "core/synth/road_renderer.hpp"
@@ -31,7 +31,7 @@ struct Scene {
   std::vector<SynthFrame> truth;
   std::vector<std::vector<std::uint8_t>> pixels;
   explicit Scene(int width, int frames = 16) : config(camera(width)) {
-    SynthDrive drive(config);
+    SynthDrive drive(config.synth, config.nominal_pose());
     RoadRenderer renderer(config.camera, config.synth);
     for (int k = 0; k < frames; ++k) {
       truth.push_back(drive.frame(static_cast<std::uint64_t>(k) * 7));
@@ -82,7 +82,7 @@ BENCHMARK(BM_DetectionCold)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
 // The whole per-frame estimate: detect, solve (gyro priors), track, lane metrics.
 void BM_Estimate(benchmark::State& state) {
   Scene& s = scene(static_cast<int>(state.range(0)));
-  LaneEstimator estimator(s.config);
+  LaneEstimator estimator(s.config.estimator_options());
   std::size_t i = 0;
   int ok = 0;
   for (auto _ : state) {
@@ -114,7 +114,7 @@ BENCHMARK(BM_DetectionRealPictures)->Unit(benchmark::kMicrosecond);
 
 void BM_RenderSyntheticFrame(benchmark::State& state) {
   const Config c = camera(static_cast<int>(state.range(0)));
-  SynthDrive drive(c);
+  SynthDrive drive(c.synth, c.nominal_pose());
   RoadRenderer renderer(c.camera, c.synth);
   std::vector<std::uint8_t> px(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv));
   const MutableImageView view{px.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8};

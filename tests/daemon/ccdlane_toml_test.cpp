@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 
 namespace ccdlane {
 namespace {

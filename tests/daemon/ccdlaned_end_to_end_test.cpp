@@ -22,7 +22,7 @@
 
 #include <ccdlane/lane_estimate_t.hpp>
 #include <ccdlane/status_t.hpp>
-#include "daemon/lane_message.hpp"
+#include "bus/lane_message.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/notify_socket.hpp"
 #include "tests/daemon/private_network.hpp"

@@ -30,10 +30,10 @@
 #include <ccdlane/frame_t.hpp>
 #include <ccdlane/lane_estimate_t.hpp>
 #include <ccdlane/status_t.hpp>
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "core/synth/synth_drive.hpp"
-#include "daemon/channels.hpp"
-#include "daemon/lane_message.hpp"
+#include "bus/channels.hpp"
+#include "bus/lane_message.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -185,7 +185,8 @@ TEST(CcdlanedRecording, WhatLcmLoggerRecordsOfTheDaemonReplaysToTheEstimatesItPu
   EXPECT_EQ(without_gyro, static_cast<std::size_t>(last.no_attitude_total));
   EXPECT_LT(without_gyro, rec.frames.size() / 2) << "the live gyro gave most frames their prior";
   // Frame times are the synthetic drive's own clock, as `ccdlane synth` stamps frame n.
-  const SynthDrive drive(load_config_file(config));
+  const Config drive_config = load_config_file(config);
+  const SynthDrive drive(drive_config.synth, drive_config.nominal_pose());
   for (const lane_estimate_t& m : rec.lanes)
     ASSERT_EQ(m.t_ns, drive.t_ns(static_cast<std::uint64_t>(m.frame))) << "frame " << m.frame;
 

@@ -9,11 +9,11 @@
 #include <gtest/gtest.h>
 
 #include "core/synth/synth_drive.hpp"
-#include "daemon/clock.hpp"
+#include "base/clock.hpp"
 #include "daemon/daemon.hpp"
-#include "daemon/gyro_factory.hpp"
+#include "app/gyro_factory.hpp"
 #include "daemon/processor_factory.hpp"
-#include "daemon/source_factory.hpp"
+#include "app/source_factory.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -46,7 +46,7 @@ TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   EXPECT_EQ(m.gyro->roll_deg, m0.gyro->roll_deg);
   // Stamped with the drive's time, as `ccdlane synth` stamps its frames, going on past the loop.
   EXPECT_EQ(m0.frame_t_ns(), 0);
-  EXPECT_EQ(m.frame_t_ns(), SynthDrive(c).frame(3).t_ns);
+  EXPECT_EQ(m.frame_t_ns(), SynthDrive(c.synth, c.nominal_pose()).frame(3).t_ns);
   EXPECT_GT(m.frame_t_ns(), 0);
 
   // And the estimator finds the lane it shows.

@@ -14,8 +14,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/config/config_loader.hpp"
-#include "core/image/image_buffer.hpp"
+#include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "daemon/allocation_counter.hpp"
@@ -46,7 +46,7 @@ class NothingProcessor : public FrameProcessor {
 class SynthFrames {
  public:
   explicit SynthFrames(const Config& config)
-      : drive_(config), renderer_(config.camera, config.synth),
+      : drive_(config.synth, config.nominal_pose()), renderer_(config.camera, config.synth),
         buffer_(config.camera.Nu, config.camera.Nv, renderer_.format(), config.synth.bits) {}
   const SynthFrame& render(std::uint64_t k) {
     frame_ = drive_.frame(k);

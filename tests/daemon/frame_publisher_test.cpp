@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "daemon/pipeline.hpp"
-#include "daemon/test_pattern.hpp"
-#include "drivers/frames/frame_message.hpp"
+#include "tests/support/test_pattern_source.hpp"
+#include "bus/frame_message.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
 
 namespace ccdlane {

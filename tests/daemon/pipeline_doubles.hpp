@@ -10,10 +10,10 @@
 #include <thread>
 #include <vector>
 
-#include "daemon/attitude_provider.hpp"
-#include "daemon/clock.hpp"
-#include "daemon/lane_sink.hpp"
-#include "daemon/test_pattern.hpp"
+#include "app/attitude_provider.hpp"
+#include "base/clock.hpp"
+#include "bus/lane_sink.hpp"
+#include "tests/support/test_pattern_source.hpp"
 
 namespace ccdlane::test {
 

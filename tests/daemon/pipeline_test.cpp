@@ -17,8 +17,8 @@
 #include <gtest/gtest.h>
 
 #include "daemon/allocation_counter.hpp"
-#include "daemon/clock.hpp"
-#include "daemon/test_pattern.hpp"
+#include "base/clock.hpp"
+#include "tests/support/test_pattern_source.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
 
 namespace ccdlane {

@@ -16,11 +16,11 @@
 
 #include <gtest/gtest.h>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "daemon/allocation_counter.hpp"
-#include "daemon/clock.hpp"
+#include "base/clock.hpp"
 #include "daemon/pipeline.hpp"
-#include "daemon/source_factory.hpp"
+#include "app/source_factory.hpp"
 #include "drivers/camera/aravis_camera.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
 #include "tests/daemon/private_network.hpp"

@@ -16,7 +16,7 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon/log.hpp"
+#include "base/log.hpp"
 
 namespace ccdlane {
 namespace {

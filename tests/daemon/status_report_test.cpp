@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "daemon/allocation_counter.hpp"
-#include "daemon/lcm_publisher.hpp"
+#include "bus/lcm_publisher.hpp"
 
 namespace ccdlane {
 namespace {

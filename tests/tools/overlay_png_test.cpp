@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/config.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane::cli {

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <filesystem>
 #include <regex>
@@ -15,9 +16,9 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon/channels.hpp"
+#include "bus/channels.hpp"
 #include "drivers/frames/frame_directory.hpp"
-#include "drivers/frames/frame_log.hpp"
+#include "bus/frame_log.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/support/run_process.hpp"
 

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "tests/support/run_process.hpp"

@@ -2,7 +2,7 @@
 #include <iostream>
 #include <memory>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"

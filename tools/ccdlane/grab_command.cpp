@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "drivers/camera/camera_factory.hpp"
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "drivers/camera/frame_pool.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
 #include "tools/ccdlane/command.hpp"

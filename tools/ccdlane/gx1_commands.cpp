@@ -12,7 +12,7 @@
 
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 

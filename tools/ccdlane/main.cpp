@@ -2,7 +2,7 @@
 // holds the table of them and turns errors into one line and an exit status.
 #include <iostream>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {

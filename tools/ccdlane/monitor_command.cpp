@@ -15,10 +15,10 @@
 #include <ccdlane/status_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 
-#include "core/config/config.hpp"
-#include "daemon/channels.hpp"
-#include "daemon/lane_message.hpp"
-#include "daemon/status_names.hpp"
+#include "app/config.hpp"
+#include "bus/channels.hpp"
+#include "bus/lane_message.hpp"
+#include "bus/status_names.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"

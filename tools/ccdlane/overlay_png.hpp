@@ -9,7 +9,7 @@
 
 #include "core/detection/lane_marks.hpp"
 #include "core/geometry/camera_model.hpp"
-#include "core/image/image_view.hpp"
+#include "base/image_view.hpp"
 
 namespace ccdlane::cli {
 

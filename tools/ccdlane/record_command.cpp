@@ -13,19 +13,19 @@
 #include <thread>
 #include <vector>
 
-#include "core/config/config_loader.hpp"
-#include "core/image/image_buffer.hpp"
+#include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
-#include "daemon/channels.hpp"
-#include "daemon/clock.hpp"
-#include "daemon/gx1_attitude_provider.hpp"
+#include "bus/channels.hpp"
+#include "base/clock.hpp"
+#include "app/gx1_attitude_provider.hpp"
 #include "drivers/camera/camera_factory.hpp"
 #include "drivers/camera/frame_pool.hpp"
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
-#include "drivers/frames/frame_log.hpp"
+#include "bus/frame_log.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {
@@ -164,7 +164,7 @@ class Recording {
 
 void record_synth(const RecordArgs& a, const Config& config) {
   const SynthConfig& s = config.synth;
-  const SynthDrive drive(config);
+  const SynthDrive drive(config.synth, config.nominal_pose());
   RoadRenderer renderer(config.camera, s);
   const ImageBuffer buffer(config.camera.Nu, config.camera.Nv, renderer.format(), s.bits);
   const MutableImageView& image = buffer.view();

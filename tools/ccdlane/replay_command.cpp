@@ -9,12 +9,12 @@
 #include <optional>
 #include <vector>
 
-#include "core/config/config_loader.hpp"
-#include "core/image/image_buffer.hpp"
+#include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
 #include "core/lane/lane_estimator.hpp"
-#include "daemon/channels.hpp"
+#include "bus/channels.hpp"
 #include "drivers/frames/frame_directory.hpp"
-#include "drivers/frames/frame_log.hpp"
+#include "bus/frame_log.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -130,7 +130,7 @@ CommandAction setup_replay(CLI::App& sub) {
       for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
     std::size_t skipped = csv_issues;
 
-    LaneEstimator estimator(config);
+    LaneEstimator estimator(config.estimator_options());
     std::size_t frames = 0, ok = 0;
     double total_s = 0.0, worst_s = 0.0;
     std::uint64_t worst_frame = 0;

@@ -6,7 +6,7 @@
 #include <memory>
 #include <sstream>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "core/solver/picks_csv.hpp"
 #include "tools/ccdlane/command.hpp"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {

@@ -6,8 +6,8 @@
 #include <optional>
 #include <vector>
 
-#include "core/config/config_loader.hpp"
-#include "core/image/image_buffer.hpp"
+#include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
@@ -79,7 +79,7 @@ CommandAction setup_synth(CLI::App& sub) {
     if (s.lane_change_at_s >= 0.0 && s.ego_lane + 1 >= s.lanes)
       throw UsageError("--lane-change-at: the vehicle is in the rightmost lane; there is no lane to change to");
 
-    const SynthDrive drive(config);
+    const SynthDrive drive(config.synth, config.nominal_pose());
     RoadRenderer renderer(config.camera, s);
     const int W = config.camera.Nu, H = config.camera.Nv;
     const PixelFormat format = renderer.format();

@@ -15,12 +15,12 @@
 #include <benchmark/benchmark.h>
 
 #include "daemon/allocation_counter.hpp"
-#include "daemon/clock.hpp"
-#include "daemon/lcm_publisher.hpp"
+#include "base/clock.hpp"
+#include "bus/lcm_publisher.hpp"
 #include "daemon/pipeline.hpp"
-#include "daemon/spsc_ring.hpp"
+#include "base/spsc_ring.hpp"
 #include "daemon/lane_estimator_processor.hpp"
-#include "daemon/synth_source.hpp"
+#include "app/synth_source.hpp"
 
 namespace ccdlane {
 namespace {

@@ -28,7 +28,7 @@ TEST(LaneEstimator, EveryFrameOkAndWithinTheSolversSigmasOfTheTruth) {
   c.synth.noise_sigma = 1.0;
   c.synth.shadow_depth = 0.3;
   Drive d(c);
-  LaneEstimator est(c);
+  LaneEstimator est(c.estimator_options());
   int frames = 0, within = 0;
   std::vector<int> first_ids;
   for (std::uint64_t k = 0; k < 40; k += 3) {
@@ -77,7 +77,7 @@ TEST(LaneEstimator, IdsFollowTheRoadThroughALaneChangeAndDepartureIsFlagged) {
   c.synth.lane_change_s = 3.0;
   c.synth.weave_mm = 0;
   Drive d(c);
-  LaneEstimator est(c);
+  LaneEstimator est(c.estimator_options());
   int id_of_crossed = -1;  // the line between lanes 1 and 2 (road line 2)
   bool right_departure = false, left_departure = false;
   for (std::uint64_t k = 0; k <= 150; k += 5) {
@@ -112,13 +112,13 @@ TEST(LaneEstimator, GyroPriorsAndTheirOverride) {
   Drive d(c);
   const SynthFrame f = d.render(3);
   {  // No gyro, no roll prior: roll about the lane is not determined, and said so.
-    LaneEstimator est(c);
+    LaneEstimator est(c.estimator_options());
     const LaneEstimate& e = est.estimate(d.view, 3, f.t_ns, std::nullopt);
     EXPECT_FALSE(e.ok);
     EXPECT_EQ(e.reason, EstimateFailure::rank_deficient);
   }
   {  // The gyro's roll makes it determined, to about the gyro's sigma.
-    LaneEstimator est(c);
+    LaneEstimator est(c.estimator_options());
     const LaneEstimate& e = est.estimate(d.view, 3, f.t_ns, f.gyro);
     ASSERT_TRUE(e.ok) << to_string(e.reason);
     EXPECT_NEAR(e.sigma_phi_deg, c.gyro.sigma_deg, 0.05);
@@ -126,7 +126,7 @@ TEST(LaneEstimator, GyroPriorsAndTheirOverride) {
   {  // A [prior] on roll overrides the gyro's.
     Config strict = c;
     strict.prior.phi_deg = Prior{rad_to_deg(f.pose.attitude.phi) + 0.8, 0.01};
-    LaneEstimator est(strict);
+    LaneEstimator est(strict.estimator_options());
     const LaneEstimate& e = est.estimate(d.view, 3, f.t_ns, f.gyro);
     ASSERT_TRUE(e.ok) << to_string(e.reason);
     EXPECT_NEAR(e.phi_deg, rad_to_deg(f.pose.attitude.phi) + 0.8, 0.05);
@@ -137,7 +137,7 @@ TEST(LaneEstimator, GyroPriorsAndTheirOverride) {
 TEST(LaneEstimator, DamagedAndEmptyFramesAndRecovery) {
   Config c = small_camera();
   Drive d(c);
-  LaneEstimator est(c);
+  LaneEstimator est(c.estimator_options());
   SynthFrame f = d.render(0);
   ASSERT_TRUE(est.estimate(d.view, 0, f.t_ns, f.gyro).ok);
   const int left_id = est.estimate(d.view, 0, f.t_ns, f.gyro).lines[1].id;
@@ -157,7 +157,7 @@ TEST(LaneEstimator, DamagedAndEmptyFramesAndRecovery) {
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
-  LaneEstimator est(c);
+  LaneEstimator est(c.estimator_options());
   std::vector<SynthFrame> frames;
   std::vector<std::vector<std::uint8_t>> images;
   for (std::uint64_t k = 0; k < 4; ++k) {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "core/solver/lane_solver.hpp"
 
 namespace ccdlane::test {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "core/config/config.hpp"
+#include "app/config.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 
@@ -34,7 +34,7 @@ struct RenderedRoad {
 
   explicit RenderedRoad(const Config& c, PixelFormat format = PixelFormat::mono8, int bits = 8)
       : config(c),
-        drive(c),
+        drive(c.synth, c.nominal_pose()),
         renderer(c.camera, c.synth),
         px(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv * bytes_per_pixel(format))) {
     view = {px.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu * bytes_per_pixel(format), format, bits};

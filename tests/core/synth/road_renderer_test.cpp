@@ -41,7 +41,7 @@ TEST(RoadRenderer, MarksAreWhereTheCameraModelProjectsTheTruth) {
   s.dashed = DashedLines::none;
   s.supersample = 8;
   s.curvature_per_mm = 2e-7;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   const SynthFrame f = drive.frame(40);
   RoadRenderer r(c.camera, s);
   Image img(400, 300);
@@ -78,7 +78,7 @@ TEST(RoadRenderer, MarksAreWhereTheCameraModelProjectsTheTruth) {
 TEST(RoadRenderer, SkyAboveTheHorizonRoadBelow) {
   Config c = small_camera();
   c.synth.noise_sigma = 0;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   const SynthFrame f = drive.frame(0);
   RoadRenderer r(c.camera, c.synth);
   Image img(400, 300);
@@ -97,7 +97,7 @@ TEST(RoadRenderer, SkyAboveTheHorizonRoadBelow) {
 TEST(RoadRenderer, SensorNoiseHasTheConfiguredSigma) {
   Config c = small_camera();
   c.synth.noise_sigma = 3.0;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   SynthFrame a = drive.frame(5), b = a;
   b.index = 6;  // same scene, another frame's noise
   RoadRenderer r(c.camera, c.synth);
@@ -120,7 +120,7 @@ TEST(RoadRenderer, SensorNoiseHasTheConfiguredSigma) {
 TEST(RoadRenderer, SixteenBitFramesAreTheEightBitScaled) {
   Config c = small_camera();
   c.synth.noise_sigma = 0;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   const SynthFrame f = drive.frame(3);
   RoadRenderer r(c.camera, c.synth);
   Image i8(400, 300), i16(400, 300, PixelFormat::mono16, 12);
@@ -133,7 +133,7 @@ TEST(RoadRenderer, SixteenBitFramesAreTheEightBitScaled) {
 TEST(RoadRenderer, DeterministicPerSeedAndAllocationFree) {
   Config c = small_camera();
   c.synth.blur_px = 0.8;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   const SynthFrame f = drive.frame(9);
   RoadRenderer r1(c.camera, c.synth), r2(c.camera, c.synth);
   Image a(400, 300), b(400, 300);

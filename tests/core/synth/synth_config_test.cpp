@@ -1,7 +1,7 @@
 // The [synth] table of the configuration: defaults, every key, strict errors.
 #include <gtest/gtest.h>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 
 namespace ccdlane {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/config/config_loader.hpp"
+#include "app/config_loader.hpp"
 
 namespace ccdlane {
 namespace {
@@ -15,7 +15,7 @@ namespace {
 TEST(SynthDrive, LaneQuantitiesAgreeWithTheLines) {
   Config c = default_config();
   c.attitude = {0.5, 3.0, -0.2};
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   ASSERT_EQ(drive.num_lines(), 4);
   for (std::uint64_t k = 0; k < 300; k += 7) {
     const SynthFrame f = drive.frame(k);
@@ -40,7 +40,7 @@ TEST(SynthDrive, LaneQuantitiesAgreeWithTheLines) {
 TEST(SynthDrive, HeadingIsTheDirectionOfTheLateralMotion) {
   Config c = default_config();
   c.synth.rate_hz = 100;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   for (std::uint64_t k = 1; k < 600; k += 13) {
     const SynthFrame a = drive.frame(k - 1), b = drive.frame(k + 1);
     const double lateral_speed = (b.lateral_offset_mm - a.lateral_offset_mm) / 0.02;  // mm/s
@@ -54,7 +54,7 @@ TEST(SynthDrive, LaneChangeMovesTheVehicleOneLaneRight) {
   c.synth.lane_change_at_s = 2.0;
   c.synth.lane_change_s = 3.0;
   c.synth.weave_mm = 0.0;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   const SynthFrame before = drive.frame(30), after = drive.frame(30 * 6);
   EXPECT_EQ(before.ego_lane, 1);
   EXPECT_EQ(after.ego_lane, 2);
@@ -70,7 +70,7 @@ TEST(SynthDrive, GyroColumnsAreTheTrueRollAndPitchPlusNoise) {
   Config c = default_config();
   c.attitude = {0.0, 2.0, 1.0};
   c.synth.gyro_noise_deg = 0.2;
-  const SynthDrive drive(c);
+  const SynthDrive drive(c.synth, c.nominal_pose());
   double sum_r = 0, sum_p = 0, sum_r2 = 0, sum_p2 = 0;
   const int n = 4000;
   for (int k = 0; k < n; ++k) {
@@ -89,9 +89,9 @@ TEST(SynthDrive, GyroColumnsAreTheTrueRollAndPitchPlusNoise) {
 
 TEST(SynthDrive, SameSeedSameDriveOtherSeedOtherDrive) {
   Config c = default_config();
-  const SynthDrive a(c), b(c);
+  const SynthDrive a(c.synth, c.nominal_pose()), b(c.synth, c.nominal_pose());
   c.synth.seed = 2;
-  const SynthDrive other(c);
+  const SynthDrive other(c.synth, c.nominal_pose());
   EXPECT_EQ(a.frame(17).gyro.roll_deg, b.frame(17).gyro.roll_deg);
   EXPECT_EQ(a.frame(17).pose.attitude.theta, b.frame(17).pose.attitude.theta);
   EXPECT_NE(a.frame(17).gyro.roll_deg, other.frame(17).gyro.roll_deg);

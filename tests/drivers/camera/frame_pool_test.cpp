@@ -2,6 +2,7 @@
 #include "drivers/camera/frame_pool.hpp"
 
 #include <atomic>
+#include <cstring>
 #include <set>
 #include <stdexcept>
 #include <thread>

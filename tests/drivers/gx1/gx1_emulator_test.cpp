@@ -13,7 +13,7 @@
 #include <numbers>
 #include <vector>
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "drivers/gx1/serial_port.hpp"
 #include "tests/drivers/gx1/sent_packets_check.hpp"
 

@@ -5,7 +5,7 @@
 #include <atomic>
 #include <string>
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
 #include "tests/drivers/gx1/emulated_gx1.hpp"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "drivers/gx1/gx1_emulator.hpp"
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 #include "tests/drivers/gx1/emulated_gx1.hpp"
 #include "tests/drivers/gx1/sent_packets_check.hpp"
 

@@ -11,7 +11,7 @@
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
 #include "tests/drivers/gx1/emulated_gx1.hpp"
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {

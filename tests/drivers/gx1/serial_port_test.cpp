@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/common/device_state.hpp"
+#include "drivers/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {

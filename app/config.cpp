@@ -1,0 +1,33 @@
+// Defaults and small helpers of the configuration schema.
+#include "app/config.hpp"
+
+namespace ccdlane {
+CameraPose Config::nominal_pose() const {
+  CameraPose pose;
+  pose.attitude = {deg_to_rad(attitude.psi_deg), deg_to_rad(attitude.theta_deg), deg_to_rad(attitude.phi_deg)};
+  pose.H_mm = H_mm;
+  pose.f_mm = f_mm;
+  return pose;
+}
+
+LaneEstimatorOptions Config::estimator_options() const {
+  LaneEstimatorOptions o;
+  o.camera = camera;
+  o.nominal_pose = nominal_pose();
+  o.solver = solver;
+  o.priors = prior;
+  o.gyro_sigma_deg = gyro.sigma_deg;
+  o.detection = detection;
+  return o;
+}
+
+Config default_config() {
+  Config c;
+  c.camera = CameraSpec{};
+  c.camera.k_px2 = -8.3042e-7;
+  c.camera.yM_mm = -27.25;
+  c.camera.zM_mm = 2.53;
+  return c;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,103 @@
+// The validated ccdlane configuration (docs/interfaces.md "Configuration"): one schema
+// for the daemon and every tool, made of the option structs of the layers below. Values
+// are in the units of the file (mm, degrees).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bus/lcm_publisher.hpp"
+#include "core/detection/detection_config.hpp"
+#include "core/geometry/attitude.hpp"
+#include "core/geometry/camera_model.hpp"
+#include "core/lane/lane_estimator.hpp"
+#include "core/solver/solver_options.hpp"
+#include "core/synth/synth_config.hpp"
+
+namespace ccdlane {
+
+// [solver]: the solver's options and the picks file `ccdlane solve` reads.
+struct SolverConfig : SolverOptions {
+  std::string picks;  // optional picks file, resolved relative to the config file
+
+  bool operator==(const SolverConfig&) const = default;
+};
+
+using PriorConfig = SolverPriors;  // [prior]
+
+struct LineInit {
+  double y0_mm = 0.0;
+  double m = 0.0;
+  double c_per_mm = 0.0;
+
+  bool operator==(const LineInit&) const = default;
+};
+
+struct GyroConfig {
+  double sigma_deg = 0.5;  // std. dev. of its roll and pitch, used as priors
+  std::string device;      // "" = no gyro, "emulated", or a serial device path
+
+  bool operator==(const GyroConfig&) const = default;
+};
+
+enum class SourceKind { synth, frames, v4l2, aravis };
+
+struct SourceConfig {
+  SourceKind kind = SourceKind::synth;
+  std::string device = "/dev/video0";
+  std::string camera;
+  std::string path;
+  double rate_hz = 30.0;
+  bool loop = false;
+
+  bool operator==(const SourceConfig&) const = default;
+};
+
+struct RealtimeConfig {
+  bool mlock = false;
+  int capture_priority = 0;
+  int processing_priority = 0;
+  int gyro_priority = 0;
+  std::vector<int> cpus;  // affinity of every pipeline thread; empty = any CPU
+
+  bool operator==(const RealtimeConfig&) const = default;
+};
+
+// ccdlaned's own knobs ([daemon]).
+struct DaemonConfig {
+  int queue_depth = 4;           // frames that may wait for processing; beyond, the oldest is dropped
+  double stall_timeout_s = 2.0;  // no frame for this long: the camera is reported stalled
+
+  bool operator==(const DaemonConfig&) const = default;
+};
+
+struct Config {
+  std::string path;  // where it was loaded from ("" for built-in defaults)
+  CameraSpec camera;
+  double f_mm = 5.05;
+  double H_mm = 1400.0;
+  AttitudeDeg attitude;
+  SolverConfig solver;
+  PriorConfig prior;
+  std::vector<LineInit> lines;
+  GyroConfig gyro;
+  SourceConfig source;
+  LcmConfig lcm;
+  RealtimeConfig realtime;
+  DaemonConfig daemon;
+  SynthConfig synth;
+  DetectionConfig detection;
+
+  // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
+  CameraPose nominal_pose() const;
+  // What the lane estimator needs of all this.
+  LaneEstimatorOptions estimator_options() const;
+  bool operator==(const Config&) const = default;
+};
+
+// The reference camera of geometry.md (DH-HV2003UC), used when no config is given.
+Config default_config();
+
+}  // namespace ccdlane

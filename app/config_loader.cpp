@@ -1,0 +1,504 @@
+// TOML -> Config with strict checking: every key must be known, of the right type and
+// of a possible value; the first problem is reported with file, line and key.
+#include "app/config_loader.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace ccdlane {
+namespace {
+
+// Reads the keys of one table, remembering which it consumed so that whatever is left
+// over can be reported as unknown.
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string name, const std::string& file)
+      : table_(table), name_(std::move(name)), file_(file) {}
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    std::ostringstream out;
+    out << file_;
+    const auto& src = node ? node->source() : table_.source();
+    if (src.begin.line > 0) out << ':' << src.begin.line;
+    out << ": " << qualified(key) << ": " << what;
+    throw ConfigError(out.str());
+  }
+
+  std::string qualified(const std::string& key) const { return name_.empty() ? key : name_ + "." + key; }
+
+  const toml::node* take(const std::string& key) {
+    seen_.insert(key);
+    return table_.get(key);
+  }
+
+  void number(const std::string& key, double& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (auto v = n->value<double>(); v && (n->is_floating_point() || n->is_integer())) {
+      if (!std::isfinite(*v)) fail(n, key, "must be a finite number");
+      out = *v;
+      return;
+    }
+    fail(n, key, std::string("must be a number, got ") + type_name(*n));
+  }
+
+  void integer(const std::string& key, int& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_integer()) fail(n, key, std::string("must be an integer, got ") + type_name(*n));
+    const auto v = *n->value<std::int64_t>();
+    if (v < -1'000'000'000 || v > 1'000'000'000) fail(n, key, "is out of range");
+    out = static_cast<int>(v);
+  }
+
+  void boolean(const std::string& key, bool& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_boolean()) fail(n, key, std::string("must be true or false, got ") + type_name(*n));
+    out = *n->value<bool>();
+  }
+
+  void string(const std::string& key, std::string& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_string()) fail(n, key, std::string("must be a string, got ") + type_name(*n));
+    out = *n->value<std::string>();
+  }
+
+  // A [mean, sigma] pair with sigma > 0.
+  void prior(const std::string& key, std::optional<Prior>& out) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number())
+      fail(n, key, "must be [mean, sigma], two numbers");
+    Prior p{*(*a)[0].value<double>(), *(*a)[1].value<double>()};
+    if (!std::isfinite(p.mean) || !std::isfinite(p.sigma) || !(p.sigma > 0.0))
+      fail(n, key, "needs a finite mean and a sigma > 0");
+    out = p;
+  }
+
+  const toml::node* node(const std::string& key) const { return table_.get(key); }
+  const std::set<std::string>& taken() const { return seen_; }
+  const toml::table& table() const { return table_; }
+
+  // Every key not taken is unknown: a misspelt key must not silently become a default.
+  void reject_unknown() const {
+    for (auto&& [key, value] : table_) {
+      const std::string k(key.str());
+      if (!seen_.count(k)) fail(&value, k, "unknown key");
+    }
+  }
+
+  static const char* type_name(const toml::node& n) {
+    switch (n.type()) {
+      case toml::node_type::string: return "a string";
+      case toml::node_type::integer: return "an integer";
+      case toml::node_type::floating_point: return "a number";
+      case toml::node_type::boolean: return "a boolean";
+      case toml::node_type::array: return "an array";
+      case toml::node_type::table: return "a table";
+      default: return "a date or time";
+    }
+  }
+
+ private:
+  const toml::table& table_;
+  std::string name_;
+  const std::string& file_;
+  std::set<std::string> seen_;
+};
+
+// Positive and finite, with a message naming the key.
+void require(bool ok, const TableReader& r, const std::string& key, const std::string& what) {
+  if (!ok) r.fail(r.node(key), key, what);
+}
+
+std::string format_number(double v) {
+  std::ostringstream out;
+  out.precision(10);
+  out << v;
+  return out.str();
+}
+
+void read_camera(TableReader& r, Config& c) {
+  CameraSpec& cam = c.camera;
+  r.number("U_mm", cam.U_mm);
+  r.number("V_mm", cam.V_mm);
+  r.number("Uc_mm", cam.Uc_mm);
+  r.number("Vc_mm", cam.Vc_mm);
+  r.integer("Nu", cam.Nu);
+  r.integer("Nv", cam.Nv);
+  r.number("f_mm", c.f_mm);
+  const bool has_cx = r.node("cx") != nullptr, has_cy = r.node("cy") != nullptr;
+  r.number("cx", cam.cx);
+  r.number("cy", cam.cy);
+  r.number("k_px2", cam.k_px2);
+  r.reject_unknown();
+
+  const std::pair<const char*, double> sizes[] = {
+      {"U_mm", cam.U_mm}, {"V_mm", cam.V_mm}, {"Uc_mm", cam.Uc_mm}, {"Vc_mm", cam.Vc_mm}};
+  for (const auto& [key, value] : sizes) require(value > 0.0, r, key, "must be > 0, got " + format_number(value));
+  require(cam.Nu >= 2, r, "Nu", "must be at least 2, got " + std::to_string(cam.Nu));
+  require(cam.Nv >= 2, r, "Nv", "must be at least 2, got " + std::to_string(cam.Nv));
+  require(cam.Uc_mm < cam.U_mm, r, "Uc_mm", "a cell cannot be as wide as the chip (U_mm = " + format_number(cam.U_mm) + ")");
+  require(cam.Vc_mm < cam.V_mm, r, "Vc_mm", "a cell cannot be as tall as the chip (V_mm = " + format_number(cam.V_mm) + ")");
+  require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + 1e-9), r, "Nu",
+          "Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  require(cam.Vc_mm * cam.Nv <= cam.V_mm * (1.0 + 1e-9), r, "Nv",
+          "Nv cells of Vc_mm do not fit on a chip V_mm tall");
+  require(c.f_mm > 0.0, r, "f_mm", "must be > 0, got " + format_number(c.f_mm));
+  if (!has_cx) cam.cx = CameraSpec::default_cx(cam.Nu);
+  if (!has_cy) cam.cy = CameraSpec::default_cy(cam.Nv);
+  require(cam.cx >= 0.5 && cam.cx <= cam.Nu + 0.5, r, "cx", "principal point must lie on the chip (0.5 .. Nu+0.5)");
+  require(cam.cy >= 0.5 && cam.cy <= cam.Nv + 0.5, r, "cy", "principal point must lie on the chip (0.5 .. Nv+0.5)");
+  // The division model is one-to-one over the picture only while k r^2 stays inside
+  // (-1, 1) at the corners: beyond, barrel pixels have no ideal point and pincushion
+  // pixels fold back onto ones nearer the centre.
+  const double corner2 = std::pow(std::max(cam.cx - 0.5, cam.Nu + 0.5 - cam.cx), 2) +
+                         std::pow(std::max(cam.cy - 0.5, cam.Nv + 0.5 - cam.cy), 2);
+  require(std::abs(cam.k_px2) * corner2 < 1.0, r, "k_px2",
+          "distortion this strong makes the image corners ambiguous (|k_px2| * r_corner^2 must be < 1)");
+}
+
+void read_mount(TableReader& r, Config& c) {
+  r.number("yM_mm", c.camera.yM_mm);
+  r.number("zM_mm", c.camera.zM_mm);
+  r.number("H_mm", c.H_mm);
+  r.reject_unknown();
+  require(c.H_mm > 0.0, r, "H_mm", "the camera must be above the road (H_mm > 0), got " + format_number(c.H_mm));
+}
+
+void read_attitude(TableReader& r, Config& c) {
+  r.number("psi_deg", c.attitude.psi_deg);
+  r.number("theta_deg", c.attitude.theta_deg);
+  r.number("phi_deg", c.attitude.phi_deg);
+  r.reject_unknown();
+  require(std::abs(c.attitude.psi_deg) < 90.0, r, "psi_deg", "must be within (-90, 90) degrees");
+  require(std::abs(c.attitude.theta_deg) < 90.0, r, "theta_deg", "must be within (-90, 90) degrees");
+  require(std::abs(c.attitude.phi_deg) <= 180.0, r, "phi_deg", "must be within [-180, 180] degrees");
+}
+
+void read_solver(TableReader& r, Config& c) {
+  std::string mode = "reprojection";
+  r.string("mode", mode);
+  if (mode == "reprojection") c.solver.mode = SolverMode::reprojection;
+  else if (mode == "paper") c.solver.mode = SolverMode::paper;
+  else r.fail(r.node("mode"), "mode", "must be \"reprojection\" or \"paper\", got \"" + mode + "\"");
+
+  if (const toml::node* n = r.take("free")) {
+    const toml::array* a = n->as_array();
+    if (!a) r.fail(n, "free", "must be an array of names (psi theta phi H f y0 m c)");
+    FreeSet set;
+    for (const toml::node& e : *a) {
+      const auto name = e.value<std::string>();
+      const auto p = name ? free_param_from_name(*name) : std::nullopt;
+      if (!p) r.fail(&e, "free", "unknown parameter " + (name ? "\"" + *name + "\"" : std::string("(not a string)")) +
+                                     "; expected any of psi theta phi H f y0 m c");
+      set.add(*p);
+    }
+    c.solver.free = set;
+  }
+  r.number("pixel_sigma", c.solver.pixel_sigma);
+  r.integer("max_iterations", c.solver.max_iterations);
+  r.string("picks", c.solver.picks);
+  r.reject_unknown();
+  require(c.solver.pixel_sigma > 0.0, r, "pixel_sigma", "must be > 0");
+  require(c.solver.max_iterations >= 1 && c.solver.max_iterations <= 10000, r, "max_iterations",
+          "must be between 1 and 10000");
+}
+
+void read_prior(TableReader& r, Config& c) {
+  r.prior("psi_deg", c.prior.psi_deg);
+  r.prior("theta_deg", c.prior.theta_deg);
+  r.prior("phi_deg", c.prior.phi_deg);
+  r.prior("H_mm", c.prior.H_mm);
+  r.prior("f_mm", c.prior.f_mm);
+  r.prior("lane_width_mm", c.prior.lane_width_mm);
+  r.reject_unknown();
+}
+
+void read_line(TableReader& r, Config& c) {
+  LineInit line;
+  r.number("y0_mm", line.y0_mm);
+  r.number("m", line.m);
+  r.number("c_per_mm", line.c_per_mm);
+  r.reject_unknown();
+  c.lines.push_back(line);
+}
+
+void read_gyro(TableReader& r, Config& c) {
+  r.number("sigma_deg", c.gyro.sigma_deg);
+  r.string("device", c.gyro.device);
+  r.reject_unknown();
+  require(c.gyro.sigma_deg > 0.0, r, "sigma_deg", "must be > 0");
+}
+
+void read_source(TableReader& r, Config& c) {
+  std::string kind = "synth";
+  r.string("kind", kind);
+  if (kind == "synth") c.source.kind = SourceKind::synth;
+  else if (kind == "frames") c.source.kind = SourceKind::frames;
+  else if (kind == "v4l2") c.source.kind = SourceKind::v4l2;
+  else if (kind == "aravis") c.source.kind = SourceKind::aravis;
+  else r.fail(r.node("kind"), "kind", "must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"" + kind + "\"");
+  r.string("device", c.source.device);
+  r.string("camera", c.source.camera);
+  r.string("path", c.source.path);
+  r.number("rate_hz", c.source.rate_hz);
+  r.boolean("loop", c.source.loop);
+  r.reject_unknown();
+  require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
+  require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
+          "a \"frames\" source needs path = the frame directory");
+}
+
+void read_lcm(TableReader& r, Config& c) {
+  r.string("url", c.lcm.url);
+  r.string("prefix", c.lcm.prefix);
+  r.boolean("publish_frames", c.lcm.publish_frames);
+  r.reject_unknown();
+  const std::string_view url = c.lcm.url;
+  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") ||
+                              url.starts_with("tcpq://") || url.starts_with("file://");
+  require(known_provider, r, "url",
+          "must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
+  // LCM channel names are at most 63 bytes; leave room for the longest suffix.
+  require(c.lcm.prefix.size() <= 48, r, "prefix", "must be at most 48 characters");
+  const bool plain = std::all_of(c.lcm.prefix.begin(), c.lcm.prefix.end(), [](unsigned char ch) {
+    return std::isalnum(ch) || ch == '_' || ch == '-' || ch == '.' || ch == '/';
+  });
+  require(plain, r, "prefix", "may hold only letters, digits and _ - . /");
+}
+
+void read_realtime(TableReader& r, Config& c) {
+  r.boolean("mlock", c.realtime.mlock);
+  r.integer("capture_priority", c.realtime.capture_priority);
+  r.integer("processing_priority", c.realtime.processing_priority);
+  r.integer("gyro_priority", c.realtime.gyro_priority);
+  if (const toml::node* n = r.take("cpus")) {
+    const toml::array* a = n->as_array();
+    if (!a) r.fail(n, "cpus", "must be an array of CPU numbers");
+    for (const toml::node& e : *a) {
+      if (!e.is_integer() || *e.value<std::int64_t>() < 0 || *e.value<std::int64_t>() > 1023)
+        r.fail(&e, "cpus", "must hold CPU numbers 0..1023");
+      c.realtime.cpus.push_back(static_cast<int>(*e.value<std::int64_t>()));
+    }
+  }
+  r.reject_unknown();
+  require(c.realtime.capture_priority >= 0 && c.realtime.capture_priority <= 99, r, "capture_priority",
+          "must be a SCHED_FIFO priority 0..99");
+  require(c.realtime.processing_priority >= 0 && c.realtime.processing_priority <= 99, r, "processing_priority",
+          "must be a SCHED_FIFO priority 0..99");
+  require(c.realtime.gyro_priority >= 0 && c.realtime.gyro_priority <= 99, r, "gyro_priority",
+          "must be a SCHED_FIFO priority 0..99");
+}
+
+void read_daemon(TableReader& r, Config& c) {
+  r.integer("queue_depth", c.daemon.queue_depth);
+  r.number("stall_timeout_s", c.daemon.stall_timeout_s);
+  r.reject_unknown();
+  // The daemon's frame pool holds queue_depth + 2 frames, at most 64.
+  require(c.daemon.queue_depth >= 1 && c.daemon.queue_depth <= 62, r, "queue_depth", "must be between 1 and 62 frames");
+  require(c.daemon.stall_timeout_s >= 0.1 && c.daemon.stall_timeout_s <= 3600.0, r, "stall_timeout_s",
+          "must be between 0.1 and 3600 seconds");
+}
+
+void read_synth(TableReader& r, Config& c) {
+  SynthConfig& s = c.synth;
+  int seed = static_cast<int>(s.seed);
+  r.integer("seed", seed);
+  require(seed >= 0, r, "seed", "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+  r.integer("frames", s.frames);
+  r.number("rate_hz", s.rate_hz);
+  r.number("speed_mps", s.speed_mps);
+  r.integer("lanes", s.lanes);
+  r.integer("ego_lane", s.ego_lane);
+  r.number("lane_width_mm", s.lane_width_mm);
+  r.number("line_width_mm", s.line_width_mm);
+  r.number("edge_line_width_mm", s.edge_line_width_mm);
+  std::string dashed = "inner";
+  r.string("dashed", dashed);
+  if (dashed == "inner") s.dashed = DashedLines::inner;
+  else if (dashed == "all") s.dashed = DashedLines::all;
+  else if (dashed == "none") s.dashed = DashedLines::none;
+  else r.fail(r.node("dashed"), "dashed", "must be \"inner\", \"all\" or \"none\", got \"" + dashed + "\"");
+  r.number("dash_length_mm", s.dash_length_mm);
+  r.number("dash_gap_mm", s.dash_gap_mm);
+  r.number("curvature_per_mm", s.curvature_per_mm);
+  r.number("weave_mm", s.weave_mm);
+  r.number("weave_period_s", s.weave_period_s);
+  r.number("pitch_bump_deg", s.pitch_bump_deg);
+  r.number("bump_period_s", s.bump_period_s);
+  r.number("roll_sway_deg", s.roll_sway_deg);
+  r.number("roll_period_s", s.roll_period_s);
+  r.number("lane_change_at_s", s.lane_change_at_s);
+  r.number("lane_change_s", s.lane_change_s);
+  r.number("asphalt_grey", s.asphalt_grey);
+  r.number("texture_grey", s.texture_grey);
+  r.number("paint_grey", s.paint_grey);
+  r.number("sky_grey", s.sky_grey);
+  r.number("verge_grey", s.verge_grey);
+  r.number("gradient", s.gradient);
+  r.number("shadow_depth", s.shadow_depth);
+  r.number("noise_sigma", s.noise_sigma);
+  r.number("blur_px", s.blur_px);
+  r.integer("supersample", s.supersample);
+  r.integer("bits", s.bits);
+  r.boolean("gyro", s.gyro);
+  r.number("gyro_noise_deg", s.gyro_noise_deg);
+  r.reject_unknown();
+
+  require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");
+  require(s.rate_hz > 0.0 && s.rate_hz <= 1000.0, r, "rate_hz", "must be > 0 and <= 1000");
+  require(s.speed_mps >= 0.0 && s.speed_mps <= 100.0, r, "speed_mps", "must be 0..100");
+  require(s.lanes >= 2 && s.lanes <= 4, r, "lanes", "must be 2..4, got " + std::to_string(s.lanes));
+  require(s.ego_lane >= 0 && s.ego_lane < s.lanes, r, "ego_lane",
+          "must be a lane of the road, 0.." + std::to_string(s.lanes - 1));
+  require(s.lane_width_mm >= 2000.0 && s.lane_width_mm <= 6000.0, r, "lane_width_mm", "must be 2000..6000");
+  require(s.line_width_mm > 0.0 && s.line_width_mm <= 500.0, r, "line_width_mm", "must be > 0 and <= 500");
+  require(s.edge_line_width_mm > 0.0 && s.edge_line_width_mm <= 500.0, r, "edge_line_width_mm",
+          "must be > 0 and <= 500");
+  require(s.dash_length_mm > 0.0, r, "dash_length_mm", "must be > 0");
+  require(s.dash_gap_mm >= 0.0, r, "dash_gap_mm", "must be >= 0");
+  require(std::abs(s.curvature_per_mm) <= 1e-5, r, "curvature_per_mm",
+          "must be within +-1e-5 (a radius of at least 50 m)");
+  require(s.weave_mm >= 0.0 && s.weave_mm < s.lane_width_mm / 2, r, "weave_mm", "must be 0 .. half a lane");
+  const std::pair<const char*, double> periods[] = {{"weave_period_s", s.weave_period_s},
+                                                   {"bump_period_s", s.bump_period_s},
+                                                   {"roll_period_s", s.roll_period_s},
+                                                   {"lane_change_s", s.lane_change_s}};
+  for (const auto& [key, value] : periods) require(value > 0.0, r, key, "must be > 0");
+  require(std::abs(s.pitch_bump_deg) <= 10.0, r, "pitch_bump_deg", "must be within +-10");
+  require(std::abs(s.roll_sway_deg) <= 10.0, r, "roll_sway_deg", "must be within +-10");
+  require(s.lane_change_at_s < 0.0 || s.ego_lane + 1 < s.lanes, r, "lane_change_at_s",
+          "a lane change goes to the lane on the right, and ego_lane is the rightmost");
+  const std::pair<const char*, double> greys[] = {{"asphalt_grey", s.asphalt_grey},
+                                                 {"paint_grey", s.paint_grey},
+                                                 {"sky_grey", s.sky_grey},
+                                                 {"verge_grey", s.verge_grey}};
+  for (const auto& [key, value] : greys) require(value >= 0.0 && value <= 255.0, r, key, "must be a grey level 0..255");
+  require(s.texture_grey >= 0.0 && s.texture_grey <= 100.0, r, "texture_grey", "must be 0..100");
+  require(s.gradient >= 0.0 && s.gradient < 1.0, r, "gradient", "must be 0 .. < 1");
+  require(s.shadow_depth >= 0.0 && s.shadow_depth < 1.0, r, "shadow_depth", "must be 0 .. < 1");
+  require(s.noise_sigma >= 0.0 && s.noise_sigma <= 100.0, r, "noise_sigma", "must be 0..100");
+  require(s.blur_px >= 0.0 && s.blur_px <= 10.0, r, "blur_px", "must be 0..10");
+  require(s.supersample >= 1 && s.supersample <= 16, r, "supersample", "must be 1..16");
+  require(s.bits >= 8 && s.bits <= 16, r, "bits", "must be 8 (mono8) or 9..16 (mono16)");
+  require(s.gyro_noise_deg >= 0.0 && s.gyro_noise_deg <= 10.0, r, "gyro_noise_deg", "must be 0..10");
+}
+
+void read_detection(TableReader& r, Config& c) {
+  DetectionConfig& d = c.detection;
+  r.number("mark_width_mm", d.mark_width_mm);
+  r.number("min_contrast", d.min_contrast);
+  r.number("min_range_mm", d.min_range_mm);
+  r.number("max_range_mm", d.max_range_mm);
+  r.integer("max_lines", d.max_lines);
+  r.integer("max_picks", d.max_picks);
+  r.integer("min_marks", d.min_marks);
+  r.number("departure_mm", d.departure_mm);
+  r.reject_unknown();
+  require(d.mark_width_mm >= 50.0 && d.mark_width_mm <= 500.0, r, "mark_width_mm", "must be 50..500");
+  require(d.min_contrast > 0.0 && d.min_contrast <= 200.0, r, "min_contrast", "must be > 0 and <= 200");
+  require(d.min_range_mm >= 500.0, r, "min_range_mm", "must be >= 500");
+  require(d.max_range_mm > d.min_range_mm * 1.5 && d.max_range_mm <= 200000.0, r, "max_range_mm",
+          "must be more than 1.5 x min_range_mm and <= 200000");
+  require(d.max_lines >= 2 && d.max_lines <= kMaxDetectedLines, r, "max_lines",
+          "must be 2.." + std::to_string(kMaxDetectedLines));
+  require(d.max_picks >= 20 && d.max_picks <= 4000, r, "max_picks", "must be 20..4000");
+  require(d.min_marks >= 3 && d.min_marks <= 200, r, "min_marks", "must be 3..200");
+  require(d.departure_mm >= 0.0 && d.departure_mm <= 5000.0, r, "departure_mm", "must be 0..5000");
+}
+
+using SectionReader = void (*)(TableReader&, Config&);
+struct Section {
+  const char* name;
+  SectionReader read;
+};
+constexpr Section kSections[] = {
+    {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
+    {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
+    {"realtime", read_realtime}, {"daemon", read_daemon},     {"synth", read_synth},
+    {"detection", read_detection},
+};
+
+}  // namespace
+
+Config parse_config(std::string_view toml_text, const std::string& source_name) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream out;
+    out << source_name << ':' << e.source().begin.line << ": " << e.description();
+    throw ConfigError(out.str());
+  }
+
+  Config c = default_config();
+  c.path = source_name;
+  TableReader top(root, "", source_name);
+  // [camera] before [mount] matters only for defaults; each table is read exactly once.
+  for (const Section& s : kSections) {
+    const toml::node* n = top.take(s.name);
+    if (!n) {
+      if (std::string(s.name) == "camera") {  // defaults still need their derived values
+        toml::table empty;
+        TableReader r(empty, s.name, source_name);
+        s.read(r, c);
+      }
+      continue;
+    }
+    const toml::table* t = n->as_table();
+    if (!t) top.fail(n, s.name, "must be a table ([" + std::string(s.name) + "])");
+    TableReader r(*t, s.name, source_name);
+    s.read(r, c);
+  }
+  if (const toml::node* n = top.take("lines")) {
+    const toml::array* a = n->as_array();
+    if (!a || !a->is_array_of_tables()) top.fail(n, "lines", "must be [[lines]] tables");
+    int index = 0;
+    for (const toml::node& e : *a) {
+      TableReader r(*e.as_table(), "lines[" + std::to_string(index++) + "]", source_name);
+      read_line(r, c);
+    }
+  }
+  top.reject_unknown();
+  return c;
+}
+
+std::vector<std::string> config_keys() {
+  // Each reader run over an empty table takes every key it knows: the list cannot drift
+  // from what parse_config() accepts.
+  const std::string file = "(schema)";
+  const toml::table empty;
+  Config c = default_config();
+  std::vector<std::string> keys;
+  const auto collect = [&](const char* table, SectionReader read) {
+    TableReader r(empty, table, file);
+    read(r, c);
+    for (const std::string& key : r.taken()) keys.push_back(r.qualified(key));
+  };
+  for (const Section& s : kSections) collect(s.name, s.read);
+  collect("lines", read_line);
+  return keys;
+}
+
+Config load_config_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot read the configuration file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ConfigError(path + ": error while reading the configuration file");
+  return parse_config(text.str(), path);
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,119 @@
+// The session does the hard parts (handshake, time stamps, history, hang-up recovery);
+// this maps its states and counters onto the daemon's status and logs its events.
+#include "app/gx1_attitude_provider.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+namespace ccdlane {
+
+Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, Gx1LineSink log, gx1::SessionOptions options)
+    : device_(std::move(device)), log_(std::move(log)), options_(options) {}
+
+Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, Gx1LineSink log, gx1::SessionOptions options)
+    : device_("emulated"),
+      log_(std::move(log)),
+      options_(options),
+      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), [this](const char* line) {
+        char text[320];
+        std::snprintf(text, sizeof text, "emulator: %s", line);
+        if (log_) log_(LogLevel::info, text);
+      })) {}
+
+Gx1AttitudeProvider::~Gx1AttitudeProvider() { close(); }
+
+void Gx1AttitudeProvider::note(const char* line) {
+  if (log_) log_(LogLevel::notice, line);
+  std::lock_guard<std::mutex> lock(problem_mutex_);
+  std::snprintf(problem_, sizeof problem_, "%s", line);
+}
+
+std::string Gx1AttitudeProvider::open() {
+  std::string path = device_;
+  if (emulator_) {
+    if (const int rc = emulator_->start(); rc < 0)
+      return "gyro.device: \"emulated\": cannot start the 3DM-GX1 emulator: " + std::string(std::strerror(-rc));
+    path = emulator_->slave_path();
+  }
+  session_ = std::make_unique<gx1::Gx1Session>(path, options_, [this](const char* line) { note(line); });
+  if (const int rc = session_->open(); rc < 0) {
+    const std::string why = rc == -ETIMEDOUT ? "the sensor did not answer" : std::strerror(-rc);
+    session_.reset();
+    if (emulator_) emulator_->stop();
+    return "gyro.device: \"" + device_ + "\": " + path + ": " + why;
+  }
+  {
+    std::lock_guard<std::mutex> lock(problem_mutex_);
+    problem_[0] = '\0';  // the handshake's lines are not problems
+  }
+  opened_.store(true, std::memory_order_release);
+  return "";
+}
+
+void Gx1AttitudeProvider::run(const std::atomic<bool>& stop) {
+  if (!session_) return;
+  while (!stop.load(std::memory_order_acquire)) session_->poll_once(100);
+}
+
+void Gx1AttitudeProvider::close() {
+  if (session_) session_->close();
+  if (emulator_) emulator_->stop();
+}
+
+std::optional<Gx1Angles> Gx1AttitudeProvider::attitude_at(std::int64_t t_ns) const {
+  if (!session_) return std::nullopt;
+  const gx1::AttitudeQuery q = session_->attitude_at(t_ns);
+  if (q.status != gx1::AttitudeStatus::ok) return std::nullopt;
+  return q.angles;
+}
+
+std::optional<std::int64_t> Gx1AttitudeProvider::newest_sample_ns() const {
+  if (!session_) return std::nullopt;
+  const std::uint64_t n = session_->history().count();
+  gx1::Gx1Sample newest;
+  if (n == 0 || !session_->history().sample(n - 1, newest)) return std::nullopt;
+  return newest.t_ns;
+}
+
+GyroState Gx1AttitudeProvider::state() const {
+  if (!opened_.load(std::memory_order_acquire) || !session_) return GyroState::starting;
+  switch (session_->state()) {
+    case DeviceState::opening:
+    case DeviceState::configuring: return GyroState::starting;
+    case DeviceState::recovering:
+    case DeviceState::closed: return GyroState::lost;
+    case DeviceState::streaming: break;
+  }
+  // Streaming, but is it still talking? The same age limit as the priors use.
+  const gx1::AttitudeQuery q = session_->attitude_at(monotonic_ns());
+  return q.status == gx1::AttitudeStatus::ok ? GyroState::ok : GyroState::stale;
+}
+
+void Gx1AttitudeProvider::last_problem(char* out, std::size_t size) const {
+  if (size == 0) return;
+  if (state() == GyroState::ok) {
+    out[0] = '\0';
+    return;
+  }
+  std::lock_guard<std::mutex> lock(problem_mutex_);
+  std::snprintf(out, size, "%s", problem_);
+}
+
+GyroCounters Gx1AttitudeProvider::counters() const {
+  GyroCounters c;
+  if (!session_) return c;
+  const gx1::SessionCounters s = session_->counters();
+  c.samples = s.samples;
+  c.errors = s.bad_checksums + s.unconfirmed + s.hangups;
+  c.timeouts = s.stream_timeouts + s.poll_timeouts;
+  c.reconnects = s.reopens;
+  return c;
+}
+
+std::string Gx1AttitudeProvider::describe() const {
+  std::string d = "3dm-gx1:" + (emulator_ ? "emulated (" + emulator_->slave_path() + ")" : device_);
+  return d + (options_.continuous ? ", continuous" : ", polled");
+}
+
+}  // namespace ccdlane

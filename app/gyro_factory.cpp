@@ -1,0 +1,47 @@
+// [gyro] device: "" = no gyro, "emulated" = the 3DM-GX1 emulator on a pty in this
+// process (following the synthetic drive's attitude), anything else = a serial device.
+#include "app/gyro_factory.hpp"
+
+#include <cmath>
+#include <memory>
+
+#include "core/synth/synth_drive.hpp"
+#include "app/gx1_attitude_provider.hpp"
+#include "base/log.hpp"
+#include "app/synth_source.hpp"
+
+namespace ccdlane {
+namespace {
+
+// The attitude the synth source's frames show at t_s seconds of playback (the source
+// loops over its rendered frames, so does this). The emulator starts just after the
+// source has rendered its frames, so the two clocks agree to within the gyro's
+// start-up time (tens of ms, against sway and bump periods of seconds).
+gx1::AttitudeScript follow_synth_drive(const Config& config) {
+  auto drive = std::make_shared<SynthDrive>(config.synth, config.nominal_pose());
+  const double rate = config.source.rate_hz > 0 ? config.source.rate_hz : config.synth.rate_hz;
+  const auto count = static_cast<std::uint64_t>(synth_source_frame_count(config));
+  return [drive, rate, count](double t_s) {
+    const auto k = static_cast<std::uint64_t>(std::max(0.0, std::floor(t_s * rate)));
+    return drive->frame(k % count).gyro;
+  };
+}
+
+// The gyro's events go to the daemon's log.
+void log_gyro_line(LogLevel level, const char* line) { log_line(level, "gyro", "%s", line); }
+
+}  // namespace
+
+std::string attitude_provider_unavailable(const Config&) { return ""; }
+
+std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config) {
+  if (config.gyro.device.empty()) return nullptr;
+  if (config.gyro.device == "emulated") {
+    gx1::EmulatorOptions o;
+    o.attitude = follow_synth_drive(config);
+    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log_gyro_line);
+  }
+  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log_gyro_line);
+}
+
+}  // namespace ccdlane

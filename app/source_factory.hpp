@@ -1,0 +1,26 @@
+// [source] kind -> the FrameSource that captures it, from one table of kinds.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "app/config.hpp"
+#include "drivers/frame_source.hpp"
+
+namespace ccdlane {
+
+// "" when this build can capture from [source] kind, else why not (one line).
+std::string frame_source_unavailable(const Config& config);
+
+// Whether the frames of [source] come with their own gyro reading: "" when they do
+// (synthetic frames carry their drive's; a frame directory whose frames.csv has the
+// roll_deg and pitch_deg columns, read now, its recorded one), else the cause in one
+// line, naming the file for a frame directory. A directory that cannot be read counts
+// as carrying them: opening it says what is wrong.
+std::string frames_without_gyro(const Config& config);
+
+// The source for [source], not yet opened. Throws std::runtime_error with
+// frame_source_unavailable()'s text for a kind this build lacks.
+std::unique_ptr<FrameSource> make_frame_source(const Config& config);
+
+}  // namespace ccdlane

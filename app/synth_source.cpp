@@ -1,0 +1,86 @@
+// Rendering is far slower than a frame period (the renderer supersamples every mark
+// edge), so it all happens before the daemon is ready and capture() is a paced memcpy.
+#include "app/synth_source.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "core/synth/road_renderer.hpp"
+#include "base/clock.hpp"
+
+namespace ccdlane {
+
+int synth_source_frame_count(const Config& config) {
+  const double most = std::floor(SynthSourceOptions::kMaxSeconds * config.synth.rate_hz);
+  return std::max(1, static_cast<int>(std::min(static_cast<double>(config.synth.frames), most)));
+}
+
+SynthSource::SynthSource(const Config& config, SynthSourceOptions options)
+    : config_(config),
+      options_(options),
+      drive_(config.synth, config.nominal_pose()),
+      width_(config.camera.Nu),
+      height_(config.camera.Nv),
+      count_(synth_source_frame_count(config)) {}
+
+std::string SynthSource::open() {
+  RoadRenderer renderer(config_.camera, config_.synth);
+  format_ = renderer.format();
+  bits_ = format_ == PixelFormat::mono16 ? config_.synth.bits : 8;
+  const std::ptrdiff_t stride = static_cast<std::ptrdiff_t>(width_) * bytes_per_pixel(format_);
+  frame_bytes_ = static_cast<std::size_t>(stride) * static_cast<std::size_t>(height_);
+  pixels_.assign(frame_bytes_ * static_cast<std::size_t>(count_), 0);
+  gyro_.resize(static_cast<std::size_t>(count_));
+  for (int k = 0; k < count_; ++k) {
+    const SynthFrame truth = drive_.frame(static_cast<std::uint64_t>(k));
+    renderer.render(truth, {pixels_.data() + frame_bytes_ * static_cast<std::size_t>(k), width_, height_, stride,
+                            format_, bits_});
+    gyro_[static_cast<std::size_t>(k)] = truth.gyro;
+  }
+  start_ns_ = monotonic_ns();
+  next_ = 0;
+  return "";
+}
+
+CaptureStatus SynthSource::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
+  if (options_.frames != 0 && next_ >= options_.frames) return CaptureStatus::end_of_stream;
+  if (options_.rate_hz > 0.0) {
+    const auto due =
+        start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(next_) * 1e9 / options_.rate_hz));
+    const std::int64_t deadline = monotonic_ns() + static_cast<std::int64_t>(timeout_ms) * 1'000'000;
+    if (due > deadline) {
+      sleep_until(deadline);
+      return CaptureStatus::timeout;
+    }
+    sleep_until(due);
+  }
+  const std::size_t k = static_cast<std::size_t>(next_ % static_cast<std::uint64_t>(count_));
+  const std::uint8_t* src = pixels_.data() + frame_bytes_ * k;
+  const std::size_t row_bytes = static_cast<std::size_t>(width_) * static_cast<std::size_t>(bytes_per_pixel(format_));
+  for (int y = 0; y < height_; ++y) std::memcpy(into.row(y), src + row_bytes * static_cast<std::size_t>(y), row_bytes);
+  meta.sequence = next_;
+  meta.t_ns = monotonic_ns();
+  meta.recorded_t_ns = drive_.t_ns(next_);  // the drive's clock, as `ccdlane synth` stamps frame n
+  if (options_.gyro_in_meta) meta.gyro = gyro_[k];
+  else meta.gyro.reset();
+  ++next_;
+  delivered_.fetch_add(1, std::memory_order_relaxed);
+  return CaptureStatus::frame;
+}
+
+std::string SynthSource::describe() const {
+  char text[128];
+  std::snprintf(text, sizeof text, "synth %dx%d %s %.4g fps (%d frames of a %d-lane road, looping)", width_, height_,
+                format_ == PixelFormat::mono16 ? "mono16" : "mono8", options_.rate_hz, count_, config_.synth.lanes);
+  return text;
+}
+
+SourceCounters SynthSource::counters() const {
+  SourceCounters c;
+  c.frames = delivered_.load(std::memory_order_relaxed);
+  return c;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,120 @@
+// Frame logs through lcm::LogFile, with a temporary name until the recording is finished.
+#include "bus/frame_log.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include <lcm/lcm-cpp.hpp>
+
+namespace ccdlane {
+namespace {
+
+// Every event of an LCM log starts with this sync word, big-endian (lcm/eventlog.c).
+constexpr unsigned char kLcmLogSync[4] = {0xED, 0xA1, 0xDA, 0x01};
+
+bool starts_with_lcm_event(const std::string& path) {
+  unsigned char head[4] = {};
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  const std::size_t n = std::fread(head, 1, sizeof head, f);
+  std::fclose(f);
+  return n == sizeof head && std::memcmp(head, kLcmLogSync, sizeof head) == 0;
+}
+
+}  // namespace
+
+FrameLogWriter::FrameLogWriter(std::string path, std::string channel)
+    : path_(std::move(path)), tmp_(path_ + ".tmp"), channel_(std::move(channel)) {
+  struct stat st {};
+  if (::stat(path_.c_str(), &st) == 0) throw FrameLogError(path_ + ": already exists; choose another name");
+  log_ = std::make_unique<lcm::LogFile>(tmp_, "w");
+  if (!log_->good()) {
+    const int error = errno;
+    log_.reset();
+    ::unlink(tmp_.c_str());
+    throw FrameLogError(tmp_ + ": cannot create: " + std::strerror(error));
+  }
+}
+
+FrameLogWriter::~FrameLogWriter() {
+  if (finished_) return;
+  log_.reset();
+  ::unlink(tmp_.c_str());
+}
+
+void FrameLogWriter::write(const ImageView& image, const FrameRecord& record) {
+  if (finished_) throw std::logic_error("FrameLogWriter::write after finish");
+  if (!to_frame_message(image, record, message_)) {
+    prepare_frame_message(message_, image.width, image.height, image.format);
+    to_frame_message(image, record, message_);
+  }
+  bytes_.resize(static_cast<std::size_t>(message_.getEncodedSize()));
+  const int size = message_.encode(bytes_.data(), 0, static_cast<int>(bytes_.size()));
+  lcm::LogEvent event;
+  event.eventnum = 0;  // LCM numbers the events it writes
+  event.timestamp = record.utime;
+  event.channel = channel_;
+  event.datalen = size;
+  event.data = bytes_.data();
+  if (size < 0 || log_->writeEvent(&event) != 0)
+    throw FrameLogError(tmp_ + ": cannot write frame " + std::to_string(record.sequence) + ": " + std::strerror(errno));
+  ++frames_;
+}
+
+void FrameLogWriter::finish() {
+  if (finished_) return;
+  FILE* file = log_->getFilePtr();
+  const bool flushed = std::fflush(file) == 0 && !std::ferror(file) && ::fsync(::fileno(file)) == 0;
+  const int error = errno;
+  log_.reset();
+  if (!flushed) throw FrameLogError(tmp_ + ": write failed: " + std::strerror(error));
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0)
+    throw FrameLogError(path_ + ": cannot rename into place: " + std::strerror(errno));
+  finished_ = true;
+}
+
+FrameLogReader::FrameLogReader(std::string path, std::string channel)
+    : path_(std::move(path)), channel_(std::move(channel)) {
+  struct stat st {};
+  if (::stat(path_.c_str(), &st) != 0) throw FrameLogError(path_ + ": " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) throw FrameLogError(path_ + ": not a file");
+  // LCM's reader would scan any file for its sync word and just find nothing: say what
+  // is wrong instead.
+  if (!starts_with_lcm_event(path_)) throw FrameLogError(path_ + ": not an LCM log (no LCM event at its start)");
+  log_ = std::make_unique<lcm::LogFile>(path_, "r");
+  if (!log_->good()) throw FrameLogError(path_ + ": cannot open as an LCM log: " + std::strerror(errno));
+}
+
+FrameLogReader::~FrameLogReader() = default;
+
+FrameLogReader::Next FrameLogReader::next() {
+  for (;;) {
+    const lcm::LogEvent* event = log_->readNextEvent();
+    if (!event) return Next::end;
+    const std::size_t index = events_++;  // counted here: appended logs restart LCM's eventnum
+    if (event->channel != channel_) {
+      ++other_events_;
+      continue;
+    }
+    ++frames_;
+    record_ = FrameRecord{};
+    const std::string where = path_ + ": event " + std::to_string(index) + " on " + channel_ + ": ";
+    if (message_.decode(event->data, 0, event->datalen) < 0) {
+      problem_ = where + "not a ccdlane.frame_t message (wrong type or damaged)";
+      return Next::damaged;
+    }
+    record_ = frame_record(message_);
+    if (std::string why = frame_image(message_, image_); !why.empty()) {
+      problem_ = where + why;
+      return Next::damaged;
+    }
+    problem_.clear();
+    return Next::frame;
+  }
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,93 @@
+// LCM log files of raw frames (lcm::LogFile, no network): written by `ccdlane record
+// ... --out FILE.lcmlog`, read by `ccdlane replay CONFIG FILE.lcmlog`. The same files
+// lcm-logger writes from a ccdlaned with [lcm] publish_frames = true.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <ccdlane/frame_t.hpp>
+
+#include "bus/frame_message.hpp"
+
+namespace lcm {
+class LogFile;
+}
+
+namespace ccdlane {
+
+// A log that cannot be used at all: not readable, not writable, already there. The
+// message names the file and the reason.
+class FrameLogError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Writes frame_t events on one channel. The log is written under a temporary name
+// (PATH.tmp) and renamed into place by finish(); a writer destroyed without finish()
+// (an error, an interrupted run) removes it, so a log is either whole or absent.
+class FrameLogWriter {
+ public:
+  // Refuses a path that exists, so an earlier recording is never overwritten.
+  FrameLogWriter(std::string path, std::string channel);
+  ~FrameLogWriter();
+  FrameLogWriter(const FrameLogWriter&) = delete;
+  FrameLogWriter& operator=(const FrameLogWriter&) = delete;
+
+  // The event's timestamp is record.utime. Throws FrameLogError when the disk refuses.
+  void write(const ImageView& image, const FrameRecord& record);
+  void finish();
+
+  std::size_t frames_written() const { return frames_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_, tmp_, channel_;
+  std::unique_ptr<lcm::LogFile> log_;
+  frame_t message_{};
+  std::vector<std::uint8_t> bytes_;
+  std::size_t frames_ = 0;
+  bool finished_ = false;
+};
+
+// Reads the frame_t events of one channel in log order; events of other channels (lane
+// and status messages in a log of ccdlaned's bus) are counted and passed over.
+class FrameLogReader {
+ public:
+  // Throws FrameLogError when the file cannot be opened.
+  FrameLogReader(std::string path, std::string channel);
+  ~FrameLogReader();
+  FrameLogReader(const FrameLogReader&) = delete;
+  FrameLogReader& operator=(const FrameLogReader&) = delete;
+
+  enum class Next : std::uint8_t {
+    frame,    // image() and record() hold the next frame
+    damaged,  // a frame_t event that does not decode or holds no usable image: problem()
+              // says which (the 0-based event of the file) and why; record() has what
+              // could be read (the sequence, when it decoded)
+    end,
+  };
+  Next next();
+
+  const ImageView& image() const { return image_; }
+  const FrameRecord& record() const { return record_; }
+  const std::string& problem() const { return problem_; }
+  std::size_t frames() const { return frames_; }              // frame events read, damaged or not
+  std::size_t other_events() const { return other_events_; }  // on other channels
+  const std::string& path() const { return path_; }
+  const std::string& channel() const { return channel_; }
+
+ private:
+  std::string path_, channel_;
+  std::unique_ptr<lcm::LogFile> log_;
+  frame_t message_{};
+  ImageView image_;
+  FrameRecord record_;
+  std::string problem_;
+  std::size_t events_ = 0, frames_ = 0, other_events_ = 0;
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,48 @@
+// The encode buffers are sized from the largest message each type can be: lane messages
+// have a fixed size; status messages are bounded by kStatusTextMax per string.
+#include "bus/lcm_publisher.hpp"
+
+#include <stdexcept>
+
+#include "bus/channels.hpp"
+#include "bus/lane_message.hpp"
+
+namespace ccdlane {
+
+LcmPublisher::LcmPublisher(const LcmConfig& config)
+    : url_(config.url),
+      lcm_(std::make_unique<lcm::LCM>(config.url)),
+      lanes_channel_(channel_name(config.prefix, Channel::lanes)),
+      status_channel_(channel_name(config.prefix, Channel::status)) {
+  if (!lcm_->good()) throw std::runtime_error("lcm: cannot open the bus \"" + config.url + "\" ([lcm] url)");
+  lane_capacity_ = lane_message_.getEncodedSize();
+  status_t largest;
+  largest.camera.assign(kStatusTextMax, 'x');
+  largest.camera_problem.assign(kStatusTextMax, 'x');
+  largest.gyro_problem.assign(kStatusTextMax, 'x');
+  status_capacity_ = largest.getEncodedSize();
+  lane_bytes_ = std::make_unique<std::uint8_t[]>(static_cast<std::size_t>(lane_capacity_));
+  status_bytes_ = std::make_unique<std::uint8_t[]>(static_cast<std::size_t>(status_capacity_));
+}
+
+bool LcmPublisher::publish_bytes(const std::string& channel, std::uint8_t* buffer, int capacity, const auto& message) {
+  const int size = message.encode(buffer, 0, capacity);
+  if (size < 0) return false;
+  return lcm_->publish(channel, buffer, static_cast<unsigned int>(size)) == 0;
+}
+
+bool LcmPublisher::publish_lane(const LaneEstimate& estimate, std::int64_t capture_utime,
+                                std::int64_t publish_utime) {
+  to_message(estimate, capture_utime, publish_utime, lane_message_);
+  return publish_bytes(lanes_channel_, lane_bytes_.get(), lane_capacity_, lane_message_);
+}
+
+bool LcmPublisher::publish_status(const status_t& status) {
+  // Refuse rather than overrun: the buffer was sized for texts of kStatusTextMax.
+  for (const std::string* text : {&status.camera, &status.camera_problem, &status.gyro_problem})
+    if (text->size() > kStatusTextMax) return false;
+  return publish_bytes(status_channel_, status_bytes_.get(), status_capacity_, status);
+}
+
+}  // namespace ccdlane
+

@@ -1,0 +1,56 @@
+// Lane estimates and status onto the LCM bus of [lcm] url, without allocating per
+// message: one reused message object and encode buffers sized at construction.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <ccdlane/lane_estimate_t.hpp>
+#include <ccdlane/status_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include "bus/lane_sink.hpp"
+
+namespace ccdlane {
+
+// The [lcm] table: which bus, and the prefix of every channel name.
+struct LcmConfig {
+  std::string url = "udpm://239.255.76.67:7667?ttl=0";
+  std::string prefix = "CCDLANE_";
+  bool publish_frames = false;  // raw frames on <prefix>FRAMES too, for lcm-logger (large: ~0.5 MB each)
+
+  bool operator==(const LcmConfig&) const = default;
+};
+
+// Longest text in a status_t string field; longer texts are cut to this by their writer.
+constexpr std::size_t kStatusTextMax = 200;
+
+class LcmPublisher : public LaneSink {
+ public:
+  // Opens the bus. Throws std::runtime_error naming the URL when LCM cannot.
+  explicit LcmPublisher(const LcmConfig& config);
+
+  // lcm::LCM::publish(channel, const T*) encodes into a `new` buffer on every call; this
+  // encodes into the preallocated one and publishes the bytes.
+  bool publish_lane(const LaneEstimate& estimate, std::int64_t capture_utime, std::int64_t publish_utime) override;
+  // Strings longer than kStatusTextMax are refused (false), never reallocated.
+  bool publish_status(const status_t& status);
+
+  const std::string& lanes_channel() const { return lanes_channel_; }
+  const std::string& status_channel() const { return status_channel_; }
+  const std::string& url() const { return url_; }
+  lcm::LCM& bus() { return *lcm_; }
+
+ private:
+  bool publish_bytes(const std::string& channel, std::uint8_t* buffer, int capacity, const auto& message);
+
+  std::string url_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::string lanes_channel_, status_channel_;
+  lane_estimate_t lane_message_{};
+  std::unique_ptr<std::uint8_t[]> lane_bytes_, status_bytes_;
+  int lane_capacity_ = 0, status_capacity_ = 0;
+};
+
+}  // namespace ccdlane

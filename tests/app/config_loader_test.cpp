@@ -1,0 +1,212 @@
+// The TOML schema: defaults, every table, and errors that name file, line and key.
+#include "app/config_loader.hpp"
+
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+namespace ccdlane {
+namespace {
+
+std::string error_of(const std::string& toml) {
+  try {
+    parse_config(toml, "test.toml");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ConfigLoader, EmptyFileGivesTheReferenceCamera) {
+  const Config c = parse_config("", "empty.toml");
+  EXPECT_EQ(c.camera.Nu, 800);
+  EXPECT_EQ(c.camera.cx, 400.5);
+  EXPECT_EQ(c.camera.cy, 300.5);
+  EXPECT_EQ(c.camera.k_px2, -8.3042e-7);
+  EXPECT_EQ(c.H_mm, 1400.0);
+  EXPECT_EQ(c.solver.mode, SolverMode::reprojection);
+  EXPECT_TRUE(c.solver.free.has(FreeParam::psi));
+  EXPECT_FALSE(c.solver.free.has(FreeParam::H));
+  EXPECT_EQ(c.lcm.url, "udpm://239.255.76.67:7667?ttl=0");
+}
+
+TEST(ConfigLoader, ReadsTheDocumentedExample) {
+  const Config c = parse_config(R"(
+[camera]
+U_mm = 5.12
+V_mm = 2.88
+Uc_mm = 0.004
+Vc_mm = 0.004
+Nu = 1280
+Nv = 720
+f_mm = 4.618
+cx = 667.2
+k_px2 = -1.91e-7
+[mount]
+yM_mm = 0
+zM_mm = 0
+H_mm = 1300
+[attitude]
+theta_deg = 2
+[solver]
+mode = "paper"
+free = ["psi", "y0"]
+pixel_sigma = 1
+max_iterations = 20
+[prior]
+lane_width_mm = [3660.0, 300.0]
+phi_deg = [0, 1]
+[[lines]]
+y0_mm = 1800
+[[lines]]
+y0_mm = -1800
+m = 0.01
+[gyro]
+sigma_deg = 0.3
+device = "emulated"
+[source]
+kind = "frames"
+path = "rec/"
+rate_hz = 0
+loop = true
+[lcm]
+prefix = "TEST_"
+[realtime]
+mlock = true
+capture_priority = 50
+cpus = [0, 1]
+)",
+                                "full.toml");
+  EXPECT_EQ(c.camera.Nu, 1280);
+  EXPECT_EQ(c.camera.cx, 667.2);
+  EXPECT_EQ(c.camera.cy, 360.5);  // default (Nv+1)/2
+  EXPECT_EQ(c.f_mm, 4.618);
+  EXPECT_EQ(c.H_mm, 1300);
+  EXPECT_EQ(c.attitude.theta_deg, 2);
+  EXPECT_EQ(c.solver.mode, SolverMode::paper);
+  EXPECT_TRUE(c.solver.free.has(FreeParam::y0));
+  EXPECT_FALSE(c.solver.free.has(FreeParam::theta));
+  ASSERT_TRUE(c.prior.lane_width_mm.has_value());
+  EXPECT_EQ(c.prior.lane_width_mm->sigma, 300.0);
+  EXPECT_FALSE(c.prior.theta_deg.has_value());
+  ASSERT_EQ(c.lines.size(), 2u);
+  EXPECT_EQ(c.lines[1].m, 0.01);
+  EXPECT_EQ(c.gyro.device, "emulated");
+  EXPECT_EQ(c.source.kind, SourceKind::frames);
+  EXPECT_TRUE(c.source.loop);
+  EXPECT_EQ(c.lcm.prefix, "TEST_");
+  EXPECT_EQ(c.realtime.cpus, (std::vector<int>{0, 1}));
+  EXPECT_NEAR(c.nominal_pose().attitude.theta, deg_to_rad(2), 1e-15);
+}
+
+TEST(ConfigLoader, IntegersAreAcceptedWhereNumbersAre) {
+  EXPECT_EQ(parse_config("[mount]\nH_mm = 1250\n", "t.toml").H_mm, 1250.0);
+}
+
+TEST(ConfigLoader, UnknownKeyNamesFileLineAndKey) {
+  EXPECT_EQ(error_of("[camera]\nNu = 800\nfocal = 5\n"), "test.toml:3: camera.focal: unknown key");
+  EXPECT_EQ(error_of("\n[camra]\n"), "test.toml:2: camra: unknown key");
+  EXPECT_EQ(error_of("[[lines]]\ny0_mm = 1\n[[lines]]\ny0 = 2\n"), "test.toml:4: lines[1].y0: unknown key");
+}
+
+TEST(ConfigLoader, WrongTypes) {
+  EXPECT_EQ(error_of("[camera]\nNu = 800.5\n"), "test.toml:2: camera.Nu: must be an integer, got a number");
+  EXPECT_EQ(error_of("[mount]\nH_mm = \"high\"\n"), "test.toml:2: mount.H_mm: must be a number, got a string");
+  EXPECT_EQ(error_of("camera = 3\n"), "test.toml:1: camera: must be a table ([camera])");
+  EXPECT_EQ(error_of("[prior]\nphi_deg = 0.5\n"), "test.toml:2: prior.phi_deg: must be [mean, sigma], two numbers");
+}
+
+TEST(ConfigLoader, ImpossibleValues) {
+  EXPECT_EQ(error_of("[camera]\nU_mm = -6.4\n"), "test.toml:2: camera.U_mm: must be > 0, got -6.4");
+  EXPECT_EQ(error_of("[camera]\nNu = 1\n"), "test.toml:2: camera.Nu: must be at least 2, got 1");
+  EXPECT_EQ(error_of("[camera]\nUc_mm = 7\n"),
+            "test.toml:2: camera.Uc_mm: a cell cannot be as wide as the chip (U_mm = 6.4)");
+  EXPECT_EQ(error_of("[camera]\nNu = 8000\n"), "test.toml:2: camera.Nu: Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  EXPECT_EQ(error_of("[mount]\nH_mm = 0\n"), "test.toml:2: mount.H_mm: the camera must be above the road (H_mm > 0), got 0");
+  EXPECT_EQ(error_of("[solver]\nmode = \"fast\"\n"),
+            "test.toml:2: solver.mode: must be \"reprojection\" or \"paper\", got \"fast\"");
+  EXPECT_EQ(error_of("[solver]\nfree = [\"psi\", \"roll\"]\n"),
+            "test.toml:2: solver.free: unknown parameter \"roll\"; expected any of psi theta phi H f y0 m c");
+  EXPECT_EQ(error_of("[prior]\nH_mm = [1400, 0]\n"), "test.toml:2: prior.H_mm: needs a finite mean and a sigma > 0");
+  EXPECT_EQ(error_of("[camera]\ncx = 900\n"), "test.toml:2: camera.cx: principal point must lie on the chip (0.5 .. Nu+0.5)");
+  EXPECT_EQ(error_of("[camera]\nk_px2 = 1e-5\n"),
+            "test.toml:2: camera.k_px2: distortion this strong makes the image corners ambiguous (|k_px2| * r_corner^2 must be < 1)");
+  EXPECT_EQ(error_of("[source]\nkind = \"frames\"\n"),
+            "test.toml:1: source.path: a \"frames\" source needs path = the frame directory");
+  EXPECT_EQ(error_of("[realtime]\ncapture_priority = 120\n"),
+            "test.toml:2: realtime.capture_priority: must be a SCHED_FIFO priority 0..99");
+}
+
+TEST(ConfigLoader, SyntaxErrorsNameTheLine) {
+  const std::string e = error_of("[camera]\nNu = = 3\n");
+  EXPECT_EQ(e.rfind("test.toml:2: ", 0), 0u) << e;
+}
+
+TEST(ConfigLoader, MissingFileIsAConfigError) {
+  EXPECT_THROW(load_config_file("/nonexistent/ccdlane.toml"), ConfigError);
+}
+
+TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
+  const Config d = parse_config("", "empty.toml");
+  EXPECT_EQ(d.daemon.queue_depth, 4);
+  EXPECT_EQ(d.daemon.stall_timeout_s, 2.0);
+  EXPECT_EQ(d.realtime.gyro_priority, 0);
+  EXPECT_EQ(d.lcm.prefix, "CCDLANE_");
+
+  const Config c = parse_config("[daemon]\nqueue_depth = 8\nstall_timeout_s = 0.5\n"
+                                "[realtime]\ngyro_priority = 40\n[lcm]\nprefix = \"car-7/front.\"\n",
+                                "d.toml");
+  EXPECT_EQ(c.daemon.queue_depth, 8);
+  EXPECT_EQ(c.daemon.stall_timeout_s, 0.5);
+  EXPECT_EQ(c.realtime.gyro_priority, 40);
+  EXPECT_EQ(c.lcm.prefix, "car-7/front.");
+
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 0\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 63\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nstall_timeout_s = 0\n"),
+            "test.toml:2: daemon.stall_timeout_s: must be between 0.1 and 3600 seconds");
+  EXPECT_EQ(error_of("[daemon]\npool = 3\n"), "test.toml:2: daemon.pool: unknown key");
+  EXPECT_EQ(error_of("[realtime]\ngyro_priority = -1\n"),
+            "test.toml:2: realtime.gyro_priority: must be a SCHED_FIFO priority 0..99");
+  EXPECT_EQ(error_of("[lcm]\nprefix = \"CCD LANE\"\n"), "test.toml:2: lcm.prefix: may hold only letters, digits and _ - . /");
+  EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),
+            "test.toml:2: lcm.prefix: must be at most 48 characters");
+  EXPECT_EQ(error_of("[lcm]\nurl = \"\"\n"),
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "\"udpm://239.255.76.67:7667?ttl=0\"");
+  EXPECT_EQ(error_of("[lcm]\nurl = \"udp://239.255.76.67:7667\"\n"),
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "\"udpm://239.255.76.67:7667?ttl=0\"");
+  EXPECT_EQ(parse_config("[lcm]\nurl = \"memq://\"\n", "m.toml").lcm.url, "memq://");
+}
+
+TEST(ConfigLoader, PublishFramesIsOffUnlessAsked) {
+  EXPECT_FALSE(parse_config("", "empty.toml").lcm.publish_frames);
+  EXPECT_TRUE(parse_config("[lcm]\npublish_frames = true\n", "f.toml").lcm.publish_frames);
+  EXPECT_EQ(error_of("[lcm]\npublish_frames = 1\n"), "test.toml:2: lcm.publish_frames: must be true or false, got an integer");
+}
+
+TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
+  const std::vector<std::string> keys = config_keys();
+  for (const char* k : {"camera.Nu", "camera.cx", "mount.H_mm", "solver.free", "prior.lane_width_mm", "gyro.device",
+                        "source.kind", "lcm.publish_frames", "realtime.cpus", "daemon.queue_depth", "synth.seed",
+                        "detection.departure_mm", "lines.y0_mm", "lines.c_per_mm"})
+    EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
+  std::vector<std::string> sorted = keys;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "a key listed twice";
+  // Every key listed is one the loader takes: given a value of the wrong type, it is
+  // refused as that key, not as an unknown one.
+  for (const std::string& key : keys) {
+    const auto dot = key.find('.');
+    const std::string table = key.substr(0, dot), name = key.substr(dot + 1);
+    const std::string text = (table == "lines" ? "[[lines]]\n" : "[" + table + "]\n") + name + " = {}\n";
+    const std::string e = error_of(text);
+    const std::string expected_key = table == "lines" ? "lines[0]." + name : key;
+    EXPECT_NE(e.find(expected_key + ": "), std::string::npos) << e;
+    EXPECT_EQ(e.find("unknown key"), std::string::npos) << e;
+  }
+}
+
+}  // namespace
+}  // namespace ccdlane
