@@ -204,6 +204,7 @@ void read_solver(TableReader& r, Config& c) {
                                      "; expected any of psi theta phi H f y0 m c");
       set.add(*p);
     }
+    if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
     c.solver.free = set;
   }
   r.number("pixel_sigma", c.solver.pixel_sigma);

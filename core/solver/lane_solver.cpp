@@ -118,6 +118,8 @@ struct LaneSolver::Impl {
 
 std::optional<SolveStatus> LaneSolver::Impl::reject(const SolveRequest& r) {
   if (r.num_lines < 1 || r.num_lines > max_lines) return SolveStatus::invalid_input;
+  // Nothing free leaves no problem to solve (and no reduced system to build).
+  if (r.free == FreeSet{}) return SolveStatus::invalid_input;
   if (r.picks.size() > static_cast<std::size_t>(max_picks)) return SolveStatus::invalid_input;
   if (!(std::isfinite(r.pixel_sigma) && r.pixel_sigma > 0.0) || r.max_iterations < 1) return SolveStatus::invalid_input;
   if (!valid_pose(r.initial_pose)) return SolveStatus::invalid_input;

@@ -137,6 +137,13 @@ TEST(ConfigLoader, ImpossibleValues) {
             "test.toml:2: realtime.capture_priority: must be a SCHED_FIFO priority 0..99");
 }
 
+TEST(ConfigLoader, EmptyFreeSetIsRejected) {
+  // Nothing free leaves the solver nothing to solve: refused here, where the file and the
+  // line can still be named, rather than on the first frame.
+  EXPECT_EQ(error_of("[solver]\nmode = \"paper\"\nfree = []\n"),
+            "test.toml:3: solver.free: must name at least one parameter (psi theta phi H f y0 m c)");
+}
+
 TEST(ConfigLoader, SyntaxErrorsNameTheLine) {
   const std::string e = error_of("[camera]\nNu = = 3\n");
   EXPECT_EQ(e.rfind("test.toml:2: ", 0), 0u) << e;

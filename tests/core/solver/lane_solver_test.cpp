@@ -381,6 +381,19 @@ TEST_F(LaneSolverInput, NonFiniteSettingsAreRejected) {
   expect_invalid(r, "one initial line for two lines");
 }
 
+TEST_F(LaneSolverInput, NothingFreeIsRejected) {
+  // Once a Debug build aborted here on an Eigen bounds check, and a Release build wrote
+  // outside the empty reduced system and reported converged_step.
+  request.free = FreeSet{};
+  for (const SolverMode mode : {SolverMode::reprojection, SolverMode::paper}) {
+    request.mode = mode;
+    const SolveResult& res = solver.solve(request);
+    EXPECT_EQ(res.status, SolveStatus::invalid_input) << to_string(res.status);
+    EXPECT_FALSE(res.converged);
+    EXPECT_EQ(res.num_free, 0);
+  }
+}
+
 TEST_F(LaneSolverInput, LineIdsAndSizesOutOfRangeAreRejected) {
   picks[3].line = 2;  // only lines 0 and 1
   request.picks = picks;
