@@ -204,8 +204,17 @@ void read_solver(TableReader& r, Config& c) {
                                      "; expected any of psi theta phi H f y0 m c");
       set.add(*p);
     }
+    if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
     c.solver.free = set;
   }
+  std::string line_model = "straight";
+  r.string("line_model", line_model);
+  if (line_model == "straight") c.solver.line_model = LineModel::per_line;
+  else if (line_model == "curved") c.solver.line_model = LineModel::shared_curvature;
+  else r.fail(r.node("line_model"), "line_model", "must be \"straight\" or \"curved\", got \"" + line_model + "\"");
+  if (c.solver.line_model == LineModel::shared_curvature && c.solver.free.has(FreeParam::c))
+    r.fail(r.node("line_model"), "line_model",
+           "\"curved\" solves one curvature shared by all lines: leave c out of free (c frees one per line)");
   r.number("pixel_sigma", c.solver.pixel_sigma);
   r.integer("max_iterations", c.solver.max_iterations);
   r.string("picks", c.solver.picks);

@@ -64,6 +64,7 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
   SolveRequest req;
   req.mode = config_.solver.mode;
   req.free = config_.solver.free;
+  req.line_model = config_.solver.line_model;
   req.pixel_sigma = config_.solver.pixel_sigma;
   req.max_iterations = config_.solver.max_iterations;
   const SolverPriors& p = config_.priors;

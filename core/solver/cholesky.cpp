@@ -4,8 +4,8 @@
 // lines), so each kernel is a template over the size, instantiated for 1..kMaxFixedSize
 // and dispatched at run time (fixed_size.hpp): at a compile-time size the loops unroll completely, which
 // removes the loop branches (mispredicted at every size change of the triangular loops)
-// from the factorisation's serial chain of square roots and divisions. Larger systems
-// take the same code with the size at run time (N = 0).
+// from the factorisation's serial chain of square roots and divisions. Any other size
+// (larger systems, and the empty one) takes the same code with the size at run time.
 #include "core/solver/cholesky.hpp"
 
 #include <array>
@@ -16,12 +16,14 @@
 namespace ccdlane::solver {
 namespace {
 
+constexpr int kSizeAtRunTime = 0;
+
 // Column-major n x n storage, as ReducedMatrix holds it.
 template <int N>
 struct Square {
   double* a;
   int runtime_n;
-  int n() const { return N > 0 ? N : runtime_n; }
+  int n() const { return N != kSizeAtRunTime ? N : runtime_n; }
   double& operator()(int r, int c) const { return a[r + c * n()]; }
 };
 
@@ -85,23 +87,30 @@ void invert_factor(Square<N> L, Square<N> inverse) {
     }
 }
 
+// f<N>() with N = n where n has its fixed-size kernels, else with the size at run time.
+template <class F>
+bool with_square_size(int n, F&& f) {
+  if (!has_fixed_size(n)) return f.template operator()<kSizeAtRunTime>();
+  return with_fixed_size(n, f);
+}
+
 }  // namespace
 
 bool cholesky_factor(ReducedMatrix& A) {
   const int n = static_cast<int>(A.rows());
-  return with_fixed_size<0>(n, [&]<int N>() { return factor(Square<N>{A.data(), n}); });
+  return with_square_size(n, [&]<int N>() { return factor(Square<N>{A.data(), n}); });
 }
 
 bool cholesky_solve(ReducedMatrix& A, ReducedVector& b) {
   const int n = static_cast<int>(A.rows());
-  return with_fixed_size<0>(n, [&]<int N>() { return solve(Square<N>{A.data(), n}, b.data()); });
+  return with_square_size(n, [&]<int N>() { return solve(Square<N>{A.data(), n}, b.data()); });
 }
 
 bool invert_positive_definite(const ReducedMatrix& S, ReducedMatrix& factor_out, ReducedMatrix& inverse) {
   const int n = static_cast<int>(S.rows());
   factor_out = S;
   inverse.resize(n, n);
-  return with_fixed_size<0>(n, [&]<int N>() {
+  return with_square_size(n, [&]<int N>() {
     if (!factor(Square<N>{factor_out.data(), n})) return false;
     invert_factor(Square<N>{factor_out.data(), n}, Square<N>{inverse.data(), n});
     return true;

@@ -2,13 +2,22 @@
 // their size, so that loops over a handful of parameters unroll completely.
 #pragma once
 
+#include <cstdlib>
+
 namespace ccdlane::solver {
 
 constexpr int kMaxFixedSize = 8;
 
-// Calls f.template operator()<N>() with N = n, a compile-time constant in each branch,
-// for n in 1..kMaxFixedSize; for any other n with N = Fallback.
-template <int Fallback, class F>
+constexpr bool has_fixed_size(int n) { return n >= 1 && n <= kMaxFixedSize; }
+
+// Calls f.template operator()<N>() with N = n, a compile-time constant in each branch.
+// n must lie in 1..kMaxFixedSize (has_fixed_size): each caller decides itself what any
+// other size means to it (Cholesky: a kernel sized at run time; the Schur elimination:
+// none, its layouts always have 1..kMaxLocalParams local parameters). A size outside the
+// range is a caller's bug, and stops the program in every build type rather than run a
+// kernel of the wrong size over storage it does not fit (the check is the switch's own
+// default branch: it costs the dispatch nothing).
+template <class F>
 decltype(auto) with_fixed_size(int n, F&& f) {
   switch (n) {
     case 1: return f.template operator()<1>();
@@ -19,7 +28,7 @@ decltype(auto) with_fixed_size(int n, F&& f) {
     case 6: return f.template operator()<6>();
     case 7: return f.template operator()<7>();
     case 8: return f.template operator()<8>();
-    default: return f.template operator()<Fallback>();
+    default: std::abort();
   }
 }
 

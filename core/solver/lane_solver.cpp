@@ -38,8 +38,13 @@ SolveSigmas::SolveSigmas() {
   c_per_mm.fill(kUndetermined);
 }
 
+double radius_of_curvature_mm(const LaneLine& line) {
+  if (line.c_per_mm == 0.0) return std::numeric_limits<double>::infinity();
+  return std::pow(1.0 + line.m * line.m, 1.5) / (2.0 * line.c_per_mm);
+}
+
 int required_picks(const SolveRequest& request) {
-  const ParameterLayout layout(request.free, request.num_lines);
+  const ParameterLayout layout(request.free, request.num_lines, request.line_model);
   const int priors = request.mode == SolverMode::reprojection ? count_free_priors(request.priors, layout) : 0;
   // 2 residuals per pick against 1 unknown per pick: picks + priors >= reduced unknowns.
   return std::max(1, layout.size() - priors);
@@ -118,6 +123,11 @@ struct LaneSolver::Impl {
 
 std::optional<SolveStatus> LaneSolver::Impl::reject(const SolveRequest& r) {
   if (r.num_lines < 1 || r.num_lines > max_lines) return SolveStatus::invalid_input;
+  // Nothing free leaves no problem to solve (and no reduced system to build); a shared
+  // curvature is the lines' only c, so a c per line as well is a contradiction.
+  const bool shared_c = r.line_model == LineModel::shared_curvature;
+  if (shared_c && r.free.has(FreeParam::c)) return SolveStatus::invalid_input;
+  if (ParameterLayout(r.free, r.num_lines, r.line_model).size() == 0) return SolveStatus::invalid_input;
   if (r.picks.size() > static_cast<std::size_t>(max_picks)) return SolveStatus::invalid_input;
   if (!(std::isfinite(r.pixel_sigma) && r.pixel_sigma > 0.0) || r.max_iterations < 1) return SolveStatus::invalid_input;
   if (!valid_pose(r.initial_pose)) return SolveStatus::invalid_input;
@@ -175,7 +185,7 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
   sort_by_line(r.picks, r.num_lines);
   const std::span<const Pick> picks(sorted.data(), r.picks.size());
   const int num_picks = static_cast<int>(picks.size());
-  layout = ParameterLayout(r.free, r.num_lines);
+  layout = ParameterLayout(r.free, r.num_lines, r.line_model);
 
   if (const int miss = ground_points_of_picks(camera.spec(), r.initial_pose, picks, ground.data()); miss >= 0) {
     result.failed_pick = order[miss];
@@ -189,6 +199,11 @@ const SolveResult& LaneSolver::Impl::solve(const SolveRequest& r) {
     fit_initial_lines(picks, ground.data(), r.num_lines, r.free.has(FreeParam::m), current->lines.data());
   else
     std::copy(r.initial_lines.begin(), r.initial_lines.end(), current->lines.begin());
+  if (layout.shared_curvature_index() >= 0) {  // one c for all: start from their mean
+    double sum = 0.0;
+    for (int j = 0; j < r.num_lines; ++j) sum += current->lines[j].c_per_mm;
+    for (int j = 0; j < r.num_lines; ++j) current->lines[j].c_per_mm = sum / r.num_lines;
+  }
   for (std::size_t i = 0; i < picks.size(); ++i) current->x[i] = ground[i].x();
 
   const bool warm = r.warm_start;
@@ -273,7 +288,10 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
       case FreeParam::f: result.sigma.f_mm = sigma; break;
       case FreeParam::y0: result.sigma.y0_mm[p.line] = sigma; break;
       case FreeParam::m: result.sigma.m[p.line] = sigma; break;
-      case FreeParam::c: result.sigma.c_per_mm[p.line] = sigma; break;
+      case FreeParam::c:
+        if (p.line >= 0) result.sigma.c_per_mm[p.line] = sigma;
+        else std::fill_n(result.sigma.c_per_mm.begin(), r.num_lines, sigma);  // shared
+        break;
     }
   }
 }

@@ -15,7 +15,8 @@
 namespace ccdlane {
 
 // Compile-time bound on lines per problem. With every parameter free the reduced
-// (dense) system then has at most 5 + 3 * 4 = 17 unknowns, whatever the number of picks.
+// (dense) system then has at most 5 + 3 * 4 = 17 unknowns, whatever the number of picks
+// (a shared curvature: 5 + 1 + 2 * 4 = 14).
 constexpr int kMaxLaneLines = 4;
 constexpr int kMaxReducedParams = kPoseParams + 3 * kMaxLaneLines;
 
@@ -33,6 +34,11 @@ struct LaneLine {
   double c_per_mm = 0.0;
 };
 
+// The line's signed radius of curvature at x = 0, mm: positive when it bends toward +y
+// (left), infinite when straight. (1 + m^2)^(3/2) / (2 c); about 1 / (2 c) for the
+// small headings of a lane.
+double radius_of_curvature_mm(const LaneLine& line);
+
 // What one solve is asked to do. Fixed parameters keep their value from `initial_pose`
 // and `initial_lines`. Beyond solver.md's roll/offset family and scale (free H without a
 // prior), note: a free heading m per line makes the lines' parallelism, and with it yaw
@@ -40,6 +46,9 @@ struct LaneLine {
 struct SolveRequest {
   SolverMode mode = SolverMode::reprojection;
   FreeSet free = SolverOptions::default_free();
+  // shared_curvature: one c for every line (free; `free` must not hold c), started from
+  // the mean c of initial_lines (0 when they are fitted), reported in each line's c_per_mm.
+  LineModel line_model = LineModel::per_line;
   double pixel_sigma = 0.5;
   int max_iterations = 50;
   SolverPriors priors;
@@ -59,7 +68,8 @@ enum class SolveStatus : std::uint8_t {
   converged_cost,       // relative cost decrease < 1e-12
   converged_step,       // relative step norm < 1e-12
   max_iterations,       // stopped without meeting a convergence rule
-  invalid_input,        // NaN/inf, a line id out of range, too many picks or lines
+  invalid_input,        // NaN/inf, a line id out of range, too many picks or lines, nothing
+                        // free, c free with a shared curvature
   too_few_picks,        // fewer residuals than unknowns
   no_ground_point,      // a pick's ray misses the road at the initial pose
   numerical_failure,    // the step could not be computed
@@ -72,6 +82,7 @@ constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
 struct SolveSigmas {
   double psi_deg = kUndetermined, theta_deg = kUndetermined, phi_deg = kUndetermined;
   double H_mm = kUndetermined, f_mm = kUndetermined;
+  // A shared curvature's sigma stands in c_per_mm of every line.
   std::array<double, kMaxLaneLines> y0_mm, m, c_per_mm;  // filled with kUndetermined
   SolveSigmas();
 };
@@ -79,7 +90,7 @@ struct SolveSigmas {
 // One unknown of the reduced (dense) system: a free global, or a free kind of one line.
 struct ReducedParam {
   FreeParam kind = FreeParam::psi;
-  int line = -1;  // the lane line for y0/m/c, -1 for globals
+  int line = -1;  // the lane line for y0/m/c, -1 for globals and a shared curvature
 };
 
 using ReducedMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxReducedParams, kMaxReducedParams>;

@@ -28,7 +28,8 @@ double paper_optimal_x(double a1, double b1, double q, double a2, double b2) {
 bool PaperResidual::evaluate(SolverState& state) {
   const ParameterLayout& layout = *layout_;
   camera_.set_pose(state.pose);
-  const int ng = layout.num_global(), nk = layout.num_line_kinds();
+  const int np = layout.num_pose(), ng = layout.num_global(), nk = layout.num_line_kinds();
+  const int shared_c = layout.shared_curvature_index();
   PoseJacobian3 dL, dP;
   const Vec3 L = camera_.lens_centre(&dL);
   double cost = 0.0;
@@ -47,12 +48,13 @@ bool PaperResidual::evaluate(SolverState& state) {
     const Vec2 r(ax * D.y() - ay * D.x(), ax * D.z() + L.z() * D.x());
     cost += r.squaredNorm();
     PickJacobian J;
-    for (int k = 0; k < ng; ++k) {
+    for (int k = 0; k < np; ++k) {
       const int p = layout.global(k);
       J(0, k) = -dL(0, p) * D.y() + ax * dD(1, p) + dL(1, p) * D.x() - ay * dD(0, p);
       J(1, k) = -dL(0, p) * D.z() + ax * dD(2, p) + dL(2, p) * D.x() + L.z() * dD(0, p);
     }
     const double basis[kLineParams] = {1.0, x, x * x};
+    if (shared_c >= 0) J.col(shared_c) = Vec2(-D.x() * basis[kCurvature], 0.0);
     for (int k = 0; k < nk; ++k) J.col(ng + k) = Vec2(-D.x() * basis[layout.line_kind(k)], 0.0);
     const Vec2 Jx(D.y() - (line.m + 2.0 * line.c_per_mm * x) * D.x(), D.z());
     state.rows->set(static_cast<int>(i), r, J, Jx, ng + nk);

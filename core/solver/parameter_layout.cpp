@@ -26,11 +26,13 @@ double& line_param(LaneLine& line, LineParam k) {
   }
 }
 
-ParameterLayout::ParameterLayout(const FreeSet& free, int num_lines) : num_lines_(num_lines) {
+ParameterLayout::ParameterLayout(const FreeSet& free, int num_lines, LineModel model) : num_lines_(num_lines) {
   for (int p = 0; p < kPoseParams; ++p)
-    if (free.has(kGlobalFree[p])) global_[num_global_++] = static_cast<PoseParam>(p);
+    if (free.has(kGlobalFree[p])) global_[num_pose_++] = static_cast<PoseParam>(p);
+  const bool shared = model == LineModel::shared_curvature;
+  num_global_ = num_pose_ + (shared ? 1 : 0);
   for (int k = 0; k < kLineParams; ++k)
-    if (free.has(kLineFree[k])) line_kind_[num_line_kinds_++] = static_cast<LineParam>(k);
+    if (free.has(kLineFree[k]) && !(shared && k == kCurvature)) line_kind_[num_line_kinds_++] = static_cast<LineParam>(k);
 }
 
 int ParameterLayout::line_index(int line, LineParam kind) const {
@@ -40,19 +42,22 @@ int ParameterLayout::line_index(int line, LineParam kind) const {
 }
 
 int ParameterLayout::global_index(PoseParam p) const {
-  for (int k = 0; k < num_global_; ++k)
+  for (int k = 0; k < num_pose_; ++k)
     if (global_[k] == p) return k;
   return -1;
 }
 
 ReducedParam ParameterLayout::describe(int index) const {
-  if (index < num_global_) return {kGlobalFree[global_[index]], -1};
+  if (index < num_pose_) return {kGlobalFree[global_[index]], -1};
+  if (index < num_global_) return {FreeParam::c, -1};  // the shared curvature
   const int rel = index - num_global_;
   return {kLineFree[line_kind_[rel % num_line_kinds_]], rel / num_line_kinds_};
 }
 
 void ParameterLayout::apply_step(const ReducedVector& step, CameraPose& pose, LaneLine* lines) const {
-  for (int k = 0; k < num_global_; ++k) pose_param(pose, global_[k]) += step[k];
+  for (int k = 0; k < num_pose_; ++k) pose_param(pose, global_[k]) += step[k];
+  if (const int c = shared_curvature_index(); c >= 0)
+    for (int j = 0; j < num_lines_; ++j) lines[j].c_per_mm += step[c];
   for (int j = 0; j < num_lines_; ++j)
     for (int k = 0; k < num_line_kinds_; ++k) line_param(lines[j], line_kind_[k]) += step[line_offset(j) + k];
 }
@@ -60,7 +65,8 @@ void ParameterLayout::apply_step(const ReducedVector& step, CameraPose& pose, La
 double ParameterLayout::squared_norm(const CameraPose& pose, const LaneLine* lines) const {
   CameraPose p = pose;
   double sum = 0.0;
-  for (int k = 0; k < num_global_; ++k) sum += pose_param(p, global_[k]) * pose_param(p, global_[k]);
+  for (int k = 0; k < num_pose_; ++k) sum += pose_param(p, global_[k]) * pose_param(p, global_[k]);
+  if (shared_curvature_index() >= 0 && num_lines_ > 0) sum += lines[0].c_per_mm * lines[0].c_per_mm;
   for (int j = 0; j < num_lines_; ++j) {
     LaneLine l = lines[j];
     for (int k = 0; k < num_line_kinds_; ++k) sum += line_param(l, line_kind_[k]) * line_param(l, line_kind_[k]);

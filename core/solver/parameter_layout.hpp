@@ -1,5 +1,6 @@
 // Which unknowns are free, and where each sits in the reduced vector of the LM solve:
-// free globals (psi theta phi H f order) first, then each line's free kinds (y0 m c).
+// free globals (psi theta phi H f order, then a shared curvature) first, then each line's
+// free kinds (y0 m c).
 #pragma once
 
 #include <array>
@@ -13,23 +14,30 @@ enum LineParam : int { kY0 = 0, kSlope = 1, kCurvature = 2, kLineParams = 3 };
 class ParameterLayout {
  public:
   ParameterLayout() = default;
-  ParameterLayout(const FreeSet& free, int num_lines);
+  // With LineModel::shared_curvature the curvature is one global, after the pose's (and
+  // never a line kind, whatever `free` says: LaneSolver refuses c in `free` then).
+  ParameterLayout(const FreeSet& free, int num_lines, LineModel model = LineModel::per_line);
 
   int size() const { return num_global_ + num_line_kinds_ * num_lines_; }
+  // Globals: the free pose parameters, then the shared curvature if any.
   int num_global() const { return num_global_; }
+  int num_pose() const { return num_pose_; }
   int num_line_kinds() const { return num_line_kinds_; }
   int num_lines() const { return num_lines_; }
   // Columns a pick's residuals can touch: the globals, then its line's kinds.
   int local_size() const { return num_global_ + num_line_kinds_; }
-  PoseParam global(int k) const { return global_[k]; }
+  PoseParam global(int k) const { return global_[k]; }  // k < num_pose()
   LineParam line_kind(int k) const { return line_kind_[k]; }
   int line_offset(int line) const { return num_global_ + line * num_line_kinds_; }
+  // Reduced (and local) index of the shared curvature, or -1 without one.
+  int shared_curvature_index() const { return num_global_ > num_pose_ ? num_pose_ : -1; }
   // Reduced index of kind `kind` of line `line`, or -1 when that kind is fixed.
   int line_index(int line, LineParam kind) const;
   int global_index(PoseParam p) const;  // -1 when fixed
   ReducedParam describe(int index) const;
 
-  // Adds a reduced step to the parameters it stands for.
+  // Adds a reduced step to the parameters it stands for (a shared curvature's to every
+  // line's c).
   void apply_step(const ReducedVector& step, CameraPose& pose, LaneLine* lines) const;
   // Squared norm of the free parameters' values (radians, mm): the scale of a step.
   double squared_norm(const CameraPose& pose, const LaneLine* lines) const;
@@ -41,6 +49,7 @@ class ParameterLayout {
   }
 
  private:
+  int num_pose_ = 0;
   int num_global_ = 0;
   int num_line_kinds_ = 0;
   int num_lines_ = 0;

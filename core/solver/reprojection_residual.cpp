@@ -49,15 +49,21 @@ bool ReprojectionResidual::evaluate_cost(SolverState& state) {
 
 bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
   const ParameterLayout& layout = *layout_;
-  const int n = static_cast<int>(picks_.size()), ng = layout.num_global();
+  const int n = static_cast<int>(picks_.size()), ng = layout.num_global(), shared_c = layout.shared_curvature_index();
   PickRows& rows = *state.rows;
   // Along the line: the road point moves along x and sideways with the line's slope.
   projection_.differentiate(slope_, inv_sigma_, n, rows.jx0, rows.jx1);
   if (!rows.complete(n)) return false;
   // Every column seen along b_x = Jx and b_u = Jx turned (PickRows), from their covectors.
   projection_.pull_back(rows.jx0, rows.jx1, inv_sigma_, n, seen_);
-  for (int k = 0; k < ng; ++k) projection_.pose_along(seen_, layout.global(k), n, rows.ax[k], rows.au[k]);
-  // y0, m and c move the road point sideways by 1, x and x^2.
+  for (int k = 0; k < layout.num_pose(); ++k) projection_.pose_along(seen_, layout.global(k), n, rows.ax[k], rows.au[k]);
+  // y0, m and c move the road point sideways by 1, x and x^2; a shared c moves every
+  // line's as its own c would.
+  if (shared_c >= 0) {
+    projection_.road_along(seen_, 1, n, rows.ax[shared_c], rows.au[shared_c]);
+    rows.au[shared_c].head(n) *= x_.head(n).square();
+    rows.ax[shared_c].head(n) *= x_.head(n).square();
+  }
   for (int k = 0; k < layout.num_line_kinds(); ++k) {
     const int col = ng + k;
     projection_.road_along(seen_, 1, n, rows.ax[col], rows.au[col]);

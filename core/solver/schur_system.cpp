@@ -152,11 +152,20 @@ BackSubstitution back_substitute_picks(const ParameterLayout& layout, const Line
   return out;
 }
 
+// f<M>() with M = the layout's local size. A layout with nothing free (local size 0) has
+// no reduced system to build: LaneSolver refuses such a request (invalid_input) before it
+// gets here, so meeting one is a caller's bug, which the dispatch stops on. Every other
+// layout has 1..kMaxLocalParams local parameters (the globals and one line's kinds), all
+// with their fixed-size kernels (the static_assert above).
+template <class F>
+decltype(auto) with_local_size(const ParameterLayout& layout, F&& f) {
+  return with_fixed_size(layout.local_size(), f);
+}
+
 }  // namespace
 
 void accumulate_normals(const ParameterLayout& layout, const LineSegments& segments, SolverState& state) {
-  with_fixed_size<kMaxLocalParams>(
-      layout.local_size(), [&]<int M>() { accumulate_picks<M>(layout, segments, *state.rows, state.normals); });
+  with_local_size(layout, [&]<int M>() { accumulate_picks<M>(layout, segments, *state.rows, state.normals); });
 }
 
 void build_reduced_system(const ParameterLayout& layout, const SolverState& state, double lambda, ReducedMatrix& N,
@@ -164,8 +173,7 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
   const int n = layout.size();
   N.setZero(n, n);
   g.setZero(n);
-  with_fixed_size<kMaxLocalParams>(
-      layout.local_size(), [&]<int M>() { scatter_lines<M>(layout, state.normals, lambda, N, g); });
+  with_local_size(layout, [&]<int M>() { scatter_lines<M>(layout, state.normals, lambda, N, g); });
   for (int p = 0; p < state.priors.count; ++p) {
     const PriorRow& row = state.priors.rows[p];
     for (int c = 0; c < row.size; ++c) {
@@ -178,7 +186,7 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
 BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
                                  const SolverState& state, double lambda, const ReducedVector& step, double* dx) {
   BackSubstitution out;
-  with_fixed_size<kMaxLocalParams>(layout.local_size(), [&]<int M>() {
+  with_local_size(layout, [&]<int M>() {
     out = back_substitute_picks<M>(layout, segments, *state.rows, lambda, step, dx);
   });
   for (int k = 0; k < state.priors.count; ++k) {

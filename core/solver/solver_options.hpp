@@ -30,6 +30,19 @@ std::optional<FreeParam> free_param_from_name(const std::string& name);
 
 enum class SolverMode { reprojection, paper };
 
+// How the lane lines bend (docs/geometry.md: y = y0_j + m_j x + c_j x^2).
+enum class LineModel : std::uint8_t {
+  // Each line its own y0, m and c, each kind free or fixed as the free set says: with c
+  // fixed (the default free set, and fitted lines start at c = 0) the seed paper's
+  // straight lines. Config: line_model = "straight".
+  per_line,
+  // The lines of one road are parallel curves: one curvature c shared by every line of
+  // the frame, always free; y0 and m per line as the free set says (which must not hold
+  // c). A straight model on a bend biases yaw by about c (x_near + x_far); this one does
+  // not. c needs marks at three or more distances. Config: line_model = "curved".
+  shared_curvature,
+};
+
 // A Gaussian prior N(mean, sigma^2) on one quantity, in the interface's units.
 struct Prior {
   double mean = 0.0;
@@ -51,6 +64,7 @@ struct SolverPriors {
 struct SolverOptions {
   SolverMode mode = SolverMode::reprojection;
   FreeSet free = default_free();
+  LineModel line_model = LineModel::per_line;
   double pixel_sigma = 0.5;
   int max_iterations = 50;
 

@@ -137,6 +137,25 @@ TEST(ConfigLoader, ImpossibleValues) {
             "test.toml:2: realtime.capture_priority: must be a SCHED_FIFO priority 0..99");
 }
 
+TEST(ConfigLoader, EmptyFreeSetIsRejected) {
+  // Nothing free leaves the solver nothing to solve: refused here, where the file and the
+  // line can still be named, rather than on the first frame.
+  EXPECT_EQ(error_of("[solver]\nmode = \"paper\"\nfree = []\n"),
+            "test.toml:3: solver.free: must name at least one parameter (psi theta phi H f y0 m c)");
+}
+
+TEST(ConfigLoader, LineModelStraightOrCurved) {
+  EXPECT_EQ(parse_config("", "empty.toml").solver.line_model, LineModel::per_line);
+  EXPECT_EQ(parse_config("[solver]\nline_model = \"straight\"\n", "f.toml").solver.line_model, LineModel::per_line);
+  EXPECT_EQ(parse_config("[solver]\nline_model = \"curved\"\n", "f.toml").solver.line_model,
+            LineModel::shared_curvature);
+  EXPECT_EQ(error_of("[solver]\nline_model = \"clothoid\"\n"),
+            "test.toml:2: solver.line_model: must be \"straight\" or \"curved\", got \"clothoid\"");
+  EXPECT_EQ(error_of("[solver]\nfree = [\"psi\", \"y0\", \"c\"]\nline_model = \"curved\"\n"),
+            "test.toml:3: solver.line_model: \"curved\" solves one curvature shared by all lines: leave c out of "
+            "free (c frees one per line)");
+}
+
 TEST(ConfigLoader, SyntaxErrorsNameTheLine) {
   const std::string e = error_of("[camera]\nNu = = 3\n");
   EXPECT_EQ(e.rfind("test.toml:2: ", 0), 0u) << e;

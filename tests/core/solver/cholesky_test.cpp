@@ -44,6 +44,15 @@ TEST(CholeskySolve, RefusesMatricesThatAreNotPositiveDefinite) {
   EXPECT_FALSE(cholesky_solve(nan, b));
 }
 
+TEST(CholeskySolve, EmptySystemHasTheEmptySolution) {
+  ReducedMatrix A(0, 0);
+  ReducedVector b(0);
+  EXPECT_TRUE(cholesky_solve(A, b));
+  ReducedMatrix factor, inverse;
+  EXPECT_TRUE(invert_positive_definite(A, factor, inverse));
+  EXPECT_EQ(inverse.rows(), 0);
+}
+
 TEST(CholeskyInverse, MatchesEigenOnPositiveDefiniteMatricesOfEverySize) {
   std::mt19937_64 rng(7);
   for (int n = 1; n <= kMaxReducedParams; ++n) {

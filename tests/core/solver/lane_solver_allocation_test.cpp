@@ -68,6 +68,13 @@ TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
   requests.push_back(r);
   r.free.add(FreeParam::c);
   requests.push_back(r);  // paper mode, curved lines: Newton for x_i
+  r.free.remove(FreeParam::c);
+  r.line_model = LineModel::shared_curvature;
+  requests.push_back(r);  // paper mode, one curvature for all lines
+  r = base;
+  r.priors.phi_deg = Prior{0.0, 0.5};
+  r.line_model = LineModel::shared_curvature;
+  requests.push_back(r);  // a bend: one curvature for all lines
   r = base;
   r.picks = bad;
   requests.push_back(r);  // invalid input
@@ -82,7 +89,7 @@ TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
   for (int round = 0; round < 2; ++round)
     for (const SolveRequest& req : requests) converged += solver.solve(req).converged;
   EXPECT_EQ(counter.count(), 0u);
-  EXPECT_GE(converged, 2 * 5);  // the solves above really ran
+  EXPECT_GE(converged, 2 * 7);  // the solves above really ran
 }
 
 }  // namespace

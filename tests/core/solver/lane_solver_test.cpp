@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -194,7 +195,11 @@ double nees(const SolveResult& res, const SyntheticScene& scene) {
       case FreeParam::f: e[k] = res.pose.f_mm - scene.truth.f_mm; break;
       case FreeParam::y0: e[k] = res.lines[p.line].y0_mm - scene.lines[p.line].y0_mm; break;
       case FreeParam::m: e[k] = res.lines[p.line].m - scene.lines[p.line].m; break;
-      case FreeParam::c: e[k] = res.lines[p.line].c_per_mm - scene.lines[p.line].c_per_mm; break;
+      case FreeParam::c: {
+        const int line = std::max(p.line, 0);  // a shared curvature: in every line
+        e[k] = res.lines[line].c_per_mm - scene.lines[line].c_per_mm;
+        break;
+      }
     }
   }
   const Eigen::MatrixXd cov = res.covariance.topLeftCorner(n, n);
@@ -260,6 +265,160 @@ TEST(LaneSolverMonteCarlo, NeesMatchesFreeParametersWithHeight) {
   using enum FreeParam;
   MonteCarloSetup setup{free_set({psi, theta, phi, H, y0}), {}, true};
   run_monte_carlo(setup, 2025);
+}
+
+// A bend (radius 300-2000 m, left or right) seen as the reference camera sees it: marks
+// 5-40 m ahead on two lines, the default free set with a roll prior.
+SceneOptions bend(double min_radius_mm = 300e3, double max_radius_mm = 2000e3) {
+  SceneOptions o;
+  o.min_radius_mm = min_radius_mm;
+  o.max_radius_mm = max_radius_mm;
+  return o;
+}
+
+TEST(LaneSolverCurve, ZeroNoiseRecoversABendWithOneSharedCurvature) {
+  using enum FreeParam;
+  std::mt19937_64 rng(61);
+  LaneSolver solver(test::reference_camera(), 64);
+  SceneOptions three = bend();
+  three.num_lines = 3;
+  for (const SceneOptions& options : {bend(), three})
+    for (int draw = 0; draw < kTruthDraws; ++draw) {
+      const SyntheticScene scene = test::make_scene(rng, options);
+      SolveRequest r = cold_request(scene, scene.picks, free_set({psi, theta, phi, y0}));
+      r.line_model = LineModel::shared_curvature;
+      r.priors.phi_deg = Prior{rad_to_deg(scene.truth.attitude.phi), 0.5};
+      const std::string what = "draw " + std::to_string(draw);
+      const SolveResult& res = solver.solve(r);
+      expect_truth_recovered(res, scene, what);
+      // One c, reported in every line, with its sigma; and the bend's radius.
+      for (int j = 0; j < res.num_lines; ++j) {
+        EXPECT_NEAR(res.lines[j].c_per_mm, scene.lines[j].c_per_mm, 1e-9 * std::abs(scene.lines[j].c_per_mm)) << what;
+        EXPECT_TRUE(std::isfinite(res.sigma.c_per_mm[j]) && res.sigma.c_per_mm[j] > 0.0) << what;
+      }
+      const double radius = 1.0 / (2.0 * scene.lines[0].c_per_mm);  // the truth has m = 0
+      EXPECT_NEAR(radius_of_curvature_mm(res.lines[0]), radius, 1e-6 * std::abs(radius)) << what;
+      EXPECT_EQ(res.free_params[res.num_free - res.num_lines - 1].kind, c) << "c after the globals";
+    }
+  // The paper's index takes the same model (gentler bends: its local minima, see above).
+  for (int draw = 0; draw < kTruthDraws; ++draw) {
+    const SyntheticScene scene = test::make_scene(rng, bend(1000e3, 2000e3));
+    std::vector<LaneLine> lines;
+    SolveRequest r = cold_request(scene, scene.picks, free_set({psi, theta, y0}), SolverMode::paper);
+    r.line_model = LineModel::shared_curvature;
+    start_fixed_at_truth(r, scene, lines);
+    expect_truth_recovered(solver.solve(r), scene, "paper draw " + std::to_string(draw));
+  }
+}
+
+// The errors of one model over the bend study's draws, each normalised by the sigma the
+// solver reports for it: z = error / sigma, N(0, 1) per draw when the model is right.
+struct BendErrors {
+  double yaw_bias_deg = 0.0;  // mean of sign(c) * yaw error: a bias that follows the bend
+  double z_yaw = 0.0, z_c = 0.0;  // means of sign(c) * z
+  double max_abs_z = 0.0;        // over yaw, pitch, roll, y0 and c of every draw
+  double nees = 0.0, dof = 0.0;  // summed over the draws
+};
+
+// Solves kDraws noisy bends (pixel noise 0.5 px, gyro pitch and roll priors of 0.5 deg
+// as in run_monte_carlo) with `model`, free yaw, pitch, roll and y0.
+BendErrors bend_errors(LineModel model, std::uint64_t seed) {
+  using enum FreeParam;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  constexpr double kPixelSigma = 0.5, kGyroSigmaDeg = 0.5;
+  LaneSolver solver(test::reference_camera(), 64);
+  BendErrors out;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    const SyntheticScene scene = test::make_scene(rng, bend());
+    const std::vector<Pick> picks = test::noisy_picks(scene, kPixelSigma, rng);
+    SolveRequest r = cold_request(scene, picks, free_set({psi, theta, phi, y0}));
+    r.line_model = model;
+    r.pixel_sigma = kPixelSigma;
+    r.priors.theta_deg = Prior{rad_to_deg(scene.truth.attitude.theta) + kGyroSigmaDeg * unit(rng), kGyroSigmaDeg};
+    r.priors.phi_deg = Prior{rad_to_deg(scene.truth.attitude.phi) + kGyroSigmaDeg * unit(rng), kGyroSigmaDeg};
+    const SolveResult& res = solver.solve(r);
+    EXPECT_TRUE(res.converged) << "draw " << draw << ": " << to_string(res.status);
+    EXPECT_FALSE(res.rank_deficient) << "draw " << draw;
+    if (!res.converged || res.rank_deficient) continue;
+    const double side = scene.lines[0].c_per_mm > 0.0 ? 1.0 : -1.0;
+    const double yaw_error_deg = rad_to_deg(res.pose.attitude.psi - scene.truth.attitude.psi);
+    out.yaw_bias_deg += side * yaw_error_deg / kDraws;
+    out.z_yaw += side * yaw_error_deg / res.sigma.psi_deg / kDraws;
+    const double z[] = {yaw_error_deg / res.sigma.psi_deg,
+                        rad_to_deg(res.pose.attitude.theta - scene.truth.attitude.theta) / res.sigma.theta_deg,
+                        rad_to_deg(res.pose.attitude.phi - scene.truth.attitude.phi) / res.sigma.phi_deg,
+                        (res.lines[0].y0_mm - scene.lines[0].y0_mm) / res.sigma.y0_mm[0],
+                        (res.lines[1].y0_mm - scene.lines[1].y0_mm) / res.sigma.y0_mm[1]};
+    for (const double zk : z) out.max_abs_z = std::max(out.max_abs_z, std::abs(zk));
+    if (model == LineModel::shared_curvature) {
+      const double z_c = (res.lines[0].c_per_mm - scene.lines[0].c_per_mm) / res.sigma.c_per_mm[0];
+      out.z_c += side * z_c / kDraws;
+      out.max_abs_z = std::max(out.max_abs_z, std::abs(z_c));
+    }
+    out.nees += nees(res, scene);
+    out.dof += res.num_free;
+  }
+  return out;
+}
+
+// Against the truth of noisy bends, with bounds from the pixel noise through the solver's
+// own covariance. Per draw and parameter z = error / sigma is N(0, 1): |z| <= 5 for all
+// of kDraws x 6 of them fails a right solver with probability 1800 x 5.7e-7 = 1e-3. The
+// mean of sign(c) z over the draws is N(0, 1 / kDraws): a bias that follows the bend is
+// rejected beyond 3.29 / sqrt(kDraws) (two-sided 1e-3), and the summed NEES is held to
+// the central 99.9% of its chi-square distribution, as in run_monte_carlo.
+TEST(LaneSolverCurve, SharedCurvatureIsUnbiasedOnABendWhereStraightLinesBiasYaw) {
+  const double mean_bound = 3.29 / std::sqrt(static_cast<double>(kDraws));
+  const BendErrors curved = bend_errors(LineModel::shared_curvature, 2027);
+  EXPECT_LT(curved.max_abs_z, 5.0);
+  EXPECT_LT(std::abs(curved.z_yaw), mean_bound);
+  EXPECT_LT(std::abs(curved.z_c), mean_bound);
+  EXPECT_GT(curved.nees, chi_square_quantile(curved.dof, -3.29));
+  EXPECT_LT(curved.nees, chi_square_quantile(curved.dof, 3.29));
+  // The same draws (same seed) with straight lines: each line's fit takes the heading of
+  // a chord of the bend, about c (x_near + x_far), for the road's, and yaw comes out
+  // turned away from the bend by that much, far outside what its sigma allows (the test
+  // the curved model passes, failed).
+  const BendErrors straight = bend_errors(LineModel::per_line, 2027);
+  EXPECT_GT(std::abs(straight.z_yaw), mean_bound);
+  std::printf("bend R 300-2000 m, %d draws: mean sign(c) * yaw error %+.4f deg straight (mean z %+.1f, NEES/dof "
+              "%.1f), %+.5f deg curved (mean z %+.3f, c %+.3f, NEES/dof %.3f, max |z| %.2f); bound |mean z| < %.3f\n",
+              kDraws, straight.yaw_bias_deg, straight.z_yaw, straight.nees / straight.dof, curved.yaw_bias_deg,
+              curved.z_yaw, curved.z_c, curved.nees / curved.dof, curved.max_abs_z, mean_bound);
+}
+
+TEST(LaneSolverCurve, MarksAtTwoDistancesLeaveTheCurvatureUndetermined) {
+  // Per line each distance gives one equation (where the line crosses it; x_i takes the
+  // other): 2 lines x 2 distances + the roll prior = 5 against yaw, pitch, roll, 2 y0
+  // and c. Straight lines (5 unknowns) are determined; c needs a third distance.
+  using enum FreeParam;
+  std::mt19937_64 rng(62);
+  LaneSolver solver(test::reference_camera(), 64);
+  SceneOptions two = bend(500e3, 500e3);
+  two.mark_distances_mm = {10000.0, 25000.0};
+  SceneOptions three = two;
+  three.mark_distances_mm = {10000.0, 18000.0, 25000.0};
+  for (int draw = 0; draw < kTruthDraws; ++draw) {
+    const SyntheticScene at_two = test::make_scene(rng, two);
+    SolveRequest r = cold_request(at_two, at_two.picks, free_set({psi, theta, phi, y0}));
+    r.priors.phi_deg = Prior{rad_to_deg(at_two.truth.attitude.phi), 0.5};
+    r.line_model = LineModel::shared_curvature;
+    const SolveResult& curved = solver.solve(r);
+    EXPECT_TRUE(curved.rank_deficient) << "draw " << draw;
+    EXPECT_TRUE(std::isnan(curved.sigma.c_per_mm[0]));
+    EXPECT_TRUE(std::isnan(curved.sigma.psi_deg));
+    r.line_model = LineModel::per_line;
+    EXPECT_FALSE(solver.solve(r).rank_deficient) << "draw " << draw;
+
+    const SyntheticScene at_three = test::make_scene(rng, three);
+    r = cold_request(at_three, at_three.picks, r.free);
+    r.priors.phi_deg = Prior{rad_to_deg(at_three.truth.attitude.phi), 0.5};
+    r.line_model = LineModel::shared_curvature;
+    const SolveResult& determined = solver.solve(r);
+    EXPECT_FALSE(determined.rank_deficient) << "draw " << draw;
+    EXPECT_TRUE(std::isfinite(determined.sigma.c_per_mm[1]));
+  }
 }
 
 TEST(LaneSolverRank, FreeRollWithFreeOffsetsIsReportedRankDeficient) {
@@ -379,6 +538,26 @@ TEST_F(LaneSolverInput, NonFiniteSettingsAreRejected) {
   expect_invalid(r, "NaN initial line");
   r.initial_lines = std::span<const LaneLine>(lines, 1);
   expect_invalid(r, "one initial line for two lines");
+}
+
+TEST_F(LaneSolverInput, NothingFreeIsRejected) {
+  // Once a Debug build aborted here on an Eigen bounds check, and a Release build wrote
+  // outside the empty reduced system and reported converged_step.
+  request.free = FreeSet{};
+  for (const SolverMode mode : {SolverMode::reprojection, SolverMode::paper}) {
+    request.mode = mode;
+    const SolveResult& res = solver.solve(request);
+    EXPECT_EQ(res.status, SolveStatus::invalid_input) << to_string(res.status);
+    EXPECT_FALSE(res.converged);
+    EXPECT_EQ(res.num_free, 0);
+  }
+}
+
+TEST_F(LaneSolverInput, CurvaturePerLineAndSharedAtOnceIsRejected) {
+  request.line_model = LineModel::shared_curvature;
+  EXPECT_TRUE(solver.solve(request).converged);
+  request.free.add(FreeParam::c);
+  EXPECT_EQ(solver.solve(request).status, SolveStatus::invalid_input);
 }
 
 TEST_F(LaneSolverInput, LineIdsAndSizesOutOfRangeAreRejected) {

@@ -87,43 +87,50 @@ TEST(PaperResidual, ResidualsAreTheSpecificationsAtTheOptimalX) {
 }
 
 TEST(PaperResidual, JacobiansMatchFiniteDifferencesAtFixedX) {
-  Fixture f(2);
-  PaperResidual model(f.scene.camera);
-  model.configure(f.layout, f.scene.picks, f.ideal);
-  ASSERT_TRUE(model.evaluate(f.state));
-  const int n = f.layout.size();
-  for (std::size_t i = 0; i < f.x.size(); ++i) {
-    const int line = f.scene.picks[i].line;
-    const auto r_at = [&](const ReducedVector& step, double dx) {
-      CameraPose pose = f.state.pose;
-      std::array<LaneLine, kMaxLaneLines> lines = f.state.lines;
-      f.layout.apply_step(step, pose, lines.data());
-      const Vec2 r = spec_residuals(f.scene.camera, pose, f.ideal[i], lines[line], f.x[i] + dx);
-      return Eigen::VectorXd(r);
-    };
-    for (int k = 0; k < n; ++k) {
-      const ReducedParam p = f.layout.describe(k);
-      if (p.line >= 0 && p.line != line) continue;
-      // Residuals are ~1e7 mm^2: steps large enough that rounding (1e-16 r / h) stays small.
-      double h = 1e-5;  // radians
-      if (p.kind == FreeParam::H || p.kind == FreeParam::y0) h = 1e-2;
-      if (p.kind == FreeParam::f) h = 1e-3;
-      if (p.kind == FreeParam::m) h = 1e-7;
-      if (p.kind == FreeParam::c) h = 1e-11;
-      const Eigen::VectorXd fd = test::central_difference(
-          [&](double t) {
-            ReducedVector step = ReducedVector::Zero(n);
-            step[k] = t;
-            return r_at(step, 0.0);
-          },
-          h);
-      const int local = p.line < 0 ? k : f.layout.num_global() + (k - f.layout.line_offset(line));
-      for (int c = 0; c < 2; ++c)
-        EXPECT_NEAR(f.rows.jacobian_column(static_cast<int>(i), local)[c], fd[c], 1e-6 * (std::abs(fd[c]) + 1e3)) << "param " << k << " pick " << i;
+  FreeSet all_but_c = test::all_free();
+  all_but_c.remove(FreeParam::c);
+  // A curvature per line, and one shared by the lines.
+  for (const ParameterLayout& layout :
+       {ParameterLayout(test::all_free(), 2), ParameterLayout(all_but_c, 2, LineModel::shared_curvature)}) {
+    Fixture f(2);
+    f.layout = layout;
+    PaperResidual model(f.scene.camera);
+    model.configure(f.layout, f.scene.picks, f.ideal);
+    ASSERT_TRUE(model.evaluate(f.state));
+    const int n = f.layout.size();
+    for (std::size_t i = 0; i < f.x.size(); ++i) {
+      const int line = f.scene.picks[i].line;
+      const auto r_at = [&](const ReducedVector& step, double dx) {
+        CameraPose pose = f.state.pose;
+        std::array<LaneLine, kMaxLaneLines> lines = f.state.lines;
+        f.layout.apply_step(step, pose, lines.data());
+        const Vec2 r = spec_residuals(f.scene.camera, pose, f.ideal[i], lines[line], f.x[i] + dx);
+        return Eigen::VectorXd(r);
+      };
+      for (int k = 0; k < n; ++k) {
+        const ReducedParam p = f.layout.describe(k);
+        if (p.line >= 0 && p.line != line) continue;
+        // Residuals are ~1e7 mm^2: steps large enough that rounding (1e-16 r / h) stays small.
+        double h = 1e-5;  // radians
+        if (p.kind == FreeParam::H || p.kind == FreeParam::y0) h = 1e-2;
+        if (p.kind == FreeParam::f) h = 1e-3;
+        if (p.kind == FreeParam::m) h = 1e-7;
+        if (p.kind == FreeParam::c) h = 1e-11;
+        const Eigen::VectorXd fd = test::central_difference(
+            [&](double t) {
+              ReducedVector step = ReducedVector::Zero(n);
+              step[k] = t;
+              return r_at(step, 0.0);
+            },
+            h);
+        const int local = p.line < 0 ? k : f.layout.num_global() + (k - f.layout.line_offset(line));
+        for (int c = 0; c < 2; ++c)
+          EXPECT_NEAR(f.rows.jacobian_column(static_cast<int>(i), local)[c], fd[c], 1e-6 * (std::abs(fd[c]) + 1e3)) << "param " << k << " pick " << i;
+      }
+      const Eigen::VectorXd fd = test::central_difference([&](double t) { return r_at(ReducedVector::Zero(n), t); }, 1e-3);
+      EXPECT_NEAR(f.rows.jx0[i], fd[0], 1e-6 * (std::abs(fd[0]) + 1.0));
+      EXPECT_NEAR(f.rows.jx1[i], fd[1], 1e-6 * (std::abs(fd[1]) + 1.0));
     }
-    const Eigen::VectorXd fd = test::central_difference([&](double t) { return r_at(ReducedVector::Zero(n), t); }, 1e-3);
-    EXPECT_NEAR(f.rows.jx0[i], fd[0], 1e-6 * (std::abs(fd[0]) + 1.0));
-    EXPECT_NEAR(f.rows.jx1[i], fd[1], 1e-6 * (std::abs(fd[1]) + 1.0));
   }
 }
 

@@ -59,5 +59,38 @@ TEST(ParameterLayout, StepsLandOnTheirParametersOnly) {
   EXPECT_EQ(step[layout.reduced_index(1, 2)], 0.002);
 }
 
+TEST(ParameterLayout, SharedCurvatureIsOneGlobalAfterThePose) {
+  using enum FreeParam;
+  // c in the free set is ignored here (LaneSolver refuses the combination).
+  const ParameterLayout layout(free_set({psi, theta, y0, c}), 3, LineModel::shared_curvature);
+  EXPECT_EQ(layout.num_pose(), 2);
+  EXPECT_EQ(layout.num_global(), 3);
+  EXPECT_EQ(layout.num_line_kinds(), 1);
+  EXPECT_EQ(layout.size(), 3 + 3);
+  EXPECT_EQ(layout.local_size(), 4);
+  EXPECT_EQ(layout.shared_curvature_index(), 2);
+  EXPECT_EQ(layout.line_index(1, kCurvature), -1);
+  EXPECT_EQ(layout.line_index(1, kY0), 4);
+  EXPECT_EQ(layout.global_index(kPhi), -1);
+  EXPECT_EQ(layout.describe(2).kind, c);
+  EXPECT_EQ(layout.describe(2).line, -1);
+  EXPECT_EQ(layout.describe(5).kind, y0);
+  EXPECT_EQ(layout.describe(5).line, 2);
+  EXPECT_EQ(layout.reduced_index(2, 2), 2);  // every line's local column 2 is the shared c
+  EXPECT_EQ(ParameterLayout(free_set({psi, y0}), 2).shared_curvature_index(), -1);
+
+  CameraPose pose{{0.1, 0.2, 0.3}, 1400.0, 5.05};
+  LaneLine lines[3] = {{1750.0, 0.0, 1e-6}, {-1750.0, 0.0, 1e-6}, {-5250.0, 0.0, 1e-6}};
+  ReducedVector step(layout.size());
+  step << 0.5, 0.25, 2e-6, 10.0, 20.0, 30.0;
+  layout.apply_step(step, pose, lines);
+  for (const LaneLine& l : lines) EXPECT_DOUBLE_EQ(l.c_per_mm, 3e-6);
+  EXPECT_DOUBLE_EQ(lines[2].y0_mm, -5220.0);
+  EXPECT_DOUBLE_EQ(pose.attitude.theta, 0.45);
+  // The shared c counts once in the parameters' norm.
+  const double y0s = 1760.0 * 1760.0 + 1730.0 * 1730.0 + 5220.0 * 5220.0;
+  EXPECT_DOUBLE_EQ(layout.squared_norm(pose, lines), 0.6 * 0.6 + 0.45 * 0.45 + 3e-6 * 3e-6 + y0s);
+}
+
 }  // namespace
 }  // namespace ccdlane::solver

@@ -25,7 +25,8 @@ struct Fixture {
   SolverPriors priors;
   SolverState state;
 
-  explicit Fixture(std::uint64_t seed) {
+  explicit Fixture(std::uint64_t seed, const ParameterLayout& with_layout = ParameterLayout(test::all_free(), 2))
+      : layout(with_layout) {
     scene = test::small_curved_scene(seed);
     std::vector<std::size_t> order(scene.picks.size());
     std::iota(order.begin(), order.end(), 0);
@@ -66,9 +67,16 @@ TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
   EXPECT_NEAR(f.state.cost, cost, 1e-9 * cost);
 }
 
+// Everything free with a curvature per line, and with one curvature shared by the lines.
+ParameterLayout layout_of_case(std::uint64_t seed) {
+  FreeSet all_but_c = test::all_free();
+  all_but_c.remove(FreeParam::c);
+  return seed % 2 ? ParameterLayout(test::all_free(), 2) : ParameterLayout(all_but_c, 2, LineModel::shared_curvature);
+}
+
 TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
-  for (std::uint64_t seed = 2; seed < 6; ++seed) {
-    Fixture f(seed);
+  for (std::uint64_t seed = 2; seed < 8; ++seed) {
+    Fixture f(seed, layout_of_case(seed));
     ReprojectionResidual model(f.scene.camera, 16);
     model.configure(f.layout, f.segments, f.scene.picks, 0.5, f.priors);
     ASSERT_TRUE(model.evaluate(f.state));

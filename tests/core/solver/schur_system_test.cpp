@@ -131,5 +131,19 @@ TEST(SchurSystem, APickWhoseXMovesNothingCannotBeEliminated) {
   EXPECT_FALSE(rows.complete(2));
 }
 
+TEST(SchurSystemDeathTest, LayoutWithNothingFreeIsACallersBug) {
+  // The solver refuses such a request (invalid_input) before any reduced system is built;
+  // reaching here with one stops the program instead of running a kernel of another size.
+  const ParameterLayout nothing_free(FreeSet{}, 2);
+  PickRows rows(4);
+  SolverState state;
+  state.rows = &rows;
+  const LineSegments segments;
+  ReducedMatrix N;
+  ReducedVector g;
+  EXPECT_DEATH(accumulate_normals(nothing_free, segments, state), "");
+  EXPECT_DEATH(build_reduced_system(nothing_free, state, 0.0, N, g), "");
+}
+
 }  // namespace
 }  // namespace ccdlane::solver

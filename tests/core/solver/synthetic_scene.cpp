@@ -17,11 +17,16 @@ SyntheticScene make_scene(std::mt19937_64& rng, const SceneOptions& o) {
   s.truth.f_mm = 5.05;
   const double spacing = 3500.0 + 500.0 * unit(rng);
   const double centre = 500.0 * unit(rng);  // the camera is somewhere within its lane
+  double bend_c = 0.0;
+  if (o.max_radius_mm > 0.0) {
+    const double radius = o.min_radius_mm + (o.max_radius_mm - o.min_radius_mm) * (unit(rng) + 1.0) / 2.0;
+    bend_c = (unit(rng) < 0.0 ? -1.0 : 1.0) / (2.0 * radius);
+  }
   for (int j = 0; j < o.num_lines; ++j) {
     LaneLine l;
     l.y0_mm = centre + spacing * ((o.num_lines - 1) / 2.0 - j);  // left (largest y0) first
     l.m = o.max_slope * unit(rng);
-    l.c_per_mm = o.max_curvature * unit(rng);
+    l.c_per_mm = o.max_radius_mm > 0.0 ? bend_c : o.max_curvature * unit(rng);
     s.lines.push_back(l);
   }
   const CameraModel camera(s.camera, s.truth);
@@ -30,7 +35,8 @@ SyntheticScene make_scene(std::mt19937_64& rng, const SceneOptions& o) {
     if (tries > 100000) throw std::runtime_error("make_scene: marks do not fall into the picture");
     const int j = i % o.num_lines;
     const LaneLine& l = s.lines[j];
-    const double x = ahead(rng);
+    const std::size_t n_at = o.mark_distances_mm.size();
+    const double x = n_at > 0 ? o.mark_distances_mm[(i / o.num_lines) % n_at] : ahead(rng);
     const auto px = camera.pixel_from_point(Vec3(x, l.y0_mm + l.m * x + l.c_per_mm * x * x, 0.0));
     // Keep a margin so that noisy picks stay on the chip too.
     if (!px || px->x() < 5 || px->x() > s.camera.Nu - 4 || px->y() < 5 || px->y() > s.camera.Nv - 4) continue;

@@ -18,8 +18,14 @@ struct SceneOptions {
   double max_angle_deg = 5.0;   // |psi|, |theta|, |phi| of the truth
   double max_slope = 0.0;       // |m| of the truth (0: lines along x)
   double max_curvature = 0.0;   // |c| of the truth, 1/mm
+  // A bend instead (when max_radius_mm > 0): one curvature c = +-1 / (2 R) shared by all
+  // lines (left or right at random), R uniform in [min_radius_mm, max_radius_mm].
+  double min_radius_mm = 0.0;
+  double max_radius_mm = 0.0;
   double min_ahead_mm = 5000.0;
   double max_ahead_mm = 40000.0;
+  // Non-empty: marks only at these distances ahead (in turn), none in between.
+  std::vector<double> mark_distances_mm;
 };
 
 struct SyntheticScene {
