@@ -96,7 +96,7 @@ BENCHMARK(BM_Estimate)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
 // Detection on the real 1280x720 pictures (texture, cars, hood), no prior.
 void BM_DetectionRealPictures(benchmark::State& state) {
   const Config c = camera(1280);
-  FrameDirectory dir(std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced");
+  FrameDirectory dir(std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced");
   std::vector<std::vector<std::uint8_t>> pixels(dir.size(), std::vector<std::uint8_t>(1280 * 720));
   for (std::size_t i = 0; i < dir.size(); ++i)
     dir.read(i, MutableImageView{pixels[i].data(), 1280, 720, 1280, PixelFormat::mono8, 8});

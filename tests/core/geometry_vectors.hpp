@@ -1,4 +1,4 @@
-// Loads ../shared/spec/geometry_vectors.json: the specification's worked numbers.
+// Loads tests/data/geometry_vectors.json: the worked numbers of docs/geometry.md.
 #pragma once
 
 #include <fstream>
@@ -18,7 +18,7 @@ struct GeometryCase {
 };
 
 inline std::vector<GeometryCase> load_geometry_vectors() {
-  const std::string path = std::string(CCDLANE_SHARED_DIR) + "/spec/geometry_vectors.json";
+  const std::string path = std::string(CCDLANE_TEST_DATA_DIR) + "/geometry_vectors.json";
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path);
   const nlohmann::json doc = nlohmann::json::parse(in);

@@ -272,7 +272,7 @@ double column_at_row(const CameraModel& cam, double y0, double py) {
 TEST(ReplayCommand, RealPicturesOwnLaneFoundInBothFrames) {
   test::TempDir dir;
   const std::string config = std::string(CCDLANE_SOURCE_DIR) + "/tests/tools/data/udacity-advanced.toml";
-  const std::string frames = std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced";
+  const std::string frames = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced";
   const std::string overlays = std::string(CCDLANE_BINARY_DIR) + "/overlays/udacity-advanced";
   std::filesystem::remove_all(overlays);
   const auto r = test::run_process({kTool, "replay", config, frames, "--overlay", overlays});
@@ -321,7 +321,7 @@ TEST(ReplayCommand, RealPicturesOwnLaneFoundInBothFrames) {
 TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
   test::TempDir dir;
   ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "1"}).exit_status, 0);
-  const std::string real = std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced";
+  const std::string real = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced";
   auto r = test::run_process({kTool, "replay", kReferenceCamera, real, "--out", dir.file("o.jsonl")});
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_EQ(r.err, "ccdlane: " + real + ": frames are 1280x720, the camera of " + kReferenceCamera + " is 800x600\n");

@@ -20,7 +20,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 const std::string kTool = CCDLANE_TOOL;
 const std::string kDemo = std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/paper-table1a.toml";
-const std::string kPaperPicks = std::string(CCDLANE_SHARED_DIR) + "/data/paper/table1_a.csv";
+const std::string kPaperPicks = std::string(CCDLANE_TEST_DATA_DIR) + "/paper/table1_a.csv";
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);

@@ -634,13 +634,13 @@ TEST(LaneSolverWarmStart, NextFrameConvergesInFewIterations) {
   }
 }
 
-// The seed paper's picture (a), with the settings of data/paper/README.md. The picture
+// The seed paper's picture (a), with the settings of tests/data/paper/README.md. The picture
 // does not fix the scale (FreeHeightWithoutPriorIsScaleAmbiguous): y0 comes out in
 // proportion to the lens height above the road, H - yM at zero attitude.
 class PaperTable1a : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string path = std::string(CCDLANE_SHARED_DIR) + "/data/paper/table1_a.csv";
+    const std::string path = std::string(CCDLANE_TEST_DATA_DIR) + "/paper/table1_a.csv";
     std::ifstream in(path);
     ASSERT_TRUE(in) << path;
     std::stringstream text;

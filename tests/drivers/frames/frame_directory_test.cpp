@@ -28,7 +28,7 @@ struct Frame {
 };
 
 TEST(FrameDirectory, ReadsTheRealUdacityFrames) {
-  FrameDirectory dir(std::string(CCDLANE_SHARED_DIR) + "/data/real/udacity-advanced");
+  FrameDirectory dir(std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced");
   ASSERT_EQ(dir.size(), 2u);
   EXPECT_TRUE(dir.issues().empty());
   EXPECT_FALSE(dir.has_gyro_columns());
