@@ -408,15 +408,25 @@ void read_synth(TableReader& r, Config& c) {
 void read_detection(TableReader& r, Config& c) {
   DetectionConfig& d = c.detection;
   r.number("mark_width_mm", d.mark_width_mm);
+  r.number("min_mark_width_mm", d.min_mark_width_mm);
+  r.number("max_mark_width_mm", d.max_mark_width_mm);
   r.number("min_contrast", d.min_contrast);
   r.number("min_range_mm", d.min_range_mm);
   r.number("max_range_mm", d.max_range_mm);
+  r.integer("roi_top_px", d.roi_top_px);
+  r.integer("hood_px", d.hood_px);
   r.integer("max_lines", d.max_lines);
   r.integer("max_picks", d.max_picks);
   r.integer("min_marks", d.min_marks);
   r.number("departure_mm", d.departure_mm);
   r.reject_unknown();
   require(d.mark_width_mm >= 50.0 && d.mark_width_mm <= 500.0, r, "mark_width_mm", "must be 50..500");
+  require(d.min_mark_width_mm >= 30.0 && d.min_mark_width_mm < d.max_mark_width_mm, r, "min_mark_width_mm",
+          "must be 30 .. max_mark_width_mm (" + format_number(d.max_mark_width_mm) + ")");
+  require(d.max_mark_width_mm <= 1000.0, r, "max_mark_width_mm", "must be <= 1000");
+  require(d.mark_width_mm >= d.min_mark_width_mm && d.mark_width_mm <= d.max_mark_width_mm, r, "mark_width_mm",
+          "must lie within min_mark_width_mm .. max_mark_width_mm (" + format_number(d.min_mark_width_mm) + " .. " +
+              format_number(d.max_mark_width_mm) + "); set those too");
   require(d.min_contrast > 0.0 && d.min_contrast <= 200.0, r, "min_contrast", "must be > 0 and <= 200");
   require(d.min_range_mm >= 500.0, r, "min_range_mm", "must be >= 500");
   require(d.max_range_mm > d.min_range_mm * 1.5 && d.max_range_mm <= 200000.0, r, "max_range_mm",
@@ -426,6 +436,11 @@ void read_detection(TableReader& r, Config& c) {
   require(d.max_picks >= 20 && d.max_picks <= 4000, r, "max_picks", "must be 20..4000");
   require(d.min_marks >= 3 && d.min_marks <= 200, r, "min_marks", "must be 3..200");
   require(d.departure_mm >= 0.0 && d.departure_mm <= 5000.0, r, "departure_mm", "must be 0..5000");
+  // [camera] is read first: the picture's height is known here.
+  require(d.roi_top_px >= 0, r, "roi_top_px", "must be >= 0");
+  require(d.hood_px >= 0, r, "hood_px", "must be >= 0");
+  require(d.roi_top_px + d.hood_px <= c.camera.Nv - 10, r, r.node("hood_px") ? "hood_px" : "roi_top_px",
+          "roi_top_px + hood_px must leave at least 10 rows of the picture's " + std::to_string(c.camera.Nv));
 }
 
 using SectionReader = void (*)(TableReader&, Config&);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/detection/paint_measure.hpp"
+
 namespace ccdlane {
 namespace {
 
@@ -15,9 +17,9 @@ constexpr int kCandidatesPerPixelRow = 24; // capacity: marks per scanned row, o
 constexpr double kMinMarkPx = 0.8;         // marks narrower than this are not resolved
 constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
 
-// 3x3 Sobel gradient at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
+// 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
 void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
-  auto p = [&](int dx, int dy) { return static_cast<double>(im.at(x + dx, y + dy)); };
+  auto p = [&](int dx, int dy) { return static_cast<double>(paint_measure_at(im, x + dx, y + dy)); };
   gx = (p(1, -1) + 2 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2 * p(-1, 0) + p(-1, 1));
   gy = (p(-1, 1) + 2 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2 * p(0, -1) + p(1, -1));
 }
@@ -37,12 +39,14 @@ void LaneDetector::plan_rows(const CameraPose& pose) {
   projector_.set(camera_, pose);
   num_rows_ = 0;
   const double col = camera_.cx;
-  for (int y = 1; y + 1 < camera_.Nv; ++y) {
+  const int first = std::max(1, config_.roi_top_px), end = camera_.Nv - 1 - config_.hood_px;
+  for (int y = first; y < end; ++y) {
     double X = 0, Y = 0, X2 = 0, Y2 = 0;
     if (!projector_.ground(col, y + 1.0, X, Y) || X < config_.min_range_mm || X > config_.max_range_mm) continue;
     if (!projector_.ground(col + 1.0, y + 1.0, X2, Y2)) continue;
     const double mm_per_px = std::hypot(X2 - X, Y2 - Y);
     const double mark_px = config_.mark_width_mm / mm_per_px;
+    const double min_px = config_.min_mark_width_mm / mm_per_px, max_px = config_.max_mark_width_mm / mm_per_px;
     if (mark_px < kMinMarkPx) continue;
     // Near rows are dense on the road and their marks wide: every second or third one
     // says as much as all of them, at a fraction of the time.
@@ -52,10 +56,12 @@ void LaneDetector::plan_rows(const CameraPose& pose) {
     r.y = y;
     r.mark_px = static_cast<float>(mark_px);
     r.half_width = std::clamp(static_cast<int>(std::lround(mark_px / 2)), 1, 8);
-    // Wide enough for blur, a dash's end and distortion at the picture's edges; narrow
-    // enough to leave out cars, patches and bright regions.
-    r.min_width_px = static_cast<float>(std::max(0.8, 0.4 * mark_px - 1.0));
-    r.max_width_px = static_cast<float>(2.5 * mark_px + 2.0);
+    // Paint of the accepted widths, with room for blur and a dash's end (narrower) and for
+    // the widening towards the picture's edges and one pixel of blur (wider); beyond
+    // that, bars are not paint on the road: a barrier's foot seen from a few metres, a
+    // kerb's top, text, arrows, patches, cars.
+    r.min_width_px = static_cast<float>(std::max(0.8, 0.5 * min_px - 1.0));
+    r.max_width_px = static_cast<float>(1.15 * max_px + 2.0);
   }
   if (num_rows_ > kMaxScanRows) {  // keep an even spread
     const int n = num_rows_;
@@ -116,8 +122,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   for (const LinePrior& p : priors) mean_m += p.m / static_cast<double>(priors.size());
   have_vp_ = projector_.vanishing_point(mean_m, vp_x_, vp_y_);
 
-  const bool wide = image.format == PixelFormat::mono16;
-  const float scale = wide ? static_cast<float>((1 << std::clamp(image.significant_bits, 9, 16)) - 1) / 255.0f : 1.0f;
+  const float scale = paint_measure_levels_per_grey(image);
   const float min_contrast = static_cast<float>(config_.min_contrast) * scale;
   const int capacity = static_cast<int>(marks_.size());
   int count = 0;

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/detection/paint_measure.hpp"
+
 namespace ccdlane {
 namespace {
 
@@ -22,7 +24,8 @@ float peak_offset(std::int32_t a, std::int32_t b, std::int32_t c) {
 }  // namespace
 
 MarkScanner::MarkScanner(int max_width)
-    : prefix_(static_cast<std::size_t>(max_width) + 1),
+    : measure_(static_cast<std::size_t>(max_width)),
+      prefix_(static_cast<std::size_t>(max_width) + 1),
       grad_(static_cast<std::size_t>(max_width)),
       rising_(static_cast<std::size_t>(max_width)),
       falling_(static_cast<std::size_t>(max_width)) {}
@@ -30,10 +33,14 @@ MarkScanner::MarkScanner(int max_width)
 int MarkScanner::scan(const ImageView& image, const ScanRow& r, int scan_row_index, float min_contrast, float to_8bit,
                       MarkCandidate* out, int count, int capacity) {
   const int width = std::min(image.width, static_cast<int>(grad_.size()));
+  // Grey rows are their own measure and are scanned in place.
+  if (image.format == PixelFormat::mono8)
+    return scan_row(image.row(r.y), width, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
   if (image.format == PixelFormat::mono16)
     return scan_row(reinterpret_cast<const std::uint16_t*>(image.row(r.y)), width, r, scan_row_index, min_contrast,
                     to_8bit, out, count, capacity);
-  return scan_row(image.row(r.y), width, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
+  paint_measure_row(image, r.y, 0, width, measure_.data());
+  return scan_row(measure_.data(), width, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
 }
 
 template <typename Pixel>

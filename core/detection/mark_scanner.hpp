@@ -1,5 +1,6 @@
-// The row filter: finds dark-bright-dark bars along one image row whose width is what a
-// lane mark at that row's distance would have, with sub-pixel edges.
+// The row filter: finds dark-bright-dark bars of the lane-paint measure along one image
+// row whose width is what a lane mark at that row's distance would have, with sub-pixel
+// edges.
 #pragma once
 
 #include <cstdint>
@@ -25,7 +26,8 @@ class MarkScanner {
   explicit MarkScanner(int max_width);
 
   // Appends the bars found on row r.y of `image` to out[count..capacity), returns the new
-  // count. `min_contrast` is in the image's own grey levels. Sets left/right_px, py,
+  // count. `min_contrast` is in the paint measure's levels (paint_measure.hpp: a grey
+  // frame's own grey levels). Sets left/right_px, py,
   // contrast (8-bit scale via `to_8bit`) and scan_row; the rest is the caller's.
   int scan(const ImageView& image, const ScanRow& r, int scan_row, float min_contrast, float to_8bit,
            MarkCandidate* out, int count, int capacity);
@@ -39,7 +41,8 @@ class MarkScanner {
   int scan_row(const Pixel* row, int width, const ScanRow& r, int scan_row, float min_contrast, float to_8bit,
                MarkCandidate* out, int count, int capacity);
 
-  std::vector<std::int64_t> prefix_;  // prefix sums of the row
+  std::vector<std::uint16_t> measure_;  // a colour row's paint measure
+  std::vector<std::int64_t> prefix_;    // prefix sums of the row
   std::vector<std::int32_t> grad_;    // box derivative
   std::vector<Edge> rising_, falling_;
 };

@@ -1,6 +1,7 @@
 // Speed of lane-mark detection alone (the target: under 1 ms per 800x600 frame on one
-// core), of the whole per-frame estimate, and of rendering a synthetic frame (the
-// daemon's demo pre-renders its frames at start-up). Frames are rendered once up front.
+// core, and per 1280x720 colour frame), of the whole per-frame estimate, and of
+// rendering a synthetic frame (the daemon's demo pre-renders its frames at start-up).
+// Frames are rendered once up front.
 //   build/tests/bench/detection_bench --benchmark_min_time=2
 #include <benchmark/benchmark.h>
 
@@ -11,6 +12,7 @@
 #include "core/lane/lane_estimator.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "drivers/frames/frame_directory.hpp"
+#include "tests/support/png_image.hpp"
 
 namespace ccdlane {
 namespace {
@@ -30,6 +32,7 @@ struct Scene {
   Config config;
   std::vector<SynthFrame> truth;
   std::vector<std::vector<std::uint8_t>> pixels;
+  std::vector<std::vector<std::uint8_t>> rgb;  // the same frames as rgb8 (grey colour)
   explicit Scene(int width, int frames = 16) : config(camera(width)) {
     SynthDrive drive(config.synth, config.nominal_pose());
     RoadRenderer renderer(config.camera, config.synth);
@@ -37,7 +40,15 @@ struct Scene {
       truth.push_back(drive.frame(static_cast<std::uint64_t>(k) * 7));
       pixels.emplace_back(static_cast<std::size_t>(config.camera.Nu * config.camera.Nv));
       renderer.render(truth.back(), view(pixels.size() - 1));
+      rgb.emplace_back(3 * pixels.back().size());
+      for (std::size_t p = 0; p < pixels.back().size(); ++p)
+        rgb.back()[3 * p] = rgb.back()[3 * p + 1] = rgb.back()[3 * p + 2] = pixels.back()[p];
     }
+  }
+  // Frame i in grey (colour = false) or as rgb8.
+  ImageView frame(std::size_t i, bool colour) {
+    if (!colour) return view(i);
+    return {rgb[i].data(), config.camera.Nu, config.camera.Nv, 3 * config.camera.Nu, PixelFormat::rgb8, 8};
   }
   MutableImageView view(std::size_t i) {
     return {pixels[i].data(), config.camera.Nu, config.camera.Nv, config.camera.Nu, PixelFormat::mono8, 8};
@@ -49,35 +60,38 @@ Scene& scene(int width) {
   return width == 800 ? s800 : s1280;
 }
 
-// Detection as the daemon runs it: the previous frame's lines as priors.
+// Detection as the daemon runs it: the previous frame's lines as priors. Second
+// argument: 0 grey (mono8), 1 colour (rgb8, the paint measure computed per scan row).
 void BM_Detection(benchmark::State& state) {
   Scene& s = scene(static_cast<int>(state.range(0)));
+  const bool colour = state.range(1) != 0;
   LaneDetector detector(s.config.camera, s.config.detection);
   std::vector<LinePrior> priors;
   for (int j = 0; j < s.truth[0].num_lines; ++j) priors.push_back({s.truth[0].y0_mm[static_cast<std::size_t>(j)], 0, 0});
   std::size_t i = 0;
   int lines = 0;
   for (auto _ : state) {
-    const DetectionResult& r = detector.detect(s.view(i), s.truth[i].pose, priors);
+    const DetectionResult& r = detector.detect(s.frame(i, colour), s.truth[i].pose, priors);
     lines += r.num_lines;
     benchmark::DoNotOptimize(r.picks.data());
     i = (i + 1) % s.pixels.size();
   }
   state.counters["lines"] = benchmark::Counter(lines, benchmark::Counter::kAvgIterations);
 }
-BENCHMARK(BM_Detection)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Detection)->Args({800, 0})->Args({1280, 0})->Args({1280, 1})->Unit(benchmark::kMicrosecond);
 
 // Detection with no prior: the first frame, or after a loss (the Hough vote on all marks).
 void BM_DetectionCold(benchmark::State& state) {
   Scene& s = scene(static_cast<int>(state.range(0)));
+  const bool colour = state.range(1) != 0;
   LaneDetector detector(s.config.camera, s.config.detection);
   std::size_t i = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(detector.detect(s.view(i), s.truth[i].pose, {}).picks.data());
+    benchmark::DoNotOptimize(detector.detect(s.frame(i, colour), s.truth[i].pose, {}).picks.data());
     i = (i + 1) % s.pixels.size();
   }
 }
-BENCHMARK(BM_DetectionCold)->Arg(800)->Arg(1280)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DetectionCold)->Args({800, 0})->Args({1280, 0})->Args({1280, 1})->Unit(benchmark::kMicrosecond);
 
 // The whole per-frame estimate: detect, solve (gyro priors), track, lane metrics.
 void BM_Estimate(benchmark::State& state) {
@@ -111,6 +125,22 @@ void BM_DetectionRealPictures(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_DetectionRealPictures)->Unit(benchmark::kMicrosecond);
+
+// The same two pictures in colour (tests/data/real), no prior.
+void BM_DetectionRealColourPictures(benchmark::State& state) {
+  const Config c = camera(1280);
+  std::vector<test::PngImage> frames;
+  for (const char* name : {"000000.png", "000001.png"})
+    frames.push_back(test::read_png(std::string(CCDLANE_SOURCE_DIR) + "/tests/data/real/udacity-advanced-colour/" + name));
+  LaneDetector detector(c.camera, c.detection);
+  const CameraPose pose = c.nominal_pose();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(detector.detect(frames[i].view(), pose, {}).picks.data());
+    i = (i + 1) % frames.size();
+  }
+}
+BENCHMARK(BM_DetectionRealColourPictures)->Unit(benchmark::kMicrosecond);
 
 void BM_RenderSyntheticFrame(benchmark::State& state) {
   const Config c = camera(static_cast<int>(state.range(0)));

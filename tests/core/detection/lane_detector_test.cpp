@@ -205,6 +205,22 @@ TEST(LaneDetector, SixteenBitFramesGiveTheSameLines) {
   for (int j = 0; j < r8.num_lines; ++j) EXPECT_NEAR(r16.lines[j].fit.y0_mm, r8.lines[j].fit.y0_mm, 20.0);
 }
 
+TEST(LaneDetector, RowsOfTheHoodAndAboveTheRegionOfInterestAreNotScanned) {
+  Config c = highway();
+  c.detection.roi_top_px = 320;
+  c.detection.hood_px = 100;  // rows 501..600 (1-based) are the hood
+  test::RenderedRoad road(c);
+  const SynthFrame f = road.render(5);
+  LaneDetector det(c.camera, c.detection);
+  const DetectionResult& r = det.detect(road.view, f.pose, {});
+  ASSERT_GT(r.counters.candidates, 0);
+  for (const MarkCandidate& m : r.marks) {
+    EXPECT_GT(m.py, 320.0);
+    EXPECT_LE(m.py, 600.0 - 100.0);
+  }
+  EXPECT_GE(r.num_lines, 2) << "the band between still shows the own lane";
+}
+
 TEST(LaneDetector, WrongSizedFramesGiveNothingAndDetectionAllocatesNothing) {
   test::RenderedRoad road(highway());
   LaneDetector det(road.config.camera, road.config.detection);
