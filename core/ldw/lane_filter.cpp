@@ -79,7 +79,7 @@ void LaneFilter::reset() {
 void LaneFilter::predict(double dt_s, const VehicleMotion& motion) {
   speed_mps_ = motion.speed_mps;
   yaw_rate_radps_ = motion.yaw_rate_radps;
-  state_.updated = state_.rejected = false;
+  state_.updated = state_.rejected = state_.restarted = false;
   state_.lane_change = LaneChange::none;
   if (state_.status == TrackStatus::lost) return;
 
@@ -147,7 +147,7 @@ void LaneFilter::initialise(const LaneMeasurement& m) {
 }
 
 void LaneFilter::update(const LaneMeasurement& m) {
-  state_.updated = state_.rejected = false;
+  state_.updated = state_.rejected = state_.restarted = false;
   state_.lane_change = LaneChange::none;
   if (state_.status == TrackStatus::lost) {
     if (m.present[kLeftLine] && m.present[kRightLine]) initialise(m);
@@ -184,10 +184,17 @@ void LaneFilter::update(const LaneMeasurement& m) {
     if (d2 < best) best = d2, best_side = side;
   }
   if (!(best <= gate_[static_cast<std::size_t>(n)])) {
+    if (++state_.rejections > config_.max_rejections && m.present[kLeftLine] && m.present[kRightLine]) {
+      reset();
+      initialise(m);
+      state_.restarted = true;
+      return;
+    }
     state_.rejected = true;
     publish();
     return;
   }
+  state_.rejections = 0;
   if (best_side != 0) {
     const StateMatrix J = neighbour_lane_shift(best_side);
     x_ = J * x_;

@@ -59,6 +59,10 @@ struct LaneFilterConfig {
   double coast_s = 1.0;             // predict without an accepted measurement for at most this long
   double gate_probability = 0.999;  // Mahalanobis gate: the chi-square quantile of this probability
   int confirm_updates = 5;          // accepted updates before a new track is trusted
+  // After this many measurements in a row refused by the gate, the next refused one
+  // starts a new track: the road changed faster than the model allows (a curve entered
+  // harder than its process noise), and coasting on the old state would drift away.
+  int max_rejections = 3;
   bool track_roll = false;          // roll is a state only without the gyro (which measures it)
   // Process noise: the standard deviation each state's random walk gains in one second.
   double offset_noise_m = 0.05;
@@ -99,6 +103,8 @@ struct LaneState {
   double since_update_s = 0.0;  // time since the last accepted measurement
   bool updated = false;         // this step's measurement was accepted
   bool rejected = false;        // this step had a measurement and the gate refused it
+  int rejections = 0;           // measurements refused in a row
+  bool restarted = false;       // this step's measurement started a new track after rejections
   LaneChange lane_change = LaneChange::none;  // this step re-associated to a neighbour lane
   double nis = 0.0;             // normalised innovation squared of the accepted measurement
   int nis_dof = 0;              //   and its degrees of freedom

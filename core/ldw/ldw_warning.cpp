@@ -48,8 +48,14 @@ const char* to_string(Availability a) {
 
 LdwWarning::LdwWarning(const LdwWarningConfig& config) : config_(config) { reset(); }
 
+void LdwWarning::disarm(SideState& side, double dlc_m) const {
+  side.armed = false;
+  side.arm_at_mm = std::max(config_.rearm_mm, dlc_m * 1000.0 + config_.rearm_margin_mm);
+}
+
 void LdwWarning::reset() {
   left_ = right_ = SideState{};
+  left_.arm_at_mm = right_.arm_at_mm = config_.rearm_mm;
   speed_ok_ = false;
   warning_until_s_ = -1e300;
   warning_side_ = Side::none;
@@ -69,12 +75,12 @@ bool LdwWarning::side_update(SideState& side, const LdwSideInput& in, bool indic
   suppressed = indicator_on || t_s - side.indicator_off_at_s < config_.indicator_hold_s;
   const double dlc_mm = in.dlc_m * 1000.0;
   threshold = threshold_mm(in.approach_mps);
-  if (dlc_mm >= config_.rearm_mm) side.armed = true;
+  if (dlc_mm >= side.arm_at_mm) side.armed = true;
   const bool departing = in.approach_mps >= config_.min_approach_mps && dlc_mm <= threshold &&
                          dlc_mm >= config_.latest_warning_mm;
   if (!departing || !side.armed) return false;
   // A departure the driver signalled is used up as well: no warning for it later.
-  side.armed = false;
+  disarm(side, in.dlc_m);
   return !suppressed;
 }
 
@@ -92,7 +98,10 @@ const LdwOutput& LdwWarning::update(const LdwInput& in) {
              : !speed_ok_       ? Availability::too_slow
                                 : Availability::none;
   o.available = o.reason == Availability::none;
-  if (in.lane_changed) left_.armed = right_.armed = false;  // a new lane: its wheels must first be seen inside
+  if (in.lane_changed) {  // a new lane: its wheels must first be seen inside
+    disarm(left_, 0.0);
+    disarm(right_, 0.0);
+  }
 
   const bool hazard = in.indicator == TurnIndicator::both;
   const bool left_on = hazard || in.indicator == TurnIndicator::left;
@@ -103,7 +112,8 @@ const LdwOutput& LdwWarning::update(const LdwInput& in) {
     double unused_threshold = 0.0;
     side_update(left_, in.left, left_on, in.t_s, unused_threshold, unused);
     side_update(right_, in.right, right_on, in.t_s, unused_threshold, unused);
-    left_.armed = right_.armed = false;
+    disarm(left_, 0.0);
+    disarm(right_, 0.0);
     o.suppressed_left = o.suppressed_right = false;
   } else {
     const bool fire_left = side_update(left_, in.left, left_on, in.t_s, o.threshold_left_mm, o.suppressed_left);

@@ -45,7 +45,10 @@ struct LdwWarningConfig {
   double min_threshold_mm = 100.0;
   double earliest_margin_mm = 150.0;
   double min_approach_mps = 0.03;   // slower is "not approaching" (the filter's noise)
-  double rearm_mm = 400.0;          // a side re-arms once its wheel is back this far inside
+  // A side re-arms once its wheel is back inside, at least rearm_mm and at least
+  // rearm_margin_mm farther in than where it last warned (or was disarmed).
+  double rearm_mm = 400.0;
+  double rearm_margin_mm = 200.0;
   double warning_duration_s = 1.0;  // how long `warning` stays set after it fires
 };
 
@@ -89,9 +92,11 @@ class LdwWarning {
  private:
   struct SideState {
     bool armed = false;
+    double arm_at_mm = 0.0;  // DLC at which it arms again
     double indicator_off_at_s = -1e300;  // when the indicator toward this side last went off
     bool indicator_on = false;
   };
+  void disarm(SideState& side, double dlc_m) const;
   bool side_update(SideState& side, const LdwSideInput& in, bool indicator_on, double t_s, double& threshold_mm,
                    bool& suppressed);
 
