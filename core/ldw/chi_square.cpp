@@ -27,6 +27,11 @@ double normal_quantile(double p) {
 }
 
 double chi_square_quantile(int dof, double p) {
+  if (dof == 1) {
+    const double z = normal_quantile(0.5 * (1.0 + p));
+    return z * z;
+  }
+  if (dof == 2) return -2.0 * std::log1p(-p);
   const double k = dof;
   const double h = 2.0 / (9.0 * k);
   const double cube = 1.0 - h + normal_quantile(p) * std::sqrt(h);

@@ -3,9 +3,10 @@
 
 namespace ccdlane::ldw {
 
-// The p-quantile of chi-square with `dof` degrees of freedom (dof >= 1, 0 < p < 1), by
-// the Wilson-Hilferty cube-root normal approximation: within 3 % of the exact value
-// for dof = 1 at p = 0.999 and closer as dof grows (tested against tables).
+// The p-quantile of chi-square with `dof` degrees of freedom (dof >= 1, 0 < p < 1):
+// exact for 1 and 2 degrees of freedom (a squared normal; an exponential), beyond by the
+// Wilson-Hilferty cube-root normal approximation, within 2 % at p = 0.999 for 3 and
+// closer as dof grows (tested against tables).
 double chi_square_quantile(int dof, double p);
 
 // The p-quantile of the standard normal distribution (Acklam's rational approximation,

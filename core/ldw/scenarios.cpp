@@ -124,9 +124,12 @@ ScenarioSpec departure_scenario(double lateral_mps, Side side, double curvature_
   d.road = {{1e9, curvature_per_m}};
   d.drift_at_s = 6.0;  // a settled approach: the filter confirmed and converged
   d.drift_mps = side == Side::left ? lateral_mps : -lateral_mps;
-  // Until the wheel, starting at the centre ((3.75 - 0.12 - 1.8) / 2 = 0.915 m inside),
-  // is 0.5 m beyond the line.
-  const double inside = 0.5 * (d.lane_width_m - d.line_width_m - s.vehicle.width_mm * 1e-3);
+  // Settled 0.4 m away from that line, so that the drift has its full lateral velocity
+  // (after the ramp) before the wheel enters the warning zone; then until the wheel is
+  // 0.5 m beyond the line.
+  const double away = 0.4;
+  d.start_offset_m = side == Side::left ? -away : away;
+  const double inside = 0.5 * (d.lane_width_m - d.line_width_m - s.vehicle.width_mm * 1e-3) + away;
   d.duration_s = d.drift_at_s + d.drift_ramp_s + (inside + 0.5) / lateral_mps;
   s.expect = side;
   return s;

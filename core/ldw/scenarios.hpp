@@ -76,8 +76,9 @@ ScenarioRun run_scenario(const ScenarioSpec& spec, std::uint64_t seed, const Ldw
 // Degrees of freedom of the NEES above.
 constexpr int kNeesDof = 5;
 
-// The scenario families. `departure`: a settled approach, then a drift at `lateral_mps`
-// toward `side` on a road of that curvature (0 straight) until the wheel is 0.5 m out.
+// The scenario families. `departure`: a settled approach 0.4 m off the lane centre away
+// from `side`, then a drift at `lateral_mps` toward `side` (reached within 1 s, before
+// the warning zone) on a road of that curvature (0 straight) until the wheel is 0.5 m out.
 ScenarioSpec departure_scenario(double lateral_mps, Side side, double curvature_per_m);
 // Normal driving for `minutes`: weaving within +-0.14 m (the wheels > 0.75 m inside a
 // 3.75 m lane with a 1.8 m vehicle), curves of R 500..800 m both ways, and signalled lane
