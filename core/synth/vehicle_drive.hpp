@@ -109,8 +109,7 @@ class VehicleDrive {
 
   VehicleScenario scenario_;
   ldw::VehicleConfig vehicle_;
-  // The centre line every kRoadStepM, each step an arc of its mean curvature (exact for
-  // straights and arcs; for clothoids within ~1e-9 m).
+  // The centre line every kRoadStepM (the curvature linear within each step).
   static constexpr double kRoadStepM = 1.0;
   Pose2 advance(const Pose2& p, double s, double u) const;
   std::vector<Pose2> knots_;
