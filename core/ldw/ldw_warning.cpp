@@ -49,8 +49,11 @@ const char* to_string(Availability a) {
 LdwWarning::LdwWarning(const LdwWarningConfig& config) : config_(config) { reset(); }
 
 void LdwWarning::disarm(SideState& side, double dlc_m) const {
+  // Already disarmed (say warned at 0.47 m, then a frame without a lane): the level it
+  // must get back to stays, or the same departure would be warned twice.
+  const double kept = side.armed ? 0.0 : side.arm_at_mm;
   side.armed = false;
-  side.arm_at_mm = std::max(config_.rearm_mm, dlc_m * 1000.0 + config_.rearm_margin_mm);
+  side.arm_at_mm = std::max({config_.rearm_mm, dlc_m * 1000.0 + config_.rearm_margin_mm, kept});
 }
 
 void LdwWarning::reset() {

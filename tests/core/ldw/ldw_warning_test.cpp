@@ -92,6 +92,19 @@ TEST(LdwWarning, RearmsOnlyOnceTheWheelIsBackInsideByTheMargin) {
   EXPECT_EQ(w.output().warnings, 2u);
 }
 
+TEST(LdwWarning, ABriefLossOfTheLaneAfterAWarningDoesNotWarnTheSameDepartureAgain) {
+  LdwWarning w;
+  double t = 0.0;
+  hold(w, t, 0.9);
+  const Drift first = drift(w, t, 0.9, 0.44, 1.0);  // warned at 0.5 m
+  ASSERT_EQ(first.warnings, 1);
+  LdwInput lost = input(t, 0.43, 1.0);
+  lost.lane_tracked = false;
+  w.update(lost);
+  t += kDt;
+  EXPECT_EQ(drift(w, t, 0.42, -0.3, 1.0).warnings, 0);  // 0.42 m is past the plain re-arm level
+}
+
 TEST(LdwWarning, DoesNotWarnAWheelThatIsNotApproaching) {
   LdwWarning w;
   double t = 0.0;
