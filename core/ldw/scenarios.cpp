@@ -58,25 +58,36 @@ LaneMeasurement noisy_measurement(const VehicleFrame& f, const MeasurementNoise&
   return m;
 }
 
+std::vector<VehicleFrame> drive_truth(const ScenarioSpec& spec) {
+  const VehicleDrive drive(spec.drive, spec.vehicle);
+  std::vector<VehicleFrame> truth(drive.num_frames());
+  for (std::uint64_t k = 0; k < truth.size(); ++k) truth[k] = drive.frame(k);
+  return truth;
+}
+
 ScenarioRun run_scenario(const ScenarioSpec& spec, std::uint64_t seed, const LdwConfig& config) {
-  VehicleScenario scenario = spec.drive;
-  scenario.seed = seed;
-  const VehicleDrive drive(scenario, spec.vehicle);
+  ScenarioSpec seeded = spec;
+  seeded.drive.seed = seed;
+  return run_scenario(seeded, drive_truth(seeded), seed, config);
+}
+
+ScenarioRun run_scenario(const ScenarioSpec& spec, const std::vector<VehicleFrame>& truth, std::uint64_t noise_seed,
+                         const LdwConfig& config) {
   LdwConfig c = config;
   c.vehicle = spec.vehicle;
   LdwMonitor monitor(c);
 
   ScenarioRun run;
-  const std::uint64_t frames = drive.num_frames();
-  run.nees.reserve(frames);
+  run.nees.reserve(truth.size());
   const LdwWarningConfig& w = c.warning;
-  for (std::uint64_t k = 0; k < frames; ++k) {
-    const VehicleFrame f = drive.frame(k);
-    const LaneMeasurement m = noisy_measurement(f, spec.noise, seed);
+  for (const VehicleFrame& f : truth) {
+    const LaneMeasurement m = noisy_measurement(f, spec.noise, noise_seed);
     LdwFrameInput in;
     in.t_s = f.t_s;
     in.speed_mps = f.speed_mps;
-    if (spec.yaw_rate) in.yaw_rate_radps = f.measured_yaw_rate_radps;
+    if (spec.yaw_rate)
+      in.yaw_rate_radps =
+          f.yaw_rate_radps + spec.drive.gyro_rate_noise_radps * synth::normal(synth::hash(noise_seed, 47, f.index));
     in.indicator = f.indicator;
     in.measurement = is_dropped(spec.drops, f.t_s) ? nullptr : &m;
     const LdwResult& r = monitor.step(in);
@@ -103,7 +114,7 @@ ScenarioRun run_scenario(const ScenarioSpec& spec, std::uint64_t seed, const Ldw
     }
     run.nees.push_back(nees);
   }
-  run.duration_s = static_cast<double>(frames - 1) / scenario.rate_hz;
+  run.duration_s = truth.empty() ? 0.0 : truth.back().t_s - truth.front().t_s;
 
   if (spec.expect == Side::none) {
     run.passed = run.warnings.empty();
@@ -180,8 +191,9 @@ ScenarioSummary run_scenarios(int seeds, double normal_minutes, const LdwConfig&
         row.lateral_mps = v;
         row.side = side;
         const ScenarioSpec spec = departure_scenario(v, side, curvature);
+        const std::vector<VehicleFrame> truth = drive_truth(spec);
         for (int seed = 1; seed <= seeds; ++seed) {
-          const ScenarioRun run = run_scenario(spec, static_cast<std::uint64_t>(seed), config);
+          const ScenarioRun run = run_scenario(spec, truth, static_cast<std::uint64_t>(seed), config);
           ++row.runs;
           row.passed += run.passed;
           if (!run.warnings.empty()) row.wheel_dlc_m.push_back(run.warnings[0].wheel_dlc_m);
@@ -205,11 +217,13 @@ ScenarioSummary run_scenarios(int seeds, double normal_minutes, const LdwConfig&
     slow.expect = Side::none;
     suppression.push_back(slow);
   }
-  for (const ScenarioSpec& spec : suppression)
+  for (const ScenarioSpec& spec : suppression) {
+    const std::vector<VehicleFrame> truth = drive_truth(spec);
     for (int seed = 1; seed <= seeds; ++seed) {
       ++sum.suppression_runs;
-      sum.suppression_passed += run_scenario(spec, static_cast<std::uint64_t>(seed), config).passed;
+      sum.suppression_passed += run_scenario(spec, truth, static_cast<std::uint64_t>(seed), config).passed;
     }
+  }
   return sum;
 }
 

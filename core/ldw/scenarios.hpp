@@ -71,6 +71,13 @@ struct ScenarioRun {
   bool passed = false;
 };
 
+// Every frame's truth of the spec's drive (drive.seed: its weave, bumps and sway).
+std::vector<VehicleFrame> drive_truth(const ScenarioSpec& spec);
+// One run over that truth, the solve's noise and the gyro's yaw-rate noise drawn from
+// `noise_seed`: the same drive with another noise, as the standard's repeatability asks.
+ScenarioRun run_scenario(const ScenarioSpec& spec, const std::vector<VehicleFrame>& truth, std::uint64_t noise_seed,
+                         const LdwConfig& config);
+// Drive and noise both from `seed` (another drive per seed).
 ScenarioRun run_scenario(const ScenarioSpec& spec, std::uint64_t seed, const LdwConfig& config);
 
 // Degrees of freedom of the NEES above.
@@ -104,8 +111,9 @@ struct ScenarioSummary {
   double earliest_m = 0.75, latest_m = -0.3;
 };
 
-// Runs the full set: 5 lateral velocities x 2 sides x 3 roads x `seeds`, `seeds` normal
-// drives of `normal_minutes`, and the suppression cases.
+// Runs the full set: 5 lateral velocities x 2 sides x 3 roads x `seeds` noise seeds,
+// `seeds` normal drives of `normal_minutes` (each its own drive), and the suppression
+// cases x `seeds` noise seeds.
 ScenarioSummary run_scenarios(int seeds, double normal_minutes, const LdwConfig& config);
 
 // The table (plain text, fixed width).
