@@ -16,7 +16,19 @@
 namespace ccdlane::ldw {
 namespace {
 
+// 20 noise seeds per case and three 5-minute normal drives, as the issue asks. Debug
+// builds (CI's sanitizer stage, there for memory errors and undefined behaviour, running
+// Eigen at -O0 some 300 times slower) take 3 seeds and one drive: every code path, not
+// the statistics.
+#ifdef NDEBUG
 constexpr int kSeeds = 20;
+constexpr int kNormalDrives = 3;
+constexpr int kSummarySeeds = 2;
+#else
+constexpr int kSeeds = 3;
+constexpr int kNormalDrives = 1;
+constexpr int kSummarySeeds = 1;
+#endif
 constexpr double kVelocities[] = {0.1, 0.3, 0.5, 0.8, 1.0};
 
 void expect_every_departure_warned(double curvature, bool yaw_rate = true) {
@@ -52,7 +64,7 @@ TEST(LdwScenarios, WarningGenerationWithoutTheGyrosYawRate) { expect_every_depar
 TEST(LdwScenarios, NormalDrivingGivesNoWarning) {
   const LdwConfig config;
   const ScenarioSpec spec = normal_driving_scenario(5.0);
-  for (int seed = 1; seed <= 3; ++seed) {  // three drives (weave phases), 15 minutes
+  for (int seed = 1; seed <= kNormalDrives; ++seed) {  // each its own drive (weave phases)
     const ScenarioRun run = run_scenario(spec, static_cast<std::uint64_t>(seed), config);
     EXPECT_TRUE(run.warnings.empty()) << "seed " << seed << ": " << run.warnings.size() << " warnings, first at "
                                       << (run.warnings.empty() ? 0.0 : run.warnings[0].t_s) << " s";
@@ -181,14 +193,14 @@ TEST(LdwScenarios, DroppedFramesMidDriftStillGiveATimelyWarning) {
 }
 
 TEST(LdwScenarios, SummaryTableCoversEveryCase) {
-  const ScenarioSummary s = run_scenarios(2, 1.0, LdwConfig{});
+  const ScenarioSummary s = run_scenarios(kSummarySeeds, 1.0, LdwConfig{});
   ASSERT_EQ(s.rows.size(), 30u);  // 3 roads x 5 velocities x 2 sides
   for (const SummaryRow& r : s.rows) {
-    EXPECT_EQ(r.runs, 2);
-    EXPECT_EQ(r.passed, 2) << r.road << " " << r.lateral_mps << " " << to_string(r.side);
+    EXPECT_EQ(r.runs, kSummarySeeds);
+    EXPECT_EQ(r.passed, kSummarySeeds) << r.road << " " << r.lateral_mps << " " << to_string(r.side);
   }
   EXPECT_EQ(s.false_alarms, 0);
-  EXPECT_NEAR(s.normal_hours, 2.0 / 60.0, 1e-3);
+  EXPECT_NEAR(s.normal_hours, kSummarySeeds / 60.0, 1e-3);
   EXPECT_EQ(s.suppression_passed, s.suppression_runs);
   const std::string table = format_summary(s);
   EXPECT_NE(table.find("curve right     1.0 right"), std::string::npos) << table;
