@@ -1,0 +1,51 @@
+// One frame of lane departure warning: filter, wheels, time to crossing, decision.
+#include "core/ldw/ldw_monitor.hpp"
+
+#include "core/ldw/tlc.hpp"
+
+namespace ccdlane::ldw {
+
+LdwMonitor::LdwMonitor(const LdwConfig& config)
+    : config_(config), filter_(config.filter), warning_(config.warning) {}
+
+void LdwMonitor::reset() {
+  filter_.reset();
+  warning_.reset();
+  last_t_s_.reset();
+  result_ = LdwResult{};
+}
+
+const LdwResult& LdwMonitor::step(const LdwFrameInput& in) {
+  const double speed = in.speed_mps.value_or(config_.vehicle.speed_kmh / 3.6);
+  const double dt = last_t_s_ ? std::max(0.0, in.t_s - *last_t_s_) : 0.0;
+  last_t_s_ = in.t_s;
+  const LaneState& lane = filter_.step(dt, {speed, in.yaw_rate_radps}, in.measurement);
+
+  LdwResult& r = result_;
+  r.lane = lane;
+  r.speed_mps = speed;
+  r.lateral_velocity_mps = lane.lateral_velocity_mps;
+  const LanePose pose{lane.value(kOffset), lane.value(kHeading), lane.value(kCurvature), lane.value(kWidth)};
+  const bool have_lane = lane.status != TrackStatus::lost;
+  r.dlc = have_lane ? distance_to_line_crossing(pose, config_.vehicle, config_.line_width_mm * 1e-3) : SideDistances{};
+  const double v = lane.lateral_velocity_mps, a = lane.lateral_acceleration_mps2;
+  r.tlc_left_s = have_lane ? time_to_line_crossing(r.dlc.left_m, v, a) : std::nullopt;
+  r.tlc_right_s = have_lane ? time_to_line_crossing(r.dlc.right_m, -v, -a) : std::nullopt;
+
+  LdwInput w;
+  w.t_s = in.t_s;
+  w.speed_mps = speed;
+  w.indicator = in.indicator;
+  w.lane_tracked = (lane.status == TrackStatus::tracking || lane.status == TrackStatus::coasting) &&
+                   lane.sigma(kOffset) * 1000.0 <= config_.max_offset_sigma_mm;
+  w.lane_changed = lane.lane_change != LaneChange::none;
+  w.camera_ok = in.camera_ok;
+  w.gyro_ok = in.gyro_ok;
+  w.calibrated = in.calibrated;
+  w.left = {r.dlc.left_m, v, r.tlc_left_s};
+  w.right = {r.dlc.right_m, -v, r.tlc_right_s};
+  r.decision = warning_.update(w);
+  return r;
+}
+
+}  // namespace ccdlane::ldw
