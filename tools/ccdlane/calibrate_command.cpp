@@ -4,6 +4,7 @@
 // OpenCV is used here for reading the pictures and finding and refining the chessboard
 // corners only; the model and its fit are the project's own (core/calibration).
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -126,11 +127,11 @@ std::string scientific(double v, int decimals) {
   return out.str();
 }
 
-// A TOML float that reads back to the same double.
+// A TOML float: the shortest text that reads back to the same double.
 std::string toml_float(double v) {
-  std::ostringstream out;
-  out << std::setprecision(17) << v;
-  std::string s = out.str();
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
+  std::string s(buffer, end);
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
   return s;
 }
