@@ -58,9 +58,9 @@ struct RenderedPictures {
   std::string config = dir.write("camera.toml", chessboard_config(camera));
   std::vector<std::string> pictures;
 
-  RenderedPictures(unsigned seed, int count) {
+  RenderedPictures(unsigned seed, int count, double min_tilt_deg = 15.0, double max_tilt_deg = 45.0) {
     std::mt19937 rng(seed);
-    const auto poses = test::varied_board_poses(camera, board, count, rng);
+    const auto poses = test::varied_board_poses(camera, board, count, rng, min_tilt_deg, max_tilt_deg);
     for (std::size_t i = 0; i < poses.size(); ++i) {
       pictures.push_back(dir.file("board" + std::to_string(i) + ".pgm"));
       write_pgm(pictures.back(), test::render_board(camera, board, poses[i], 2.0, rng), camera.chip.Nu,
@@ -118,6 +118,16 @@ TEST(CalibrateCameraCommand, TwoUsablePicturesAreTooFew) {
   const auto r = run_process(scene.command({"--out", out}));
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_NE(r.err.find("2 usable view(s), at least 3 are needed"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(CalibrateCameraCommand, BoardsFacingTheCameraAreRefused) {
+  RenderedPictures scene(26, 4, 0.0, 2.0);
+  const std::string out = scene.dir.file("calibrated.toml");
+  const auto r = run_process(scene.command({"--out", out}));
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("the views do not determine f"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("board0.pgm: rms"), std::string::npos) << r.err;  // the pictures are still listed
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
