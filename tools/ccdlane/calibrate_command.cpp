@@ -1,8 +1,8 @@
 // `ccdlane calibrate camera`: the camera's f, principal point and distortion from chessboard
 // pictures, written as the configuration's [camera] table.
 //
-// OpenCV is used here for reading the pictures and finding and refining the chessboard
-// corners only; the model and its fit are the project's own (core/calibration).
+// OpenCV is used here for finding and refining the chessboard corners only; the pictures
+// are read by grey_picture.cpp, the model and its fit are the project's own (core/calibration).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -16,13 +16,13 @@
 #include <sstream>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/calibration/camera_calibration.hpp"
 #include "core/config/config_loader.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "tools/ccdlane/command.hpp"
+#include "tools/ccdlane/grey_picture.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
 
 namespace ccdlane::cli {
@@ -57,7 +57,7 @@ BoardGeometry parse_board(const std::string& text, double square_mm) {
 
 struct Picture {
   std::string path;
-  cv::Mat grey;
+  GreyPicture picture;
   std::vector<Vec2> corners_px;  // 1-based; empty when the board was not found
 };
 
@@ -80,7 +80,8 @@ int refinement_half_window(const std::vector<cv::Point2f>& corners, const BoardG
   return std::clamp(static_cast<int>(0.4 * smallest), 2, 11);
 }
 
-std::vector<Vec2> find_corners(const cv::Mat& grey, const BoardGeometry& board) {
+std::vector<Vec2> find_corners(GreyPicture& picture, const BoardGeometry& board) {
+  const cv::Mat grey(picture.height, picture.width, CV_8UC1, picture.pixels.data());  // no copy
   std::vector<cv::Point2f> corners;
   const cv::Size size(board.columns, board.rows);
   if (!cv::findChessboardCorners(grey, size, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
@@ -97,20 +98,24 @@ std::vector<Vec2> find_corners(const cv::Mat& grey, const BoardGeometry& board) 
 std::vector<Picture> read_pictures(const CameraArgs& args, const CameraSpec& chip) {
   std::vector<Picture> pictures;
   for (const std::string& path : args.images) {
-    // Checked first: OpenCV would print its own warning for a missing file.
-    if (!std::ifstream(path, std::ios::binary)) throw UsageError(path + ": cannot open the picture");
-    Picture p{path, cv::imread(path, cv::IMREAD_GRAYSCALE), {}};
-    if (p.grey.empty()) throw UsageError(path + ": cannot read the picture (missing, or not an image OpenCV reads)");
-    if (!pictures.empty() && p.grey.size() != pictures.front().grey.size())
-      throw UsageError(path + ": pictures of different sizes: " + std::to_string(p.grey.cols) + "x" +
-                       std::to_string(p.grey.rows) + ", but " + pictures.front().path + " is " +
-                       std::to_string(pictures.front().grey.cols) + "x" + std::to_string(pictures.front().grey.rows));
+    Picture p{path, {}, {}};
+    try {
+      p.picture = read_grey_picture(path);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+    const GreyPicture& q = p.picture;
+    if (!pictures.empty() && (q.width != pictures.front().picture.width || q.height != pictures.front().picture.height))
+      throw UsageError(path + ": pictures of different sizes: " + std::to_string(q.width) + "x" +
+                       std::to_string(q.height) + ", but " + pictures.front().path + " is " +
+                       std::to_string(pictures.front().picture.width) + "x" +
+                       std::to_string(pictures.front().picture.height));
     pictures.push_back(std::move(p));
   }
-  const cv::Mat& first = pictures.front().grey;
-  if (first.cols != chip.Nu || first.rows != chip.Nv)
-    throw UsageError(pictures.front().path + ": the pictures are " + std::to_string(first.cols) + "x" +
-                     std::to_string(first.rows) + ", but " + args.config + "'s [camera] chip has Nu x Nv = " +
+  const GreyPicture& first = pictures.front().picture;
+  if (first.width != chip.Nu || first.height != chip.Nv)
+    throw UsageError(pictures.front().path + ": the pictures are " + std::to_string(first.width) + "x" +
+                     std::to_string(first.height) + ", but " + args.config + "'s [camera] chip has Nu x Nv = " +
                      std::to_string(chip.Nu) + "x" + std::to_string(chip.Nv));
   return pictures;
 }
@@ -201,9 +206,7 @@ void write_overlays(const std::string& dir, const std::vector<Picture>& pictures
   std::filesystem::create_directories(dir);
   for (std::size_t v = 0; v < c.views.size(); ++v) {
     const Picture& p = pictures[static_cast<std::size_t>(used[v])];
-    const ImageView frame{p.grey.data, p.grey.cols, p.grey.rows, static_cast<std::ptrdiff_t>(p.grey.step[0]),
-                          PixelFormat::mono8, 8};
-    Overlay overlay(frame);
+    Overlay overlay(p.picture.view());
     constexpr int kFound = 1, kModel = 0;  // the overlay's line colours: green, red
     std::vector<Pick> found, model;
     for (const Vec2& px : p.corners_px) found.push_back({kFound, px.x(), px.y()});
@@ -223,12 +226,12 @@ int run_camera(const CameraArgs& args) {
   std::vector<int> used;  // picture index of each view
   for (std::size_t i = 0; i < pictures.size(); ++i) {
     Picture& p = pictures[i];
-    p.corners_px = find_corners(p.grey, board);
+    p.corners_px = find_corners(p.picture, board);
     if (p.corners_px.empty()) {
       std::cerr << p.path << ": no " << args.board << " board found (all inner corners must be in the picture), skipped\n";
       continue;
     }
-    views.push_back({p.grey.cols, p.grey.rows, p.corners_px});
+    views.push_back({p.picture.width, p.picture.height, p.corners_px});
     used.push_back(static_cast<int>(i));
   }
 
