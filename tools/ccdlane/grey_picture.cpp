@@ -1,0 +1,117 @@
+// Grey pictures from JPEG (libjpeg), PNG (libpng's simplified API) and PGM (the frame reader).
+#include "tools/ccdlane/grey_picture.hpp"
+
+#include <csetjmp>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include <jpeglib.h>
+#include <png.h>
+
+#include "drivers/frames/pgm.hpp"
+
+namespace ccdlane::cli {
+namespace {
+
+struct JpegError {
+  jpeg_error_mgr manager;
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+};
+
+void on_jpeg_error(j_common_ptr info) {
+  auto* error = reinterpret_cast<JpegError*>(info->err);
+  (*info->err->format_message)(info, error->message);
+  std::longjmp(error->jump, 1);
+}
+
+// libjpeg reports errors by longjmp: nothing with a destructor is created between
+// setjmp and the calls that may jump, the output buffer is sized before.
+bool decode_jpeg(const std::vector<unsigned char>& bytes, GreyPicture& out, std::string& why) {
+  jpeg_decompress_struct info{};
+  JpegError error{};
+  info.err = jpeg_std_error(&error.manager);
+  error.manager.error_exit = on_jpeg_error;
+  if (setjmp(error.jump)) {
+    jpeg_destroy_decompress(&info);
+    why = error.message;
+    return false;
+  }
+  jpeg_create_decompress(&info);
+  jpeg_mem_src(&info, bytes.data(), static_cast<unsigned long>(bytes.size()));
+  jpeg_read_header(&info, TRUE);
+  info.out_color_space = JCS_GRAYSCALE;
+  jpeg_start_decompress(&info);
+  out.width = static_cast<int>(info.output_width);
+  out.height = static_cast<int>(info.output_height);
+  out.pixels.resize(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height));
+  while (info.output_scanline < info.output_height) {
+    JSAMPROW row = out.pixels.data() + static_cast<std::size_t>(info.output_scanline) * static_cast<std::size_t>(out.width);
+    jpeg_read_scanlines(&info, &row, 1);
+  }
+  jpeg_finish_decompress(&info);
+  jpeg_destroy_decompress(&info);
+  return true;
+}
+
+bool decode_png(const std::vector<unsigned char>& bytes, GreyPicture& out, std::string& why) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
+    why = image.message;
+    return false;
+  }
+  image.format = PNG_FORMAT_GRAY;
+  out.width = static_cast<int>(image.width);
+  out.height = static_cast<int>(image.height);
+  out.pixels.resize(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, out.pixels.data(), 0, nullptr)) {
+    why = image.message;
+    png_image_free(&image);
+    return false;
+  }
+  return true;
+}
+
+void read_pgm(const std::string& path, GreyPicture& out) {
+  PgmReader reader;
+  PgmHeader header;
+  if (reader.probe(path.c_str(), header) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
+  const int bytes = header.bytes_per_sample();
+  std::vector<std::uint8_t> raster(header.raster_bytes());
+  const MutableImageView into{raster.data(), header.width, header.height, header.width * bytes, header.format(),
+                              header.significant_bits()};
+  if (reader.read(path.c_str(), into) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
+  out.width = header.width;
+  out.height = header.height;
+  out.pixels.resize(static_cast<std::size_t>(header.width) * static_cast<std::size_t>(header.height));
+  const ImageView view = into;
+  for (int y = 0; y < header.height; ++y)
+    for (int x = 0; x < header.width; ++x)
+      out.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(header.width) + static_cast<std::size_t>(x)] =
+          static_cast<std::uint8_t>(static_cast<long>(view.at(x, y)) * 255 / header.maxval);
+}
+
+}  // namespace
+
+GreyPicture read_grey_picture(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the picture");
+  const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  GreyPicture out;
+  std::string why;
+  if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
+    if (!decode_jpeg(bytes, out, why)) throw std::runtime_error(path + ": bad JPEG: " + why);
+  } else if (bytes.size() >= 8 && png_sig_cmp(bytes.data(), 0, 8) == 0) {
+    if (!decode_png(bytes, out, why)) throw std::runtime_error(path + ": bad PNG: " + why);
+  } else if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '5') {
+    read_pgm(path, out);
+  } else {
+    throw std::runtime_error(path + ": not a JPEG, PNG or binary PGM picture");
+  }
+  return out;
+}
+
+}  // namespace ccdlane::cli
