@@ -97,7 +97,7 @@ struct Config {
   bool operator==(const Config&) const = default;
 };
 
-// The reference camera of geometry.md (DH-HV2003UC), used when no config is given.
+// The reference camera of docs/geometry.md (DH-HV2003UC), used when no config is given.
 Config default_config();
 
 }  // namespace ccdlane

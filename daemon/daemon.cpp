@@ -79,7 +79,7 @@ class StatusTicker {
 std::string solver_observability_problem(const Config& c) {
   const FreeSet& free = c.solver.free;
   const PriorConfig& p = c.prior;
-  // solver.md, "What is and is not observable": scale and focal length never are from
+  // docs/solver.md, "What is and is not observable": scale and focal length never are from
   // one image of parallel lines; roll about the lane direction is absorbed by moving free
   // lines sideways unless a gyro, a roll prior or a lane-width prior pins it. Synthetic
   // frames carry their drive's gyro reading and frame directories (most) their recorded one.

@@ -13,7 +13,7 @@ namespace ccdlane {
 std::string daemon_config_problem(const Config& config);
 
 // Solver settings that are not well-posed with the priors this configuration gives
-// (solver.md, "What is and is not observable"), "" when well-posed.
+// (docs/solver.md, "What is and is not observable"), "" when well-posed.
 std::string solver_observability_problem(const Config& config);
 
 // The built-in demo: the reference camera, the synthetic road at 30 fps, the emulated

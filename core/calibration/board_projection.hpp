@@ -17,14 +17,14 @@ struct Intrinsics {
   double f_mm = 0.0;
   double cx = 0.0;    // principal point, 1-based pixels
   double cy = 0.0;
-  double k_px2 = 0.0; // division-model distortion (geometry.md)
+  double k_px2 = 0.0; // division-model distortion (docs/geometry.md)
 };
 constexpr int kIntrinsicCount = 4;  // f_mm, cx, cy, k_px2, in this order in every Jacobian
 
 // Board -> camera: p = rotation * X + translation, in the camera frame of the pinhole
 // picture (x to the right of the picture, y down it, z along the axis toward the scene).
-// That frame is geometry.md's film frame turned half a turn about its axis, with the
-// origin at the lens centre: geometry.md's d = (-p.x, -p.y, p.z), so its projection
+// That frame is docs/geometry.md's film frame turned half a turn about its axis, with the
+// origin at the lens centre: docs/geometry.md's d = (-p.x, -p.y, p.z), so its projection
 // Px = cx - f d_x / (d_z pitch_u) reads Px = cx + f p_x / (p_z pitch_u) here.
 struct BoardPose {
   Mat3 rotation = Mat3::Identity();

@@ -1,6 +1,6 @@
 // Pixel -> road in a few multiply-adds, for loops over many pixels (detection's marks,
 // the renderer's every pixel) at one pose. The same formulas as
-// CameraModel::ground_point_from_pixel (geometry.md "From pixel to road"), rearranged:
+// CameraModel::ground_point_from_pixel (docs/geometry.md "From pixel to road"), rearranged:
 // with the undistorted pixel's chip coordinates (a, b), the cell-minus-lens vector is
 // q = -f T2 + a T0 + b T1 (T's columns), and the ray meets the road at L - (L_z / q_z) q.
 #pragma once

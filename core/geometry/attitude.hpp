@@ -1,11 +1,11 @@
-// The camera attitude matrix T = Rz(psi) Ry(theta) Rx(phi) P of geometry.md, with derivatives.
+// The camera attitude matrix T = Rz(psi) Ry(theta) Rx(phi) P of docs/geometry.md, with derivatives.
 #pragma once
 
 #include "core/geometry/types.hpp"
 
 namespace ccdlane {
 
-// Yaw, pitch, roll of the camera in radians (geometry.md "Attitude").
+// Yaw, pitch, roll of the camera in radians (docs/geometry.md "Attitude").
 struct Attitude {
   double psi = 0.0;    // yaw, positive turns the view left
   double theta = 0.0;  // pitch, positive tips the view down to the road

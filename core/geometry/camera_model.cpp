@@ -1,4 +1,4 @@
-// CameraModel: geometry.md's formulas, arranged so every derivative is a few products.
+// CameraModel: docs/geometry.md's formulas, arranged so every derivative is a few products.
 //
 // Everything hangs off the mounting point at (0, 0, H): a film-frame offset w from it is
 // the fixed-frame point H e3 + T (w - (0, yM, zM)). Hence the lens centre is

@@ -9,7 +9,7 @@
 
 namespace ccdlane {
 
-// The quantities the solver may estimate about the camera (geometry.md), in the order
+// The quantities the solver may estimate about the camera (docs/geometry.md), in the order
 // used by every pose Jacobian below.
 enum PoseParam : int { kPsi = 0, kTheta = 1, kPhi = 2, kHeight = 3, kFocal = 4, kPoseParams = 5 };
 

@@ -3,7 +3,7 @@
 
 namespace ccdlane {
 
-// Everything about the camera that does not change while driving (geometry.md
+// Everything about the camera that does not change while driving (docs/geometry.md
 // "Mount and lens", "Pixels and chip cells", "Radial distortion"). Lengths in mm.
 struct CameraSpec {
   double U_mm = 6.4;     // active chip width

@@ -1,5 +1,5 @@
 // Division-model distortion. The inverse is written as 2 / (1 + sqrt(1 - 4 k r^2)), the
-// cancellation-free form of geometry.md's (1 - sqrt(1 - 4 k r^2)) / (2 k r^2): it needs no
+// cancellation-free form of docs/geometry.md's (1 - sqrt(1 - 4 k r^2)) / (2 k r^2): it needs no
 // special case at k = 0 or r = 0 and keeps full precision for tiny k r^2.
 #include "core/geometry/distortion.hpp"
 

@@ -1,4 +1,4 @@
-// gx1.md section 13: conjugating by diag(1, -1, -1) flips rotations about y and z.
+// docs/gx1.md section 13: conjugating by diag(1, -1, -1) flips rotations about y and z.
 #include "core/geometry/gx1_attitude.hpp"
 
 namespace ccdlane {

@@ -1,5 +1,5 @@
 // The 3DM-GX1's Euler angles (NED-style, sensor axes) as the camera attitude of
-// geometry.md (gx1.md section 13).
+// docs/geometry.md (docs/gx1.md section 13).
 #pragma once
 
 #include "base/gx1_angles.hpp"

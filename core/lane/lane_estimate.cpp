@@ -1,4 +1,4 @@
-// Names of the per-frame result's enumerations, as interfaces.md spells them.
+// Names of the per-frame result's enumerations, as docs/interfaces.md spells them.
 #include "core/lane/lane_estimate.hpp"
 
 namespace ccdlane {

@@ -1,4 +1,4 @@
-// The per-frame result of the pipeline (interfaces.md "Per-frame result"): what replay
+// The per-frame result of the pipeline (docs/interfaces.md "Per-frame result"): what replay
 // prints as JSON Lines and the daemon publishes over LCM, field for field.
 #pragma once
 

@@ -1,4 +1,4 @@
-// What the lane lines mean for the vehicle (interfaces.md "Per-frame result"): its own
+// What the lane lines mean for the vehicle (docs/interfaces.md "Per-frame result"): its own
 // lane's width, its offset from the lane's centre, its heading, and lane departure.
 #pragma once
 

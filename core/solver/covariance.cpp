@@ -4,7 +4,7 @@
 // Why kRankTolerance = 1e-10: S is formed from products of analytic Jacobians and a Schur
 // elimination per pick, so each entry carries a rounding error of a few ulps relative to
 // the unit diagonal; by Weyl's theorem an exactly null direction (the roll/lane-offset
-// family of solver.md) then shows an eigenvalue of that order: measured |lambda| <= 2e-16
+// family of docs/solver.md) then shows an eigenvalue of that order: measured |lambda| <= 2e-16
 // on the synthetic road scenes of the tests. Real information is far above it: the
 // weakest determined direction of the problems ccdlane meets (roll held only by a 0.5-1
 // degree gyro prior) measured 2e-4..2e-3, well-posed ones 2e-2. 1e-10 lies six orders of

@@ -1,5 +1,5 @@
 // Rank analysis and covariance of the reduced normal matrix at the optimum: which free
-// parameters the data determine, and with what uncertainty (solver.md "Uncertainty").
+// parameters the data determine, and with what uncertainty (docs/solver.md "Uncertainty").
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// Starting point of a solve (solver.md "Solving it well"): each pick's x from the ray-
+// Starting point of a solve (docs/solver.md "Solving it well"): each pick's x from the ray-
 // ground intersection at the initial pose, lines from a straight-line fit when not given.
 #pragma once
 

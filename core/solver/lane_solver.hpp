@@ -1,4 +1,4 @@
-// The lane problem of solver.md: camera attitude, lane lines and every mark's position
+// The lane problem of docs/solver.md: camera attitude, lane lines and every mark's position
 // from labelled pixel picks, by an allocation-free Levenberg-Marquardt solve.
 #pragma once
 
@@ -40,7 +40,7 @@ struct LaneLine {
 double radius_of_curvature_mm(const LaneLine& line);
 
 // What one solve is asked to do. Fixed parameters keep their value from `initial_pose`
-// and `initial_lines`. Beyond solver.md's roll/offset family and scale (free H without a
+// and `initial_lines`. Beyond docs/solver.md's roll/offset family and scale (free H without a
 // prior), note: a free heading m per line makes the lines' parallelism, and with it yaw
 // and (for straight lines) pitch, undetermined. Such requests come back rank_deficient.
 struct SolveRequest {
@@ -56,7 +56,7 @@ struct SolveRequest {
   std::span<const Pick> picks;
   int num_lines = 0;
   // Initial lines (exactly num_lines of them); empty = a straight-line fit of the
-  // initial ground points of each line (solver.md): y0 and, when m is free, m from the
+  // initial ground points of each line (docs/solver.md): y0 and, when m is free, m from the
   // fit, otherwise m = 0; c = 0.
   std::span<const LaneLine> initial_lines;
   // The initial pose and lines are a solution of a similar problem (the previous frame):
@@ -120,7 +120,7 @@ struct SolveResult {
   ReducedMatrix covariance;
 };
 
-// Residuals needed before a request is solvable (solver.md: fewer residuals than
+// Residuals needed before a request is solvable (docs/solver.md: fewer residuals than
 // unknowns is too_few_picks): the minimum number of picks for `request`'s free set,
 // lines and priors. Each pick brings two residuals and one unknown (its x).
 int required_picks(const SolveRequest& request);

@@ -33,7 +33,7 @@ struct LmOutcome {
   int iterations = 0;
 };
 
-// Stopping rules of solver.md.
+// Stopping rules of docs/solver.md.
 constexpr double kCostTolerance = 1e-12;  // |J - J_new| <= tol * J
 constexpr double kStepTolerance = 1e-12;  // |step| <= tol * (|parameters| + tol), x_i included
 

@@ -1,4 +1,4 @@
-// Paper mode (solver.md): the seed paper's algebraic collinearity residuals r1, r2 (mm^2)
+// Paper mode (docs/solver.md): the seed paper's algebraic collinearity residuals r1, r2 (mm^2)
 // of lens, cell centre and road point, with each x_i at its closed-form optimum.
 #pragma once
 

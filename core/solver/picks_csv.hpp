@@ -1,4 +1,4 @@
-// The picks CSV of interfaces.md ("line,px,py"), parsed from text with errors that name
+// The picks CSV of docs/interfaces.md ("line,px,py"), parsed from text with errors that name
 // the file, the line and the field. For tools and start-up, not the real-time path.
 #pragma once
 

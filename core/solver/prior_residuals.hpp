@@ -1,4 +1,4 @@
-// The Gaussian priors of reprojection mode (solver.md) as whitened residual rows.
+// The Gaussian priors of reprojection mode (docs/solver.md) as whitened residual rows.
 #pragma once
 
 #include "core/solver/parameter_layout.hpp"

@@ -1,4 +1,4 @@
-// Reprojection mode (solver.md): pixel residuals of each pick's road point, whitened by
+// Reprojection mode (docs/solver.md): pixel residuals of each pick's road point, whitened by
 // the pick noise, with analytic Jacobians over the free globals, its line and its x,
 // evaluated over all picks at once (RoadProjection).
 #pragma once

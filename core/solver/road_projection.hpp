@@ -43,7 +43,7 @@ class RoadProjection {
   // never later.
   RoadProjection(const CameraSpec& spec, int max_points);
 
-  // Per-pose constants (geometry.md; only the attitude matrix, not its derivatives). The
+  // Per-pose constants (docs/geometry.md; only the attitude matrix, not its derivatives). The
   // angles' trig comes from the previous pose's when they moved little (AttitudeTrig::
   // moved), so a pose's pixels depend on the poses set before it by a few ulp.
   void set_pose(const CameraPose& pose);

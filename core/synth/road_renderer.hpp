@@ -1,4 +1,4 @@
-// Renders a synthetic road frame through the exact camera model of geometry.md: for each
+// Renders a synthetic road frame through the exact camera model of docs/geometry.md: for each
 // pixel, undistort, cast the ray to the road, and shade what it hits (asphalt texture,
 // lane paint, verge, shadows, sky), then blur and add sensor noise.
 #pragma once

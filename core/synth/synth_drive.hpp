@@ -15,7 +15,7 @@ namespace ccdlane {
 
 constexpr int kMaxRoadLines = 5;  // 4 lanes
 
-// Everything true about one frame. The road frame is the fixed frame of geometry.md
+// Everything true about one frame. The road frame is the fixed frame of docs/geometry.md
 // aligned with the lane (x along it, origin on the road below the camera), so the lane
 // lines are y = y0_j + c x^2 (m = 0) and the vehicle's heading shows in the camera yaw.
 struct SynthFrame {

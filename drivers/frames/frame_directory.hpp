@@ -1,4 +1,4 @@
-// Reading a frame directory (interfaces.md "Frame directories"): frames.csv indexed once,
+// Reading a frame directory (docs/interfaces.md "Frame directories"): frames.csv indexed once,
 // then each frame decoded on demand into a caller's fixed buffer.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The index of a frame directory (interfaces.md "Frame directories"): frames.csv with
+// The index of a frame directory (docs/interfaces.md "Frame directories"): frames.csv with
 // required file,t_ns, optional gyro roll_deg,pitch_deg,yaw_deg and any truth_* columns,
 // in any column order.
 #pragma once

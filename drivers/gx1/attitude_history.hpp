@@ -12,7 +12,7 @@
 
 namespace ccdlane::gx1 {
 
-// One sensor reading: angles as the sensor reports them (gx1.md section 4, degrees),
+// One sensor reading: angles as the sensor reports them (docs/gx1.md section 4, degrees),
 // stamped with CLOCK_MONOTONIC when its last byte arrived.
 struct Gx1Sample {
   std::int64_t t_ns = 0;

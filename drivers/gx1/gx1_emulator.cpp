@@ -238,7 +238,7 @@ void Gx1Emulator::execute(std::int64_t now) {
     case cmd::read_eeprom: {
       const std::uint16_t address = static_cast<std::uint16_t>((command_[1] << 8) | command_[2]);
       std::uint16_t value = 0;
-      switch (address) {  // the factory values of gx1.md sections 5 and 6
+      switch (address) {  // the factory values of docs/gx1.md sections 5 and 6
         case kEepromGyroGainScale:
           value = 8500;
           break;

@@ -1,4 +1,4 @@
-// The 3DM-GX1 wire protocol: tables from gx1.md section 3, checksum from section 2, the
+// The 3DM-GX1 wire protocol: tables from docs/gx1.md section 3, checksum from section 2, the
 // sliding-window parser from section 7.
 #include "drivers/gx1/gx1_protocol.hpp"
 
@@ -110,7 +110,7 @@ std::size_t command_length(std::uint8_t command) {
 std::uint16_t checksum(std::span<const std::uint8_t> frame) {
   assert(!frame.empty() && frame.size() % 2 == 1);
   // Zero-extended header and uint16 arithmetic: sign-extending a char header breaks
-  // 0xF0/0xF1 (gx1.md section 9.6).
+  // 0xF0/0xF1 (docs/gx1.md section 9.6).
   std::uint32_t sum = frame[0];
   for (std::size_t i = 1; i + 1 < frame.size(); i += 2) sum += static_cast<std::uint32_t>((frame[i] << 8) | frame[i + 1]);
   return static_cast<std::uint16_t>(sum & 0xFFFF);

@@ -1,4 +1,4 @@
-// The 3DM-GX1 wire protocol (gx1.md): reply lengths, checksum, decoded replies, scaling,
+// The 3DM-GX1 wire protocol (docs/gx1.md): reply lengths, checksum, decoded replies, scaling,
 // command encoders, and the byte-fed reply parser. Pure: never sees an fd, allocates
 // nothing, depends only on the standard library (the fuzz target builds it alone).
 #pragma once
@@ -13,7 +13,7 @@
 
 namespace ccdlane::gx1 {
 
-// Command bytes (gx1.md section 3). A reply's header echoes its command byte.
+// Command bytes (docs/gx1.md section 3). A reply's header echoes its command byte.
 namespace cmd {
 inline constexpr std::uint8_t raw_sensor = 0x01;
 inline constexpr std::uint8_t stab_vectors = 0x02;
@@ -131,14 +131,14 @@ Frame encode_reply(const Reply& reply);
 // A one-byte poll: 0x0E, 0x0D, 0x31, 0x05, 0x04, 0x07, 0xF0, 0xF1 and the other
 // commands without parameters.
 Frame encode_poll(std::uint8_t command);
-// `10 00 CC`: stream replies of `streamed` back to back (gx1.md section 7).
+// `10 00 CC`: stream replies of `streamed` back to back (docs/gx1.md section 7).
 Frame encode_continuous_start(std::uint8_t streamed);
 // `10 00 00`: stop streaming.
 Frame encode_continuous_stop();
 // `28 AH AL`: read one EEPROM word.
 Frame encode_eeprom_read(std::uint16_t address);
 
-// ---- scaling (gx1.md section 5) -----------------------------------------------------
+// ---- scaling (docs/gx1.md section 5) -----------------------------------------------------
 
 inline constexpr double kDegreesPerCount = 360.0 / 65536.0;
 inline constexpr double kQuaternionCountsPerUnit = 8192.0;
@@ -197,12 +197,12 @@ struct ParserCounters {
   std::uint64_t bytes_skipped = 0;  // bytes discarded while searching for a reply
 };
 
-// Frames replies out of a byte stream (gx1.md section 7). The header byte is the only
+// Frames replies out of a byte stream (docs/gx1.md section 7). The header byte is the only
 // sync mark and occurs inside data, so the parser slides: at each position holding an
 // expected header with a whole reply's worth of bytes it checks the checksum, consumes
 // the reply on success and advances ONE byte on failure.
 //
-// Extra check (gx1.md section 7 recommends one): after bytes have been skipped, a
+// Extra check (docs/gx1.md section 7 recommends one): after bytes have been skipped, a
 // candidate is accepted only when another expected header byte follows right after it.
 // Lost sync is when false matches happen (a 16-bit sum passes by chance for 1 offset
 // in 65536 tried); the check cuts that by a further ~256 in a continuous stream, where the

@@ -1,4 +1,4 @@
-// The 3DM-GX1 session: the bring-up of gx1.md section 9.1, continuous streaming of
+// The 3DM-GX1 session: the bring-up of docs/gx1.md section 9.1, continuous streaming of
 // section 7, arrival timestamps, and the recovery state machine.
 #include "drivers/gx1/gx1_session.hpp"
 
@@ -104,7 +104,7 @@ int Gx1Session::configure() {
   return 0;
 }
 
-// gx1.md section 9.1: stop whatever a previous user left running, drain, flush, then
+// docs/gx1.md section 9.1: stop whatever a previous user left running, drain, flush, then
 // confirm the link with the firmware number and read the serial number.
 int Gx1Session::handshake() {
   if (const int rc = send(encode_continuous_stop()); rc < 0) return rc;

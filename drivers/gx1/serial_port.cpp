@@ -1,4 +1,4 @@
-// termios transport for the 3DM-GX1 (gx1.md section 1): every line flag is set
+// termios transport for the 3DM-GX1 (docs/gx1.md section 1): every line flag is set
 // explicitly and read back, because tcsetattr() succeeds when any one change applied.
 #include "drivers/gx1/serial_port.hpp"
 

@@ -70,7 +70,7 @@ const Problem& problem(int num_picks, SolverMode mode) {
   return *p;
 }
 
-// ---- The same reprojection problem for Ceres: geometry.md templated for autodiff. ----
+// ---- The same reprojection problem for Ceres: docs/geometry.md templated for autodiff. ----
 
 template <class T>
 void attitude_matrix(const T* a, T R[3][3]) {
@@ -155,7 +155,7 @@ struct CeresProblem {
     options.linear_solver_ordering = ordering;
     options.num_threads = 1;
     options.max_num_iterations = r.max_iterations;
-    options.function_tolerance = 1e-12;  // the stopping rules of solver.md
+    options.function_tolerance = 1e-12;  // the stopping rules of docs/solver.md
     options.parameter_tolerance = 1e-12;
     options.gradient_tolerance = 0.0;
     options.logging_type = ceres::SILENT;

@@ -1,4 +1,4 @@
-// The attitude matrix: conventions of geometry.md and derivatives.
+// The attitude matrix: conventions of docs/geometry.md and derivatives.
 #include "core/geometry/attitude.hpp"
 
 #include <cmath>

@@ -23,7 +23,7 @@ TEST(Distortion, CentreIsFixed) {
 }
 
 TEST(Distortion, BarrelPushesIdealPointsOutward) {
-  // k < 0: ideal points lie farther from the centre than observed ones (geometry.md).
+  // k < 0: ideal points lie farther from the centre than observed ones (docs/geometry.md).
   const Vec2 observed(20, 30);
   const Vec2 ideal = *undistort_pixel(observed, kCentre, -8.3042e-7);
   EXPECT_GT((ideal - kCentre).norm(), (observed - kCentre).norm());

@@ -1,4 +1,4 @@
-// gx1.md section 13: the sensor's angles as the camera attitude.
+// docs/gx1.md section 13: the sensor's angles as the camera attitude.
 #include "core/geometry/gx1_attitude.hpp"
 
 #include <gtest/gtest.h>
@@ -15,14 +15,14 @@ TEST(Gx1Attitude, MapsRollPitchYawWithTheDocumentedSigns) {
 
 TEST(Gx1Attitude, NoseDownOnTheSensorTipsTheCameraTowardTheRoad) {
   // NED: positive pitch raises the nose. Nose down (negative) must be positive camera
-  // pitch, which geometry.md defines as tipping the view down.
+  // pitch, which docs/geometry.md defines as tipping the view down.
   const Mat3 t = attitude_matrix(camera_attitude_from_gx1({0.0, -10.0, 0.0}));
   EXPECT_LT(t.col(2).z(), 0.0);
 }
 
 TEST(Gx1Attitude, ClockwiseHeadingTurnsTheViewRight) {
   // NED: positive yaw turns clockwise seen from above (north -> east), i.e. to the right;
-  // geometry.md's positive yaw turns the view left (+y).
+  // docs/geometry.md's positive yaw turns the view left (+y).
   const Mat3 t = attitude_matrix(camera_attitude_from_gx1({0.0, 0.0, 20.0}));
   EXPECT_LT(t.col(2).y(), 0.0);
 }

@@ -91,7 +91,7 @@ off_t file_size(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 ? st.st_size : -1;
 }
 
-// The fields of interfaces.md's per-frame result, in its order.
+// The fields of docs/interfaces.md's per-frame result, in its order.
 void expect_interfaces_md_shape(const ordered_json& j) {
   std::vector<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.push_back(key);

@@ -1,6 +1,6 @@
 // A moving test pattern stamped with its frame number: a FrameSource that needs no
 // camera and a FrameProcessor that checks every pixel instead of finding lanes. They
-// exercise the pipeline and the bus end to end (tests, the phase-1 demo) and make a torn
+// exercise the pipeline and the bus end to end (tests and benchmarks) and make a torn
 // or misrouted frame visible.
 #pragma once
 

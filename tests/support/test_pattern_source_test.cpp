@@ -86,7 +86,7 @@ TEST(TestPatternProcessor, IntactFramesAreOkDamagedOnesAreNot) {
   EXPECT_TRUE(good.ok);
   EXPECT_EQ(good.frame, 9u);
   EXPECT_EQ(good.t_ns, 123);
-  EXPECT_NEAR(good.phi_deg, 2.0, 1e-12);    // gx1.md section 13: phi = roll
+  EXPECT_NEAR(good.phi_deg, 2.0, 1e-12);    // docs/gx1.md section 13: phi = roll
   EXPECT_NEAR(good.theta_deg, 1.5, 1e-12);  // theta = -pitch
   EXPECT_EQ(good.num_lines, 2);
   EXPECT_EQ(processor.damaged_frames(), 0u);

@@ -1,4 +1,4 @@
-// `ccdlane project` / `ccdlane ground` as a user runs them, against geometry.md written
+// `ccdlane project` / `ccdlane ground` as a user runs them, against docs/geometry.md written
 // out literally (plain arrays, the specification's own forms of every formula), on poses
 // and points that are not in the vectors file.
 #include <cmath>

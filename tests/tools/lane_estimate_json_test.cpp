@@ -1,4 +1,4 @@
-// The per-frame result's JSON: every field of interfaces.md in its order, nulls for what
+// The per-frame result's JSON: every field of docs/interfaces.md in its order, nulls for what
 // a failed frame does not have, the optional sigmas.
 #include "tools/ccdlane/lane_estimate_json.hpp"
 

@@ -59,7 +59,7 @@ std::string solve_error(const std::vector<std::string>& args) {
 
 TEST(SolveCommand, DemoProblemSolvesThePapersPictureA) {
   const Json j = solve_ok({kDemo});
-  // Exactly the fields of interfaces.md, in its order.
+  // Exactly the fields of docs/interfaces.md, in its order.
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
   EXPECT_EQ(keys, (std::vector<std::string>{"mode", "converged", "rank_deficient", "iterations", "cost", "rms_px",

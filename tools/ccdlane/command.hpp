@@ -9,7 +9,7 @@
 
 namespace ccdlane::cli {
 
-// Bad usage or bad input: one line on stderr, exit status 2 (interfaces.md).
+// Bad usage or bad input: one line on stderr, exit status 2 (docs/interfaces.md).
 class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

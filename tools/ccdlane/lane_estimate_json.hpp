@@ -1,4 +1,4 @@
-// The per-frame result as JSON, field for field as interfaces.md lists it (`ccdlane
+// The per-frame result as JSON, field for field as docs/interfaces.md lists it (`ccdlane
 // replay` writes it, `ccdlane monitor` prints the same fields).
 #pragma once
 

@@ -93,7 +93,7 @@ CommandAction setup_replay(CLI::App& sub) {
   sub.add_option("--overlay", a->overlay, "write a PNG per frame with the marks, picks and fitted lines here");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.footer("Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
-             "frame, printing one JSON object per frame (interfaces.md); from an LCM log, the gyro reading and "
+             "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
              "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
              "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
   return [a] {

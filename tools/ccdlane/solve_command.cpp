@@ -1,5 +1,5 @@
 // `ccdlane solve PROBLEM.toml [--picks FILE.csv]`: one lane problem solved, printed as
-// the JSON of interfaces.md.
+// the JSON of docs/interfaces.md.
 #include <filesystem>
 #include <fstream>
 #include <iostream>

@@ -1,4 +1,4 @@
-// The chessboard projection against geometry.md's camera model and its own finite differences.
+// The chessboard projection against docs/geometry.md's camera model and its own finite differences.
 #include "core/calibration/board_projection.hpp"
 
 #include <random>
@@ -24,7 +24,7 @@ TEST(BoardCorners, RowByRowAlongTheColumns) {
 // frame turned half a turn about its axis, with the origin at the lens, is the board
 // projection's camera frame.
 TEST(BoardProjection, MatchesTheCameraModel) {
-  CameraSpec spec;  // the reference camera of geometry.md
+  CameraSpec spec;  // the reference camera of docs/geometry.md
   spec.cx = 410.2;
   spec.cy = 291.7;
   spec.k_px2 = -8.3042e-7;

@@ -26,7 +26,7 @@ std::vector<calibration::BoardPose> varied_board_poses(const ChessboardCamera& c
                                                        std::mt19937& rng, double min_tilt_deg = 15.0,
                                                        double max_tilt_deg = 45.0);
 
-// The corners' observed pixels through geometry.md's pinhole and division model, written
+// The corners' observed pixels through docs/geometry.md's pinhole and division model, written
 // out here (not through board_projection) so the fit is checked against an independent
 // path. Gaussian noise of sigma_px per coordinate when sigma_px > 0.
 std::vector<Vec2> corner_pixels(const ChessboardCamera& camera, const calibration::BoardGeometry& board,

@@ -1,4 +1,4 @@
-// Lane width, lateral offset, heading and departure from solved lines, as interfaces.md
+// Lane width, lateral offset, heading and departure from solved lines, as docs/interfaces.md
 // defines them, including the cases without a lane.
 #include "core/lane/lane_metrics.hpp"
 

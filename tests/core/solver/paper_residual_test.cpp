@@ -1,4 +1,4 @@
-// PaperResidual: the residuals are solver.md's r1, r2 written out literally, each x_i is
+// PaperResidual: the residuals are docs/solver.md's r1, r2 written out literally, each x_i is
 // the minimiser of r1^2 + r2^2, and the Jacobians match finite differences at fixed x.
 #include "core/solver/paper_residual.hpp"
 
@@ -13,7 +13,7 @@
 namespace ccdlane::solver {
 namespace {
 
-// solver.md's r1, r2 for one pick at distance x on `line`, at `pose`.
+// docs/solver.md's r1, r2 for one pick at distance x on `line`, at `pose`.
 Vec2 spec_residuals(const CameraSpec& spec, const CameraPose& pose, const Vec2& ideal, const LaneLine& line,
                     double x) {
   const CameraModel cam(spec, pose);

@@ -1,4 +1,4 @@
-// The picks CSV of interfaces.md: what is accepted, and one exact message per problem.
+// The picks CSV of docs/interfaces.md: what is accepted, and one exact message per problem.
 #include "core/solver/picks_csv.hpp"
 
 #include <gtest/gtest.h>

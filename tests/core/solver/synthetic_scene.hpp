@@ -1,5 +1,5 @@
 // Synthetic lane scenes with known truth for the solver's tests and benchmarks: the
-// reference camera of geometry.md at road scale, marks projected from the truth.
+// reference camera of docs/geometry.md at road scale, marks projected from the truth.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +36,7 @@ struct SyntheticScene {
   std::vector<Pick> picks;     // exact projections of the marks
 };
 
-// The reference camera (DH-HV2003UC, f = 5.05 mm, k = -8.3042e-7) of geometry.md.
+// The reference camera (DH-HV2003UC, f = 5.05 mm, k = -8.3042e-7) of docs/geometry.md.
 CameraSpec reference_camera();
 
 // A random scene: H 1.2-1.6 m, lines 3-4 m apart around the camera, marks on every

@@ -25,7 +25,7 @@ TEST(SynthDrive, LaneQuantitiesAgreeWithTheLines) {
     EXPECT_GT(left, 0.0);
     EXPECT_LT(right, 0.0);
     EXPECT_NEAR(left - right, f.lane_width_mm, 1e-9);
-    EXPECT_NEAR(f.lateral_offset_mm, -(left + right) / 2, 1e-9);  // interfaces.md's definition
+    EXPECT_NEAR(f.lateral_offset_mm, -(left + right) / 2, 1e-9);  // docs/interfaces.md's definition
     EXPECT_LE(std::abs(f.lateral_offset_mm), c.synth.weave_mm + 1e-9);
     for (int j = 1; j < 4; ++j) EXPECT_NEAR(f.y0_mm[j - 1] - f.y0_mm[j], 3600.0, 1e-9);
     // The vehicle's heading is in the camera yaw on top of the mount.

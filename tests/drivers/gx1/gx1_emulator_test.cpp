@@ -1,4 +1,4 @@
-// The emulator as a raw peer on its pty (no session): it must answer like gx1.md says
+// The emulator as a raw peer on its pty (no session): it must answer like docs/gx1.md says
 // the sensor does, stream at its own pace, and disappear/reappear behind its link.
 #include "drivers/gx1/gx1_emulator.hpp"
 

@@ -1,4 +1,4 @@
-// The 3DM-GX1 protocol layer against gx1.md section 10 (every vector decoded exactly),
+// The 3DM-GX1 protocol layer against docs/gx1.md section 10 (every vector decoded exactly),
 // the sliding-window resynchronisation of section 7, and the command encoders.
 #include "drivers/gx1/gx1_protocol.hpp"
 
@@ -144,7 +144,7 @@ TEST(Gx1Protocol, V5FirmwareAndSerialNumberHaveZeroExtendedHeaders) {
   EXPECT_EQ(v.minor, 1);
   EXPECT_EQ(v.build, 2);
   EXPECT_EQ(single_reply<SerialNumberReply>(kV5Serial).number, 1234);
-  // A sign-extended 0xF0 header would give 0x0C0E (gx1.md section 9.6).
+  // A sign-extended 0xF0 header would give 0x0C0E (docs/gx1.md section 9.6).
   EXPECT_EQ(checksum(std::span(kV5Firmware).first(3)), 0x0D0E);
 }
 
@@ -192,7 +192,7 @@ TEST(Gx1Protocol, V8YieldsExactlyItsTwoPackets) {
 }
 
 TEST(Gx1Protocol, SkippingAWholePacketLengthAfterAFailureWouldLoseV8) {
-  // The counter-example of gx1.md section 10, checked so the test above means something:
+  // The counter-example of docs/gx1.md section 10, checked so the test above means something:
   // jumping 11 bytes from the false header at 6 lands on 17, then 28, missing both packets.
   ASSERT_EQ(kV8[6], cmd::stab_euler);
   EXPECT_NE(checksum(std::span(kV8).subspan(6, 9)), (kV8[15] << 8 | kV8[16]));
