@@ -39,6 +39,8 @@ class AttitudeProvider {
   // nullopt when no reading is close enough in time. Called by the processing thread
   // while run() goes on: thread-safe, no allocation, no blocking on the reader.
   virtual std::optional<Gx1Angles> attitude_at(std::int64_t t_ns) const = 0;
+  // When the newest reading was taken (the frames' clock), nullopt before the first.
+  virtual std::optional<std::int64_t> newest_sample_ns() const = 0;
 
   virtual GyroState state() const = 0;
   // The last problem, "" when none, copied NUL-terminated (cut to fit). No allocation.

@@ -8,23 +8,19 @@
 
 namespace ccdlane {
 
-Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, Gx1LineSink log, gx1::SessionOptions options)
+Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, LogSink log, gx1::SessionOptions options)
     : device_(std::move(device)), log_(std::move(log)), options_(options) {}
 
-Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, Gx1LineSink log, gx1::SessionOptions options)
+Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, LogSink log, gx1::SessionOptions options)
     : device_("emulated"),
       log_(std::move(log)),
       options_(options),
-      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), [this](const char* line) {
-        char text[320];
-        std::snprintf(text, sizeof text, "emulator: %s", line);
-        if (log_) log_(LogLevel::info, text);
-      })) {}
+      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), log_)) {}
 
 Gx1AttitudeProvider::~Gx1AttitudeProvider() { close(); }
 
-void Gx1AttitudeProvider::note(const char* line) {
-  if (log_) log_(LogLevel::notice, line);
+void Gx1AttitudeProvider::note(LogLevel level, const char* category, const char* line) {
+  log_to(log_, level, category, "%s", line);
   std::lock_guard<std::mutex> lock(problem_mutex_);
   std::snprintf(problem_, sizeof problem_, "%s", line);
 }
@@ -36,7 +32,7 @@ std::string Gx1AttitudeProvider::open() {
       return "gyro.device: \"emulated\": cannot start the 3DM-GX1 emulator: " + std::string(std::strerror(-rc));
     path = emulator_->slave_path();
   }
-  session_ = std::make_unique<gx1::Gx1Session>(path, options_, [this](const char* line) { note(line); });
+  session_ = std::make_unique<gx1::Gx1Session>(path, options_, [this](LogLevel level, const char* category, const char* line) { note(level, category, line); });
   if (const int rc = session_->open(); rc < 0) {
     const std::string why = rc == -ETIMEDOUT ? "the sensor did not answer" : std::strerror(-rc);
     session_.reset();

@@ -16,17 +16,12 @@
 
 namespace ccdlane {
 
-// Where the provider's event lines go: the session's (notice: hand-shake, hang-ups,
-// reopening) and the emulator's (info). Events only, never one per sample; called from
-// the gyro thread, so it must not block for long.
-using Gx1LineSink = std::function<void(LogLevel level, const char* line)>;
-
 class Gx1AttitudeProvider final : public AttitudeProvider {
  public:
   // A sensor on `device` (a serial device path).
-  Gx1AttitudeProvider(std::string device, Gx1LineSink log, gx1::SessionOptions options = {});
+  Gx1AttitudeProvider(std::string device, LogSink log, gx1::SessionOptions options = {});
   // The emulator on a pty, reporting `script`'s attitude; the session reads its slave.
-  Gx1AttitudeProvider(gx1::EmulatorOptions emulator, Gx1LineSink log, gx1::SessionOptions options = {});
+  Gx1AttitudeProvider(gx1::EmulatorOptions emulator, LogSink log, gx1::SessionOptions options = {});
   ~Gx1AttitudeProvider() override;
 
   std::string open() override;
@@ -40,16 +35,16 @@ class Gx1AttitudeProvider final : public AttitudeProvider {
 
   // CLOCK_MONOTONIC arrival time of the newest sample; nullopt before the first. For a
   // recorder that can wait for a sample after a frame rather than take the last one held.
-  std::optional<std::int64_t> newest_sample_ns() const;
+  std::optional<std::int64_t> newest_sample_ns() const override;
 
   // The emulator, when emulated (for fault injection in tests); else null.
   gx1::Gx1Emulator* emulator() { return emulator_.get(); }
 
  private:
-  void note(const char* line);  // the session's log lines: logged, and kept as the problem
+  void note(LogLevel level, const char* category, const char* line);  // the session's log lines: logged, and kept as the problem
 
   std::string device_;
-  Gx1LineSink log_;
+  LogSink log_;
   gx1::SessionOptions options_;
   std::unique_ptr<gx1::Gx1Emulator> emulator_;
   std::unique_ptr<gx1::Gx1Session> session_;

@@ -27,21 +27,16 @@ gx1::AttitudeScript follow_synth_drive(const Config& config) {
   };
 }
 
-// The gyro's events go to the daemon's log.
-void log_gyro_line(LogLevel level, const char* line) { log_line(level, "gyro", "%s", line); }
-
 }  // namespace
 
-std::string attitude_provider_unavailable(const Config&) { return ""; }
-
-std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config) {
+std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config, const LogSink& log) {
   if (config.gyro.device.empty()) return nullptr;
   if (config.gyro.device == "emulated") {
     gx1::EmulatorOptions o;
     o.attitude = follow_synth_drive(config);
-    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log_gyro_line);
+    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log);
   }
-  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log_gyro_line);
+  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log);
 }
 
 }  // namespace ccdlane

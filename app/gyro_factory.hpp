@@ -6,14 +6,12 @@
 
 #include "app/config.hpp"
 #include "app/attitude_provider.hpp"
+#include "base/log.hpp"
 
 namespace ccdlane {
 
-// "" when this build can read [gyro] device (or none is configured), else why not.
-std::string attitude_provider_unavailable(const Config& config);
-
-// The provider, not yet opened; null when [gyro] names no device. Throws
-// std::runtime_error with attitude_provider_unavailable()'s text otherwise.
-std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config);
+// The provider, not yet opened; null when [gyro] names no device. Its event lines go to
+// `log`, or to the process log when empty.
+std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config, const LogSink& log = {});
 
 }  // namespace ccdlane

@@ -1,4 +1,4 @@
-// One row per source kind: adding a driver is one make_* function and one row.
+// [source] kind -> its driver: adding one is a make_* function and a case.
 #include "app/source_factory.hpp"
 
 #include <stdexcept>
@@ -38,44 +38,20 @@ CameraSettings camera_settings(const Config& c) {
   return s;
 }
 
-std::unique_ptr<FrameSource> make_from_camera_factory(const std::string& source, const Config& c) {
-  std::string error;
-  auto camera = make_camera(source, camera_settings(c), error);
-  if (!camera) throw std::runtime_error(error);
-  return camera;
-}
+std::unique_ptr<FrameSource> make_v4l2(const Config& c) { return make_camera("v4l2:" + c.source.device, camera_settings(c)); }
+std::unique_ptr<FrameSource> make_aravis(const Config& c) { return make_camera("aravis:" + c.source.camera, camera_settings(c)); }
 
-std::unique_ptr<FrameSource> make_v4l2(const Config& c) { return make_from_camera_factory("v4l2:" + c.source.device, c); }
-std::unique_ptr<FrameSource> make_aravis(const Config& c) {
-  return make_from_camera_factory("aravis:" + c.source.camera, c);
-}
-
-struct SourceKindRow {
-  SourceKind kind;
-  const char* name;
-  std::unique_ptr<FrameSource> (*make)(const Config&);  // null: not in this build
-};
-
-constexpr SourceKindRow kSourceKinds[] = {
-    {SourceKind::synth, "synth", make_synth},
-    {SourceKind::frames, "frames", make_frames},
-    {SourceKind::v4l2, "v4l2", make_v4l2},
-    {SourceKind::aravis, "aravis", make_aravis},
-};
-
-const SourceKindRow* row_of(SourceKind kind) {
-  for (const SourceKindRow& row : kSourceKinds)
-    if (row.kind == kind) return &row;
-  return nullptr;
+const char* kind_name(SourceKind kind) {
+  switch (kind) {
+    case SourceKind::synth: return "synth";
+    case SourceKind::frames: return "frames";
+    case SourceKind::v4l2: return "v4l2";
+    case SourceKind::aravis: return "aravis";
+  }
+  return "?";
 }
 
 }  // namespace
-
-std::string frame_source_unavailable(const Config& config) {
-  const SourceKindRow* row = row_of(config.source.kind);
-  if (row && row->make) return "";
-  return std::string("source.kind: \"") + (row ? row->name : "?") + "\" is not available in this build of ccdlaned";
-}
 
 std::string frames_without_gyro(const Config& config) {
   switch (config.source.kind) {
@@ -91,14 +67,17 @@ std::string frames_without_gyro(const Config& config) {
     case SourceKind::v4l2:
     case SourceKind::aravis: break;
   }
-  const SourceKindRow* row = row_of(config.source.kind);
-  return std::string("source.kind: \"") + (row ? row->name : "?") + "\" frames carry no gyro reading";
+  return std::string("source.kind: \"") + kind_name(config.source.kind) + "\" frames carry no gyro reading";
 }
 
 std::unique_ptr<FrameSource> make_frame_source(const Config& config) {
-  const SourceKindRow* row = row_of(config.source.kind);
-  if (!row || !row->make) throw std::runtime_error(frame_source_unavailable(config));
-  return row->make(config);
+  switch (config.source.kind) {
+    case SourceKind::synth: return make_synth(config);
+    case SourceKind::frames: return make_frames(config);
+    case SourceKind::v4l2: return make_v4l2(config);
+    case SourceKind::aravis: return make_aravis(config);
+  }
+  throw std::logic_error("source.kind: not a kind the configuration loader accepts");  // a programmer's error
 }
 
 }  // namespace ccdlane

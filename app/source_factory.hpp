@@ -1,4 +1,4 @@
-// [source] kind -> the FrameSource that captures it, from one table of kinds.
+// [source] kind -> the FrameSource that captures it.
 #pragma once
 
 #include <memory>
@@ -9,9 +9,6 @@
 
 namespace ccdlane {
 
-// "" when this build can capture from [source] kind, else why not (one line).
-std::string frame_source_unavailable(const Config& config);
-
 // Whether the frames of [source] come with their own gyro reading: "" when they do
 // (synthetic frames carry their drive's; a frame directory whose frames.csv has the
 // roll_deg and pitch_deg columns, read now, its recorded one), else the cause in one
@@ -19,8 +16,8 @@ std::string frame_source_unavailable(const Config& config);
 // as carrying them: opening it says what is wrong.
 std::string frames_without_gyro(const Config& config);
 
-// The source for [source], not yet opened. Throws std::runtime_error with
-// frame_source_unavailable()'s text for a kind this build lacks.
+// The source for [source], not yet opened. Throws std::runtime_error when a camera
+// string cannot be made into a source.
 std::unique_ptr<FrameSource> make_frame_source(const Config& config);
 
 }  // namespace ccdlane

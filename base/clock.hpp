@@ -27,4 +27,10 @@ inline std::int64_t realtime_us() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
 }
 
+// The wall-clock time (utime) of an instant measured on CLOCK_MONOTONIC, such as a
+// frame's capture: now on the wall clock, less how long ago it was.
+inline std::int64_t realtime_us_of_monotonic(std::int64_t monotonic_t_ns) {
+  return realtime_us() - (monotonic_ns() - monotonic_t_ns) / 1000;
+}
+
 }  // namespace ccdlane

@@ -58,4 +58,16 @@ void log_line(LogLevel level, const char* category, const char* format, ...) {
   (void)ignored;
 }
 
+void log_to(const LogSink& sink, LogLevel level, const char* category, const char* format, ...) {
+  char line[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(line, sizeof line, format, args);
+  va_end(args);
+  if (sink)
+    sink(level, category, line);
+  else
+    log_line(level, category, "%s", line);
+}
+
 }  // namespace ccdlane

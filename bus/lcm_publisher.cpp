@@ -13,7 +13,8 @@ LcmPublisher::LcmPublisher(const LcmConfig& config)
     : url_(config.url),
       lcm_(std::make_unique<lcm::LCM>(config.url)),
       lanes_channel_(channel_name(config.prefix, Channel::lanes)),
-      status_channel_(channel_name(config.prefix, Channel::status)) {
+      status_channel_(channel_name(config.prefix, Channel::status)),
+      frames_channel_(channel_name(config.prefix, Channel::frames)) {
   if (!lcm_->good()) throw std::runtime_error("lcm: cannot open the bus \"" + config.url + "\" ([lcm] url)");
   lane_capacity_ = lane_message_.getEncodedSize();
   status_t largest;
@@ -42,6 +43,16 @@ bool LcmPublisher::publish_status(const status_t& status) {
   for (const std::string* text : {&status.camera, &status.camera_problem, &status.gyro_problem})
     if (text->size() > kStatusTextMax) return false;
   return publish_bytes(status_channel_, status_bytes_.get(), status_capacity_, status);
+}
+
+void LcmPublisher::enable_frames(int width, int height, PixelFormat format) {
+  prepare_frame_message(frame_message_, width, height, format);
+  frame_bytes_.resize(static_cast<std::size_t>(frame_message_.getEncodedSize()));
+}
+
+bool LcmPublisher::publish_frame(const ImageView& image, const FrameRecord& record) {
+  if (frame_bytes_.empty() || !to_frame_message(image, record, frame_message_)) return false;
+  return publish_bytes(frames_channel_, frame_bytes_.data(), static_cast<int>(frame_bytes_.size()), frame_message_);
 }
 
 }  // namespace ccdlane

@@ -5,11 +5,15 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include <ccdlane/frame_t.hpp>
 #include <ccdlane/lane_estimate_t.hpp>
 #include <ccdlane/status_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 
+#include "base/image_view.hpp"
+#include "bus/frame_message.hpp"
 #include "bus/lane_sink.hpp"
 
 namespace ccdlane {
@@ -37,6 +41,16 @@ class LcmPublisher : public LaneSink {
   // Strings longer than kStatusTextMax are refused (false), never reallocated.
   bool publish_status(const status_t& status);
 
+  // [lcm] publish_frames: sizes the frame message and its encode buffer for width x height
+  // frames of `format` now (the one allocation); from then on publish_frame() sends each
+  // frame on <prefix>FRAMES (~0.3 ms at 800x600 on loopback).
+  void enable_frames(int width, int height, PixelFormat format);
+  bool publishes_frames() const override { return !frame_bytes_.empty(); }
+  // False (and nothing sent) for a frame of another size or format than enabled, or when
+  // encoding or sending fails.
+  bool publish_frame(const ImageView& image, const FrameRecord& record) override;
+  const std::string& frames_channel() const { return frames_channel_; }
+
   const std::string& lanes_channel() const { return lanes_channel_; }
   const std::string& status_channel() const { return status_channel_; }
   const std::string& url() const { return url_; }
@@ -47,10 +61,12 @@ class LcmPublisher : public LaneSink {
 
   std::string url_;
   std::unique_ptr<lcm::LCM> lcm_;
-  std::string lanes_channel_, status_channel_;
+  std::string lanes_channel_, status_channel_, frames_channel_;
   lane_estimate_t lane_message_{};
   std::unique_ptr<std::uint8_t[]> lane_bytes_, status_bytes_;
   int lane_capacity_ = 0, status_capacity_ = 0;
+  frame_t frame_message_{};
+  std::vector<std::uint8_t> frame_bytes_;
 };
 
 }  // namespace ccdlane

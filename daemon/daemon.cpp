@@ -7,13 +7,12 @@
 
 #include "daemon/allocation_counter.hpp"
 #include "base/clock.hpp"
-#include "daemon/frame_publisher.hpp"
 #include "app/gyro_factory.hpp"
 #include "daemon/latency_window.hpp"
 #include "bus/lcm_publisher.hpp"
 #include "base/log.hpp"
 #include "daemon/pipeline.hpp"
-#include "daemon/processor_factory.hpp"
+#include "daemon/frame_processor.hpp"
 #include "daemon/realtime.hpp"
 #include "daemon/sd_notifier.hpp"
 #include "daemon/service_heartbeat.hpp"
@@ -77,31 +76,19 @@ class StatusTicker {
 }  // namespace
 
 std::string solver_observability_problem(const Config& c) {
-  const FreeSet& free = c.solver.free;
-  const PriorConfig& p = c.prior;
-  // docs/solver.md, "What is and is not observable": scale and focal length never are from
-  // one image of parallel lines; roll about the lane direction is absorbed by moving free
-  // lines sideways unless a gyro, a roll prior or a lane-width prior pins it. Synthetic
-  // frames carry their drive's gyro reading and frame directories (most) their recorded one.
-  if (free.has(FreeParam::H) && !p.H_mm)
-    return "solver.free: H is free without [prior] H_mm: the camera height is not observable (scale); fix it or add the prior";
-  if (free.has(FreeParam::f) && !p.f_mm)
-    return "solver.free: f is free without [prior] f_mm: the focal length is not observable from one image; fix it or add the prior";
-  if (!free.has(FreeParam::phi) || !free.has(FreeParam::y0) || !c.gyro.device.empty() || p.phi_deg || p.lane_width_mm)
-    return "";
-  const std::string no_recorded_gyro = frames_without_gyro(c);
-  if (no_recorded_gyro.empty()) return "";
+  // Synthetic frames carry their drive's gyro reading and frame directories (most) their
+  // recorded one: the roll is measured when either they or the [gyro] device give it.
+  const std::string no_recorded_gyro = c.gyro.device.empty() ? frames_without_gyro(c) : "";
+  const std::string why = observability_problem(c.estimator_options(), no_recorded_gyro.empty());
   // A frame directory is expected to carry its gyro: name the file that does not.
-  if (c.source.kind == SourceKind::frames)
+  if (!why.empty() && !no_recorded_gyro.empty() && c.source.kind == SourceKind::frames &&
+      why.find("phi and y0") != std::string::npos)
     return no_recorded_gyro + " and there is no [gyro] device, no [prior] phi_deg and no [prior] lane_width_mm, "
                               "while solver.free has phi and y0: the roll is not observable; add one of them or fix phi";
-  return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] "
-         "lane_width_mm: the roll is not observable; add one of them or fix phi";
+  return why;
 }
 
 std::string daemon_config_problem(const Config& config) {
-  if (std::string why = frame_source_unavailable(config); !why.empty()) return why;
-  if (std::string why = attitude_provider_unavailable(config); !why.empty()) return why;
   return solver_observability_problem(config);
 }
 
@@ -140,10 +127,10 @@ int run_daemon(const Config& config) {
       if (std::string why = gyro->open(); !why.empty()) return fail("gyro", why.c_str());
       gyro_open = true;
     }
-    processor = make_frame_processor(config, *source);
+    processor = std::make_unique<EstimatorProcessor>(config, *source);
     publisher = std::make_unique<LcmPublisher>(config.lcm);
     // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
-    processor = with_frame_publishing(std::move(processor), config, *publisher, *source);
+    if (config.lcm.publish_frames) publisher->enable_frames(source->width(), source->height(), source->format());
   } catch (const std::exception& e) {
     return fail("start", e.what());
   }

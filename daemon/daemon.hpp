@@ -9,7 +9,7 @@
 namespace ccdlane {
 
 // Everything in a configuration that the daemon cannot run with although the schema
-// accepts it ("" when none): kinds this build lacks, combinations that cannot work.
+// accepts it ("" when none): solves that cannot determine what they are asked for.
 std::string daemon_config_problem(const Config& config);
 
 // Solver settings that are not well-posed with the priors this configuration gives

@@ -1,12 +1,15 @@
-// What the processing thread runs on each frame: detection, the gyro prior and the
-// solve, behind one call (the lane estimator is adapted to this at integration).
+// What the processing thread runs on each frame: the lane estimator `ccdlane replay` runs
+// too, so the daemon and replay give the same estimates for the same frames and gyro
+// readings. An interface so that the pipeline's tests can run a frame checker instead.
 #pragma once
 
 #include <optional>
 
+#include "app/config.hpp"
 #include "base/gx1_angles.hpp"
 #include "base/image_view.hpp"
 #include "core/lane/lane_estimate.hpp"
+#include "core/lane/lane_estimator.hpp"
 #include "drivers/frame_source.hpp"
 
 namespace ccdlane {
@@ -15,11 +18,28 @@ class FrameProcessor {
  public:
   virtual ~FrameProcessor() = default;
 
-  // One frame, one estimate: ok = false with a reason when the frame gives none. Runs on
-  // the real-time path: no allocation, no exceptions; every workspace was sized when the
+  // One frame, one estimate, numbered and timed by the frame (meta.sequence,
+  // meta.frame_t_ns()); ok = false with a reason when the frame gives none. Runs on the
+  // real-time path: no allocation, no exceptions; every workspace was sized when the
   // processor was built. `attitude` is the gyro reading at the frame's time (the frame's
   // own recorded reading, else the live gyro's), if there is one.
   virtual LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) = 0;
+};
+
+// The lane estimator as the daemon's processor. Gyro roll/pitch become priors inside the
+// estimator ([gyro] sigma_deg, a [prior] entry overriding); yaw is never used.
+class EstimatorProcessor final : public FrameProcessor {
+ public:
+  // Allocates the estimator's workspaces. Throws std::runtime_error when the (open)
+  // source's frames are not the camera's Nu x Nv.
+  EstimatorProcessor(const Config& config, const FrameSource& source);
+
+  LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) override {
+    return estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude);
+  }
+
+ private:
+  LaneEstimator estimator_;
 };
 
 }  // namespace ccdlane

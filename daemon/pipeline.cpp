@@ -219,12 +219,18 @@ void Pipeline::process_one(std::uint32_t index) {
     attitude = gyro_->attitude_at(slot.meta.t_ns);
     if (!attitude) no_attitude_.fetch_add(1, std::memory_order_relaxed);
   }
-  LaneEstimate estimate = processor_.process(pool_.view(static_cast<int>(index)), slot.meta, attitude);
-  // The pixels are no longer needed: give the buffer back before publishing.
+  const ImageView image = pool_.view(static_cast<int>(index));
+  LaneEstimate estimate = processor_.process(image, slot.meta, attitude);
+  if (sink_.publishes_frames()) {
+    // Only processed frames go out, in processing order (after any drop), keyed as the
+    // lane message is: the log holds the very frame stream the estimator's tracking saw.
+    const FrameRecord record{slot.meta.sequence, slot.meta.frame_t_ns(), realtime_us_of_monotonic(slot.meta.t_ns),
+                             attitude};
+    if (!sink_.publish_frame(image, record)) frame_publish_errors_.fetch_add(1, std::memory_order_relaxed);
+  }
+  // The pixels are no longer needed: give the buffer back before publishing the lanes.
   if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
 
-  estimate.frame = slot.meta.sequence;
-  estimate.t_ns = slot.meta.frame_t_ns();  // as recorded for recorded sources; the gyro above used the capture clock
   estimate.latency_us = (monotonic_ns() - slot.received_ns) / 1000;
   const std::int64_t publish_utime = realtime_us();
   if (!sink_.publish_lane(estimate, publish_utime - estimate.latency_us, publish_utime))
@@ -266,6 +272,7 @@ PipelineTotals Pipeline::totals() const {
     t.not_ok_by_reason[static_cast<std::size_t>(i)] = not_ok_by_reason_[i].load(std::memory_order_relaxed);
   t.no_attitude = no_attitude_.load(std::memory_order_relaxed);
   t.publish_errors = publish_errors_.load(std::memory_order_relaxed);
+  t.frame_publish_errors = frame_publish_errors_.load(std::memory_order_relaxed);
   t.latency_samples_lost = latency_samples_lost_.load(std::memory_order_relaxed);
   t.source.frames = source_frames_.load(std::memory_order_relaxed);
   t.source.dropped = source_dropped_.load(std::memory_order_relaxed);

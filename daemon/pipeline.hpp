@@ -114,7 +114,7 @@ class Pipeline {
   std::atomic<std::uint64_t> frames_in_{0}, frames_processed_{0}, frames_dropped_{0}, frames_ok_{0},
       frames_unprocessed_{0};
   std::atomic<std::uint64_t> not_ok_by_reason_[kEstimateFailureKinds] = {};
-  std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, latency_samples_lost_{0};
+  std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, frame_publish_errors_{0}, latency_samples_lost_{0};
   std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
       source_reconnects_{0};
   std::atomic<CameraState> camera_state_{CameraState::starting};

@@ -91,6 +91,7 @@ const status_t& StatusReport::update(const StatusInputs& in) {
   m.gyro_reconnects_total = total(in.gyro_counters.reconnects);
   m.no_attitude_total = total(t.no_attitude);
   m.publish_errors_total = total(t.publish_errors);
+  m.frame_publish_errors_total = total(t.frame_publish_errors);
   m.latency_samples_lost_total = total(t.latency_samples_lost);
 
   previous_ = t;

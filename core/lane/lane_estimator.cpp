@@ -25,6 +25,18 @@ std::optional<Prior> gyro_prior(const std::optional<Prior>& configured, double g
 
 }  // namespace
 
+std::string observability_problem(const LaneEstimatorOptions& options, bool roll_measured) {
+  const FreeSet& free = options.solver.free;
+  const SolverPriors& p = options.priors;
+  if (free.has(FreeParam::H) && !p.H_mm)
+    return "solver.free: H is free without [prior] H_mm: the camera height is not observable (scale); fix it or add the prior";
+  if (free.has(FreeParam::f) && !p.f_mm)
+    return "solver.free: f is free without [prior] f_mm: the focal length is not observable from one image; fix it or add the prior";
+  if (roll_measured || !free.has(FreeParam::phi) || !free.has(FreeParam::y0) || p.phi_deg || p.lane_width_mm) return "";
+  return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] lane_width_mm: the roll "
+         "is not observable; add one of them or fix phi";
+}
+
 LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
     : config_(config),
       detector_(config.camera, config.detection),

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/detection/detection_config.hpp"
@@ -27,6 +28,14 @@ struct LaneEstimatorOptions {
   double gyro_sigma_deg = 0.5;  // the gyro's roll and pitch become priors with this sigma
   DetectionConfig detection;
 };
+
+// Why solves set up as `options` say cannot determine what they are asked for, "" when
+// they can (docs/solver.md "What is and is not observable"): scale and focal length never
+// are from one image of parallel lines; roll about the lane direction is absorbed by
+// moving free lines sideways unless the gyro (`roll_measured`: the frames come with its
+// reading), a roll prior or a lane-width prior pins it. The daemon refuses to start on
+// such a configuration and replay on such a recording.
+std::string observability_problem(const LaneEstimatorOptions& options, bool roll_measured);
 
 class LaneEstimator {
  public:

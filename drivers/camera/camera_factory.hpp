@@ -10,7 +10,8 @@
 
 namespace ccdlane {
 
-// Not yet opened. Null, with `error` saying why, for a string of no known kind.
-std::unique_ptr<FrameSource> make_camera(const std::string& source, const CameraSettings& settings, std::string& error);
+// Not yet opened. Throws std::invalid_argument, saying why, for a string of no known
+// kind (a start-up error: the caller reports it as bad input).
+std::unique_ptr<FrameSource> make_camera(const std::string& source, const CameraSettings& settings);
 
 }  // namespace ccdlane

@@ -144,12 +144,12 @@ void Gx1Emulator::run() {
         continue;
       }
       if (const int rc = create_pty(); rc < 0) {
-        log_line(log_, "gx1-emulator: cannot create a pty: %s", std::strerror(-rc));
+        log_to(log_, LogLevel::error, "gyro", "gx1-emulator: cannot create a pty: %s", std::strerror(-rc));
         sleep_until(now + 100 * kNsPerMs);
         continue;
       }
       hung_ = false;
-      log_line(log_, "gx1-emulator: back as %s", slave_path().c_str());
+      log_to(log_, LogLevel::info, "gyro", "gx1-emulator: back as %s", slave_path().c_str());
       next_due_ns_ = monotonic_ns() + period_ns_;
     }
     if (const int ms = stall_request_ms_.exchange(0); ms > 0) {

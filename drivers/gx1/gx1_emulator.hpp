@@ -15,7 +15,7 @@
 
 #include "base/gx1_angles.hpp"
 #include "base/unique_fd.hpp"
-#include "drivers/gx1/driver_log.hpp"
+#include "base/log.hpp"
 #include "drivers/gx1/gx1_protocol.hpp"
 
 namespace ccdlane::gx1 {

@@ -37,7 +37,7 @@ int Gx1Session::open(UniqueFd fd) {
 
 int Gx1Session::configure_opened(int open_result, const char* failure) {
   if (open_result < 0) {
-    log_line(log_, "gx1 %s: %s: %s", device().c_str(), failure, std::strerror(-open_result));
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s: %s", device().c_str(), failure, std::strerror(-open_result));
     set_state(DeviceState::closed);
     return open_result;
   }
@@ -82,7 +82,7 @@ int Gx1Session::configure() {
     bump(shared_.configure_failures);
   }
   if (rc < 0) {
-    log_line(log_, "gx1 %s: no usable answer to the firmware/serial requests after %d attempts: %s",
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: no usable answer to the firmware/serial requests after %d attempts: %s",
              device().c_str(), options_.configure_attempts, std::strerror(-rc));
     publish_counters();
     return rc;
@@ -210,7 +210,7 @@ int Gx1Session::stream_step(int timeout_ms) {
   }
   if (now - last_sample_ns_ > options_.stream_timeout_ms * kNsPerMs) {
     bump(shared_.stream_timeouts);
-    log_line(log_, "gx1 %s: no sample for %d ms: reconfiguring", device().c_str(), options_.stream_timeout_ms);
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: no sample for %d ms: reconfiguring", device().c_str(), options_.stream_timeout_ms);
     if (const int rc = configure(); rc < 0) lose("reconfiguration failed", -rc);
   }
   return samples;
@@ -250,7 +250,7 @@ int Gx1Session::ingest(std::span<const std::uint8_t> bytes, std::int64_t t_read_
 
 void Gx1Session::lose(const char* what, int error) {
   bump(shared_.hangups);
-  log_line(log_, "gx1 %s: %s (%s): reopening with backoff", device().c_str(), what, std::strerror(error));
+  log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s (%s): reopening with backoff", device().c_str(), what, std::strerror(error));
   port_.back_off(monotonic_ns());
   parser_.reset();
   reopen_failure_reported_ = false;
@@ -266,7 +266,7 @@ int Gx1Session::recover_step(int timeout_ms) {
   }
   if (rc < 0) {
     if (!reopen_failure_reported_) {
-      log_line(log_, "gx1 %s: reopen failed: %s (retrying, backoff up to %d ms)", device().c_str(),
+      log_to(log_, LogLevel::warning, "gyro", "gx1 %s: reopen failed: %s (retrying, backoff up to %d ms)", device().c_str(),
                std::strerror(-rc), options_.backoff.max_ms);
       reopen_failure_reported_ = true;
     }
@@ -279,7 +279,7 @@ int Gx1Session::recover_step(int timeout_ms) {
   }
   port_.reset_backoff();
   bump(shared_.reopens);
-  log_line(log_, "gx1 %s: reopened, streaming again (firmware %u, serial number %u)", device().c_str(),
+  log_to(log_, LogLevel::notice, "gyro", "gx1 %s: reopened, streaming again (firmware %u, serial number %u)", device().c_str(),
            unsigned{firmware()}, unsigned{serial_number()});
   return 0;
 }

@@ -96,7 +96,7 @@ int SerialPort::configure() {
     if (e != ENOTTY && e != EINVAL) return -e;
     is_tty_ = false;
     if (!not_a_tty_reported_) {
-      log_line(log_, "serial %s: not a terminal: used as a plain byte stream", path_.c_str());
+      log_to(log_, LogLevel::notice, "gyro", "serial %s: not a terminal: used as a plain byte stream", path_.c_str());
       not_a_tty_reported_ = true;
     }
     return 0;
@@ -120,7 +120,7 @@ int SerialPort::configure() {
   // them. A pty has no modem lines (ENOTTY): say so once and carry on.
   int lines = TIOCM_DTR | TIOCM_RTS;
   if (const int rc = ioctl(TIOCMBIS, &lines); rc < 0 && !modem_lines_reported_) {
-    log_line(log_, "serial %s: modem lines not supported (%s): carrying on", path_.c_str(), std::strerror(-rc));
+    log_to(log_, LogLevel::notice, "gyro", "serial %s: modem lines not supported (%s): carrying on", path_.c_str(), std::strerror(-rc));
     modem_lines_reported_ = true;
   }
   return flush();
@@ -147,7 +147,7 @@ int SerialPort::verify_termios() {
   else if (t.c_cc[VMIN] != 1 || t.c_cc[VTIME] != 0)
     wrong = "VMIN/VTIME not 1/0";
   if (!wrong) return 0;
-  log_line(log_, "serial %s: line settings did not read back: %s", path_.c_str(), wrong);
+  log_to(log_, LogLevel::warning, "gyro", "serial %s: line settings did not read back: %s", path_.c_str(), wrong);
   return -EIO;
 }
 

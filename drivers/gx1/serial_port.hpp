@@ -10,7 +10,7 @@
 
 #include "drivers/device_state.hpp"
 #include "base/unique_fd.hpp"
-#include "drivers/gx1/driver_log.hpp"
+#include "base/log.hpp"
 
 namespace ccdlane::gx1 {
 

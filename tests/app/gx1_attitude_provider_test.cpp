@@ -24,8 +24,8 @@ namespace {
 struct Lines {
   std::mutex mutex;
   std::vector<std::pair<LogLevel, std::string>> got;
-  Gx1LineSink sink() {
-    return [this](LogLevel level, const char* line) {
+  LogSink sink() {
+    return [this](LogLevel level, const char*, const char* line) {
       std::lock_guard<std::mutex> lock(mutex);
       got.emplace_back(level, line);
     };
@@ -63,7 +63,7 @@ TEST(Gx1AttitudeProvider, EmulatedStreamsTheScriptedAttitudeAtAFramesTime) {
     std::lock_guard<std::mutex> lock(lines.mutex);
     for (const auto& [level, text] : lines.got) {
       session_line |= level == LogLevel::notice;
-      emulator_line |= level == LogLevel::info && text.rfind("emulator: ", 0) == 0;
+      emulator_line |= level == LogLevel::info && text.rfind("gx1-emulator: ", 0) == 0;
     }
   }
   stop.store(true);

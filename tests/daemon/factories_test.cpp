@@ -12,7 +12,7 @@
 #include "base/clock.hpp"
 #include "daemon/daemon.hpp"
 #include "app/gyro_factory.hpp"
-#include "daemon/processor_factory.hpp"
+#include "daemon/frame_processor.hpp"
 #include "app/source_factory.hpp"
 #include "tests/support/run_process.hpp"
 
@@ -23,15 +23,13 @@ TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   Config c = default_config();
   c.synth.frames = 3;
   c.source.rate_hz = 0;  // unpaced
-  EXPECT_EQ(frame_source_unavailable(c), "");
   auto source = make_frame_source(c);
   ASSERT_EQ(source->open(), "");
   EXPECT_EQ(source->width(), c.camera.Nu);
   EXPECT_EQ(source->height(), c.camera.Nv);
   EXPECT_EQ(source->format(), PixelFormat::mono8);
   EXPECT_EQ(source->describe(), "synth 800x600 mono8 0 fps (3 frames of a 3-lane road, looping)");
-  auto processor = make_frame_processor(c, *source);
-  ASSERT_NE(processor, nullptr);
+  EstimatorProcessor processor(c, *source);
 
   // Rendered once, replayed looping: frame 3 is frame 0 again, with its gyro reading.
   std::vector<std::uint8_t> a(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv)), b(a.size());
@@ -50,7 +48,7 @@ TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   EXPECT_GT(m.frame_t_ns(), 0);
 
   // And the estimator finds the lane it shows.
-  const LaneEstimate e = processor->process(va, m0, m0.gyro);
+  const LaneEstimate e = processor.process(va, m0, m0.gyro);
   EXPECT_TRUE(e.ok);
 }
 
@@ -71,7 +69,6 @@ TEST(SourceFactory, EveryKindIsBuiltAndBadDevicesSayWhyOnOpen) {
   Config c = default_config();
   c.source.kind = SourceKind::frames;
   c.source.path = "/nonexistent/frames";
-  EXPECT_EQ(frame_source_unavailable(c), "");
   auto frames = make_frame_source(c);
   const std::string why = frames->open();
   EXPECT_NE(why.find("/nonexistent/frames"), std::string::npos) << why;
@@ -80,24 +77,21 @@ TEST(SourceFactory, EveryKindIsBuiltAndBadDevicesSayWhyOnOpen) {
   auto v4l2 = make_frame_source(c);
   EXPECT_NE(v4l2->open().find("/nonexistent/video9"), std::string::npos);
   c.source.kind = SourceKind::aravis;
-  EXPECT_EQ(frame_source_unavailable(c), "");
 }
 
-TEST(ProcessorFactory, RefusesFramesOfAnotherSizeThanTheCamera) {
+TEST(EstimatorProcessor, RefusesFramesOfAnotherSizeThanTheCamera) {
   Config c = default_config();
   c.synth.frames = 1;
   auto source = make_frame_source(c);
   ASSERT_EQ(source->open(), "");
   c.camera.Nu = 640;
-  EXPECT_THROW(make_frame_processor(c, *source), std::runtime_error);
+  EXPECT_THROW(EstimatorProcessor(c, *source), std::runtime_error);
 }
 
 TEST(GyroFactory, NoDeviceMeansNoGyroAndEmulatedStreams) {
   Config c = default_config();
-  EXPECT_EQ(attitude_provider_unavailable(c), "");
   EXPECT_EQ(make_attitude_provider(c), nullptr);
   c.gyro.device = "emulated";
-  EXPECT_EQ(attitude_provider_unavailable(c), "");
   auto gyro = make_attitude_provider(c);
   ASSERT_NE(gyro, nullptr);
   ASSERT_EQ(gyro->open(), "");

@@ -119,6 +119,9 @@ class FakeGyro : public AttitudeProvider {
     if (!has_readings_) return std::nullopt;
     return Gx1Angles{1.25, -0.5, 90.0};
   }
+  std::optional<std::int64_t> newest_sample_ns() const override {
+    return has_readings_ ? std::optional<std::int64_t>(monotonic_ns()) : std::nullopt;
+  }
   GyroState state() const override { return has_readings_ ? GyroState::ok : GyroState::stale; }
   void last_problem(char* out, std::size_t size) const override { std::snprintf(out, size, "%s", ""); }
   GyroCounters counters() const override { return {}; }

@@ -58,6 +58,8 @@ class FakeCameraFrameChecker : public FrameProcessor {
   LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles>) override {
     const std::int64_t until = monotonic_ns() + work_us_ * 1000;
     LaneEstimate e;
+    e.frame = meta.sequence;
+    e.t_ns = meta.frame_t_ns();
     e.ok = is_fake_camera_frame(image, meta.sequence);
     if (!e.ok) {
       e.reason = EstimateFailure::no_frame;

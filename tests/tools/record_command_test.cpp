@@ -124,7 +124,13 @@ TEST(RecordCommand, SecondsCountFrameTime) {
 
 TEST(RecordCommand, FakeCameraWithTheEmulatedGyroRecordsItsReadingsAtTheFramesTimes) {
   test::TempDir dir;
-  const std::string config = dir.write("fake.toml", "[camera]\nNu = 640\nNv = 480\n[gyro]\ndevice = \"emulated\"\n");
+  // The emulated gyro reports the synthetic drive's attitude (as the daemon's demo does):
+  // here a roll of 10 degrees amplitude over 4 s and no noise, so that what it recorded
+  // can be checked against the drive's motion.
+  const std::string config = dir.write(
+      "fake.toml",
+      "[camera]\nNu = 640\nNv = 480\n[gyro]\ndevice = \"emulated\"\n"
+      "[synth]\nroll_sway_deg = 10.0\nroll_period_s = 4.0\ngyro_noise_deg = 0.0\n");
   auto r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake.lcmlog"),
                               "--count", "12"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
@@ -142,14 +148,18 @@ TEST(RecordCommand, FakeCameraWithTheEmulatedGyroRecordsItsReadingsAtTheFramesTi
   }
   ASSERT_GE(with_gyro.size(), records.size() / 2);
   expect_missing_reported(r.err, records.size() - with_gyro.size());
-  double turned = 0.0;  // the yaw change, unwrapped across +-180
-  for (std::size_t i = 1; i < with_gyro.size(); ++i) {
-    double step = with_gyro[i]->gyro->yaw_deg - with_gyro[i - 1]->gyro->yaw_deg;
-    if (step < -180) step += 360;
-    turned += step;
+  // roll = 10 sin(2 pi t / 4 s + phase): within +-10 (plus the GX1's 0.01 degree
+  // resolution), and over the recording's span s it changes by at least 10 (1 - cos(2 pi
+  // s / 4)), what it changes by at the least when the span is centred on a peak.
+  double lo = 1e9, hi = -1e9;
+  for (const FrameRecord* f : with_gyro) {
+    EXPECT_LE(std::abs(f->gyro->roll_deg), 10.05);
+    lo = std::min(lo, f->gyro->roll_deg);
+    hi = std::max(hi, f->gyro->roll_deg);
   }
   const double span_s = static_cast<double>(with_gyro.back()->t_ns - with_gyro.front()->t_ns) * 1e-9;
-  EXPECT_NEAR(turned / span_s, 45.0, 7.0) << "the emulator turns at 45 degrees/s, over " << span_s << " s";
+  EXPECT_GE(hi - lo, 0.9 * 10.0 * (1.0 - std::cos(2.0 * M_PI * span_s / 4.0)))
+      << "the readings follow the drive's roll over " << span_s << " s";
 
   r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake"), "--count", "5"});
   ASSERT_EQ(r.exit_status, 0) << r.err;

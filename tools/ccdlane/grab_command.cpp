@@ -47,11 +47,13 @@ int grab(const GrabArgs& a) {
   s.buffer_count = a.buffers;
   s.exposure_us = a.exposure_us;
   s.gain = a.gain;
-  std::string error;
-  std::unique_ptr<FrameSource> camera = make_camera(a.source, s, error);
-  if (!camera) throw UsageError(error);
-  error = camera->open();
-  if (!error.empty()) throw std::runtime_error(error);
+  std::unique_ptr<FrameSource> camera;
+  try {
+    camera = make_camera(a.source, s);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (const std::string error = camera->open(); !error.empty()) throw std::runtime_error(error);
 
   std::optional<FrameDirectoryWriter> writer;
   if (!a.out.empty()) writer.emplace(a.out, FrameDirectoryLayout{});

@@ -58,7 +58,7 @@ int run_gx1(const Gx1Args& args) {
   bool holding = true;
   gx1::SessionOptions options;
   options.continuous = args.continuous;
-  gx1::Gx1Session session(args.device, options, [&](const char* line) {
+  gx1::Gx1Session session(args.device, options, [&](LogLevel, const char*, const char* line) {
     if (holding)
       held.emplace_back(line);
     else
@@ -138,7 +138,7 @@ int run_emulate(const EmulateArgs& args) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-  gx1::Gx1Emulator emulator(o, [](const char* line) { std::cerr << line << std::endl; });
+  gx1::Gx1Emulator emulator(o, [](LogLevel, const char*, const char* line) { std::cerr << line << std::endl; });
   if (const int rc = emulator.start(); rc < 0)
     throw std::runtime_error("gx1-emulate: cannot start: " + std::string(std::strerror(-rc)) +
                              (rc == -EEXIST ? " (--link names an existing file that is not a symlink)" : ""));

@@ -20,6 +20,7 @@
 #include "bus/channels.hpp"
 #include "base/clock.hpp"
 #include "app/gx1_attitude_provider.hpp"
+#include "app/gyro_factory.hpp"
 #include "drivers/camera/camera_factory.hpp"
 #include "drivers/camera/frame_pool.hpp"
 #include "drivers/device_state.hpp"
@@ -51,12 +52,11 @@ bool is_log_path(const std::string& out) {
 // a failed open is the one line of the error it throws.
 class LiveGyro {
  public:
-  explicit LiveGyro(const std::string& device) {
-    const Gx1LineSink log = [this](LogLevel level, const char* line) {
-      if (level != LogLevel::info && streaming_.load()) std::cerr << "ccdlane record: gyro: " << line << '\n';
+  explicit LiveGyro(const Config& config) {
+    const LogSink log = [this](LogLevel level, const char* category, const char* line) {
+      if (level != LogLevel::info && streaming_.load()) std::cerr << "ccdlane record: " << category << ": " << line << '\n';
     };
-    if (device == "emulated") provider_ = std::make_unique<Gx1AttitudeProvider>(gx1::EmulatorOptions{}, log, options_);
-    else provider_ = std::make_unique<Gx1AttitudeProvider>(device, log, options_);
+    provider_ = make_attitude_provider(config, log);
     if (const std::string why = provider_->open(); !why.empty()) throw std::runtime_error(why);
     streaming_.store(true);
     thread_ = std::thread([this] { provider_->run(stop_); });
@@ -65,7 +65,7 @@ class LiveGyro {
     while (!provider_->newest_sample_ns()) {
       if (monotonic_ns() > give_up) {
         stop_thread();
-        throw std::runtime_error("gyro: " + device + ": no sample within 2 s of opening it");
+        throw std::runtime_error("gyro: " + config.gyro.device + ": no sample within 2 s of opening it");
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
@@ -94,8 +94,8 @@ class LiveGyro {
     provider_->close();
   }
 
-  const gx1::SessionOptions options_{};
-  std::unique_ptr<Gx1AttitudeProvider> provider_;
+  const gx1::SessionOptions options_{};  // the provider's own: how old a sample may be
+  std::unique_ptr<AttitudeProvider> provider_;
   std::atomic<bool> stop_{false}, streaming_{false};
   std::thread thread_;
   std::uint64_t missing_ = 0;
@@ -211,13 +211,16 @@ void record_camera(const RecordArgs& a, const Config& config) {
   settings.width = config.camera.Nu;
   settings.height = config.camera.Nv;
   settings.fps = a.fps;
-  std::string error;
-  std::unique_ptr<FrameSource> camera = make_camera(a.source, settings, error);
-  if (!camera) throw UsageError("record: " + error);
+  std::unique_ptr<FrameSource> camera;
+  try {
+    camera = make_camera(a.source, settings);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("record: ") + e.what());
+  }
   // The gyro first: the camera's first frames then already have readings around them.
   std::unique_ptr<LiveGyro> gyro;
-  if (!config.gyro.device.empty()) gyro = std::make_unique<LiveGyro>(config.gyro.device);
-  if (error = camera->open(); !error.empty()) throw std::runtime_error(error);
+  if (!config.gyro.device.empty()) gyro = std::make_unique<LiveGyro>(config);
+  if (const std::string error = camera->open(); !error.empty()) throw std::runtime_error(error);
   try {
     FramePool pool({.count = 1, .width = camera->width(), .height = camera->height(), .format = camera->format()});
     Recording out(a, config, gyro != nullptr, std::nullopt);
@@ -228,7 +231,7 @@ void record_camera(const RecordArgs& a, const Config& config) {
       FrameMeta& meta = pool.meta(i);
       if (camera->capture(pool.view(i), meta, 200) != CaptureStatus::frame) continue;
       if (!out.wants(meta.t_ns)) break;
-      const std::int64_t utime = realtime_us() - (monotonic_ns() - meta.t_ns) / 1000;
+      const std::int64_t utime = realtime_us_of_monotonic(meta.t_ns);
       out.write(pool.view(i), {meta.sequence, meta.t_ns, utime, gyro ? gyro->at(meta.t_ns) : std::nullopt});
     }
     out.finish(camera->describe());

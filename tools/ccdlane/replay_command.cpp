@@ -130,13 +130,23 @@ CommandAction setup_replay(CLI::App& sub) {
       for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
     std::size_t skipped = csv_issues;
 
-    LaneEstimator estimator(config.estimator_options());
+    const LaneEstimatorOptions options = config.estimator_options();
+    LaneEstimator estimator(options);
     std::size_t frames = 0, ok = 0;
     double total_s = 0.0, worst_s = 0.0;
     std::uint64_t worst_frame = 0;
     // One frame through the pipeline; `image` null for a frame that could not be read.
     const auto replay_frame = [&](const ImageView* image, std::uint64_t index, std::int64_t t_ns,
                                   const std::optional<Gx1Angles>& gyro) {
+      // As the daemon does at start: refuse solves that cannot determine what they are
+      // asked for. The roll is measured when the recording's first frame carries a gyro
+      // reading, or when it was made with a gyro (whose first readings may come after the
+      // first frames), as the daemon counts a configured gyro.
+      if (frames == 0)
+        if (const std::string why = observability_problem(options, gyro || !config.gyro.device.empty());
+            !why.empty())
+          throw UsageError(a->config + ": " + why + " (the frames of " + a->input + " carry " +
+                           (gyro ? "" : "no ") + "gyro readings)");
       ++frames;
       if (!image) {
         ++skipped;

@@ -19,7 +19,7 @@
 #include "bus/lcm_publisher.hpp"
 #include "daemon/pipeline.hpp"
 #include "base/spsc_ring.hpp"
-#include "daemon/lane_estimator_processor.hpp"
+#include "daemon/frame_processor.hpp"
 #include "app/synth_source.hpp"
 
 namespace ccdlane {
@@ -43,7 +43,7 @@ void BM_Pipeline800x600At60Fps(benchmark::State& state) {
     o.rate_hz = 60.0;
     SynthSource source(config, o);
     if (!source.open().empty()) state.SkipWithError("source");
-    LaneEstimatorProcessor processor(config);
+    EstimatorProcessor processor(config, source);
     LcmPublisher publisher(LcmConfig{});
     RealtimeConfig rt_config;
     rt_config.capture_priority = priority;

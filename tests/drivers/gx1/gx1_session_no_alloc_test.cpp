@@ -28,7 +28,7 @@ TEST(Gx1SessionNoAlloc, StreamingQueryingAndReopeningAllocateNothing) {
   ASSERT_EQ(emu.start(), 0);
 
   std::atomic<int> log_lines{0};  // a sink that does not allocate itself
-  Gx1Session session(link, test::quick_session(), [&log_lines](const char*) { ++log_lines; });
+  Gx1Session session(link, test::quick_session(), [&log_lines](LogLevel, const char*, const char*) { ++log_lines; });
   ASSERT_EQ(session.open(), 0);  // may allocate; nothing after it may
 
   std::size_t allocated = 0;

@@ -27,7 +27,7 @@ using test::quick_session;
 struct LogLines {
   std::vector<std::string> lines;
   LogSink sink() {
-    return [this](const char* l) { lines.emplace_back(l); };
+    return [this](LogLevel, const char*, const char* l) { lines.emplace_back(l); };
   }
 };
 

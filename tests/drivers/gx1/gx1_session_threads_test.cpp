@@ -26,7 +26,7 @@ TEST(Gx1SessionThreads, GyroThreadWritesWhileTheProcessingThreadReads) {
   eo.attitude = [](double t) { return Gx1Angles{10.0, -5.0, std::remainder(170.0 + 90.0 * t, 360.0)}; };
   Gx1Emulator emu(eo);
   ASSERT_EQ(emu.start(), 0);
-  Gx1Session session(link, test::quick_session(), [](const char*) {});
+  Gx1Session session(link, test::quick_session(), [](LogLevel, const char*, const char*) {});
   ASSERT_EQ(session.open(), 0);
 
   std::atomic<bool> stop{false};

@@ -48,7 +48,7 @@ struct Pty {
 struct LogLines {
   std::vector<std::string> lines;
   LogSink sink() {
-    return [this](const char* l) { lines.emplace_back(l); };
+    return [this](LogLevel, const char*, const char* l) { lines.emplace_back(l); };
   }
   int count(const std::string& needle) const {
     int n = 0;

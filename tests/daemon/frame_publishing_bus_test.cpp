@@ -15,12 +15,13 @@
 #include <gtest/gtest.h>
 
 #include "app/config_loader.hpp"
+#include "base/clock.hpp"
 #include "base/image_buffer.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "daemon/allocation_counter.hpp"
-#include "daemon/frame_publisher.hpp"
-#include "daemon/lane_estimator_processor.hpp"
+#include "bus/lcm_publisher.hpp"
+#include "core/lane/lane_estimator.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -32,15 +33,6 @@ namespace {
 
 const std::string kUrl = test::kBusUrl;
 const std::string kConfig = CCDLANE_SOURCE_DIR "/tools/demo/reference-camera.toml";
-
-class NothingProcessor : public FrameProcessor {
- public:
-  LaneEstimate process(const ImageView&, const FrameMeta& meta, std::optional<Gx1Angles>) override {
-    LaneEstimate e;
-    e.frame = meta.sequence;
-    return e;
-  }
-};
 
 // Renders the synthetic drive of a configuration frame by frame.
 class SynthFrames {
@@ -74,22 +66,16 @@ class FramePublisherBus : public ::testing::Test {
 };
 
 TEST_F(FramePublisherBus, PublishingAFrameUsesNoOperatorNew) {
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  FramePublishingProcessor publisher(std::make_unique<NothingProcessor>(), bus, "CCDLANE_FRAMES", 800, 600,
-                                     PixelFormat::mono8);
+  LcmPublisher publisher(LcmConfig{kUrl, "CCDLANE_", true});
+  publisher.enable_frames(800, 600, PixelFormat::mono8);
   std::vector<std::uint8_t> pixels(800 * 600, 7);
   const ImageView image{pixels.data(), 800, 600, 800, PixelFormat::mono8, 8};
-  FrameMeta meta;
-  publisher.process(image, meta, std::nullopt);  // LCM sets up its send path on first use
+  ASSERT_TRUE(publisher.publish_frame(image, FrameRecord{}));  // LCM sets up its send path on first use
   const std::uint64_t before = allocation_counter::in_this_thread();
-  for (std::uint64_t k = 1; k <= 20; ++k) {
-    meta.sequence = k;
-    publisher.process(image, meta, Gx1Angles{1.0, 2.0, 3.0});
-  }
+  int sent = 0;
+  for (std::uint64_t k = 1; k <= 20; ++k) sent += publisher.publish_frame(image, {k, 0, 0, Gx1Angles{1.0, 2.0, 3.0}});
   EXPECT_EQ(allocation_counter::in_this_thread() - before, 0u);
-  EXPECT_EQ(publisher.published(), 21u);
-  EXPECT_EQ(publisher.failed(), 0u);
+  EXPECT_EQ(sent, 20);
 }
 
 TEST_F(FramePublisherBus, WhatLcmLoggerRecordsReplaysToTheSameEstimates) {
@@ -102,25 +88,22 @@ TEST_F(FramePublisherBus, WhatLcmLoggerRecordsReplaysToTheSameEstimates) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // subscribed by then
   ASSERT_FALSE(logger.wait_exit(0).has_value()) << test::read_file(dir.file("logger.err"));
 
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  FramePublishingProcessor processor(std::make_unique<LaneEstimatorProcessor>(config), bus, "CCDLANE_FRAMES",
-                                     config.camera.Nu, config.camera.Nv, PixelFormat::mono8);
+  LcmPublisher publisher(LcmConfig{kUrl, "CCDLANE_", true});
+  publisher.enable_frames(config.camera.Nu, config.camera.Nv, PixelFormat::mono8);
+  LaneEstimator estimator(config.estimator_options());
   SynthFrames synth(config);
   constexpr std::uint64_t kFrames = 15;
   std::vector<std::string> published;
   for (std::uint64_t k = 0; k < kFrames; ++k) {
     const SynthFrame& f = synth.render(k);
-    FrameMeta meta;
-    meta.sequence = k;
-    meta.t_ns = f.t_ns;
-    const LaneEstimate e = processor.process(synth.image(), meta, f.gyro);
+    // As the daemon's pipeline does: estimate, then the frame under the estimate's keys.
+    const LaneEstimate e = estimator.estimate(synth.image(), k, f.t_ns, f.gyro);
+    ASSERT_TRUE(publisher.publish_frame(synth.image(), {k, f.t_ns, realtime_us(), f.gyro}));
     std::ostringstream line;
     cli::print_json_line(line, cli::lane_estimate_json(e));
     published.push_back(without_latency(line.str()));
     std::this_thread::sleep_for(std::chrono::milliseconds(30));
   }
-  ASSERT_EQ(processor.published(), kFrames);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   logger.signal(SIGINT);
   const auto status = logger.wait_exit(5000);

@@ -1,19 +1,23 @@
-// Every frame goes through the lane estimator; its size must be the camera's.
-#include "daemon/processor_factory.hpp"
+// The estimator is built for the configured camera: the source must deliver its size.
+#include "daemon/frame_processor.hpp"
 
 #include <stdexcept>
 #include <string>
 
-#include "daemon/lane_estimator_processor.hpp"
-
 namespace ccdlane {
+namespace {
 
-std::unique_ptr<FrameProcessor> make_frame_processor(const Config& config, const FrameSource& source) {
+const Config& with_source_size(const Config& config, const FrameSource& source) {
   if (source.width() != config.camera.Nu || source.height() != config.camera.Nv)
     throw std::runtime_error(source.describe() + ": frames are " + std::to_string(source.width()) + "x" +
                              std::to_string(source.height()) + ", camera.Nu x camera.Nv is " +
                              std::to_string(config.camera.Nu) + "x" + std::to_string(config.camera.Nv));
-  return std::make_unique<LaneEstimatorProcessor>(config);
+  return config;
 }
+
+}  // namespace
+
+EstimatorProcessor::EstimatorProcessor(const Config& config, const FrameSource& source)
+    : estimator_(with_source_size(config, source).estimator_options()) {}
 
 }  // namespace ccdlane
