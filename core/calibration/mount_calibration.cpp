@@ -24,6 +24,9 @@ struct Mean {
   double sigma = 0.0;
 };
 
+// `frame_var_sum`: the frames' own variances summed over `frames` frames; their mean
+// counts once per block, frames within a block sharing most of their errors (the same
+// paint, the same heading).
 Mean block_mean(const std::vector<double>& block_means, const std::vector<int>& block_frames, double frame_var_sum,
                 int frames) {
   double n = 0.0, sum = 0.0;
@@ -39,19 +42,23 @@ Mean block_mean(const std::vector<double>& block_means, const std::vector<int>& 
   }
   const double k = static_cast<double>(block_means.size());
   const double scatter = std::sqrt(spread * k / (k - 1.0)) / n;
-  const double formal = std::sqrt(frame_var_sum) / frames;
+  const double formal = std::sqrt(frame_var_sum / frames / k);
   return {mean, std::max(scatter, formal)};
 }
 
 }  // namespace
 
-LaneEstimatorOptions mount_estimator_options(LaneEstimatorOptions options) {
+LaneEstimatorOptions mount_estimator_options(LaneEstimatorOptions options, double phi_deg) {
   options.solver.line_model = LineModel::shared_curvature;
   options.solver.free.remove(FreeParam::c);
   options.solver.free.remove(FreeParam::H);
+  options.solver.free.remove(FreeParam::f);
+  options.solver.free.remove(FreeParam::m);
+  options.solver.free.remove(FreeParam::phi);
   options.solver.free.add(FreeParam::psi);
   options.solver.free.add(FreeParam::theta);
-  options.solver.free.add(FreeParam::phi);
+  options.solver.free.add(FreeParam::y0);
+  options.nominal_pose.attitude.phi = deg_to_rad(phi_deg);
   options.priors.psi_deg.reset();
   options.priors.theta_deg.reset();
   options.priors.phi_deg.reset();
@@ -60,26 +67,67 @@ LaneEstimatorOptions mount_estimator_options(LaneEstimatorOptions options) {
   return options;
 }
 
-MountFrame mount_frame(const LaneEstimate& e, const SolveResult* solution, const std::optional<Gx1Angles>& gyro) {
+std::optional<double> equal_lanes_roll_deg(std::span<const double> y0_mm, double H_mm) {
+  const std::size_t n = y0_mm.size();
+  if (n < 3) return std::nullopt;
+  // Seen from above the camera, a line at offset y lies at angle atan(y / H) from the
+  // vertical through the vanishing point; a roll d turns every such angle by d. The
+  // lines' angles at the true roll are the ones whose tangents are equally spaced:
+  // least squares of the spacings' deviation from their mean, by Newton in d.
+  const auto spread = [&](double d) {
+    double mean = 0.0, sum2 = 0.0;
+    double u[kMaxLaneLines + 1];
+    for (std::size_t j = 0; j < n && j <= kMaxLaneLines; ++j) u[j] = std::tan(std::atan(y0_mm[j] / H_mm) - d);
+    const std::size_t m = std::min<std::size_t>(n, kMaxLaneLines + 1);
+    for (std::size_t j = 0; j + 1 < m; ++j) mean += u[j] - u[j + 1];
+    mean /= static_cast<double>(m - 1);
+    for (std::size_t j = 0; j + 1 < m; ++j) sum2 += (u[j] - u[j + 1] - mean) * (u[j] - u[j + 1] - mean);
+    return sum2;
+  };
+  double d = 0.0;
+  constexpr double h = 1e-5;
+  for (int it = 0; it < 20; ++it) {
+    const double s0 = spread(d), sp = spread(d + h), sm = spread(d - h);
+    const double g = (sp - sm) / (2 * h), H = (sp - 2 * s0 + sm) / (h * h);
+    if (!(H > 0.0)) return std::nullopt;
+    const double step = g / H;
+    d -= step;
+    if (std::abs(step) < 1e-9) break;
+  }
+  return rad_to_deg(d);
+}
+
+MountFrame mount_frame(const LaneEstimate& e, const SolveResult* solution, const std::optional<Gx1Angles>& gyro,
+                       double phi_deg, double nominal_H_mm) {
   MountFrame f;
   f.t_ns = e.t_ns;
   if (gyro) f.gyro_yaw_deg = gyro->yaw_deg;
-  f.lane = e.ok && std::isfinite(e.sigma_psi_deg) && std::isfinite(e.sigma_theta_deg) &&
-           std::isfinite(e.sigma_phi_deg);
+  f.lane = e.ok && std::isfinite(e.sigma_psi_deg) && std::isfinite(e.sigma_theta_deg);
   f.psi_deg = e.psi_deg;
   f.theta_deg = e.theta_deg;
-  f.phi_deg = e.phi_deg;
   f.sigma_psi_deg = e.sigma_psi_deg;
   f.sigma_theta_deg = e.sigma_theta_deg;
-  f.sigma_phi_deg = e.sigma_phi_deg;
+  double y0[kMaxLaneLines];
+  for (int j = 0; j < e.num_lines; ++j) y0[j] = e.lines[static_cast<std::size_t>(j)].y0_mm;
+  if (const auto d = equal_lanes_roll_deg({y0, static_cast<std::size_t>(e.num_lines)}, nominal_H_mm))
+    f.phi_deg = phi_deg - *d;
   f.lane_width_mm = e.lane_width_mm;
   f.lateral_offset_mm = e.lateral_offset_mm;
+  // The own lane's lines: the nearest on either side of the camera.
+  double left = kUndetermined, right = kUndetermined, left_y = 1e300, right_y = -1e300;
+  for (int j = 0; j < e.num_lines; ++j) {
+    const EstimatedLine& l = e.lines[static_cast<std::size_t>(j)];
+    if (l.y0_mm >= 0.0 && l.y0_mm < left_y) left_y = l.y0_mm, left = l.sigma_y0_mm;
+    if (l.y0_mm < 0.0 && l.y0_mm > right_y) right_y = l.y0_mm, right = l.sigma_y0_mm;
+  }
+  f.sigma_lane_width_mm = std::hypot(left, right);
+  f.lane = f.lane && std::isfinite(f.sigma_lane_width_mm);
   const bool curvature_known = solution && solution->num_lines > 0 && std::isfinite(solution->sigma.c_per_mm[0]);
   f.c_per_mm = curvature_known ? solution->lines[0].c_per_mm : std::nan("");
   return f;
 }
 
-MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& o) {
+MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& o, double reference_phi_deg) {
   MountCalibration r;
   r.frames = static_cast<int>(frames.size());
   const std::size_t n = frames.size();
@@ -132,8 +180,8 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
 
   // Stretches: runs of kept frames without a long gap; each cut into equal blocks.
   std::vector<double> psi, theta, phi, width;
-  std::vector<int> block_frames;
-  double var_psi = 0.0, var_theta = 0.0, var_phi = 0.0;
+  std::vector<int> block_frames, phi_frames;
+  double var_psi = 0.0, var_theta = 0.0, var_width = 0.0;
   for (std::size_t i = 0; i < n;) {
     if (!keep[i]) {
       ++i;
@@ -156,16 +204,18 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
       for (int b = 0; b < blocks; ++b) {
         psi.push_back(0.0), theta.push_back(0.0), phi.push_back(0.0), width.push_back(0.0);
         block_frames.push_back(0);
+        phi_frames.push_back(0);
       }
       for (std::size_t k = i; k < end; ++k) {
         const MountFrame& f = frames[k];
         const double t = 1e-9 * static_cast<double>(f.t_ns) - t0;
         const auto b = first_block + static_cast<std::size_t>(std::min(blocks - 1, static_cast<int>(t / (duration / blocks))));
-        psi[b] += f.psi_deg, theta[b] += f.theta_deg, phi[b] += f.phi_deg, width[b] += f.lane_width_mm;
+        psi[b] += f.psi_deg, theta[b] += f.theta_deg, width[b] += f.lane_width_mm;
         ++block_frames[b];
+        if (f.phi_deg) phi[b] += *f.phi_deg, ++phi_frames[b];
         var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
         var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
-        var_phi += f.sigma_phi_deg * f.sigma_phi_deg;
+        var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
         ++r.frames_kept;
       }
     }
@@ -175,10 +225,19 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
   for (std::size_t b = block_frames.size(); b-- > 0;)
     if (block_frames[b] == 0) {
       for (auto* v : {&psi, &theta, &phi, &width}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
-      block_frames.erase(block_frames.begin() + static_cast<std::ptrdiff_t>(b));
+      for (auto* v : {&block_frames, &phi_frames}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
     }
+  // Roll from the blocks that saw three lines often enough to count.
+  std::vector<double> phi_means;
+  std::vector<int> phi_counts;
+  int phi_total = 0;
   for (std::size_t b = 0; b < block_frames.size(); ++b) {
-    psi[b] /= block_frames[b], theta[b] /= block_frames[b], phi[b] /= block_frames[b], width[b] /= block_frames[b];
+    psi[b] /= block_frames[b], theta[b] /= block_frames[b], width[b] /= block_frames[b];
+    if (2 * phi_frames[b] >= block_frames[b]) {
+      phi_means.push_back(phi[b] / phi_frames[b]);
+      phi_counts.push_back(phi_frames[b]);
+      phi_total += phi_frames[b];
+    }
   }
   r.blocks = static_cast<int>(block_frames.size());
 
@@ -207,11 +266,16 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
 
   const Mean mpsi = block_mean(psi, block_frames, var_psi, r.frames_kept);
   const Mean mtheta = block_mean(theta, block_frames, var_theta, r.frames_kept);
-  const Mean mphi = block_mean(phi, block_frames, var_phi, r.frames_kept);
-  const Mean mwidth = block_mean(width, block_frames, 0.0, r.frames_kept);
+  const Mean mwidth = block_mean(width, block_frames, var_width, r.frames_kept);
   r.psi_deg = mpsi.value, r.sigma_psi_deg = mpsi.sigma;
   r.theta_deg = mtheta.value, r.sigma_theta_deg = mtheta.sigma;
-  r.phi_deg = mphi.value, r.sigma_phi_deg = mphi.sigma;
+  r.phi_determined = phi_means.size() >= kMinBlocks;
+  if (r.phi_determined) {
+    const Mean mphi = block_mean(phi_means, phi_counts, 0.0, phi_total);
+    r.phi_deg = mphi.value, r.sigma_phi_deg = mphi.sigma;
+  } else {
+    r.phi_deg = reference_phi_deg;
+  }
   r.measured_width_mm = mwidth.value, r.sigma_measured_width_mm = mwidth.sigma;
   // With the angles fixed, the road seen scales with H: a lane measured too wide at the
   // nominal H means the camera sits higher than that.
