@@ -21,6 +21,7 @@
 #include "core/calibration/camera_calibration.hpp"
 #include "app/config_loader.hpp"
 #include "core/solver/lane_solver.hpp"
+#include "tools/ccdlane/calibration_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/grey_picture.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -120,27 +121,6 @@ std::vector<Picture> read_pictures(const CameraArgs& args, const CameraSpec& chi
   return pictures;
 }
 
-std::string fixed(double v, int decimals) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(decimals) << v;
-  return out.str();
-}
-
-std::string scientific(double v, int decimals) {
-  std::ostringstream out;
-  out << std::scientific << std::setprecision(decimals) << v;
-  return out.str();
-}
-
-// A TOML float: the shortest text that reads back to the same double.
-std::string toml_float(double v) {
-  char buffer[32];
-  const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
-  std::string s(buffer, end);
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-  return s;
-}
-
 void print_report(std::ostream& out, const std::vector<Picture>& pictures, const std::vector<int>& used,
                   const CameraCalibration& c, const BoardGeometry& board, const CameraSpec& chip) {
   const Vec3 board_centre((board.columns - 1) * board.square_mm / 2.0, (board.rows - 1) * board.square_mm / 2.0, 0.0);
@@ -180,24 +160,6 @@ std::string camera_table(const CameraCalibration& c, const CameraSpec& chip, std
     << "cy = " << toml_float(c.intrinsics.cy) << "  # sigma " << toml_float(c.sigma.cy) << "\n"
     << "k_px2 = " << toml_float(c.intrinsics.k_px2) << "  # sigma " << toml_float(c.sigma.k_px2) << "\n";
   return t.str();
-}
-
-// Written under a temporary name and renamed: the file is whole or absent.
-void write_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(tmp + ": cannot write");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename " + tmp + " to it");
-  }
 }
 
 // Found corners as green crosses, the model's corners as red ones.
@@ -264,10 +226,15 @@ int run_camera(const CameraArgs& args) {
   return 0;
 }
 
+
 }  // namespace
+
+CommandAction setup_calibrate_mount(CLI::App& sub);
 
 CommandAction setup_calibrate(CLI::App& sub) {
   sub.require_subcommand(1);
+  CommandAction mount = setup_calibrate_mount(*sub.add_subcommand(
+      "mount", "the camera's yaw, pitch, roll and height on the vehicle from a drive on a marked road"));
   auto args = std::make_shared<CameraArgs>();
   CLI::App* camera = sub.add_subcommand("camera", "f, principal point and distortion from chessboard pictures");
   camera->add_option("--config", args->config, "configuration (TOML) whose [camera] gives the chip geometry")
@@ -282,7 +249,8 @@ CommandAction setup_calibrate(CLI::App& sub) {
       "Prints per picture its residual, tilt and distance, then the reprojection RMS and f, cx, cy, k_px2 with "
       "their sigmas (standard error); writes the [camera] table with the chip geometry of --config. Pictures "
       "without the whole board are named and skipped. At least 3 usable pictures, some with the board tilted.");
-  return [args] { return run_camera(*args); };
+  CLI::App* mount_app = sub.get_subcommand("mount");
+  return [args, mount_app, mount] { return mount_app->parsed() ? mount() : run_camera(*args); };
 }
 
 }  // namespace ccdlane::cli

@@ -1,0 +1,300 @@
+// Mount calibration from a drive: frames are sorted into straight stretches (no bend, no
+// turn, no lane change), the stretches cut into blocks, and the block means averaged; the
+// blocks' spread gives the sigmas.
+#include "core/calibration/mount_calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace ccdlane::calibration {
+namespace {
+
+double wrap_deg(double a) {
+  a = std::fmod(a + 180.0, 360.0);
+  return (a < 0.0 ? a + 360.0 : a) - 180.0;
+}
+
+// A quantity's mean over the kept frames and its standard error: the spread of its block
+// means (they, not single frames, are nearly independent), never below what the frames'
+// own sigmas allow.
+struct Mean {
+  double value = 0.0;
+  double sigma = 0.0;
+};
+
+// `frame_var_sum`: the frames' own variances summed over `frames` frames; their mean
+// counts once per block, frames within a block sharing most of their errors (the same
+// paint, the same heading).
+Mean block_mean(const std::vector<double>& block_means, const std::vector<int>& block_frames, double frame_var_sum,
+                int frames) {
+  double n = 0.0, sum = 0.0;
+  for (std::size_t b = 0; b < block_means.size(); ++b) {
+    n += block_frames[b];
+    sum += block_frames[b] * block_means[b];
+  }
+  const double mean = sum / n;
+  double spread = 0.0;
+  for (std::size_t b = 0; b < block_means.size(); ++b) {
+    const double d = block_frames[b] * (block_means[b] - mean);
+    spread += d * d;
+  }
+  const double k = static_cast<double>(block_means.size());
+  const double scatter = std::sqrt(spread * k / (k - 1.0)) / n;
+  const double formal = std::sqrt(frame_var_sum / frames / k);
+  return {mean, std::max(scatter, formal)};
+}
+
+}  // namespace
+
+LaneEstimatorOptions mount_estimator_options(LaneEstimatorOptions options, double phi_deg) {
+  options.solver.line_model = LineModel::shared_curvature;
+  options.solver.free.remove(FreeParam::c);
+  options.solver.free.remove(FreeParam::H);
+  options.solver.free.remove(FreeParam::f);
+  options.solver.free.remove(FreeParam::m);
+  options.solver.free.remove(FreeParam::phi);
+  options.solver.free.add(FreeParam::psi);
+  options.solver.free.add(FreeParam::theta);
+  options.solver.free.add(FreeParam::y0);
+  options.nominal_pose.attitude.phi = deg_to_rad(phi_deg);
+  options.priors.psi_deg.reset();
+  options.priors.theta_deg.reset();
+  options.priors.phi_deg.reset();
+  options.priors.H_mm.reset();
+  options.priors.lane_width_mm.reset();
+  return options;
+}
+
+std::optional<double> equal_lanes_roll_deg(std::span<const double> y0_mm, double H_mm) {
+  const std::size_t n = y0_mm.size();
+  if (n < 3) return std::nullopt;
+  // Seen from above the camera, a line at offset y lies at angle atan(y / H) from the
+  // vertical through the vanishing point; a roll d turns every such angle by d. The
+  // lines' angles at the true roll are the ones whose tangents are equally spaced:
+  // least squares of the spacings' deviation from their mean, by Newton in d.
+  const auto spread = [&](double d) {
+    double mean = 0.0, sum2 = 0.0;
+    double u[kMaxLaneLines + 1];
+    for (std::size_t j = 0; j < n && j <= kMaxLaneLines; ++j) u[j] = std::tan(std::atan(y0_mm[j] / H_mm) - d);
+    const std::size_t m = std::min<std::size_t>(n, kMaxLaneLines + 1);
+    for (std::size_t j = 0; j + 1 < m; ++j) mean += u[j] - u[j + 1];
+    mean /= static_cast<double>(m - 1);
+    for (std::size_t j = 0; j + 1 < m; ++j) sum2 += (u[j] - u[j + 1] - mean) * (u[j] - u[j + 1] - mean);
+    return sum2;
+  };
+  double d = 0.0;
+  constexpr double h = 1e-5;
+  for (int it = 0; it < 20; ++it) {
+    const double s0 = spread(d), sp = spread(d + h), sm = spread(d - h);
+    const double g = (sp - sm) / (2 * h), H = (sp - 2 * s0 + sm) / (h * h);
+    if (!(H > 0.0)) return std::nullopt;
+    const double step = g / H;
+    d -= step;
+    if (std::abs(step) < 1e-9) break;
+  }
+  return rad_to_deg(d);
+}
+
+MountFrame mount_frame(const LaneEstimate& e, const SolveResult* solution, const std::optional<Gx1Angles>& gyro,
+                       double phi_deg, double nominal_H_mm) {
+  MountFrame f;
+  f.t_ns = e.t_ns;
+  if (gyro) f.gyro_yaw_deg = gyro->yaw_deg;
+  f.lane = e.ok && std::isfinite(e.sigma_psi_deg) && std::isfinite(e.sigma_theta_deg);
+  f.psi_deg = e.psi_deg;
+  f.theta_deg = e.theta_deg;
+  f.sigma_psi_deg = e.sigma_psi_deg;
+  f.sigma_theta_deg = e.sigma_theta_deg;
+  double y0[kMaxLaneLines];
+  for (int j = 0; j < e.num_lines; ++j) y0[j] = e.lines[static_cast<std::size_t>(j)].y0_mm;
+  if (const auto d = equal_lanes_roll_deg({y0, static_cast<std::size_t>(e.num_lines)}, nominal_H_mm))
+    f.phi_deg = phi_deg - *d;
+  f.lane_width_mm = e.lane_width_mm;
+  f.lateral_offset_mm = e.lateral_offset_mm;
+  // The own lane's lines: the nearest on either side of the camera.
+  double left = kUndetermined, right = kUndetermined, left_y = 1e300, right_y = -1e300;
+  for (int j = 0; j < e.num_lines; ++j) {
+    const EstimatedLine& l = e.lines[static_cast<std::size_t>(j)];
+    if (l.y0_mm >= 0.0 && l.y0_mm < left_y) left_y = l.y0_mm, left = l.sigma_y0_mm;
+    if (l.y0_mm < 0.0 && l.y0_mm > right_y) right_y = l.y0_mm, right = l.sigma_y0_mm;
+  }
+  f.sigma_lane_width_mm = std::hypot(left, right);
+  f.lane = f.lane && std::isfinite(f.sigma_lane_width_mm);
+  const bool curvature_known = solution && solution->num_lines > 0 && std::isfinite(solution->sigma.c_per_mm[0]);
+  f.c_per_mm = curvature_known ? solution->lines[0].c_per_mm : std::nan("");
+  return f;
+}
+
+MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& o, double reference_phi_deg) {
+  MountCalibration r;
+  r.frames = static_cast<int>(frames.size());
+  const std::size_t n = frames.size();
+  const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
+
+  // Which frames show the lane, which of those are on straight road, and where the
+  // vehicle turned or moved sideways.
+  std::vector<bool> keep(n, false);
+  std::vector<double> lane_change_t;
+  int last_lane = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const MountFrame& f = frames[i];
+    if (!f.lane) continue;
+    ++r.frames_with_lane;
+    bool ok = true;
+    if (!(std::abs(f.c_per_mm) <= max_c)) {
+      ++r.frames_curved;
+      ok = false;
+    }
+    if (last_lane >= 0) {
+      const MountFrame& p = frames[static_cast<std::size_t>(last_lane)];
+      const double dt = 1e-9 * static_cast<double>(f.t_ns - p.t_ns);
+      const double jump = f.lateral_offset_mm - p.lateral_offset_mm;
+      // The own lane's centre jumps by about a lane width when the vehicle crosses a line.
+      if (std::abs(jump) > 0.5 * f.lane_width_mm) {
+        lane_change_t.push_back(1e-9 * static_cast<double>(f.t_ns));
+      } else if (dt > 0.0 && std::abs(jump) / dt > o.max_lateral_speed_mm_s) {
+        ++r.frames_lane_change;  // moving sideways: changing lanes or swerving
+        ok = false;
+      }
+      if (ok && f.gyro_yaw_deg && p.gyro_yaw_deg && dt > 0.0 &&
+          std::abs(wrap_deg(*f.gyro_yaw_deg - *p.gyro_yaw_deg)) / dt > o.max_yaw_rate_deg_s) {
+        ++r.frames_turning;
+        ok = false;
+      }
+    }
+    keep[i] = ok;
+    last_lane = static_cast<int>(i);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    const double t = 1e-9 * static_cast<double>(frames[i].t_ns);
+    for (double c : lane_change_t)
+      if (std::abs(t - c) < o.lane_change_guard_s) {
+        keep[i] = false;
+        ++r.frames_lane_change;
+        break;
+      }
+  }
+
+  // Stretches: runs of kept frames without a long gap; each cut into equal blocks.
+  std::vector<double> psi, theta, phi, width;
+  std::vector<int> block_frames, phi_frames;
+  double var_psi = 0.0, var_theta = 0.0, var_width = 0.0;
+  for (std::size_t i = 0; i < n;) {
+    if (!keep[i]) {
+      ++i;
+      continue;
+    }
+    std::size_t end = i + 1;
+    while (end < n && keep[end] &&
+           1e-9 * static_cast<double>(frames[end].t_ns - frames[end - 1].t_ns) <= o.max_gap_s)
+      ++end;
+    const std::size_t count = end - i;
+    // A stretch lasts from its first frame to one frame interval past its last.
+    const double t0 = 1e-9 * static_cast<double>(frames[i].t_ns);
+    const double span = 1e-9 * static_cast<double>(frames[end - 1].t_ns - frames[i].t_ns);
+    const double duration = count > 1 ? span * static_cast<double>(count) / static_cast<double>(count - 1) : 0.0;
+    if (duration >= o.block_s) {
+      ++r.stretches;
+      r.straight_s += duration;
+      const int blocks = std::max(1, static_cast<int>(std::floor(duration / o.block_s)));
+      const std::size_t first_block = block_frames.size();
+      for (int b = 0; b < blocks; ++b) {
+        psi.push_back(0.0), theta.push_back(0.0), phi.push_back(0.0), width.push_back(0.0);
+        block_frames.push_back(0);
+        phi_frames.push_back(0);
+      }
+      for (std::size_t k = i; k < end; ++k) {
+        const MountFrame& f = frames[k];
+        const double t = 1e-9 * static_cast<double>(f.t_ns) - t0;
+        const auto b = first_block + static_cast<std::size_t>(std::min(blocks - 1, static_cast<int>(t / (duration / blocks))));
+        psi[b] += f.psi_deg, theta[b] += f.theta_deg, width[b] += f.lane_width_mm;
+        ++block_frames[b];
+        if (f.phi_deg) phi[b] += *f.phi_deg, ++phi_frames[b];
+        var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
+        var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
+        var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
+        ++r.frames_kept;
+      }
+    }
+    i = end;
+  }
+  // Empty blocks (a stretch with uneven frame times) carry nothing.
+  for (std::size_t b = block_frames.size(); b-- > 0;)
+    if (block_frames[b] == 0) {
+      for (auto* v : {&psi, &theta, &phi, &width}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
+      for (auto* v : {&block_frames, &phi_frames}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
+    }
+  // Roll from the blocks that saw three lines often enough to count.
+  std::vector<double> phi_means;
+  std::vector<int> phi_counts;
+  int phi_total = 0;
+  for (std::size_t b = 0; b < block_frames.size(); ++b) {
+    psi[b] /= block_frames[b], theta[b] /= block_frames[b], width[b] /= block_frames[b];
+    if (2 * phi_frames[b] >= block_frames[b]) {
+      phi_means.push_back(phi[b] / phi_frames[b]);
+      phi_counts.push_back(phi_frames[b]);
+      phi_total += phi_frames[b];
+    }
+  }
+  r.blocks = static_cast<int>(block_frames.size());
+
+  constexpr int kMinBlocks = 3;  // fewer give no spread worth the name
+  if (r.straight_s < o.min_straight_s || r.blocks < kMinBlocks) {
+    char text[256];
+    if (r.frames_with_lane == 0) {
+      r.status = MountStatus::no_lines;
+      std::snprintf(text, sizeof text, "none of the %d frames shows lane lines on both sides of the vehicle", r.frames);
+    } else if (2 * r.frames_curved >= r.frames_with_lane) {
+      r.status = MountStatus::only_curves;
+      std::snprintf(text, sizeof text,
+                    "%d of the %d frames with lane lines are on bends (radius under %.0f m): a bend's heading is "
+                    "not the road's direction; drive a straight road",
+                    r.frames_curved, r.frames_with_lane, o.min_radius_m);
+    } else {
+      r.status = MountStatus::too_short;
+      std::snprintf(text, sizeof text,
+                    "only %.1f s of straight driving with lines on both sides (%d frames kept of %d), at least "
+                    "%.1f s needed",
+                    r.straight_s, r.frames_kept, r.frames, o.min_straight_s);
+    }
+    r.message = text;
+    return r;
+  }
+
+  const Mean mpsi = block_mean(psi, block_frames, var_psi, r.frames_kept);
+  const Mean mtheta = block_mean(theta, block_frames, var_theta, r.frames_kept);
+  const Mean mwidth = block_mean(width, block_frames, var_width, r.frames_kept);
+  r.psi_deg = mpsi.value, r.sigma_psi_deg = mpsi.sigma;
+  r.theta_deg = mtheta.value, r.sigma_theta_deg = mtheta.sigma;
+  r.phi_determined = phi_means.size() >= kMinBlocks;
+  if (r.phi_determined) {
+    const Mean mphi = block_mean(phi_means, phi_counts, 0.0, phi_total);
+    r.phi_deg = mphi.value, r.sigma_phi_deg = mphi.sigma;
+  } else {
+    r.phi_deg = reference_phi_deg;
+  }
+  r.measured_width_mm = mwidth.value, r.sigma_measured_width_mm = mwidth.sigma;
+  // With the angles fixed, the road seen scales with H: a lane measured too wide at the
+  // nominal H means the camera sits higher than that.
+  r.H_mm = o.nominal_H_mm * o.lane_width_mm.mean / mwidth.value;
+  const double rel_prior = o.lane_width_mm.sigma / o.lane_width_mm.mean;
+  const double rel_measured = mwidth.sigma / mwidth.value;
+  r.sigma_H_mm = r.H_mm * std::hypot(rel_prior, rel_measured);
+  r.status = MountStatus::ok;
+  return r;
+}
+
+const char* to_string(MountStatus status) {
+  switch (status) {
+    case MountStatus::ok: return "ok";
+    case MountStatus::no_lines: return "no_lines";
+    case MountStatus::only_curves: return "only_curves";
+    case MountStatus::too_short: return "too_short";
+  }
+  return "unknown";
+}
+
+}  // namespace ccdlane::calibration

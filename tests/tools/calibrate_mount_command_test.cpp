@@ -1,0 +1,93 @@
+// `ccdlane calibrate mount` as a user runs it: a drive rendered by `ccdlane synth` with
+// the true mount (yaw +1.5, pitch -2, roll +0.5 degrees, H 10 % high), calibrated with
+// the nominal one; the tables it writes load as a configuration and lie within 3 of
+// their sigmas of the truth; a drive on a bend is refused and nothing is written.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "app/config_loader.hpp"
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+using test::run_process;
+using test::TempDir;
+
+// The half-resolution reference camera at 10 frames a second.
+std::string config_text(double psi, double theta, double phi, double H, double curvature) {
+  std::ostringstream t;
+  t << "[camera]\nNu = 400\nNv = 300\nUc_mm = 0.0084\nVc_mm = 0.0084\ncx = 200.5\ncy = 150.5\nk_px2 = "
+    << -8.3042e-7 * 4 << "\n[mount]\nH_mm = " << H << "\n[attitude]\npsi_deg = " << psi << "\ntheta_deg = " << theta
+    << "\nphi_deg = " << phi << "\n[detection]\nmax_picks = 160\n[synth]\nrate_hz = 10.0\ncurvature_per_mm = "
+    << curvature << "\n";
+  return t.str();
+}
+
+double sigma_of(const std::string& table, const std::string& key) {
+  std::smatch m;
+  const std::regex pattern("\n" + key + " = [^ ]+  # sigma ([0-9.eE+-]+)");
+  if (!std::regex_search(table, m, pattern)) return std::nan("");
+  return std::stod(m[1]);
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(CalibrateMount, RecoversTheMountOfASynthesisedDriveWithin3Sigma) {
+  TempDir dir;
+  const std::string truth = dir.write("truth.toml", config_text(1.5, 3.0, 0.5, 1540.0, 0.0));
+  const std::string nominal = dir.write("nominal.toml", config_text(0.0, 5.0, 0.0, 1400.0, 0.0));
+  const std::string frames = dir.path() + "/drive";
+  const auto synth = run_process({CCDLANE_TOOL, "synth", truth, "--out", frames, "--frames", "120"});
+  ASSERT_EQ(synth.exit_status, 0) << synth.err;
+
+  const std::string out = dir.path() + "/mount.toml";
+  const auto r = run_process({CCDLANE_TOOL, "calibrate", "mount", nominal, frames, "--out", out});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  std::cout << r.err;
+  const std::string tables = read_file(out);
+  std::cout << tables;
+  // The tables load as a configuration (the keys are the loader's).
+  const Config got = parse_config(tables, "mount.toml");
+  EXPECT_NEAR(got.attitude.psi_deg, 1.5, 3 * sigma_of(tables, "psi_deg"));
+  EXPECT_NEAR(got.attitude.theta_deg, 3.0, 3 * sigma_of(tables, "theta_deg"));
+  EXPECT_NEAR(got.attitude.phi_deg, 0.5, 3 * sigma_of(tables, "phi_deg"));
+  EXPECT_NEAR(got.H_mm, 1540.0, 3 * sigma_of(tables, "H_mm"));
+}
+
+TEST(CalibrateMount, RefusesADriveOnABendAndWritesNothing) {
+  TempDir dir;
+  const std::string truth = dir.write("truth.toml", config_text(1.5, 3.0, 0.5, 1540.0, 1.0 / (2 * 400e3)));
+  const std::string nominal = dir.write("nominal.toml", config_text(0.0, 5.0, 0.0, 1400.0, 0.0));
+  const std::string frames = dir.path() + "/drive";
+  ASSERT_EQ(run_process({CCDLANE_TOOL, "synth", truth, "--out", frames, "--frames", "80"}).exit_status, 0);
+  const std::string out = dir.path() + "/mount.toml";
+  const auto r = run_process({CCDLANE_TOOL, "calibrate", "mount", nominal, frames, "--out", out});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("only_curves"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nothing written"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
+}
+
+TEST(CalibrateMount, RefusesARecordingTooShort) {
+  TempDir dir;
+  const std::string truth = dir.write("truth.toml", config_text(1.5, 3.0, 0.5, 1540.0, 0.0));
+  const std::string frames = dir.path() + "/drive";
+  ASSERT_EQ(run_process({CCDLANE_TOOL, "synth", truth, "--out", frames, "--frames", "30"}).exit_status, 0);
+  const auto r = run_process({CCDLANE_TOOL, "calibrate", "mount", truth, frames});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("too_short"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+}  // namespace
+}  // namespace ccdlane
