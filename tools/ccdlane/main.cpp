@@ -32,7 +32,7 @@ constexpr Command kCommands[] = {
      setup_record},
     {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
     {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},
-    {"calibrate", "calibrate the camera (f, principal point, distortion) from chessboard pictures", setup_calibrate},
+    {"calibrate", "calibrate the camera (chessboard pictures) or its mount (a recorded drive)", setup_calibrate},
     {"gx1-emulate", "emulate a 3DM-GX1 on a pty until interrupted (prints the device path)", setup_gx1_emulate},
 };
 }  // namespace
