@@ -1,5 +1,6 @@
 // The TOML schema: defaults, every table, and errors that name file, line and key.
 #include "app/config_loader.hpp"
+#include "tests/support/config_error.hpp"
 
 #include <algorithm>
 
@@ -8,14 +9,7 @@
 namespace ccdlane {
 namespace {
 
-std::string error_of(const std::string& toml) {
-  try {
-    parse_config(toml, "test.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string error_of(const std::string& toml) { return test::config_error_of(toml, "test.toml"); }
 
 TEST(ConfigLoader, EmptyFileGivesTheReferenceCamera) {
   const Config c = parse_config("", "empty.toml");

@@ -2,18 +2,12 @@
 #include <gtest/gtest.h>
 
 #include "app/config_loader.hpp"
+#include "tests/support/config_error.hpp"
 
 namespace ccdlane {
 namespace {
 
-std::string error_of(const std::string& toml) {
-  try {
-    parse_config(toml, "d.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string error_of(const std::string& toml) { return test::config_error_of(toml, "d.toml"); }
 
 TEST(DetectionConfig, DefaultsAndEveryKey) {
   const Config d = parse_config("", "empty.toml");

@@ -2,18 +2,12 @@
 #include <gtest/gtest.h>
 
 #include "app/config_loader.hpp"
+#include "tests/support/config_error.hpp"
 
 namespace ccdlane {
 namespace {
 
-std::string error_of(const std::string& toml) {
-  try {
-    parse_config(toml, "s.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string error_of(const std::string& toml) { return test::config_error_of(toml, "s.toml"); }
 
 TEST(SynthConfig, EmptyConfigGivesAThreeLaneHighway) {
   const Config c = parse_config("", "empty.toml");
