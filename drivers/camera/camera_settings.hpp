@@ -24,6 +24,9 @@ struct CameraSettings {
   int height = 600;
   PixelFormat format = PixelFormat::mono8;  // mono16: deep mono, `colour` is ignored
   ColourCapture colour = ColourCapture::grey;
+  // The device's own name of the pixel format to use ("BayerRG8"), if it must be that one
+  // among those `format`/`colour` allow; empty: the driver's preference. Aravis only.
+  std::string device_format;
   double fps = 30.0;                // 0: leave the device's own rate
   std::optional<double> exposure_us;
   std::optional<double> gain;       // device units (dB on GenICam cameras)
