@@ -44,6 +44,9 @@ struct GyroConfig {
 
 enum class SourceKind { synth, frames, v4l2, aravis };
 
+// [source] pixel_format: what a v4l2 or aravis camera is asked to deliver.
+enum class SourcePixels { automatic, grey, colour };
+
 struct SourceConfig {
   SourceKind kind = SourceKind::synth;
   std::string device = "/dev/video0";
@@ -51,6 +54,7 @@ struct SourceConfig {
   std::string path;
   double rate_hz = 30.0;
   bool loop = false;
+  SourcePixels pixel_format = SourcePixels::automatic;
 
   bool operator==(const SourceConfig&) const = default;
 };

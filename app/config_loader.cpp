@@ -263,6 +263,12 @@ void read_source(TableReader& r, Config& c) {
   r.string("path", c.source.path);
   r.number("rate_hz", c.source.rate_hz);
   r.boolean("loop", c.source.loop);
+  std::string pixels = "auto";
+  r.string("pixel_format", pixels);
+  if (pixels == "auto") c.source.pixel_format = SourcePixels::automatic;
+  else if (pixels == "grey") c.source.pixel_format = SourcePixels::grey;
+  else if (pixels == "colour") c.source.pixel_format = SourcePixels::colour;
+  else r.fail(r.node("pixel_format"), "pixel_format", "must be \"auto\", \"grey\" or \"colour\", got \"" + pixels + "\"");
   r.reject_unknown();
   require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",

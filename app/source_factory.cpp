@@ -35,6 +35,11 @@ CameraSettings camera_settings(const Config& c) {
   s.width = c.camera.Nu;
   s.height = c.camera.Nv;
   s.fps = c.source.rate_hz;
+  switch (c.source.pixel_format) {
+    case SourcePixels::automatic: s.colour = ColourCapture::automatic; break;
+    case SourcePixels::grey: s.colour = ColourCapture::grey; break;
+    case SourcePixels::colour: s.colour = ColourCapture::colour; break;
+  }
   return s;
 }
 

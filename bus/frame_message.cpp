@@ -9,6 +9,30 @@ namespace ccdlane {
 
 static_assert(std::endian::native == std::endian::little, "frame_t carries little-endian mono16 samples");
 
+namespace {
+
+std::int8_t wire_format(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::mono8: return frame_t::PIXEL_FORMAT_MONO8;
+    case PixelFormat::mono16: return frame_t::PIXEL_FORMAT_MONO16;
+    case PixelFormat::rgb8: return frame_t::PIXEL_FORMAT_RGB8;
+    case PixelFormat::bgr8: return frame_t::PIXEL_FORMAT_BGR8;
+  }
+  return -1;
+}
+
+std::optional<PixelFormat> image_format(std::int8_t f) {
+  switch (f) {
+    case frame_t::PIXEL_FORMAT_MONO8: return PixelFormat::mono8;
+    case frame_t::PIXEL_FORMAT_MONO16: return PixelFormat::mono16;
+    case frame_t::PIXEL_FORMAT_RGB8: return PixelFormat::rgb8;
+    case frame_t::PIXEL_FORMAT_BGR8: return PixelFormat::bgr8;
+    default: return std::nullopt;
+  }
+}
+
+}  // namespace
+
 void prepare_frame_message(frame_t& msg, int width, int height, PixelFormat format) {
   msg.utime = msg.sequence = msg.t_ns = 0;
   msg.significant_bits = format == PixelFormat::mono16 ? 16 : 8;
@@ -17,14 +41,13 @@ void prepare_frame_message(frame_t& msg, int width, int height, PixelFormat form
   msg.width = width;
   msg.height = height;
   msg.row_stride = width * bytes_per_pixel(format);
-  msg.pixel_format = format == PixelFormat::mono16 ? frame_t::PIXEL_FORMAT_MONO16 : frame_t::PIXEL_FORMAT_MONO8;
+  msg.pixel_format = wire_format(format);
   msg.data_size = msg.row_stride * height;
   msg.data.assign(static_cast<std::size_t>(msg.data_size), 0);
 }
 
 bool to_frame_message(const ImageView& image, const FrameRecord& record, frame_t& msg) {
-  const std::int8_t format =
-      image.format == PixelFormat::mono16 ? frame_t::PIXEL_FORMAT_MONO16 : frame_t::PIXEL_FORMAT_MONO8;
+  const std::int8_t format = wire_format(image.format);
   if (image.width != msg.width || image.height != msg.height || format != msg.pixel_format ||
       msg.data.size() != static_cast<std::size_t>(msg.data_size))
     return false;
@@ -44,9 +67,9 @@ bool to_frame_message(const ImageView& image, const FrameRecord& record, frame_t
 
 std::string frame_image(const frame_t& msg, ImageView& image) {
   const std::string frame = "frame " + std::to_string(msg.sequence) + ": ";
-  if (msg.pixel_format != frame_t::PIXEL_FORMAT_MONO8 && msg.pixel_format != frame_t::PIXEL_FORMAT_MONO16)
-    return frame + "unknown pixel_format " + std::to_string(msg.pixel_format);
-  const PixelFormat format = msg.pixel_format == frame_t::PIXEL_FORMAT_MONO16 ? PixelFormat::mono16 : PixelFormat::mono8;
+  const std::optional<PixelFormat> known = image_format(msg.pixel_format);
+  if (!known) return frame + "unknown pixel_format " + std::to_string(msg.pixel_format);
+  const PixelFormat format = *known;
   if (msg.width < 1 || msg.height < 1) return frame + "impossible size " + std::to_string(msg.width) + "x" + std::to_string(msg.height);
   if (msg.row_stride < msg.width * bytes_per_pixel(format))
     return frame + "row_stride " + std::to_string(msg.row_stride) + " is shorter than a row";

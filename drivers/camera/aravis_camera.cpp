@@ -19,6 +19,28 @@ struct FormatChoice {
   int significant_bits;
 };
 constexpr FormatChoice kMono8Choices[] = {{"Mono8", ARV_PIXEL_FORMAT_MONO_8, WirePixels::mono8, 8}};
+// Full-resolution colour first; the 2x2 demosaic of Bayer after. PFNC names Bayer by the
+// top-left cell: BayerRG8 is R G / G B.
+constexpr FormatChoice kColourChoices[] = {
+    {"RGB8", ARV_PIXEL_FORMAT_RGB_8_PACKED, WirePixels::rgb24, 8},
+    {"BGR8", ARV_PIXEL_FORMAT_BGR_8_PACKED, WirePixels::bgr24, 8},
+    {"BayerRG8", ARV_PIXEL_FORMAT_BAYER_RG_8, WirePixels::bayer_rggb, 8},
+    {"BayerBG8", ARV_PIXEL_FORMAT_BAYER_BG_8, WirePixels::bayer_bggr, 8},
+    {"BayerGR8", ARV_PIXEL_FORMAT_BAYER_GR_8, WirePixels::bayer_grbg, 8},
+    {"BayerGB8", ARV_PIXEL_FORMAT_BAYER_GB_8, WirePixels::bayer_gbrg, 8},
+};
+
+// The first of `choices` among the camera's `available` names (only `only` when that is
+// not empty), or null.
+template <std::size_t N>
+const FormatChoice* first_available(const FormatChoice (&choices)[N], const char* const* available, guint n,
+                                    const std::string& only) {
+  for (const FormatChoice& c : choices)
+    if (only.empty() || only == c.name)
+    for (guint i = 0; i < n; ++i)
+        if (available[i] && std::strcmp(available[i], c.name) == 0) return &c;
+  return nullptr;
+}
 // Unpacked 16-bit containers, little endian on the wire (GenICam PFNC).
 constexpr FormatChoice kMono16Choices[] = {
     {"Mono16", ARV_PIXEL_FORMAT_MONO_16, WirePixels::mono16_le, 16},
@@ -57,6 +79,9 @@ std::uint64_t frames_between(std::uint64_t last, std::uint64_t id) {
 }  // namespace
 
 AravisCamera::AravisCamera(std::string id, CameraSettings settings) : id_(std::move(id)), settings_(std::move(settings)) {
+  format_ = settings_.format == PixelFormat::mono16    ? PixelFormat::mono16
+            : settings_.colour == ColourCapture::colour ? PixelFormat::rgb8
+                                                       : PixelFormat::mono8;
   backoff_.configure(settings_.reopen_min_ms, settings_.reopen_max_ms);
 }
 
@@ -155,20 +180,29 @@ bool AravisCamera::configure() {
     return false;
 
   const bool mono16 = settings_.format == PixelFormat::mono16;
-  const FormatChoice* choices = mono16 ? kMono16Choices : kMono8Choices;
-  const int n_choices = mono16 ? 3 : 1;
+  // After the first bring-up the frame pool is sized for format(): a reconnect keeps it.
+  const bool colour_allowed = settings_.colour != ColourCapture::grey && (!format_locked_ || format_ == PixelFormat::rgb8);
+  const bool grey_allowed = settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
   guint n_available = 0;
   const char** available = arv_camera_dup_available_pixel_formats_as_strings(camera_, &n_available, nullptr);
   const FormatChoice* chosen = nullptr;
-  for (int c = 0; c < n_choices && !chosen; ++c)
-    for (guint i = 0; i < n_available && !chosen; ++i)
-      if (available[i] && std::strcmp(available[i], choices[c].name) == 0) chosen = &choices[c];
+  if (mono16) {
+    chosen = first_available(kMono16Choices, available, n_available, settings_.device_format);
+  } else {
+    if (colour_allowed) chosen = first_available(kColourChoices, available, n_available, settings_.device_format);
+    if (!chosen && grey_allowed) chosen = first_available(kMono8Choices, available, n_available, settings_.device_format);
+  }
+  const char* wanted = !settings_.device_format.empty() ? settings_.device_format.c_str()
+                       : mono16            ? "Mono16, Mono12 or Mono10"
+                       : !colour_allowed ? "Mono8"
+                       : !grey_allowed   ? "colour (RGB8, BGR8 or 8-bit Bayer)"
+                                         : "Mono8 or colour (RGB8, BGR8 or 8-bit Bayer)";
   if (!chosen) {
     char offered[200] = "";
     for (guint i = 0, at = 0; i < n_available && at + 8 < sizeof offered; ++i)
       at += static_cast<guint>(std::snprintf(offered + at, sizeof offered - at, "%s%s", i ? ", " : "", available[i]));
     problem_.set("aravis:%s: no %s pixel format (the camera offers: %s)", id_.c_str(),
-                 mono16 ? "Mono16, Mono12 or Mono10" : "Mono8", n_available ? offered : "nothing");
+                 wanted, n_available ? offered : "nothing");
     g_free(available);
     return false;
   }
@@ -177,6 +211,8 @@ bool AravisCamera::configure() {
   if (failed("PixelFormat")) return false;
   arv_format_ = chosen->code;
   wire_ = chosen->wire;
+  format_ = pixel_format_of(chosen->wire);
+  format_locked_ = true;
   significant_bits_ = chosen->significant_bits;
 
   arv_camera_set_region(camera_, 0, 0, settings_.width, settings_.height, &error);
@@ -286,7 +322,7 @@ std::string AravisCamera::set_control(const std::string& name, const std::string
 }
 
 CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
-  if (!capture_buffer_fits(into, width_, height_, settings_.format, "aravis", id_.c_str(), problem_, counters_))
+  if (!capture_buffer_fits(into, width_, height_, format_, "aravis", id_.c_str(), problem_, counters_))
     return CaptureStatus::error;
   const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
   const std::int64_t stall_ns = std::int64_t{settings_.effective_stall_timeout_ms()} * 1'000'000;

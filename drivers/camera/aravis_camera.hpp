@@ -33,7 +33,9 @@ class AravisCamera final : public FrameSource {
   std::string open() override;
   int width() const override { return width_; }
   int height() const override { return height_; }
-  PixelFormat format() const override { return settings_.format; }
+  // What capture() delivers: settled by the first open() (rgb8 or mono8 for 8-bit
+  // capture as settings.colour and the camera decide), kept across reconnects.
+  PixelFormat format() const override { return format_; }
   // Allocation-free while streaming; reopening a lost camera allocates inside Aravis.
   CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override;
   void close() override;
@@ -76,6 +78,8 @@ class AravisCamera final : public FrameSource {
   int width_ = 0;
   int height_ = 0;
   std::uint32_t arv_format_ = 0;
+  PixelFormat format_;
+  bool format_locked_ = false;
   WirePixels wire_ = WirePixels::mono8;
   int significant_bits_ = 8;
   double fps_obtained_ = 0;

@@ -2,6 +2,7 @@
 // recovery timings. One struct for V4L2 and Aravis, so the daemon configures both alike.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -11,10 +12,21 @@
 
 namespace ccdlane {
 
+// Whether 8-bit capture keeps the colour a camera offers.
+enum class ColourCapture : std::uint8_t {
+  grey,       // mono8: a mono format, or the Y plane of YUYV/UYVY; nothing else
+  automatic,  // rgb8 when the device offers a colour format, else mono8
+  colour,     // rgb8, or refuse a device that offers no colour format
+};
+
 struct CameraSettings {
   int width = 800;                  // the reference DH-HV2003UC's sensor
   int height = 600;
-  PixelFormat format = PixelFormat::mono8;
+  PixelFormat format = PixelFormat::mono8;  // mono16: deep mono, `colour` is ignored
+  ColourCapture colour = ColourCapture::grey;
+  // The device's own name of the pixel format to use ("BayerRG8"), if it must be that one
+  // among those `format`/`colour` allow; empty: the driver's preference. Aravis only.
+  std::string device_format;
   double fps = 30.0;                // 0: leave the device's own rate
   std::optional<double> exposure_us;
   std::optional<double> gain;       // device units (dB on GenICam cameras)

@@ -27,6 +27,14 @@ struct FormatChoice {
 constexpr FormatChoice kMono8Choices[] = {
     {V4L2_PIX_FMT_GREY, WirePixels::mono8, 8},
     {V4L2_PIX_FMT_YUYV, WirePixels::yuyv, 8},
+    {V4L2_PIX_FMT_UYVY, WirePixels::uyvy, 8},
+};
+// Full-resolution colour first; the 2x2 demosaic of Bayer last.
+constexpr FormatChoice kColourChoices[] = {
+    {V4L2_PIX_FMT_RGB24, WirePixels::rgb24, 8},        {V4L2_PIX_FMT_BGR24, WirePixels::bgr24, 8},
+    {V4L2_PIX_FMT_YUYV, WirePixels::yuyv, 8},          {V4L2_PIX_FMT_UYVY, WirePixels::uyvy, 8},
+    {V4L2_PIX_FMT_SRGGB8, WirePixels::bayer_rggb, 8},  {V4L2_PIX_FMT_SBGGR8, WirePixels::bayer_bggr, 8},
+    {V4L2_PIX_FMT_SGRBG8, WirePixels::bayer_grbg, 8},  {V4L2_PIX_FMT_SGBRG8, WirePixels::bayer_gbrg, 8},
 };
 constexpr FormatChoice kMono16Choices[] = {
     {V4L2_PIX_FMT_Y16, WirePixels::mono16_le, 16},
@@ -34,6 +42,15 @@ constexpr FormatChoice kMono16Choices[] = {
     {V4L2_PIX_FMT_Y12, WirePixels::mono16_le, 12},
     {V4L2_PIX_FMT_Y10, WirePixels::mono16_le, 10},
 };
+
+// The first choice the device offers among `choices`, or null.
+template <std::size_t N>
+const FormatChoice* first_offered(const FormatChoice (&choices)[N], const std::uint32_t* offered, int n_offered) {
+  for (const FormatChoice& c : choices)
+    for (int i = 0; i < n_offered; ++i)
+      if (offered[i] == c.fourcc) return &c;
+  return nullptr;
+}
 
 struct FourCc {
   char text[5];
@@ -73,7 +90,11 @@ std::int64_t timeval_ns(const timeval& tv) { return std::int64_t{tv.tv_sec} * 1'
 }  // namespace
 
 V4l2Camera::V4l2Camera(std::string device_path, CameraSettings settings)
-    : path_(std::move(device_path)), settings_(std::move(settings)) {
+    : path_(std::move(device_path)),
+      settings_(std::move(settings)),
+      format_(settings_.format == PixelFormat::mono16   ? PixelFormat::mono16
+              : settings_.colour == ColourCapture::colour ? PixelFormat::rgb8
+                                                          : PixelFormat::mono8) {
   backoff_.configure(settings_.reopen_min_ms, settings_.reopen_max_ms);
 }
 
@@ -156,24 +177,36 @@ bool V4l2Camera::negotiate_format() {
     if (device_.ioctl(VIDIOC_ENUM_FMT, &d) < 0) break;
     offered[n_offered++] = d.pixelformat;
   }
-  const bool mono16 = settings_.format == PixelFormat::mono16;
-  const FormatChoice* choices = mono16 ? kMono16Choices : kMono8Choices;
-  const int n_choices = mono16 ? 4 : 2;
   char offered_text[200] = "";
   for (int i = 0, at = 0; i < n_offered && at < static_cast<int>(sizeof offered_text) - 8; ++i)
     at += std::snprintf(offered_text + at, sizeof offered_text - static_cast<std::size_t>(at), "%s%s",
                         i ? ", " : "", fourcc_text(offered[i]).text);
-  const char* wanted = mono16 ? "Y16, Y16 big-endian, Y12 or Y10" : "GREY or YUYV";
 
+  // After the first bring-up the frame pool is sized for format(): a reopen keeps it.
   const FormatChoice* chosen = nullptr;
-  for (int c = 0; c < n_choices && !chosen; ++c)
-    for (int i = 0; i < n_offered; ++i)
-      if (offered[i] == choices[c].fourcc) chosen = &choices[c];
+  const FormatChoice* grey_choice = nullptr;  // YUYV from here is reduced to its Y plane
+  const char* wanted = nullptr;
+  const bool colour_allowed = settings_.colour != ColourCapture::grey && (!format_locked_ || format_ == PixelFormat::rgb8);
+  const bool grey_allowed = settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
+  if (settings_.format == PixelFormat::mono16) {
+    chosen = first_offered(kMono16Choices, offered, n_offered);
+    wanted = "Y16, Y16 big-endian, Y12 or Y10";
+  } else {
+    if (colour_allowed) chosen = first_offered(kColourChoices, offered, n_offered);
+    if (!chosen && grey_allowed) chosen = grey_choice = first_offered(kMono8Choices, offered, n_offered);
+    wanted = !colour_allowed ? "GREY, YUYV or UYVY"
+             : !grey_allowed ? "colour (RGB3, BGR3, YUYV, UYVY or 8-bit Bayer)"
+                             : "GREY or colour (RGB3, BGR3, YUYV, UYVY or 8-bit Bayer)";
+  }
   if (!chosen) {
     problem_.set("v4l2:%s: %s offers no %s format (it offers: %s)", path_.c_str(), card_, wanted,
                  n_offered ? offered_text : "nothing");
     return false;
   }
+  const PixelFormat delivered = settings_.format == PixelFormat::mono16 ? PixelFormat::mono16
+                                : colour_allowed && is_colour_wire(chosen->wire) && chosen != grey_choice
+                                    ? PixelFormat::rgb8
+                                    : PixelFormat::mono8;
   v4l2_format fmt{};
   fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   fmt.fmt.pix.width = static_cast<std::uint32_t>(settings_.width);
@@ -201,6 +234,8 @@ bool V4l2Camera::negotiate_format() {
   }
   width_ = settings_.width;
   height_ = settings_.height;
+  format_ = delivered;
+  format_locked_ = true;
   fourcc_ = chosen->fourcc;
   wire_ = chosen->wire;
   significant_bits_ = chosen->significant_bits;
@@ -447,7 +482,7 @@ void V4l2Camera::release_device() {
 }
 
 CaptureStatus V4l2Camera::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
-  if (!capture_buffer_fits(into, width_, height_, settings_.format, "v4l2", path_.c_str(), problem_, counters_))
+  if (!capture_buffer_fits(into, width_, height_, format_, "v4l2", path_.c_str(), problem_, counters_))
     return CaptureStatus::error;
   const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
   const std::int64_t stall_ns = std::int64_t{settings_.effective_stall_timeout_ms()} * 1'000'000;

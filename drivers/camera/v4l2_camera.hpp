@@ -29,7 +29,9 @@ class V4l2Camera final : public FrameSource {
   std::string open() override;
   int width() const override { return width_; }
   int height() const override { return height_; }
-  PixelFormat format() const override { return settings_.format; }
+  // What capture() delivers: settled by the first open() (rgb8 or mono8 for 8-bit
+  // capture as settings.colour and the device decide), kept across reopens.
+  PixelFormat format() const override { return format_; }
   CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override;
   void close() override;
   std::string describe() const override { return description_; }
@@ -81,6 +83,8 @@ class V4l2Camera final : public FrameSource {
   bool streaming_ = false;
   int width_ = 0;
   int height_ = 0;
+  PixelFormat format_;
+  bool format_locked_ = false;
   std::uint32_t fourcc_ = 0;
   WirePixels wire_ = WirePixels::mono8;
   int significant_bits_ = 8;

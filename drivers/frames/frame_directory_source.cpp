@@ -110,7 +110,7 @@ std::string FrameDirectorySource::describe() const {
   if (options_.rate_hz > 0.0) std::snprintf(buf, sizeof buf, "%.3g Hz", options_.rate_hz);
   else std::snprintf(buf, sizeof buf, "as recorded");
   return "frames:" + options_.path + " " + std::to_string(width_) + "x" + std::to_string(height_) +
-         (format_ == PixelFormat::mono16 ? " mono16 " : " mono8 ") + buf + (options_.loop ? " loop" : "");
+         (format_ == PixelFormat::mono16 ? " mono16 " : is_colour(format_) ? " rgb8 " : " mono8 ") + buf + (options_.loop ? " loop" : "");
 }
 
 std::string FrameDirectorySource::last_problem() const { return problem_.data(); }

@@ -73,7 +73,7 @@ void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, cons
   if (!files_.empty() && t_ns < last_t_ns_)
     throw FrameDirectoryError(dir_ + ": frame " + std::to_string(files_.size()) + ": t_ns goes back in time");
   char name[32];
-  std::snprintf(name, sizeof name, "%06zu.pgm", files_.size());
+  std::snprintf(name, sizeof name, "%06zu.%s", files_.size(), is_colour(image.format) ? "ppm" : "pgm");
   try {
     write_pgm(dir_ + "/" + name, image);
   } catch (const std::runtime_error& e) {

@@ -100,13 +100,15 @@ PgmFault parse_pgm_header(std::string_view bytes, PgmHeader& header, std::string
     if (why) *why = reason;
     return PgmFault::bad_header;
   };
-  if (bytes.size() < 2 || bytes[0] != 'P' || bytes[1] != '5') {
+  if (bytes.size() < 2 || bytes[0] != 'P' || (bytes[1] != '5' && bytes[1] != '6')) {
     if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '2') return bad("ASCII PGM (P2); only binary P5 is read");
-    return bad("not a binary PGM (no P5 magic number)");
+    if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '3') return bad("ASCII PPM (P3); only binary P6 is read");
+    return bad("not a binary PGM or PPM (no P5 or P6 magic number)");
   }
+  const bool ppm = bytes[1] == '6';
   HeaderCursor cur{bytes, 2};
   if (cur.pos < bytes.size() && !is_space(bytes[cur.pos]) && bytes[cur.pos] != '#')
-    return bad("no whitespace after the P5 magic number");
+    return bad(ppm ? "no whitespace after the P6 magic number" : "no whitespace after the P5 magic number");
   int fields[3] = {0, 0, 0};
   static constexpr std::string_view kZero[3] = {"width is 0", "height is 0", "maxval is 0"};
   static constexpr std::string_view kMissing[3] = {"header ends before the width", "header ends before the height",
@@ -125,6 +127,8 @@ PgmFault parse_pgm_header(std::string_view bytes, PgmHeader& header, std::string
   // Exactly one whitespace byte separates maxval from the raster (which may start with
   // bytes that look like whitespace).
   if (!is_space(bytes[cur.pos])) return bad("no whitespace after the maxval");
+  if (ppm && fields[2] > 255) return bad("16-bit PPM (maxval above 255); only 8-bit colour is read");
+  header.channels = ppm ? 3 : 1;
   header.width = fields[0];
   header.height = fields[1];
   header.maxval = fields[2];
@@ -193,15 +197,20 @@ PgmFault PgmReader::read(const char* path, const MutableImageView& into, PgmHead
   if (h.width != into.width || h.height != into.height)
     return fail(PgmFault::wrong_size, path, "wrong size: %dx%d, expected %dx%d", h.width, h.height, into.width,
                 into.height);
-  if (h.format() != into.format)
-    return fail(PgmFault::wrong_depth, path, "wrong depth: %s PGM (maxval %d), expected %s frames",
-                h.maxval > 255 ? "16-bit" : "8-bit", h.maxval, into.format == PixelFormat::mono16 ? "16-bit" : "8-bit");
+  if (h.format() != into.format) {
+    const auto kind = [](PixelFormat pf) {
+      return pf == PixelFormat::mono16 ? "16-bit grey" : pf == PixelFormat::mono8 ? "8-bit grey" : "colour";
+    };
+    return fail(PgmFault::wrong_depth, path, "wrong depth: %s %s (maxval %d), expected %s frames", kind(h.format()),
+                h.channels == 3 ? "PPM" : "PGM", h.maxval, kind(into.format));
+  }
   const long long need = static_cast<long long>(h.offset + h.raster_bytes());
   if (file_size < need)
     return fail(PgmFault::truncated, path, "truncated: %lld of %zu raster bytes",
                 std::max(0LL, file_size - static_cast<long long>(h.offset)), h.raster_bytes());
 
-  const std::size_t row_bytes = static_cast<std::size_t>(h.width) * static_cast<std::size_t>(h.bytes_per_sample());
+  const std::size_t row_bytes =
+      static_cast<std::size_t>(h.width) * static_cast<std::size_t>(h.bytes_per_sample() * h.channels);
   long long offset = static_cast<long long>(h.offset);
   if (into.stride_bytes == static_cast<std::ptrdiff_t>(row_bytes)) {
     const long long got = read_fully(fd.get(), into.data, h.raster_bytes(), offset);
@@ -233,16 +242,26 @@ PgmFault PgmReader::read(const char* path, const MutableImageView& into, PgmHead
 void write_pgm(const std::string& path, const ImageView& image) {
   if (image.empty()) throw std::runtime_error(path + ": cannot write an empty image");
   const bool wide = image.format == PixelFormat::mono16;
+  const bool colour = is_colour(image.format);
   const int bits = wide ? std::clamp(image.significant_bits, 9, 16) : 8;
   const int maxval = wide ? (1 << bits) - 1 : 255;
   char header[64];
-  const int header_len = std::snprintf(header, sizeof header, "P5\n%d %d\n%d\n", image.width, image.height, maxval);
-  const std::size_t row_bytes = static_cast<std::size_t>(image.width) * (wide ? 2u : 1u);
+  const int header_len = std::snprintf(header, sizeof header, "%s\n%d %d\n%d\n", colour ? "P6" : "P5", image.width,
+                                       image.height, maxval);
+  const std::size_t row_bytes = static_cast<std::size_t>(image.width) * (wide ? 2u : colour ? 3u : 1u);
   std::vector<std::uint8_t> data(static_cast<std::size_t>(header_len) + row_bytes * static_cast<std::size_t>(image.height));
   std::memcpy(data.data(), header, static_cast<std::size_t>(header_len));
   std::uint8_t* out = data.data() + header_len;
   for (int y = 0; y < image.height; ++y, out += row_bytes) {
     const std::uint8_t* row = image.row(y);
+    if (image.format == PixelFormat::bgr8) {
+      for (int x = 0; x < image.width; ++x) {
+        out[3 * x] = row[3 * x + 2];
+        out[3 * x + 1] = row[3 * x + 1];
+        out[3 * x + 2] = row[3 * x];
+      }
+      continue;
+    }
     if (!wide) {
       std::memcpy(out, row, row_bytes);
       continue;

@@ -1,5 +1,6 @@
-// Binary PGM (P5) frames, 8-bit and 16-bit big-endian: decode into a caller's fixed
-// buffer with a precise reason when a file is damaged, and write atomically.
+// Binary PGM (P5) frames, 8-bit and 16-bit big-endian, and binary 8-bit PPM (P6) colour
+// frames: decode into a caller's fixed buffer with a precise reason when a file is
+// damaged, and write atomically.
 //
 // Hand-written rather than a general image library: replay and the daemon decode every
 // frame into a buffer of the fixed pool without allocating, and a damaged file must be
@@ -22,11 +23,15 @@ struct PgmHeader {
   int height = 0;
   int maxval = 0;          // 1..255: 8-bit samples, 256..65535: 16-bit big-endian
   std::size_t offset = 0;  // where the raster starts
+  int channels = 1;        // 1: PGM (P5), 3: PPM (P6, 8-bit RGB only)
   int bytes_per_sample() const { return maxval > 255 ? 2 : 1; }
-  PixelFormat format() const { return maxval > 255 ? PixelFormat::mono16 : PixelFormat::mono8; }
+  PixelFormat format() const {
+    return channels == 3 ? PixelFormat::rgb8 : maxval > 255 ? PixelFormat::mono16 : PixelFormat::mono8;
+  }
   int significant_bits() const;  // bits needed for maxval
   std::size_t raster_bytes() const {
-    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(bytes_per_sample());
+    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
+           static_cast<std::size_t>(bytes_per_sample() * channels);
   }
 };
 
@@ -42,7 +47,7 @@ enum class PgmFault : std::uint8_t {
 };
 const char* to_string(PgmFault f);
 
-// Parses a P5 header at the start of `bytes` (comments allowed between fields). Returns
+// Parses a P5 or P6 header at the start of `bytes` (comments allowed between fields). Returns
 // the fault and, when none, fills `header`. `why` (may be null) receives a short reason.
 PgmFault parse_pgm_header(std::string_view bytes, PgmHeader& header, std::string_view* why = nullptr);
 
@@ -70,7 +75,7 @@ class PgmReader {
 };
 
 // Writes `image` as a binary PGM: 8-bit (maxval 255) or 16-bit big-endian (maxval
-// 2^significant_bits - 1). Written under a temporary name in the same directory and
+// 2^significant_bits - 1); a colour image (rgb8 or bgr8) as an 8-bit PPM (P6, RGB). Written under a temporary name in the same directory and
 // renamed into place, so a failure never leaves a partial file. Throws
 // std::runtime_error naming the file and the reason.
 void write_pgm(const std::string& path, const ImageView& image);

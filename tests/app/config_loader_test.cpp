@@ -150,6 +150,15 @@ TEST(ConfigLoader, LineModelStraightOrCurved) {
             "free (c frees one per line)");
 }
 
+TEST(ConfigLoader, SourcePixelFormatAutoGreyOrColour) {
+  EXPECT_EQ(parse_config("", "empty.toml").source.pixel_format, SourcePixels::automatic);
+  EXPECT_EQ(parse_config("[source]\npixel_format = \"grey\"\n", "f.toml").source.pixel_format, SourcePixels::grey);
+  EXPECT_EQ(parse_config("[source]\npixel_format = \"colour\"\n", "f.toml").source.pixel_format,
+            SourcePixels::colour);
+  EXPECT_EQ(error_of("[source]\npixel_format = \"bayer\"\n"),
+            "test.toml:2: source.pixel_format: must be \"auto\", \"grey\" or \"colour\", got \"bayer\"");
+}
+
 TEST(ConfigLoader, SyntaxErrorsNameTheLine) {
   const std::string e = error_of("[camera]\nNu = = 3\n");
   EXPECT_EQ(e.rfind("test.toml:2: ", 0), 0u) << e;

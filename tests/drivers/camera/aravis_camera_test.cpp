@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <thread>
@@ -153,6 +154,81 @@ TEST_F(AravisCameraTest, Mono16FramesArriveAsNativeSixteenBitPixels) {
   for (int y = 0; y < 240; ++y)
     for (int x = 0; x < 320; ++x) hi = std::max(hi, pool.view(0).operator ImageView().at(x, y));
   EXPECT_GT(hi, 255);
+}
+
+// The in-process fake offers Mono8, Mono16, RGB8 and BayerRG8/BG8/GR8/GB8 (its GenICam
+// PixelFormat enumeration). Every format paints the same diagonal ramp: pixel (x, y) of
+// frame `id` shows level k = (x + y + id) mod 255 through a colour map. An RGB8 frame
+// gives that map; each Bayer frame must then demosaic to it: at every pixel the red, blue
+// and green of the 2x2 window there, sampled where the format's name puts them.
+struct RampColours {
+  std::array<std::array<int, 3>, 255> of_level{};
+};
+
+RampColours colours_of_rgb8(const ImageView& v, std::uint64_t id) {
+  RampColours c;
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x)
+      for (int ch = 0; ch < 3; ++ch)
+        c.of_level[(static_cast<std::uint64_t>(x + y) + id) % 255][static_cast<std::size_t>(ch)] =
+            v.row(y)[3 * x + ch];
+  return c;
+}
+
+TEST_F(AravisCameraTest, FakeBayerFramesDemosaicToTheColoursOfItsRgb8Frames) {
+  CameraSettings s = settings(320, 240, 50);
+  s.colour = ColourCapture::colour;
+  AravisCamera rgb("Fake_1", s);
+  ASSERT_EQ(rgb.open(), "");
+  EXPECT_NE(rgb.describe().find("RGB8"), std::string::npos) << rgb.describe();
+  ASSERT_EQ(rgb.format(), PixelFormat::rgb8);
+  FramePool pool({.count = 1, .width = 320, .height = 240, .format = PixelFormat::rgb8});
+  ASSERT_EQ(rgb.capture(pool.view(0), pool.meta(0), 1000), CaptureStatus::frame) << rgb.last_problem();
+  const RampColours ramp = colours_of_rgb8(pool.view(0), pool.meta(0).sequence);
+  rgb.close();
+
+  // Which colour sits at (x parity, y parity). PFNC: BayerXY8 starts X Y / Y' Z, and the
+  // driver reads it so. Aravis 0.8's fake paints BayerGR8 and BayerGB8 that way but swaps
+  // RG8 and BG8 (arv-fake-camera.c writes the map's red at (0,0) for BAYER_BG_8 and its
+  // blue for BAYER_RG_8). So the expected demosaic takes each site's channel by the PFNC
+  // name and its value from the channel the fake painted there.
+  struct Mosaic {
+    const char* name;
+    const char* pfnc;     // what the driver assumes
+    const char* painted;  // what the fake writes
+  };
+  const Mosaic mosaics[] = {{"BayerRG8", "RGGB", "BGGR"},
+                            {"BayerBG8", "BGGR", "RGGB"},
+                            {"BayerGR8", "GRBG", "GRBG"},
+                            {"BayerGB8", "GBRG", "GBRG"}};
+  const auto channel_of = [](char c) { return c == 'R' ? 0 : c == 'G' ? 1 : 2; };
+  for (const auto& [name, pfnc, painted] : mosaics) {
+    s.device_format = name;
+    AravisCamera cam("Fake_1", s);
+    ASSERT_EQ(cam.open(), "") << name;
+    ASSERT_EQ(cam.format(), PixelFormat::rgb8);
+    ASSERT_EQ(cam.capture(pool.view(0), pool.meta(0), 1000), CaptureStatus::frame) << cam.last_problem();
+    const ImageView v = pool.view(0);
+    const std::uint64_t id = pool.meta(0).sequence;
+    int bad = 0;
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x) {
+        const int x0 = std::min(x, v.width - 2), y0 = std::min(y, v.height - 2);
+        int want[3] = {0, 0, 0};
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int site = ((y0 + dy) & 1) * 2 + ((x0 + dx) & 1);
+            want[channel_of(pfnc[site])] += ramp.of_level[(static_cast<std::uint64_t>(x0 + dx + y0 + dy) + id) % 255]
+                                                         [static_cast<std::size_t>(channel_of(painted[site]))];
+          }
+        want[1] = (want[1] + 1) / 2;
+        for (int ch = 0; ch < 3; ++ch)
+          if (v.row(y)[3 * x + ch] != want[ch] && bad++ < 3)
+            ADD_FAILURE() << name << " frame " << id << " (" << x << "," << y << ") channel " << ch << ": "
+                          << int{v.row(y)[3 * x + ch]} << ", expected " << want[ch];
+      }
+    EXPECT_EQ(bad, 0) << name;
+  }
 }
 
 TEST_F(AravisCameraTest, GigEVisionSimulatorAt60FpsLosesNothing) {

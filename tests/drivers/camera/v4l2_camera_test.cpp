@@ -6,7 +6,9 @@
 
 #include <linux/videodev2.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <thread>
 
@@ -124,6 +126,63 @@ TEST_F(V4l2CameraTest, ReducesYuyvToItsLumaPlane) {
   expect_stream_intact(cam, pool, 10);
 }
 
+// The fake's YUYV carries U 50, V 200 in every pair. Reference: BT.601 limited range in
+// floating point (the driver's 8.8 fixed point differs by less than one level).
+double bt601(int channel, int y, int u, int v) {
+  const double c = 1.164383 * (y - 16);
+  const double r[3] = {c + 1.596027 * (v - 128), c - 0.391762 * (u - 128) - 0.812968 * (v - 128),
+                       c + 2.017232 * (u - 128)};
+  return std::clamp(r[channel], 0.0, 255.0);
+}
+
+TEST_F(V4l2CameraTest, DeliversYuyvInColourWhenAskedOrAutomatic) {
+  for (ColourCapture colour : {ColourCapture::automatic, ColourCapture::colour}) {
+    auto fake = serve({.formats = {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_YUYV}});
+    CameraSettings s = settings();
+    s.colour = colour;
+    V4l2Camera cam(fake->path(), s);
+    ASSERT_EQ(cam.open(), "");
+    EXPECT_NE(cam.describe().find("YUYV"), std::string::npos) << cam.describe();
+    ASSERT_EQ(cam.format(), PixelFormat::rgb8);
+    FramePool pool({.count = 2, .width = cam.width(), .height = cam.height(), .format = cam.format()});
+    const int i = pool.borrow();
+    for (int n = 0; n < 3; ++n) {
+      FrameMeta& meta = pool.meta(i);
+      ASSERT_EQ(cam.capture(pool.view(i), meta, 1000), CaptureStatus::frame) << cam.last_problem();
+      const MutableImageView& v = pool.view(i);
+      int bad = 0;
+      for (int y = 0; y < v.height; ++y)
+        for (int x = 0; x < v.width; ++x)
+          for (int c = 0; c < 3; ++c) {
+            const int want = static_cast<int>(std::lround(
+                bt601(c, test::fake_pixel8(static_cast<std::uint32_t>(meta.sequence), x, y), 50, 200)));
+            if (std::abs(v.row(y)[3 * x + c] - want) > 1 && bad++ < 3)
+              ADD_FAILURE() << "frame " << meta.sequence << " (" << x << "," << y << ") channel " << c << ": "
+                            << int{v.row(y)[3 * x + c]} << ", expected " << want;
+          }
+      EXPECT_EQ(bad, 0);
+    }
+    EXPECT_TRUE(pool.give_back(i));
+  }
+}
+
+TEST_F(V4l2CameraTest, AutomaticColourFallsBackToGreyAndColourRefusesGrey) {
+  auto fake = serve({.formats = {V4L2_PIX_FMT_GREY}});
+  CameraSettings s = settings();
+  s.colour = ColourCapture::automatic;
+  V4l2Camera automatic(fake->path(), s);
+  ASSERT_EQ(automatic.open(), "");
+  EXPECT_EQ(automatic.format(), PixelFormat::mono8);
+  FramePool pool({.count = 2, .width = 800, .height = 600});
+  expect_stream_intact(automatic, pool, 3);
+  automatic.close();
+  s.colour = ColourCapture::colour;
+  const std::string e = V4l2Camera(fake->path(), s).open();
+  EXPECT_NE(e.find("offers no colour (RGB3, BGR3, YUYV, UYVY or 8-bit Bayer) format (it offers: GREY)"),
+            std::string::npos)
+      << e;
+}
+
 TEST_F(V4l2CameraTest, DeliversY16AsNativeMono16) {
   auto fake = serve({.formats = {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y16}});
   V4l2Camera cam(fake->path(), settings(PixelFormat::mono16));
@@ -138,7 +197,7 @@ TEST_F(V4l2CameraTest, RefusesWhatItCannotUseSayingWhatTheDeviceOffers) {
     auto fake = serve({.formats = {V4L2_PIX_FMT_MJPEG, V4L2_PIX_FMT_H264}});
     V4l2Camera cam(fake->path(), settings());
     const std::string e = cam.open();
-    EXPECT_NE(e.find("offers no GREY or YUYV format (it offers: MJPG, H264)"), std::string::npos) << e;
+    EXPECT_NE(e.find("offers no GREY, YUYV or UYVY format (it offers: MJPG, H264)"), std::string::npos) << e;
     EXPECT_EQ(cam.state(), DeviceState::closed);
   }
   {

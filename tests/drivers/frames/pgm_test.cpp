@@ -1,4 +1,4 @@
-// Binary PGM: exact bytes on disk, round trips at both depths, headers with comments,
+// Binary PGM and PPM (P6): exact bytes on disk, round trips at both depths and in colour, headers with comments,
 // strided buffers, every kind of damaged file with its reason, and reads that allocate nothing.
 #include "drivers/frames/pgm.hpp"
 
@@ -51,6 +51,31 @@ TEST(Pgm, Writes8BitExactlyAndReadsItBack) {
   ASSERT_EQ(reader.read(path.c_str(), back.view, &h), PgmFault::none) << reader.error();
   EXPECT_EQ(h.maxval, 255);
   EXPECT_EQ(back.bytes, src.bytes);
+}
+
+TEST(Pgm, ColourIsWrittenAsRgbPpmAndReadBackAsRgb8) {
+  test::TempDir dir;
+  Buffer src(3, 2, PixelFormat::bgr8);
+  for (std::size_t i = 0; i < src.bytes.size(); ++i) src.bytes[i] = static_cast<std::uint8_t>(i + 1);
+  const std::string path = dir.file("c.ppm");
+  write_pgm(path, src.view);
+  const std::string bytes = slurp(path);
+  ASSERT_EQ(bytes.substr(0, 11), "P6\n3 2\n255\n");
+  ASSERT_EQ(bytes.size(), 11u + 18u);
+  // The first pixel is B 1, G 2, R 3 in memory: on disk R G B.
+  EXPECT_EQ(bytes.substr(11, 3), std::string("\3\2\1"));
+
+  Buffer back(3, 2, PixelFormat::rgb8, 5);
+  PgmReader reader;
+  PgmHeader h;
+  ASSERT_EQ(reader.read(path.c_str(), back.view, &h), PgmFault::none) << reader.error();
+  EXPECT_EQ(h.channels, 3);
+  EXPECT_EQ(h.format(), PixelFormat::rgb8);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(back.view.row(y)[3 * x + c], src.view.row(y)[3 * x + 2 - c]) << x << "," << y << "," << c;
+  EXPECT_EQ(back.view.row(0)[9], 0xEE) << "the padding is untouched";
 }
 
 TEST(Pgm, Writes16BitBigEndianAndReadsNativeValues) {
@@ -113,14 +138,18 @@ TEST(Pgm, DamagedFilesNameTheFileAndTheReason) {
   const std::vector<Damaged> cases = {
       {"empty", "", PgmFault::truncated, "truncated: the file is empty"},
       {"ascii", "P2\n4 2\n255\n1 2 3 4 5 6 7 8\n", PgmFault::bad_header, "ASCII PGM (P2)"},
-      {"colour", "P6\n4 2\n255\n", PgmFault::bad_header, "no P5 magic"},
+      {"magic", "P7\n4 2\n255\n", PgmFault::bad_header, "no P5 or P6 magic"},
+      {"ascii-ppm", "P3\n4 2\n255\n", PgmFault::bad_header, "ASCII PPM (P3)"},
+      {"deep-ppm", "P6\n4 2\n1023\n", PgmFault::bad_header, "16-bit PPM"},
+      {"colour", "P6\n4 2\n255\n" + std::string(24, 'c'), PgmFault::wrong_depth,
+       "wrong depth: colour PPM (maxval 255), expected 8-bit grey frames"},
       {"nomaxval", "P5\n4 2\n", PgmFault::bad_header, "header ends before the maxval"},
       {"letters", "P5\n4 x\n255\n", PgmFault::bad_header, "height is not a number"},
       {"zero", "P5\n0 2\n255\n", PgmFault::bad_header, "width is 0"},
       {"maxval", "P5\n4 2\n70000\n", PgmFault::bad_header, "maxval above 65535"},
       {"glued", "P5\n4 2\n255x12345678", PgmFault::bad_header, "no whitespace after the maxval"},
       {"size", "P5\n5 2\n255\n0123456789", PgmFault::wrong_size, "wrong size: 5x2, expected 4x2"},
-      {"depth", "P5\n4 2\n1023\n0123456789abcdef", PgmFault::wrong_depth, "wrong depth: 16-bit PGM (maxval 1023)"},
+      {"depth", "P5\n4 2\n1023\n0123456789abcdef", PgmFault::wrong_depth, "wrong depth: 16-bit grey PGM (maxval 1023)"},
       {"short", "P5\n4 2\n255\n01234", PgmFault::truncated, "truncated: 5 of 8 raster bytes"},
       {"long-header", "P5\n#" + std::string(5000, 'c') + "\n4 2\n255\n01234567", PgmFault::bad_header,
        "longer than 4096 bytes"},
