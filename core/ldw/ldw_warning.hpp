@@ -50,6 +50,8 @@ struct LdwWarningConfig {
   double rearm_mm = 400.0;
   double rearm_margin_mm = 200.0;
   double warning_duration_s = 1.0;  // how long `warning` stays set after it fires
+
+  bool operator==(const LdwWarningConfig&) const = default;
 };
 
 struct LdwSideInput {
