@@ -76,7 +76,7 @@ struct LaneEstimate {
   double rms_px = 0.0;
   int iterations = 0;
   std::int64_t latency_us = 0;  // frame timestamp (or processing start) to result
-  LdwEstimate ldw;
+  LdwEstimate ldw{};
 };
 
 }  // namespace ccdlane
