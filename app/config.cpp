@@ -18,6 +18,10 @@ LaneEstimatorOptions Config::estimator_options() const {
   o.priors = prior;
   o.gyro_sigma_deg = gyro.sigma_deg;
   o.detection = detection;
+  o.ldw = ldw;
+  o.ldw.vehicle = vehicle;
+  // With a gyro its roll is the solve's prior: the lane filter tracks roll only without one.
+  o.ldw.filter.track_roll = gyro.device.empty();
   return o;
 }
 

@@ -13,6 +13,8 @@
 #include "core/geometry/attitude.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "core/lane/lane_estimator.hpp"
+#include "core/ldw/ldw_monitor.hpp"
+#include "core/ldw/vehicle.hpp"
 #include "core/solver/solver_options.hpp"
 #include "core/synth/synth_config.hpp"
 
@@ -93,6 +95,10 @@ struct Config {
   DaemonConfig daemon;
   SynthConfig synth;
   DetectionConfig detection;
+  ldw::VehicleConfig vehicle;  // [vehicle]
+  // [ldw]: the lane departure warning's tunables. Its own `vehicle` member is not read
+  // from the file: estimator_options() fills it from [vehicle] above.
+  ldw::LdwConfig ldw;
 
   // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
   CameraPose nominal_pose() const;

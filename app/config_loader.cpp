@@ -449,6 +449,67 @@ void read_detection(TableReader& r, Config& c) {
           "roi_top_px + hood_px must leave at least 10 rows of the picture's " + std::to_string(c.camera.Nv));
 }
 
+void read_vehicle(TableReader& r, Config& c) {
+  ldw::VehicleConfig& v = c.vehicle;
+  r.number("speed_kmh", v.speed_kmh);
+  r.number("width_mm", v.width_mm);
+  r.number("front_axle_behind_camera_mm", v.front_axle_behind_camera_mm);
+  r.number("camera_left_of_centre_mm", v.camera_left_of_centre_mm);
+  r.reject_unknown();
+  require(v.speed_kmh >= 0.0 && v.speed_kmh <= 300.0, r, "speed_kmh", "must be 0..300");
+  require(v.width_mm >= 1000.0 && v.width_mm <= 3000.0, r, "width_mm", "must be 1000..3000 (a road vehicle's track)");
+  require(std::abs(v.front_axle_behind_camera_mm) <= 10000.0, r, "front_axle_behind_camera_mm",
+          "must be within +-10000 (negative: the axle is ahead of the camera)");
+  require(std::abs(v.camera_left_of_centre_mm) <= v.width_mm / 2, r, "camera_left_of_centre_mm",
+          "must put the camera within the vehicle's width (+-width_mm / 2)");
+}
+
+void read_ldw(TableReader& r, Config& c) {
+  ldw::LdwWarningConfig& w = c.ldw.warning;
+  ldw::LaneFilterConfig& f = c.ldw.filter;
+  r.number("min_speed_kmh", w.min_speed_kmh);
+  r.number("speed_hysteresis_kmh", w.speed_hysteresis_kmh);
+  r.number("indicator_hold_s", w.indicator_hold_s);
+  r.number("warning_duration_s", w.warning_duration_s);
+  r.number("earliest_warning_mm", w.earliest_warning_mm);
+  r.number("latest_warning_mm", w.latest_warning_mm);
+  r.number("earliest_margin_mm", w.earliest_margin_mm);
+  r.number("tlc_threshold_s", w.tlc_threshold_s);
+  r.number("min_threshold_mm", w.min_threshold_mm);
+  r.number("min_approach_mps", w.min_approach_mps);
+  r.number("rearm_mm", w.rearm_mm);
+  r.number("rearm_margin_mm", w.rearm_margin_mm);
+  r.number("coast_s", f.coast_s);
+  r.number("gate_probability", f.gate_probability);
+  r.integer("confirm_updates", f.confirm_updates);
+  r.number("line_width_mm", c.ldw.line_width_mm);
+  r.number("max_offset_sigma_mm", c.ldw.max_offset_sigma_mm);
+  r.reject_unknown();
+  require(w.min_speed_kmh >= 0.0 && w.min_speed_kmh <= 200.0, r, "min_speed_kmh", "must be 0..200");
+  require(w.speed_hysteresis_kmh >= 0.0 && w.speed_hysteresis_kmh <= 50.0, r, "speed_hysteresis_kmh", "must be 0..50");
+  require(w.indicator_hold_s >= 0.0 && w.indicator_hold_s <= 60.0, r, "indicator_hold_s", "must be 0..60");
+  require(w.warning_duration_s > 0.0 && w.warning_duration_s <= 10.0, r, "warning_duration_s", "must be > 0 and <= 10");
+  require(w.latest_warning_mm < 0.0 && w.latest_warning_mm >= -2000.0, r, "latest_warning_mm",
+          "must be beyond the line: -2000 .. < 0");
+  require(w.earliest_warning_mm > 0.0 && w.earliest_warning_mm <= 2000.0, r, "earliest_warning_mm",
+          "must be inside the lane: > 0 and <= 2000");
+  require(w.earliest_margin_mm >= 0.0 && w.earliest_margin_mm < w.earliest_warning_mm, r, "earliest_margin_mm",
+          "must be 0 .. < earliest_warning_mm (" + format_number(w.earliest_warning_mm) + ")");
+  require(w.tlc_threshold_s >= 0.0 && w.tlc_threshold_s <= 5.0, r, "tlc_threshold_s", "must be 0..5");
+  require(w.min_threshold_mm > w.latest_warning_mm &&
+              w.min_threshold_mm <= w.earliest_warning_mm - w.earliest_margin_mm,
+          r, "min_threshold_mm", "must lie between latest_warning_mm and earliest_warning_mm - earliest_margin_mm");
+  require(w.min_approach_mps > 0.0 && w.min_approach_mps <= 1.0, r, "min_approach_mps", "must be > 0 and <= 1");
+  require(w.rearm_mm >= 0.0 && w.rearm_mm <= 2000.0, r, "rearm_mm", "must be 0..2000");
+  require(w.rearm_margin_mm >= 0.0 && w.rearm_margin_mm <= 2000.0, r, "rearm_margin_mm", "must be 0..2000");
+  require(f.coast_s >= 0.0 && f.coast_s <= 10.0, r, "coast_s", "must be 0..10");
+  require(f.gate_probability > 0.5 && f.gate_probability < 1.0, r, "gate_probability", "must be within (0.5, 1)");
+  require(f.confirm_updates >= 1 && f.confirm_updates <= 100, r, "confirm_updates", "must be 1..100");
+  require(c.ldw.line_width_mm >= 0.0 && c.ldw.line_width_mm <= 500.0, r, "line_width_mm", "must be 0..500");
+  require(c.ldw.max_offset_sigma_mm > 0.0 && c.ldw.max_offset_sigma_mm <= 2000.0, r, "max_offset_sigma_mm",
+          "must be > 0 and <= 2000");
+}
+
 using SectionReader = void (*)(TableReader&, Config&);
 struct Section {
   const char* name;
@@ -458,7 +519,7 @@ constexpr Section kSections[] = {
     {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
     {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
     {"realtime", read_realtime}, {"daemon", read_daemon},     {"synth", read_synth},
-    {"detection", read_detection},
+    {"detection", read_detection}, {"vehicle", read_vehicle}, {"ldw", read_ldw},
 };
 
 }  // namespace

@@ -8,7 +8,7 @@
 
 namespace ccdlane {
 
-enum class Channel : std::uint8_t { lanes, status, frames };
+enum class Channel : std::uint8_t { lanes, status, frames, vehicle };
 
 struct ChannelInfo {
   Channel channel;
@@ -21,6 +21,8 @@ inline constexpr ChannelInfo kChannels[] = {
     {Channel::lanes, "LANES", "ccdlane.lane_estimate_t", "one lane estimate per processed frame"},
     {Channel::status, "STATUS", "ccdlane.status_t", "daemon health, once per second"},
     {Channel::frames, "FRAMES", "ccdlane.frame_t", "raw frames, when recording ([lcm] publish_frames, ccdlane record)"},
+    {Channel::vehicle, "VEHICLE", "ccdlane.vehicle_state_t",
+     "the vehicle's speed, yaw rate and turn indicator, from a CAN gateway (ccdlaned subscribes)"},
 };
 
 const ChannelInfo& channel_info(Channel c);

@@ -3,11 +3,16 @@
 #include "bus/frame_message.hpp"
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 namespace ccdlane {
 
 static_assert(std::endian::native == std::endian::little, "frame_t carries little-endian mono16 samples");
+static_assert(frame_t::TURN_INDICATOR_NONE == static_cast<int>(TurnIndicator::none));
+static_assert(frame_t::TURN_INDICATOR_LEFT == static_cast<int>(TurnIndicator::left));
+static_assert(frame_t::TURN_INDICATOR_RIGHT == static_cast<int>(TurnIndicator::right));
+static_assert(frame_t::TURN_INDICATOR_BOTH == static_cast<int>(TurnIndicator::both));
 
 namespace {
 
@@ -38,6 +43,9 @@ void prepare_frame_message(frame_t& msg, int width, int height, PixelFormat form
   msg.significant_bits = format == PixelFormat::mono16 ? 16 : 8;
   msg.has_gyro = false;
   msg.gyro_roll_deg = msg.gyro_pitch_deg = msg.gyro_yaw_deg = 0.0;
+  msg.has_speed = msg.has_yaw_rate = false;
+  msg.speed_kmh = msg.yaw_rate_radps = 0.0;
+  msg.turn_indicator = frame_t::TURN_INDICATOR_NONE;
   msg.width = width;
   msg.height = height;
   msg.row_stride = width * bytes_per_pixel(format);
@@ -59,6 +67,11 @@ bool to_frame_message(const ImageView& image, const FrameRecord& record, frame_t
   msg.gyro_roll_deg = record.gyro ? record.gyro->roll_deg : 0.0;
   msg.gyro_pitch_deg = record.gyro ? record.gyro->pitch_deg : 0.0;
   msg.gyro_yaw_deg = record.gyro ? record.gyro->yaw_deg : 0.0;
+  msg.has_speed = record.speed_kmh.has_value();
+  msg.speed_kmh = record.speed_kmh.value_or(0.0);
+  msg.has_yaw_rate = record.yaw_rate_radps.has_value();
+  msg.yaw_rate_radps = record.yaw_rate_radps.value_or(0.0);
+  msg.turn_indicator = static_cast<std::int8_t>(record.indicator);
   const auto row_bytes = static_cast<std::size_t>(msg.row_stride);
   for (int y = 0; y < image.height; ++y)
     std::memcpy(msg.data.data() + static_cast<std::size_t>(y) * row_bytes, image.row(y), row_bytes);
@@ -90,6 +103,11 @@ FrameRecord frame_record(const frame_t& msg) {
   r.t_ns = msg.t_ns;
   r.utime = msg.utime;
   if (msg.has_gyro) r.gyro = Gx1Angles{msg.gyro_roll_deg, msg.gyro_pitch_deg, msg.gyro_yaw_deg};
+  if (msg.has_speed && std::isfinite(msg.speed_kmh) && msg.speed_kmh >= 0.0) r.speed_kmh = msg.speed_kmh;
+  if (msg.has_yaw_rate && std::isfinite(msg.yaw_rate_radps)) r.yaw_rate_radps = msg.yaw_rate_radps;
+  // An unknown code (a newer publisher) is no indicator, not a guess.
+  if (msg.turn_indicator >= frame_t::TURN_INDICATOR_NONE && msg.turn_indicator <= frame_t::TURN_INDICATOR_BOTH)
+    r.indicator = static_cast<TurnIndicator>(msg.turn_indicator);
   return r;
 }
 

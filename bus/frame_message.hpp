@@ -10,6 +10,7 @@
 
 #include "base/gx1_angles.hpp"
 #include "base/image_view.hpp"
+#include "base/turn_indicator.hpp"
 
 namespace ccdlane {
 
@@ -19,6 +20,10 @@ struct FrameRecord {
   std::int64_t t_ns = 0;           // the frame's own timestamp
   std::int64_t utime = 0;          // wall-clock capture time, microseconds since the Unix epoch
   std::optional<Gx1Angles> gyro;   // the gyro reading at t_ns, if there is one
+  // The vehicle at the frame, if known (vehicle_state_t; frames.csv's columns).
+  std::optional<double> speed_kmh = std::nullopt;
+  std::optional<double> yaw_rate_radps = std::nullopt;  // + turning left
+  TurnIndicator indicator = TurnIndicator::none;
 };
 
 // Sizes msg.data for width x height frames of `format` (rows packed: row_stride = width x

@@ -3,6 +3,8 @@
 #include "bus/lane_message.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace ccdlane {
 namespace {
@@ -20,6 +22,90 @@ static_assert(M::DEPARTURE_NONE == static_cast<int>(Departure::none));
 static_assert(M::DEPARTURE_LEFT == static_cast<int>(Departure::left));
 static_assert(M::DEPARTURE_RIGHT == static_cast<int>(Departure::right));
 constexpr int kReasonCount = M::REASON_RANK_DEFICIENT + 1;
+static_assert(M::LDW_REASON_NONE == static_cast<int>(ldw::Availability::none));
+static_assert(M::LDW_REASON_CAMERA_FAULT == static_cast<int>(ldw::Availability::camera_fault));
+static_assert(M::LDW_REASON_GYRO_FAULT == static_cast<int>(ldw::Availability::gyro_fault));
+static_assert(M::LDW_REASON_NOT_CALIBRATED == static_cast<int>(ldw::Availability::not_calibrated));
+static_assert(M::LDW_REASON_NO_LANE == static_cast<int>(ldw::Availability::no_lane));
+static_assert(M::LDW_REASON_TOO_SLOW == static_cast<int>(ldw::Availability::too_slow));
+static_assert(M::WARNING_NONE == static_cast<int>(ldw::Side::none));
+static_assert(M::WARNING_LEFT == static_cast<int>(ldw::Side::left));
+static_assert(M::WARNING_RIGHT == static_cast<int>(ldw::Side::right));
+static_assert(M::TRACK_LOST == static_cast<int>(ldw::TrackStatus::lost));
+static_assert(M::TRACK_TENTATIVE == static_cast<int>(ldw::TrackStatus::tentative));
+static_assert(M::TRACK_TRACKING == static_cast<int>(ldw::TrackStatus::tracking));
+static_assert(M::TRACK_COASTING == static_cast<int>(ldw::TrackStatus::coasting));
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+ldw::Side side_from_code(std::int8_t code) {
+  return code >= M::WARNING_NONE && code <= M::WARNING_RIGHT ? static_cast<ldw::Side>(code) : ldw::Side::none;
+}
+
+void to_ldw_fields(const LdwEstimate& l, lane_estimate_t& out) {
+  out.ldw_available = l.available ? 1 : 0;
+  out.ldw_reason = static_cast<std::int8_t>(l.reason);
+  out.ldw_warning = static_cast<std::int8_t>(l.warning);
+  out.ldw_fired = static_cast<std::int8_t>(l.fired);
+  out.ldw_warnings = static_cast<std::int32_t>(l.warnings);
+  out.ldw_track = static_cast<std::int8_t>(l.track);
+  out.dlc_left_mm = l.tracked ? l.dlc_left_mm : kNaN;
+  out.dlc_right_mm = l.tracked ? l.dlc_right_mm : kNaN;
+  out.tlc_left_s = l.tlc_left_s.value_or(kNaN);
+  out.tlc_right_s = l.tlc_right_s.value_or(kNaN);
+  out.lateral_velocity_mps = l.lateral_velocity_mps;
+  out.sigma_lateral_velocity_mps = l.sigma_lateral_velocity_mps;
+  out.speed_mps = l.speed_mps;
+  out.turn_indicator = static_cast<std::int8_t>(l.indicator);
+  out.filtered_offset_mm = l.offset_mm;
+  out.filtered_heading_deg = l.heading_deg;
+  out.filtered_curvature_per_m = l.curvature_per_m;
+  out.filtered_lane_width_mm = l.lane_width_mm;
+  out.filtered_pitch_deg = l.pitch_deg;
+  out.filtered_roll_deg = l.roll_deg;
+  out.sigma_filtered_offset_mm = l.sigma_offset_mm;
+  out.sigma_filtered_heading_deg = l.sigma_heading_deg;
+  out.sigma_filtered_curvature_per_m = l.sigma_curvature_per_m;
+  out.sigma_filtered_lane_width_mm = l.sigma_lane_width_mm;
+  out.sigma_filtered_pitch_deg = l.sigma_pitch_deg;
+  out.sigma_filtered_roll_deg = l.sigma_roll_deg;
+}
+
+LdwEstimate from_ldw_fields(const lane_estimate_t& m) {
+  LdwEstimate l;
+  l.available = m.ldw_available != 0;
+  l.reason = m.ldw_reason >= M::LDW_REASON_NONE && m.ldw_reason <= M::LDW_REASON_TOO_SLOW
+                 ? static_cast<ldw::Availability>(m.ldw_reason)
+                 : (l.available ? ldw::Availability::none : ldw::Availability::no_lane);
+  l.warning = side_from_code(m.ldw_warning);
+  l.fired = side_from_code(m.ldw_fired);
+  l.warnings = static_cast<std::uint32_t>(std::max(0, m.ldw_warnings));
+  l.track = m.ldw_track >= M::TRACK_LOST && m.ldw_track <= M::TRACK_COASTING ? static_cast<ldw::TrackStatus>(m.ldw_track)
+                                                                             : ldw::TrackStatus::lost;
+  l.tracked = l.track != ldw::TrackStatus::lost;
+  l.dlc_left_mm = l.tracked ? m.dlc_left_mm : 0.0;
+  l.dlc_right_mm = l.tracked ? m.dlc_right_mm : 0.0;
+  if (std::isfinite(m.tlc_left_s)) l.tlc_left_s = m.tlc_left_s;
+  if (std::isfinite(m.tlc_right_s)) l.tlc_right_s = m.tlc_right_s;
+  l.lateral_velocity_mps = m.lateral_velocity_mps;
+  l.sigma_lateral_velocity_mps = m.sigma_lateral_velocity_mps;
+  l.speed_mps = m.speed_mps;
+  l.indicator = m.turn_indicator >= 0 && m.turn_indicator <= static_cast<int>(TurnIndicator::both)
+                    ? static_cast<TurnIndicator>(m.turn_indicator)
+                    : TurnIndicator::none;
+  l.offset_mm = m.filtered_offset_mm;
+  l.heading_deg = m.filtered_heading_deg;
+  l.curvature_per_m = m.filtered_curvature_per_m;
+  l.lane_width_mm = m.filtered_lane_width_mm;
+  l.pitch_deg = m.filtered_pitch_deg;
+  l.roll_deg = m.filtered_roll_deg;
+  l.sigma_offset_mm = m.sigma_filtered_offset_mm;
+  l.sigma_heading_deg = m.sigma_filtered_heading_deg;
+  l.sigma_curvature_per_m = m.sigma_filtered_curvature_per_m;
+  l.sigma_lane_width_mm = m.sigma_filtered_lane_width_mm;
+  l.sigma_pitch_deg = m.sigma_filtered_pitch_deg;
+  l.sigma_roll_deg = m.sigma_filtered_roll_deg;
+  return l;
+}
 
 // EstimatedLine and lane_line_t name their fields alike; one copy serves both ways.
 template <typename From, typename To>
@@ -61,6 +147,7 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   out.rms_px = e.rms_px;
   out.iterations = e.iterations;
   out.latency_us = e.latency_us;
+  to_ldw_fields(e.ldw, out);
 }
 
 LaneEstimate from_message(const lane_estimate_t& m) {
@@ -87,6 +174,7 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.rms_px = m.rms_px;
   e.iterations = m.iterations;
   e.latency_us = m.latency_us;
+  e.ldw = from_ldw_fields(m);
   return e;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/lane/lane_metrics.hpp"
+#include "core/ldw/lane_measurement.hpp"
 
 namespace ccdlane {
 namespace {
@@ -44,11 +45,17 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
       picks_(static_cast<std::size_t>(config.detection.max_picks)),
       residual_px_(picks_.size()),
       scratch_(picks_.size()),
-      last_pose_(config.nominal_pose) {
+      last_pose_(config.nominal_pose),
+      ldw_(config.ldw) {
   reset();
 }
 
 void LaneEstimator::reset() {
+  reset_lines();
+  ldw_.reset();
+}
+
+void LaneEstimator::reset_lines() {
   have_last_ = false;
   misses_ = 0;
   last_pose_ = config_.nominal_pose;
@@ -58,8 +65,9 @@ void LaneEstimator::reset() {
 void LaneEstimator::miss() {
   // A frame or two without an estimate (a damaged frame, a truck in the way): the last
   // pose and the lines, coasting, are still the best guess. After that, start afresh.
+  // The lane filter coasts on its own clock ([ldw] coast_s): it is not reset here.
   tracker_.coast();
-  if (++misses_ > LaneTracker::kCoastFrames) reset();
+  if (++misses_ > LaneTracker::kCoastFrames) reset_lines();
 }
 
 CameraPose LaneEstimator::guess_pose(const std::optional<Gx1Angles>& gyro) const {
@@ -162,23 +170,82 @@ bool LaneEstimator::drop_outliers(const SolveResult& result) {
   return num_lines_ > 0;
 }
 
-const LaneEstimate& LaneEstimator::no_frame(std::uint64_t frame, std::int64_t t_ns) {
+const LaneEstimate& LaneEstimator::no_frame(std::uint64_t frame, std::int64_t t_ns, const VehicleInputs& vehicle) {
   estimate_ = LaneEstimate{};
   estimate_.frame = frame;
   estimate_.t_ns = t_ns;
   estimate_.reason = EstimateFailure::no_frame;
   solution_ = nullptr;
   num_picks_ = 0;
+  own_left_ = own_right_ = -1;
   miss();
+  run_ldw(t_ns, vehicle);
   return estimate_;
 }
 
 const LaneEstimate& LaneEstimator::estimate(const ImageView& image, std::uint64_t frame, std::int64_t t_ns,
-                                            const std::optional<Gx1Angles>& gyro) {
+                                            const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle) {
   estimate_ = LaneEstimate{};
   estimate_.frame = frame;
   estimate_.t_ns = t_ns;
   solution_ = nullptr;
+  own_left_ = own_right_ = -1;
+  estimate_lane(image, gyro);
+  run_ldw(t_ns, vehicle);
+  return estimate_;
+}
+
+void LaneEstimator::run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle) {
+  // Only a frame with a lane is a measurement: a rank-deficient solve's lines are not
+  // determined, and a frame without both own lines has nothing to place the wheels by.
+  ldw::LaneMeasurement measurement;
+  const bool measured = estimate_.ok && solution_ && own_left_ >= 0 && own_right_ >= 0;
+  if (measured)
+    measurement = ldw::measurement_from_solve(*solution_, own_left_, own_right_, config_.nominal_pose.attitude.psi,
+                                              config_.ldw.filter.track_roll);
+  ldw::LdwFrameInput in;
+  in.t_s = static_cast<double>(t_ns) * 1e-9;
+  in.speed_mps = vehicle.speed_mps;
+  in.yaw_rate_radps = vehicle.yaw_rate_radps;
+  in.indicator = vehicle.indicator;
+  in.measurement = measured ? &measurement : nullptr;
+  in.camera_ok = vehicle.camera_ok;
+  in.gyro_ok = vehicle.gyro_ok;
+  const ldw::LdwResult& r = ldw_.step(in);
+
+  LdwEstimate& out = estimate_.ldw;
+  out.available = r.decision.available;
+  out.reason = r.decision.reason;
+  out.warning = r.decision.warning;
+  out.fired = r.decision.fired;
+  out.warnings = r.decision.warnings;
+  out.track = r.lane.status;
+  out.tracked = r.lane.status != ldw::TrackStatus::lost;
+  out.dlc_left_mm = r.dlc.left_m * 1e3;
+  out.dlc_right_mm = r.dlc.right_m * 1e3;
+  out.tlc_left_s = r.tlc_left_s;
+  out.tlc_right_s = r.tlc_right_s;
+  out.lateral_velocity_mps = r.lateral_velocity_mps;
+  out.sigma_lateral_velocity_mps = r.lane.sigma_lateral_velocity_mps;
+  out.speed_mps = r.speed_mps;
+  out.indicator = vehicle.indicator;
+  const ldw::StateVector& x = r.lane.value;
+  const ldw::StateVector& sd = r.lane.sigma;
+  out.offset_mm = x(ldw::kOffset) * 1e3;
+  out.heading_deg = rad_to_deg(x(ldw::kHeading));
+  out.curvature_per_m = x(ldw::kCurvature);
+  out.lane_width_mm = x(ldw::kWidth) * 1e3;
+  out.pitch_deg = rad_to_deg(x(ldw::kPitch));
+  out.roll_deg = rad_to_deg(x(ldw::kRoll));
+  out.sigma_offset_mm = sd(ldw::kOffset) * 1e3;
+  out.sigma_heading_deg = rad_to_deg(sd(ldw::kHeading));
+  out.sigma_curvature_per_m = sd(ldw::kCurvature);
+  out.sigma_lane_width_mm = sd(ldw::kWidth) * 1e3;
+  out.sigma_pitch_deg = rad_to_deg(sd(ldw::kPitch));
+  out.sigma_roll_deg = rad_to_deg(sd(ldw::kRoll));
+}
+
+const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
 
   auto take_detection = [this](const DetectionResult& d) {
     detection_ = &d;
@@ -295,6 +362,8 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   const LaneMetrics m = lane_metrics({e.lines.data(), static_cast<std::size_t>(n)}, e.psi_deg,
                                      rad_to_deg(config_.nominal_pose.attitude.psi), config_.detection.departure_mm);
   e.heading_deg = m.heading_deg;
+  if (m.left >= 0) own_left_ = order[static_cast<std::size_t>(m.left)];
+  if (m.right >= 0) own_right_ = order[static_cast<std::size_t>(m.right)];
   if (!m.has_lane) {
     e.ok = false;
     e.reason = EstimateFailure::no_lane;

@@ -1,6 +1,7 @@
 // The per-frame pipeline shared by `ccdlane replay` and the daemon: detect lane marks,
-// solve attitude and lines (gyro roll/pitch as priors), follow line ids, and turn the
-// lines into lane width, offset, heading and departure (a LaneEstimate).
+// solve attitude and lines (gyro roll/pitch as priors), follow line ids, turn the lines
+// into lane width, offset, heading and departure, and run the lane departure warning
+// (lane filter, DLC/TLC, decision) on the solve (a LaneEstimate).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/lane/lane_estimate.hpp"
 #include "core/lane/lane_tracker.hpp"
+#include "core/ldw/ldw_monitor.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "core/solver/solver_options.hpp"
 
@@ -27,6 +29,19 @@ struct LaneEstimatorOptions {
   SolverPriors priors;          // a prior here overrides the gyro's for the same angle
   double gyro_sigma_deg = 0.5;  // the gyro's roll and pitch become priors with this sigma
   DetectionConfig detection;
+  // The lane departure warning, with the vehicle. filter.track_roll: without a gyro
+  // (the solve's roll then is the only measure of it).
+  ldw::LdwConfig ldw;
+};
+
+// What the vehicle tells about this frame (a CAN gateway's vehicle_state_t, or replay's
+// frames.csv columns), and the health the caller knows of.
+struct VehicleInputs {
+  std::optional<double> speed_mps;       // empty: [vehicle] speed_kmh
+  std::optional<double> yaw_rate_radps;  // + turning left; empty: none measured
+  ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
+  bool camera_ok = true;  // false: the camera stalled or failed (LDW "camera_fault")
+  bool gyro_ok = true;    // false: a configured gyro is not delivering ("gyro_fault")
 };
 
 // Why solves set up as `options` say cannot determine what they are asked for, "" when
@@ -44,15 +59,17 @@ class LaneEstimator {
   explicit LaneEstimator(const LaneEstimatorOptions& options);
 
   // One frame: `image` must be camera.Nu x camera.Nv. `gyro` is the 3DM-GX1 reading at
-  // this frame, if any. The result stays valid until the next call. latency_us is left
-  // at 0: the caller, who owns the clock, fills it in.
+  // this frame, if any; `vehicle` the vehicle's state at it. The result stays valid
+  // until the next call. latency_us is left at 0: the caller, who owns the clock, fills
+  // it in. Frames must come in time order (t_ns drives the lane filter).
   const LaneEstimate& estimate(const ImageView& image, std::uint64_t frame, std::int64_t t_ns,
-                               const std::optional<Gx1Angles>& gyro);
+                               const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle = {});
 
-  // A frame that could not be read: ok = false (no_frame); the next frame starts afresh.
-  const LaneEstimate& no_frame(std::uint64_t frame, std::int64_t t_ns);
+  // A frame that could not be read: ok = false (no_frame); the lane filter coasts.
+  const LaneEstimate& no_frame(std::uint64_t frame, std::int64_t t_ns, const VehicleInputs& vehicle = {});
 
-  // Forgets the previous frames (their pose and lines are no longer a good guess).
+  // Forgets the previous frames (their pose and lines, and the lane departure warning's
+  // track and state).
   void reset();
 
   // What the last estimate() was made of, for overlays and diagnostics.
@@ -60,8 +77,12 @@ class LaneEstimator {
   std::span<const Pick> solved_picks() const { return {picks_.data(), static_cast<std::size_t>(num_picks_)}; }
   const SolveResult* solution() const { return solution_; }  // null when no solve ran
   const CameraPose& detection_pose() const { return detection_pose_; }
+  const ldw::LdwMonitor& ldw_monitor() const { return ldw_; }
 
  private:
+  const LaneEstimate& estimate_lane(const ImageView& image, const std::optional<Gx1Angles>& gyro);
+  void run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle);
+  void reset_lines();
   CameraPose guess_pose(const std::optional<Gx1Angles>& gyro) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   bool drop_outliers(const SolveResult& result);
@@ -86,6 +107,10 @@ class LaneEstimator {
   CameraPose last_pose_;
   bool have_last_ = false;
   int misses_ = 0;  // frames in a row without an estimate
+  // The own lane's lines of the last fill_estimate, as indices into the solve's lines
+  // (-1: none): the lane filter's measurement.
+  int own_left_ = -1, own_right_ = -1;
+  ldw::LdwMonitor ldw_;
   LaneEstimate estimate_;
 };
 

@@ -77,6 +77,8 @@ struct LaneFilterConfig {
   double initial_heading_rad = 0.05;
   double initial_pitch_rad = 0.05;
   double initial_roll_rad = 0.02;
+
+  bool operator==(const LaneFilterConfig&) const = default;
 };
 
 enum class TrackStatus : std::uint8_t {

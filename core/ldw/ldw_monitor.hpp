@@ -17,6 +17,8 @@ struct LdwConfig {
   LdwWarningConfig warning;
   double line_width_mm = 120.0;       // painted lines: DLC is to their inner edge
   double max_offset_sigma_mm = 150.0; // a lane whose offset is less certain is not "tracked"
+
+  bool operator==(const LdwConfig&) const = default;
 };
 
 struct LdwFrameInput {

@@ -18,22 +18,6 @@ const char* to_string(Side s) {
   return "?";
 }
 
-const char* to_string(TurnIndicator t) {
-  switch (t) {
-    case TurnIndicator::none: return "none";
-    case TurnIndicator::left: return "left";
-    case TurnIndicator::right: return "right";
-    case TurnIndicator::both: return "both";
-  }
-  return "?";
-}
-
-std::optional<TurnIndicator> turn_indicator_from_string(const char* name) {
-  for (const TurnIndicator t : {TurnIndicator::none, TurnIndicator::left, TurnIndicator::right, TurnIndicator::both})
-    if (std::strcmp(name, to_string(t)) == 0) return t;
-  return std::nullopt;
-}
-
 const char* to_string(Availability a) {
   switch (a) {
     case Availability::none: return "none";

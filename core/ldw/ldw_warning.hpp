@@ -6,16 +6,17 @@
 #include <cstdint>
 #include <optional>
 
+#include "base/turn_indicator.hpp"
+
 namespace ccdlane::ldw {
 
 enum class Side : std::uint8_t { none, left, right };
 const char* to_string(Side s);  // "none", "left", "right"
 
-// As a CAN gateway reports it; `both` is the hazard lights.
-enum class TurnIndicator : std::uint8_t { none, left, right, both };
-const char* to_string(TurnIndicator t);  // "none", "left", "right", "both"
-// The name's indicator; empty for anything else (frames.csv, messages).
-std::optional<TurnIndicator> turn_indicator_from_string(const char* name);
+// As a CAN gateway reports it (base/turn_indicator.hpp: the drivers read it too).
+using TurnIndicator = ccdlane::TurnIndicator;
+using ccdlane::to_string;
+using ccdlane::turn_indicator_from_string;
 
 // Why LDW is not available; `none` when it is. Listed in order of precedence: the first
 // that applies is reported.
@@ -50,6 +51,8 @@ struct LdwWarningConfig {
   double rearm_mm = 400.0;
   double rearm_margin_mm = 200.0;
   double warning_duration_s = 1.0;  // how long `warning` stays set after it fires
+
+  bool operator==(const LdwWarningConfig&) const = default;
 };
 
 struct LdwSideInput {

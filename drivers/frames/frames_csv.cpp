@@ -43,7 +43,7 @@ FramesCsv parse_frames_csv(std::string_view text, const std::string& name) {
   FramesCsv csv;
   std::vector<std::string_view> fields;
   std::vector<std::string_view> header;
-  int file_col = -1, t_col = -1, roll_col = -1, pitch_col = -1, yaw_col = -1;
+  int file_col = -1, t_col = -1, roll_col = -1, pitch_col = -1, yaw_col = -1, speed_col = -1, indicator_col = -1;
   std::vector<int> truth_cols;
   bool have_header = false;
   int line_no = 0;
@@ -73,6 +73,8 @@ FramesCsv parse_frames_csv(std::string_view text, const std::string& name) {
         else if (h == "roll_deg") roll_col = col;
         else if (h == "pitch_deg") pitch_col = col;
         else if (h == "yaw_deg") yaw_col = col;
+        else if (h == "speed_kmh") speed_col = col;
+        else if (h == "turn_indicator") indicator_col = col;
         else if (h.substr(0, 6) == "truth_") {
           truth_cols.push_back(col);
           csv.truth_columns.emplace_back(h);
@@ -85,6 +87,7 @@ FramesCsv parse_frames_csv(std::string_view text, const std::string& name) {
         throw FrameDirectoryError(name + ":" + std::to_string(line_no) +
                                   ": a gyro reading needs both roll_deg and pitch_deg columns");
       csv.has_gyro_columns = roll_col >= 0;
+      csv.has_vehicle_columns = speed_col >= 0 || indicator_col >= 0;
       continue;
     }
 
@@ -132,6 +135,25 @@ FramesCsv parse_frames_csv(std::string_view text, const std::string& name) {
           bad = true;
         }
         row.gyro = g;
+      }
+    }
+    if (speed_col >= 0 && !bad) {
+      const std::string_view v = fields[static_cast<std::size_t>(speed_col)];
+      double speed = 0.0;
+      if (!v.empty() && (!parse_double(v, speed) || speed < 0.0)) {
+        issue("speed_kmh: not a speed >= 0: \"" + std::string(v) + "\"");
+        bad = true;
+      } else if (!v.empty()) {
+        row.speed_kmh = speed;  // an empty cell: no speed known at this frame
+      }
+    }
+    if (indicator_col >= 0 && !bad) {
+      const std::string_view v = fields[static_cast<std::size_t>(indicator_col)];
+      if (const auto indicator = v.empty() ? TurnIndicator::none : turn_indicator_from_string(v)) {
+        row.indicator = *indicator;
+      } else {
+        issue("turn_indicator: not none, left, right or both: \"" + std::string(v) + "\"");
+        bad = true;
       }
     }
     const std::size_t truth_start = csv.truth.size();

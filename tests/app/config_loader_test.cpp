@@ -208,11 +208,47 @@ TEST(ConfigLoader, PublishFramesIsOffUnlessAsked) {
   EXPECT_EQ(error_of("[lcm]\npublish_frames = 1\n"), "test.toml:2: lcm.publish_frames: must be true or false, got an integer");
 }
 
+TEST(ConfigLoader, VehicleAndLdwTables) {
+  const Config d = parse_config("", "empty.toml");
+  EXPECT_EQ(d.vehicle, ldw::VehicleConfig{});
+  EXPECT_EQ(d.ldw, ldw::LdwConfig{});
+  EXPECT_TRUE(d.estimator_options().ldw.filter.track_roll) << "no gyro: the filter tracks roll";
+
+  const Config c = parse_config("[vehicle]\nspeed_kmh = 90\nwidth_mm = 1900\nfront_axle_behind_camera_mm = -1200\n"
+                                "camera_left_of_centre_mm = -100\n[ldw]\nmin_speed_kmh = 55\nindicator_hold_s = 3\n"
+                                "coast_s = 0.5\n[gyro]\ndevice = \"emulated\"\n",
+                                "v.toml");
+  EXPECT_EQ(c.vehicle.speed_kmh, 90.0);
+  EXPECT_EQ(c.vehicle.width_mm, 1900.0);
+  EXPECT_EQ(c.vehicle.front_axle_behind_camera_mm, -1200.0);
+  EXPECT_EQ(c.vehicle.camera_left_of_centre_mm, -100.0);
+  EXPECT_EQ(c.ldw.warning.min_speed_kmh, 55.0);
+  EXPECT_EQ(c.ldw.warning.indicator_hold_s, 3.0);
+  EXPECT_EQ(c.ldw.filter.coast_s, 0.5);
+  const LaneEstimatorOptions o = c.estimator_options();
+  EXPECT_EQ(o.ldw.vehicle, c.vehicle) << "[vehicle] reaches the estimator";
+  EXPECT_EQ(o.ldw.warning.min_speed_kmh, 55.0);
+  EXPECT_FALSE(o.ldw.filter.track_roll) << "the gyro measures roll";
+
+  EXPECT_EQ(error_of("[vehicle]\nwheelbase_mm = 2700\n"), "test.toml:2: vehicle.wheelbase_mm: unknown key");
+  EXPECT_EQ(error_of("[vehicle]\nwidth_mm = 500\n"),
+            "test.toml:2: vehicle.width_mm: must be 1000..3000 (a road vehicle's track)");
+  EXPECT_EQ(error_of("[vehicle]\ncamera_left_of_centre_mm = 1000\n"),
+            "test.toml:2: vehicle.camera_left_of_centre_mm: must put the camera within the vehicle's width "
+            "(+-width_mm / 2)");
+  EXPECT_EQ(error_of("[ldw]\nlatest_warning_mm = 300\n"),
+            "test.toml:2: ldw.latest_warning_mm: must be beyond the line: -2000 .. < 0");
+  EXPECT_EQ(error_of("[ldw]\ngate_probability = 1\n"), "test.toml:2: ldw.gate_probability: must be within (0.5, 1)");
+  EXPECT_EQ(error_of("[ldw]\nconfirm_updates = 2.5\n"), "test.toml:2: ldw.confirm_updates: must be an integer, got a number");
+}
+
 TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
   const std::vector<std::string> keys = config_keys();
   for (const char* k : {"camera.Nu", "camera.cx", "mount.H_mm", "solver.free", "prior.lane_width_mm", "gyro.device",
                         "source.kind", "lcm.publish_frames", "realtime.cpus", "daemon.queue_depth", "synth.seed",
-                        "detection.departure_mm", "lines.y0_mm", "lines.c_per_mm"})
+                        "detection.departure_mm", "vehicle.speed_kmh", "vehicle.width_mm",
+                        "vehicle.front_axle_behind_camera_mm", "vehicle.camera_left_of_centre_mm", "ldw.min_speed_kmh",
+                        "ldw.indicator_hold_s", "ldw.coast_s", "lines.y0_mm", "lines.c_per_mm"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
   std::vector<std::string> sorted = keys;
   std::sort(sorted.begin(), sorted.end());

@@ -15,6 +15,7 @@ TEST(Channels, NamesArePrefixPlusSuffix) {
   EXPECT_EQ(channel_name("", Channel::lanes), "LANES");
   EXPECT_EQ(channel_name("CAR7.", Channel::status), "CAR7.STATUS");
   EXPECT_EQ(channel_name("CCDLANE_", Channel::frames), "CCDLANE_FRAMES");
+  EXPECT_EQ(channel_name("CCDLANE_", Channel::vehicle), "CCDLANE_VEHICLE");
 }
 
 TEST(Channels, EveryChannelHasExactlyOneRow) {
@@ -25,7 +26,7 @@ TEST(Channels, EveryChannelHasExactlyOneRow) {
     EXPECT_TRUE(suffixes.insert(info.suffix).second) << info.suffix;
     EXPECT_EQ(&channel_info(info.channel), &info);
   }
-  EXPECT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen.size(), 4u);
 }
 
 }  // namespace

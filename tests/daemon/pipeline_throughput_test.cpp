@@ -130,6 +130,7 @@ TEST(PipelineThroughput, FakeCameraAtItsMaximumRateNoFrameCorruptedDropsCountedE
   config.source.kind = SourceKind::aravis;
   config.source.camera = "Fake_1";
   config.source.rate_hz = max_rate;
+  config.source.pixel_format = SourcePixels::grey;  // the checker knows the fake's mono pattern
   config.camera.Nu = kWidth;
   config.camera.Nv = kHeight;
   const std::unique_ptr<FrameSource> camera = make_frame_source(config);

@@ -36,7 +36,46 @@ TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
             R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
             R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
             R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"departure":"left",)"
-            R"("rms_px":0.5,"iterations":5,"latency_us":180})");
+            R"("rms_px":0.5,"iterations":5,"latency_us":180,)"
+            R"("ldw":{"available":false,"reason":"no_lane","warning":"none","fired":"none","warnings":0,)"
+            R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
+            R"("lateral_velocity_mps":null,"speed_mps":0.0,"turn_indicator":"none","track":"lost",)"
+            R"("state":{"offset_mm":null,"heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,)"
+            R"("pitch_deg":null,"roll_deg":null},"sigma":{"offset_mm":null,"heading_deg":null,)"
+            R"("curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
+            R"("lateral_velocity_mps":null}}})");
+}
+
+TEST(LaneEstimateJson, LdwObjectWithTheDocumentedNames) {
+  LdwEstimate l;
+  l.available = true;
+  l.reason = ldw::Availability::none;
+  l.warning = ldw::Side::right;
+  l.fired = ldw::Side::right;
+  l.warnings = 1;
+  l.tracked = true;
+  l.track = ldw::TrackStatus::tracking;
+  l.dlc_left_mm = 1310.0;
+  l.dlc_right_mm = 240.0;
+  l.tlc_right_s = 0.48;
+  l.lateral_velocity_mps = -0.5;
+  l.speed_mps = 20.0;
+  l.indicator = TurnIndicator::left;
+  l.offset_mm = -420.0;
+  l.sigma_roll_deg = kUndetermined;  // roll with a gyro
+  const Json j = ldw_json(l);
+  EXPECT_EQ(j["available"], true);
+  EXPECT_EQ(j["reason"], "none");
+  EXPECT_EQ(j["warning"], "right");
+  EXPECT_EQ(j["dlc_left_mm"], 1310.0);
+  EXPECT_EQ(j["dlc_right_mm"], 240.0);
+  EXPECT_TRUE(j["tlc_left_s"].is_null()) << "not approaching the left line";
+  EXPECT_EQ(j["tlc_right_s"], 0.48);
+  EXPECT_EQ(j["lateral_velocity_mps"], -0.5) << "positive toward the left: this one drifts right";
+  EXPECT_EQ(j["turn_indicator"], "left");
+  EXPECT_EQ(j["track"], "tracking");
+  EXPECT_EQ(j["state"]["offset_mm"], -420.0);
+  EXPECT_TRUE(j["sigma"]["roll_deg"].is_null());
 }
 
 TEST(LaneEstimateJson, FailedFramesSayWhyAndHaveNullsForWhatTheyLack) {

@@ -1,9 +1,11 @@
 // The example LDW consumer on a real multicast bus (a private network namespace): it
-// receives lane messages and prints exactly the warning transitions, with hysteresis, a
-// departure ccdlaned reports, and nothing for frames without an estimate.
+// receives lane messages and prints exactly ccdlaned's LDW transitions: availability
+// with its reason, each warning as it fires (side, DLC, TLC), and its clearing; no
+// threshold of its own (a line near the vehicle without a warning prints nothing).
 #include <sys/wait.h>
 
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <thread>
 
@@ -20,33 +22,45 @@ namespace {
 
 const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
 
-lane_estimate_t lane(std::int64_t frame, double left_mm, std::int8_t departure = lane_estimate_t::DEPARTURE_NONE,
-                     bool ok = true) {
+lane_estimate_t lane(std::int64_t frame, std::int8_t reason, std::int8_t warning = lane_estimate_t::WARNING_NONE,
+                     std::int8_t fired = lane_estimate_t::WARNING_NONE) {
   lane_estimate_t m{};
   m.frame = frame;
-  m.ok = ok;
-  m.num_lines = 3;
-  m.lines[0].y0_mm = left_mm + 3600.0;  // the next lane's left line: never the nearest
-  m.lines[1].y0_mm = left_mm;
-  m.lines[2].y0_mm = left_mm - 3600.0;
-  m.departure = departure;
+  m.ok = true;
+  m.num_lines = 2;
+  m.lines[0].y0_mm = 500.0;  // a line very near: the consumer has no threshold of its own
+  m.lines[1].y0_mm = -3200.0;
+  m.ldw_available = reason == lane_estimate_t::LDW_REASON_NONE;
+  m.ldw_reason = reason;
+  m.ldw_warning = warning;
+  m.ldw_fired = fired;
+  m.dlc_left_mm = 240.0;
+  m.dlc_right_mm = 1500.0;
+  m.tlc_left_s = 0.48;
+  m.tlc_right_s = NAN;
+  m.lateral_velocity_mps = 0.5;
   return m;
 }
 
 TEST(LdwConsumer, PrintsWarningTransitionsFromTheBus) {
   if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
   test::TempDir dir;
+  constexpr std::int8_t kOk = lane_estimate_t::LDW_REASON_NONE, kLeft = lane_estimate_t::WARNING_LEFT,
+                        kRight = lane_estimate_t::WARNING_RIGHT;
   const lane_estimate_t drive[] = {
-      lane(0, 1800), lane(1, 1500), lane(2, 1200),
-      lane(3, 990),                                      // within 1000 mm: warning
-      lane(4, 1050), lane(5, 1120),                      // still within 1000 + 150
-      lane(6, 1200),                                     // beyond: clear
-      lane(7, 1100),                                     // not within 1000: no chatter
-      lane(8, 980),                                      // warning again
-      lane(9, 3000, lane_estimate_t::DEPARTURE_NONE, false),  // no estimate: state kept
-      lane(10, 1300),                                    // clear
-      lane(11, 1800, lane_estimate_t::DEPARTURE_RIGHT),  // ccdlaned's verdict
-      lane(12, 1800),
+      lane(0, lane_estimate_t::LDW_REASON_TOO_SLOW),  // unavailable from the start
+      lane(1, lane_estimate_t::LDW_REASON_TOO_SLOW),
+      lane(2, lane_estimate_t::LDW_REASON_NO_LANE),   // another reason
+      lane(3, kOk),                                   // available
+      lane(4, kOk),
+      lane(5, kOk, kLeft, kLeft),                     // the warning fires
+      lane(6, kOk, kLeft),                            // and stays set
+      lane(7, kOk),                                   // clear
+      lane(8, kOk),
+      lane(9, kOk, kRight, kRight),                   // another departure
+      lane(10, lane_estimate_t::LDW_REASON_GYRO_FAULT),  // clear and unavailable
+      lane(11, lane_estimate_t::LDW_REASON_GYRO_FAULT),
+      lane(12, kOk),
   };
   test::ChildProcess consumer({CCDLANE_LDW_CONSUMER, "--lcm", kUrl, "--count", "13"},
                               {{}, dir.file("out"), dir.file("err"), {}});
@@ -65,12 +79,15 @@ TEST(LdwConsumer, PrintsWarningTransitionsFromTheBus) {
   ASSERT_TRUE(status.has_value()) << "did not receive all 13 messages:\n" << test::read_file(dir.file("out"));
   EXPECT_EQ(WEXITSTATUS(*status), 0);
   EXPECT_EQ(test::read_file(dir.file("out")),
-            "frame 3: WARNING left: left line 990 mm from the vehicle centre (departure: none)\n"
-            "frame 6: clear: lines 1200 mm left and 2400 mm right of the vehicle centre\n"
-            "frame 8: WARNING left: left line 980 mm from the vehicle centre (departure: none)\n"
-            "frame 10: clear: lines 1300 mm left and 2300 mm right of the vehicle centre\n"
-            "frame 11: WARNING right: right line 1800 mm from the vehicle centre (departure: right)\n"
-            "frame 12: clear: lines 1800 mm left and 1800 mm right of the vehicle centre\n");
+            "frame 0: LDW unavailable: too slow\n"
+            "frame 2: LDW unavailable: no lane\n"
+            "frame 3: LDW available\n"
+            "frame 5: WARNING left: wheel 240 mm from the line, crossing in 0.48 s (lateral 0.50 m/s)\n"
+            "frame 7: clear\n"
+            "frame 9: WARNING right: wheel 1500 mm from the line (lateral 0.50 m/s)\n"
+            "frame 10: LDW unavailable: gyro fault\n"
+            "frame 10: clear\n"
+            "frame 12: LDW available\n");
 }
 
 }  // namespace

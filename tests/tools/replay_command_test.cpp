@@ -170,14 +170,20 @@ TEST(ReplayCommand, PrintsTheDocumentedFieldsInOrder) {
   for (const char* key : {"\"frame\":", "\"t_ns\":", "\"ok\":", "\"psi_deg\":", "\"theta_deg\":", "\"phi_deg\":",
                           "\"lines\":", "\"id\":", "\"y0_mm\":", "\"m\":", "\"c_per_mm\":", "\"marks\":",
                           "\"confidence\":", "\"lane_width_mm\":", "\"lateral_offset_mm\":", "\"heading_deg\":",
-                          "\"departure\":", "\"rms_px\":", "\"iterations\":", "\"latency_us\":"}) {
+                          "\"departure\":", "\"rms_px\":", "\"iterations\":", "\"latency_us\":", "\"ldw\":"}) {
     const std::size_t p = first.find(key, at);
     ASSERT_NE(p, std::string::npos) << key << " after position " << at << " in " << first;
     at = p;
   }
-  EXPECT_EQ(first.find("reason"), std::string::npos);
-  EXPECT_EQ(first.find("sigma"), std::string::npos);
+  // The frame's own fields; the ldw object (last) has a reason and sigmas of its own.
+  const std::string frame_fields = first.substr(0, first.find("\"ldw\":"));
+  EXPECT_EQ(frame_fields.find("reason"), std::string::npos);
+  EXPECT_EQ(frame_fields.find("sigma"), std::string::npos);
   const Json& e = out[0];
+  for (const char* key : {"available", "reason", "warning", "dlc_left_mm", "dlc_right_mm", "tlc_left_s", "tlc_right_s",
+                          "lateral_velocity_mps", "state", "sigma"})
+    EXPECT_TRUE(e["ldw"].contains(key)) << key;
+  EXPECT_EQ(e["ldw"]["warning"], "none");
   EXPECT_TRUE(e["ok"].get<bool>());
   EXPECT_EQ(e["t_ns"].get<std::int64_t>(), 0);
   EXPECT_EQ(e["departure"], "none");

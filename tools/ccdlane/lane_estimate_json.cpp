@@ -3,6 +3,40 @@
 
 namespace ccdlane::cli {
 
+Json ldw_json(const LdwEstimate& l) {
+  const Json null(nullptr);
+  const auto tlc = [&](const std::optional<double>& t) { return t ? json_number(*t) : null; };
+  const auto tracked = [&](double v) { return l.tracked ? json_number(v) : null; };
+  Json j;
+  j["available"] = l.available;
+  j["reason"] = to_string(l.reason);
+  j["warning"] = to_string(l.warning);
+  j["fired"] = to_string(l.fired);
+  j["warnings"] = l.warnings;
+  j["dlc_left_mm"] = tracked(l.dlc_left_mm);
+  j["dlc_right_mm"] = tracked(l.dlc_right_mm);
+  j["tlc_left_s"] = tlc(l.tlc_left_s);
+  j["tlc_right_s"] = tlc(l.tlc_right_s);
+  j["lateral_velocity_mps"] = tracked(l.lateral_velocity_mps);
+  j["speed_mps"] = json_number(l.speed_mps);
+  j["turn_indicator"] = to_string(l.indicator);
+  j["track"] = to_string(l.track);
+  j["state"] = Json{{"offset_mm", tracked(l.offset_mm)},
+                    {"heading_deg", tracked(l.heading_deg)},
+                    {"curvature_per_m", tracked(l.curvature_per_m)},
+                    {"lane_width_mm", tracked(l.lane_width_mm)},
+                    {"pitch_deg", tracked(l.pitch_deg)},
+                    {"roll_deg", tracked(l.roll_deg)}};
+  j["sigma"] = Json{{"offset_mm", tracked(l.sigma_offset_mm)},
+                    {"heading_deg", tracked(l.sigma_heading_deg)},
+                    {"curvature_per_m", tracked(l.sigma_curvature_per_m)},
+                    {"lane_width_mm", tracked(l.sigma_lane_width_mm)},
+                    {"pitch_deg", tracked(l.sigma_pitch_deg)},
+                    {"roll_deg", tracked(l.sigma_roll_deg)},
+                    {"lateral_velocity_mps", tracked(l.sigma_lateral_velocity_mps)}};
+  return j;
+}
+
 Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
   // What exists depends on how far the frame got.
   const bool solved = e.ok || e.reason == EstimateFailure::no_lane || e.reason == EstimateFailure::rank_deficient;
@@ -41,6 +75,7 @@ Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
                       {"phi_deg", solved ? json_number(e.sigma_phi_deg) : null},
                       {"y0_mm", std::move(y0)}};
   }
+  j["ldw"] = ldw_json(e.ldw);
   return j;
 }
 

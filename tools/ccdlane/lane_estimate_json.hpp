@@ -14,6 +14,18 @@ namespace ccdlane::cli {
 // null: the attitude and lines when nothing was solved, the lane quantities when there
 // is no lane. With `sigmas`, a "sigma" object adds the solver's standard deviations
 // (psi_deg, theta_deg, phi_deg, y0_mm per line; null where undetermined).
+// Always with an "ldw" object (ldw_json).
 Json lane_estimate_json(const LaneEstimate& e, bool sigmas = false);
+
+// The lane departure warning (interfaces.md "Per-frame result", ldw): {"available",
+// "reason" ("none" when available), "warning" and "fired" ("none"/"left"/"right"),
+// "warnings", "dlc_left_mm", "dlc_right_mm", "tlc_left_s", "tlc_right_s",
+// "lateral_velocity_mps" (+ toward the left), "speed_mps", "turn_indicator", "track",
+// "state": {"offset_mm", "heading_deg", "curvature_per_m", "lane_width_mm", "pitch_deg",
+// "roll_deg"}, "sigma": {the same and "lateral_velocity_mps"}}. DLC, lateral velocity
+// and the state are null while the lane filter has no track; a TLC is null while that
+// wheel is not approaching its line; a sigma is null where not estimated (roll with a
+// gyro).
+Json ldw_json(const LdwEstimate& ldw);
 
 }  // namespace ccdlane::cli

@@ -18,6 +18,7 @@ CommandAction setup_gx1_emulate(CLI::App& sub);
 CommandAction setup_spy(CLI::App& sub);
 CommandAction setup_record(CLI::App& sub);
 CommandAction setup_calibrate(CLI::App& sub);
+CommandAction setup_ldw_scenarios(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
@@ -33,6 +34,8 @@ constexpr Command kCommands[] = {
     {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
     {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},
     {"calibrate", "calibrate the camera (chessboard pictures) or its mount (a recorded drive)", setup_calibrate},
+    {"ldw-scenarios", "run the lane departure warning's ISO 17361 scenario set and print its summary table",
+     setup_ldw_scenarios},
     {"gx1-emulate", "emulate a 3DM-GX1 on a pty until interrupted (prints the device path)", setup_gx1_emulate},
 };
 }  // namespace

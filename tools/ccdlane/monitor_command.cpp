@@ -102,10 +102,11 @@ class Monitor {
   void on_status(const status_t& m) { last_status_ = m; }
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
-  //  heading 0.07 deg, departure none | 30 msg/s | camera streaming, gyro ok, gyro reconnects 0,
+  //  heading 0.07 deg, departure none | 30 msg/s | LDW available, warning none, DLC
+  //  910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera streaming, gyro ok, gyro reconnects 0,
   //  p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
   void print_line() {
-    char text[512];
+    char text[768];
     int n = 0;
     if (lanes_in_second_ == 0 || !last_lane_) {
       n = std::snprintf(text, sizeof text, "no lane messages on %s", lanes_channel_.c_str());
@@ -117,6 +118,22 @@ class Monitor {
                         static_cast<unsigned long long>(e.frame), e.ok ? "ok" : to_string(e.reason), e.psi_deg,
                         e.theta_deg, e.phi_deg, e.lane_width_mm, e.lateral_offset_mm, e.heading_deg,
                         to_string(e.departure), lanes_in_second_);
+      const LdwEstimate& l = e.ldw;
+      if (n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
+        // " | LDW available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s"
+        char tlc_left[16] = "-", tlc_right[16] = "-";
+        if (l.tlc_left_s) std::snprintf(tlc_left, sizeof tlc_left, "%.2f", *l.tlc_left_s);
+        if (l.tlc_right_s) std::snprintf(tlc_right, sizeof tlc_right, "%.2f", *l.tlc_right_s);
+        const int m = l.available
+                          ? std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
+                                          " | LDW available, warning %s, DLC %.0f/%.0f mm, TLC %s/%s s, lateral "
+                                          "%.2f m/s",
+                                          to_string(l.warning), l.dlc_left_mm, l.dlc_right_mm, tlc_left, tlc_right,
+                                          l.lateral_velocity_mps)
+                          : std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
+                                          " | LDW unavailable (%s)", to_string(l.reason));
+        if (m > 0) n += m;
+      }
     }
     if (last_status_ && n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
       const status_t& s = *last_status_;

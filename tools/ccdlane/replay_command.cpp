@@ -137,7 +137,7 @@ CommandAction setup_replay(CLI::App& sub) {
     std::uint64_t worst_frame = 0;
     // One frame through the pipeline; `image` null for a frame that could not be read.
     const auto replay_frame = [&](const ImageView* image, std::uint64_t index, std::int64_t t_ns,
-                                  const std::optional<Gx1Angles>& gyro) {
+                                  const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle) {
       // As the daemon does at start: refuse solves that cannot determine what they are
       // asked for. The roll is measured when the recording's first frame carries a gyro
       // reading, or when it was made with a gyro (whose first readings may come after the
@@ -150,11 +150,11 @@ CommandAction setup_replay(CLI::App& sub) {
       ++frames;
       if (!image) {
         ++skipped;
-        print_json_line(out, lane_estimate_json(estimator.no_frame(index, t_ns), a->sigmas));
+        print_json_line(out, lane_estimate_json(estimator.no_frame(index, t_ns, vehicle), a->sigmas));
         return;
       }
       const auto t0 = std::chrono::steady_clock::now();
-      LaneEstimate e = estimator.estimate(*image, index, t_ns, gyro);
+      LaneEstimate e = estimator.estimate(*image, index, t_ns, gyro, vehicle);
       const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       e.latency_us = static_cast<std::int64_t>(dt * 1e6);
       total_s += dt;
@@ -176,7 +176,10 @@ CommandAction setup_replay(CLI::App& sub) {
         const bool read = dir->read(i, image) == PgmFault::none;
         if (!read) std::cerr << "ccdlane replay: " << dir->error() << '\n';
         const ImageView view = image;
-        replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro);
+        VehicleInputs vehicle;  // without the columns: [vehicle] speed_kmh, no indicator
+        if (row.speed_kmh) vehicle.speed_mps = *row.speed_kmh / 3.6;
+        vehicle.indicator = row.indicator;
+        replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro, vehicle);
       }
     } else {
       for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
@@ -190,7 +193,11 @@ CommandAction setup_replay(CLI::App& sub) {
                     << image.height << ", the camera of " << a->config << " is " << W << "x" << H << '\n';
           usable = false;
         }
-        replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro);
+        VehicleInputs vehicle;  // as the daemon had it when it recorded the frame
+        if (r.speed_kmh) vehicle.speed_mps = *r.speed_kmh / 3.6;
+        vehicle.yaw_rate_radps = r.yaw_rate_radps;
+        vehicle.indicator = r.indicator;
+        replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro, vehicle);
       }
       if (frames == 0)
         throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +

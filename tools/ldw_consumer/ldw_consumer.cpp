@@ -1,8 +1,9 @@
 // An example lane departure warning consumer: the reference for integrating ccdlaned.
-// It subscribes to the lane channel and prints one line whenever the warning state
-// changes: WARNING when ccdlaned reports a departure or when a line of the vehicle's own
-// lane comes within --warn-mm of the vehicle's centre; clear once it is back beyond
-// --warn-mm + --hysteresis-mm (so a car riding the threshold does not chatter).
+// It subscribes to the lane channel and prints one line whenever ccdlaned's LDW state
+// changes: available or not (and why, for the driver's display), and each warning with
+// its side, the front wheel's distance to the line (DLC) and the time to crossing (TLC).
+// The decision is ccdlaned's (ISO 17361 warning lines, suppression by speed and turn
+// indicator, one warning per departure): a consumer shows it and adds no threshold.
 //
 // Needs only LCM and the generated headers the ccdlane package installs:
 //   g++ -std=c++17 ldw_consumer.cpp -o ldw_consumer $(pkg-config --cflags --libs lcm)
@@ -18,58 +19,64 @@
 
 namespace {
 
+using Lane = ccdlane::lane_estimate_t;
+
 struct Options {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";  // ccdlaned's default [lcm] url
   std::string channel = "CCDLANE_LANES";                // [lcm] prefix + LANES
-  double warn_mm = 1000.0;       // half a car (900 mm) plus a margin
-  double hysteresis_mm = 150.0;
   long count = 0;                // stop after this many messages; 0 = run until killed
 };
 
-enum class Side { none, left, right };
-const char* name(Side s) { return s == Side::left ? "left" : s == Side::right ? "right" : "none"; }
-Side departure_side(std::int8_t departure) {
-  if (departure == ccdlane::lane_estimate_t::DEPARTURE_LEFT) return Side::left;
-  if (departure == ccdlane::lane_estimate_t::DEPARTURE_RIGHT) return Side::right;
-  return Side::none;
+const char* side_name(std::int8_t warning) {
+  return warning == Lane::WARNING_LEFT ? "left" : warning == Lane::WARNING_RIGHT ? "right" : "none";
+}
+
+const char* reason_name(std::int8_t reason) {
+  switch (reason) {
+    case Lane::LDW_REASON_NONE: return "none";
+    case Lane::LDW_REASON_CAMERA_FAULT: return "camera fault";
+    case Lane::LDW_REASON_GYRO_FAULT: return "gyro fault";
+    case Lane::LDW_REASON_NOT_CALIBRATED: return "not calibrated";
+    case Lane::LDW_REASON_NO_LANE: return "no lane";
+    case Lane::LDW_REASON_TOO_SLOW: return "too slow";
+    default: return "unknown";
+  }
 }
 
 class Warner {
  public:
-  explicit Warner(const Options& o) : o_(o) {}
   long received = 0;
 
-  void on_lane(const lcm::ReceiveBuffer*, const std::string&, const ccdlane::lane_estimate_t* m) {
+  void on_lane(const lcm::ReceiveBuffer*, const std::string&, const Lane* m) {
     ++received;
-    if (!m->ok) return;  // no estimate for this frame: keep the last state
-    // The own lane's lines: the nearest with y0 > 0 (left) and with y0 < 0 (right).
-    double left = INFINITY, right = INFINITY;
-    for (int i = 0; i < m->num_lines && i < ccdlane::lane_estimate_t::MAX_LINES; ++i) {
-      const double y0 = m->lines[i].y0_mm;
-      if (y0 > 0) left = std::fmin(left, y0);
-      if (y0 < 0) right = std::fmin(right, -y0);
+    const long long frame = static_cast<long long>(m->frame);
+    const bool available = m->ldw_available != 0;
+    if (received == 1 || available != available_ || (!available && m->ldw_reason != reason_)) {
+      if (available) std::printf("frame %lld: LDW available\n", frame);
+      else std::printf("frame %lld: LDW unavailable: %s\n", frame, reason_name(m->ldw_reason));
+      available_ = available;
+      reason_ = m->ldw_reason;
     }
-    Side next = departure_side(m->departure);  // ccdlaned's own verdict first
-    if (next == Side::none && left < limit(Side::left)) next = Side::left;
-    if (next == Side::none && right < limit(Side::right)) next = Side::right;
-    if (next == state_) return;
-    state_ = next;
-    if (next == Side::none)
-      std::printf("frame %lld: clear: lines %.0f mm left and %.0f mm right of the vehicle centre\n",
-                  static_cast<long long>(m->frame), left, right);
-    else
-      std::printf("frame %lld: WARNING %s: %s line %.0f mm from the vehicle centre (departure: %s)\n",
-                  static_cast<long long>(m->frame), name(next), name(next), next == Side::left ? left : right,
-                  name(departure_side(m->departure)));
+    // ldw_fired marks the frame a departure's warning starts; ldw_warning stays set for
+    // a while after (for a chime or a display), then clears.
+    if (m->ldw_fired != Lane::WARNING_NONE) {
+      const bool left = m->ldw_fired == Lane::WARNING_LEFT;
+      const double dlc = left ? m->dlc_left_mm : m->dlc_right_mm;
+      const double tlc = left ? m->tlc_left_s : m->tlc_right_s;
+      std::printf("frame %lld: WARNING %s: wheel %.0f mm from the line", frame, side_name(m->ldw_fired), dlc);
+      if (std::isfinite(tlc)) std::printf(", crossing in %.2f s", tlc);
+      std::printf(" (lateral %.2f m/s)\n", m->lateral_velocity_mps);
+    } else if (m->ldw_warning == Lane::WARNING_NONE && warning_ != Lane::WARNING_NONE) {
+      std::printf("frame %lld: clear\n", frame);
+    }
+    warning_ = m->ldw_warning;
     std::fflush(stdout);
   }
 
  private:
-  // Entering a warning takes warn_mm; leaving it takes warn_mm + hysteresis_mm.
-  double limit(Side side) const { return o_.warn_mm + (state_ == side ? o_.hysteresis_mm : 0.0); }
-
-  Options o_;
-  Side state_ = Side::none;
+  bool available_ = false;
+  std::int8_t reason_ = Lane::LDW_REASON_NONE;
+  std::int8_t warning_ = Lane::WARNING_NONE;
 };
 
 bool parse(int argc, char** argv, Options& o) {
@@ -79,13 +86,11 @@ bool parse(int argc, char** argv, Options& o) {
     if (!value) return false;
     if (arg == "--lcm") o.url = value;
     else if (arg == "--channel") o.channel = value;
-    else if (arg == "--warn-mm") o.warn_mm = std::atof(value);
-    else if (arg == "--hysteresis-mm") o.hysteresis_mm = std::atof(value);
     else if (arg == "--count") o.count = std::atol(value);
     else return false;
     ++i;
   }
-  return o.warn_mm > 0 && o.hysteresis_mm >= 0 && o.count >= 0;
+  return o.count >= 0;
 }
 
 }  // namespace
@@ -93,8 +98,7 @@ bool parse(int argc, char** argv, Options& o) {
 int main(int argc, char** argv) {
   Options o;
   if (!parse(argc, argv, o)) {
-    std::fprintf(stderr, "usage: %s [--lcm URL] [--channel CCDLANE_LANES] [--warn-mm 1000] "
-                         "[--hysteresis-mm 150] [--count N]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--lcm URL] [--channel CCDLANE_LANES] [--count N]\n", argv[0]);
     return 2;
   }
   lcm::LCM bus(o.url);
@@ -102,7 +106,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ldw_consumer: cannot open the LCM bus %s\n", o.url.c_str());
     return 1;
   }
-  Warner warner(o);
+  Warner warner;
   bus.subscribe(o.channel, &Warner::on_lane, &warner);
   std::fprintf(stderr, "ldw_consumer: listening on %s at %s\n", o.channel.c_str(), o.url.c_str());
   while ((o.count == 0 || warner.received < o.count) && bus.handle() == 0) {}

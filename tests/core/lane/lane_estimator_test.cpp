@@ -166,12 +166,21 @@ TEST(LaneEstimator, EstimatingAllocatesNothing) {
   }
   auto view = [&](std::size_t i) { return ImageView{images[i].data(), 400, 300, 400, PixelFormat::mono8, 8}; };
   est.estimate(view(0), 0, 0, frames[0].gyro);  // warm: nothing is sized lazily, but be fair
+  // The lane departure warning runs in the same call, with every vehicle input given.
+  VehicleInputs vehicle;
+  vehicle.speed_mps = 20.0;
+  vehicle.yaw_rate_radps = 0.001;
+  vehicle.indicator = ldw::TurnIndicator::left;
   test::AllocationScope scope;
-  for (std::size_t i = 0; i < frames.size(); ++i) EXPECT_TRUE(est.estimate(view(i), i, frames[i].t_ns, frames[i].gyro).ok);
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    EXPECT_TRUE(est.estimate(view(i), i, frames[i].t_ns, frames[i].gyro, vehicle).ok);
+  const bool ldw_tracked = est.estimate(view(3), 4, frames[3].t_ns + 1'000'000, frames[3].gyro, vehicle).ldw.tracked;
+  est.no_frame(5, frames[3].t_ns + 2'000'000, vehicle);  // the filter coasts
   est.reset();  // the cold-start path (detect twice) too
   EXPECT_TRUE(est.estimate(view(1), 1, frames[1].t_ns, frames[1].gyro).ok);
   est.no_frame(2, 0);
   EXPECT_EQ(scope.count(), 0u);
+  EXPECT_TRUE(ldw_tracked) << "the LDW chain ran on the solves";
 }
 
 }  // namespace

@@ -38,6 +38,33 @@ TEST(FramesCsv, ColumnsInAnyOrderWithGyroAndTruth) {
   EXPECT_TRUE(std::isnan(csv.truth[3]));
 }
 
+TEST(FramesCsv, OptionalVehicleColumns) {
+  const FramesCsv csv = parse_frames_csv(
+      "file,t_ns,turn_indicator,speed_kmh\n"
+      "0.pgm,100,left,72.5\n"
+      "1.pgm,200,,\n"
+      "2.pgm,300,both,0\n"
+      "3.pgm,400,hazard,70\n"  // line 5: an unknown indicator
+      "4.pgm,500,right,-3\n",  // line 6: a negative speed
+      "frames.csv");
+  EXPECT_TRUE(csv.has_vehicle_columns);
+  ASSERT_EQ(csv.rows.size(), 3u);
+  EXPECT_EQ(csv.rows[0].speed_kmh, 72.5);
+  EXPECT_EQ(csv.rows[0].indicator, TurnIndicator::left);
+  EXPECT_FALSE(csv.rows[1].speed_kmh) << "an empty cell: no speed at that frame";
+  EXPECT_EQ(csv.rows[1].indicator, TurnIndicator::none);
+  EXPECT_EQ(csv.rows[2].speed_kmh, 0.0);
+  EXPECT_EQ(csv.rows[2].indicator, TurnIndicator::both);
+  ASSERT_EQ(csv.issues.size(), 2u);
+  EXPECT_EQ(csv.issues[0], "frames.csv:5: turn_indicator: not none, left, right or both: \"hazard\"");
+  EXPECT_EQ(csv.issues[1], "frames.csv:6: speed_kmh: not a speed >= 0: \"-3\"");
+
+  const FramesCsv plain = parse_frames_csv("file,t_ns\n0.pgm,100\n", "frames.csv");
+  EXPECT_FALSE(plain.has_vehicle_columns);
+  EXPECT_FALSE(plain.rows[0].speed_kmh);
+  EXPECT_EQ(plain.rows[0].indicator, TurnIndicator::none);
+}
+
 TEST(FramesCsv, MalformedRowsAreNamedAndSkipped) {
   const FramesCsv csv = parse_frames_csv(
       "file,t_ns,roll_deg,pitch_deg,truth_phi_deg\n"  // line 1

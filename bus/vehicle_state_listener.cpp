@@ -1,0 +1,94 @@
+// vehicle_state_t off the bus into a seqlock. The C API is used for the subscription:
+// its handler gets the channel as a char pointer, where the C++ wrapper builds a
+// std::string per message.
+#include "bus/vehicle_state_listener.hpp"
+
+#include <cmath>
+
+#include <ccdlane/vehicle_state_t.hpp>
+
+#include "base/clock.hpp"
+
+namespace ccdlane {
+
+static_assert(vehicle_state_t::TURN_INDICATOR_NONE == static_cast<int>(TurnIndicator::none));
+static_assert(vehicle_state_t::TURN_INDICATOR_LEFT == static_cast<int>(TurnIndicator::left));
+static_assert(vehicle_state_t::TURN_INDICATOR_RIGHT == static_cast<int>(TurnIndicator::right));
+static_assert(vehicle_state_t::TURN_INDICATOR_BOTH == static_cast<int>(TurnIndicator::both));
+
+VehicleStateListener::VehicleStateListener(lcm_t* lcm, const std::string& channel) : lcm_(lcm) {
+  if (lcm_) subscription_ = lcm_subscribe(lcm_, channel.c_str(), &VehicleStateListener::on_message, this);
+}
+
+VehicleStateListener::~VehicleStateListener() {
+  if (lcm_ && subscription_) lcm_unsubscribe(lcm_, subscription_);
+}
+
+void VehicleStateListener::on_message(const lcm_recv_buf_t* rbuf, const char*, void* self) {
+  static_cast<VehicleStateListener*>(self)->accept(rbuf->data, static_cast<int>(rbuf->data_size), monotonic_ns());
+}
+
+bool VehicleStateListener::accept(const void* data, int size, std::int64_t received_ns) {
+  vehicle_state_t m{};
+  const bool decoded = m.decode(data, 0, size) == size;
+  const bool valid = decoded && std::isfinite(m.speed_mps) && m.speed_mps >= 0.0 &&
+                     (!m.has_yaw_rate || std::isfinite(m.yaw_rate_radps)) &&
+                     m.turn_indicator >= vehicle_state_t::TURN_INDICATOR_NONE &&
+                     m.turn_indicator <= vehicle_state_t::TURN_INDICATOR_BOTH;
+  if (!valid) {
+    rejected_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  VehicleState s;
+  s.utime = m.utime;
+  s.received_ns = received_ns;
+  s.speed_mps = m.speed_mps;
+  if (m.has_yaw_rate) s.yaw_rate_radps = m.yaw_rate_radps;
+  s.indicator = static_cast<TurnIndicator>(m.turn_indicator);
+  store(s);
+  received_.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+void VehicleStateListener::store(const VehicleState& s) {
+  const std::uint64_t seq = sequence_.load(std::memory_order_relaxed);
+  sequence_.store(seq + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  utime_.store(s.utime, std::memory_order_relaxed);
+  received_ns_.store(s.received_ns, std::memory_order_relaxed);
+  speed_mps_.store(s.speed_mps, std::memory_order_relaxed);
+  has_yaw_rate_.store(s.yaw_rate_radps.has_value(), std::memory_order_relaxed);
+  yaw_rate_radps_.store(s.yaw_rate_radps.value_or(0.0), std::memory_order_relaxed);
+  indicator_.store(static_cast<std::uint8_t>(s.indicator), std::memory_order_relaxed);
+  sequence_.store(seq + 2, std::memory_order_release);
+}
+
+std::optional<VehicleState> VehicleStateListener::latest() const {
+  for (;;) {
+    const std::uint64_t before = sequence_.load(std::memory_order_acquire);
+    if (before == 0) return std::nullopt;  // nothing yet
+    if (before & 1U) continue;             // the writer is between its stores
+    VehicleState s;
+    s.utime = utime_.load(std::memory_order_relaxed);
+    s.received_ns = received_ns_.load(std::memory_order_relaxed);
+    s.speed_mps = speed_mps_.load(std::memory_order_relaxed);
+    const bool has_yaw_rate = has_yaw_rate_.load(std::memory_order_relaxed);
+    const double yaw_rate = yaw_rate_radps_.load(std::memory_order_relaxed);
+    s.indicator = static_cast<TurnIndicator>(indicator_.load(std::memory_order_relaxed));
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (sequence_.load(std::memory_order_relaxed) != before) continue;
+    if (has_yaw_rate) s.yaw_rate_radps = yaw_rate;
+    return s;
+  }
+}
+
+VehicleInputs vehicle_inputs(const std::optional<VehicleState>& state, std::int64_t now_ns, std::int64_t max_age_ns) {
+  VehicleInputs in;
+  if (!state || now_ns - state->received_ns > max_age_ns) return in;
+  in.speed_mps = state->speed_mps;
+  in.yaw_rate_radps = state->yaw_rate_radps;
+  in.indicator = state->indicator;
+  return in;
+}
+
+}  // namespace ccdlane
