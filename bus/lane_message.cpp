@@ -61,6 +61,7 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   out.rms_px = e.rms_px;
   out.iterations = e.iterations;
   out.latency_us = e.latency_us;
+  out.roll_unobservable = e.roll_unobservable ? 1 : 0;
 }
 
 LaneEstimate from_message(const lane_estimate_t& m) {
@@ -87,6 +88,7 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.rms_px = m.rms_px;
   e.iterations = m.iterations;
   e.latency_us = m.latency_us;
+  e.roll_unobservable = m.roll_unobservable != 0;
   return e;
 }
 

@@ -124,7 +124,12 @@ int run_daemon(const Config& config) {
     source_open = true;
     gyro = make_attitude_provider(config);
     if (gyro) {
-      if (std::string why = gyro->open(); !why.empty()) return fail("gyro", why.c_str());
+      // An absent gyro degrades the estimate, it does not stop the lanes: a gyro lost
+      // mid-run is handled so too, and a daemon that exits here is restart-looped.
+      if (std::string why = gyro->open(); !why.empty()) {
+        if (gyro->state() != GyroState::lost) return fail("gyro", why.c_str());
+        log_line(LogLevel::warning, "gyro", "absent: %s; running without it and retrying the device", why.c_str());
+      }
       gyro_open = true;
     }
     processor = std::make_unique<EstimatorProcessor>(config, *source);

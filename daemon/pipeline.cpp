@@ -12,6 +12,7 @@
 #include "daemon/allocation_counter.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
+#include "core/lane/lane_estimator.hpp"
 
 namespace ccdlane {
 namespace {
@@ -38,6 +39,8 @@ PipelineOptions pipeline_options(const Config& c) {
   o.capture_priority = c.realtime.capture_priority;
   o.processing_priority = c.realtime.processing_priority;
   o.gyro_priority = c.realtime.gyro_priority;
+  const LaneEstimatorOptions estimator = c.estimator_options();
+  o.roll_needs_gyro = !observability_problem(estimator, false).empty() && observability_problem(estimator, true).empty();
   return o;
 }
 
@@ -221,6 +224,7 @@ void Pipeline::process_one(std::uint32_t index) {
   }
   const ImageView image = pool_.view(static_cast<int>(index));
   LaneEstimate estimate = processor_.process(image, slot.meta, attitude);
+  estimate.roll_unobservable = options_.roll_needs_gyro && !attitude;
   if (sink_.publishes_frames()) {
     // Only processed frames go out, in processing order (after any drop), keyed as the
     // lane message is: the log holds the very frame stream the estimator's tracking saw.

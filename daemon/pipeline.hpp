@@ -34,6 +34,9 @@ struct PipelineOptions {
   int processing_priority = 0;
   int gyro_priority = 0;
   std::size_t latency_queue = 16384;           // latency samples waiting for the status thread
+  // The roll is observable only through a gyro reading (phi and y0 free, no roll or
+  // lane-width prior): a frame without one is flagged roll_unobservable.
+  bool roll_needs_gyro = false;
 };
 
 // The options ccdlaned runs its pipeline with: [daemon] and [realtime].

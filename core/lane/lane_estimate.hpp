@@ -49,6 +49,9 @@ struct LaneEstimate {
   double rms_px = 0.0;
   int iterations = 0;
   std::int64_t latency_us = 0;  // frame timestamp (or processing start) to result
+  // No gyro reading for this frame while the configuration needs one to observe the roll
+  // (phi and y0 free, no roll or lane-width prior): phi and y0 are not to be trusted.
+  bool roll_unobservable = false;
 };
 
 }  // namespace ccdlane

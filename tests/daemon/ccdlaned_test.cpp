@@ -292,5 +292,51 @@ TEST(CcdlanedCommand, WithoutAnyConfigurationTheBuiltInDemoIsChecked) {
   EXPECT_EQ(r.out, "the built-in demo: configuration ok\n");
 }
 
+// Lanes and status as a subscriber on the private bus sees them.
+struct BusCapture {
+  explicit BusCapture(lcm::LCM& bus) {
+    bus.subscribeFunction(
+        "CCDLANE_LANES",
+        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, BusCapture* g) { g->lanes.push_back(*m); },
+        this);
+    bus.subscribeFunction(
+        "CCDLANE_STATUS",
+        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, BusCapture* g) { g->statuses.push_back(*m); },
+        this);
+  }
+  std::vector<lane_estimate_t> lanes;
+  std::vector<status_t> statuses;
+};
+
+// A gyro absent at start degrades the daemon instead of ending it: lanes go out, each
+// saying that the roll is not observable (the default solver has phi and y0 free, no
+// prior), the status says the gyro is lost and why, and the device keeps being tried.
+TEST(CcdlanedBus, AnAbsentGyroAtStartDegradesAndSaysSoPerMessage) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config =
+      dir.write("ccdlane.toml", config_text(test::kBusUrl, 30, "[gyro]\ndevice = \"/dev/ttyNONEXISTENT\"\n"));
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  const auto end = Clock::now() + std::chrono::seconds(15);
+  while (got.statuses.size() < 7 && Clock::now() < end) bus.handleTimeout(200);
+  EXPECT_FALSE(child.wait_exit(0).has_value()) << "still running 7 s in: " << test::read_file(dir.file("stderr"));
+  child.signal(SIGTERM);
+  const auto exit_status = child.wait_exit(2000);
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  const std::string log = test::read_file(dir.file("stderr"));
+  ASSERT_GE(got.statuses.size(), 7u) << log;
+  ASSERT_GE(got.lanes.size(), 30u) << log;
+  for (const auto& m : got.lanes) EXPECT_EQ(m.roll_unobservable, 1) << "frame " << m.frame;
+  const status_t& s = got.statuses[got.statuses.size() - 2];
+  EXPECT_EQ(s.gyro_state, status_t::GYRO_LOST);
+  EXPECT_EQ(s.gyro_problem.rfind("absent: ", 0), 0u) << s.gyro_problem;
+  EXPECT_NE(s.gyro_problem.find("/dev/ttyNONEXISTENT"), std::string::npos) << s.gyro_problem;
+  EXPECT_EQ(count_of(log, "gyro: warning: absent: "), 1) << "said once, not at every retry: " << log;
+}
+
 }  // namespace
 }  // namespace ccdlane
