@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <ccdlane/lane_estimate_t.hpp>
@@ -336,6 +337,63 @@ TEST(CcdlanedBus, AnAbsentGyroAtStartDegradesAndSaysSoPerMessage) {
   EXPECT_EQ(s.gyro_problem.rfind("absent: ", 0), 0u) << s.gyro_problem;
   EXPECT_NE(s.gyro_problem.find("/dev/ttyNONEXISTENT"), std::string::npos) << s.gyro_problem;
   EXPECT_EQ(count_of(log, "gyro: warning: absent: "), 1) << "said once, not at every retry: " << log;
+}
+
+// SIGTERM while the synthetic drive is still being rendered (120 frames: seconds of
+// work): the daemon stops within about a second, not after the rendering.
+TEST(Ccdlaned, SigtermDuringStartUpStopsWithinASecond) {
+  test::TempDir dir;
+  const std::string config = dir.write(
+      "ccdlane.toml", "[synth]\nframes = 120\n[source]\nkind = \"synth\"\nrate_hz = 30\n[lcm]\nurl = \"memq://\"\n");
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const auto before = Clock::now();
+  child.signal(SIGTERM);
+  const std::optional<int> exit_status = child.wait_exit(5000);
+  const auto took = Clock::now() - before;
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_TRUE(WIFEXITED(*exit_status));
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("stderr"));
+  EXPECT_LT(took, std::chrono::milliseconds(1200)) << test::read_file(dir.file("stderr"));
+}
+
+// Two daemons on one bus: every message names its sender ("host:pid"), and each daemon
+// warns once that another instance publishes on its channels.
+TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config = dir.write("ccdlane.toml", config_text(test::kBusUrl, 30));
+  test::ChildProcess a({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("a.stderr"), {}});
+  test::ChildProcess b({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("b.stderr"), {}});
+  const auto end = Clock::now() + std::chrono::seconds(15);
+  while (got.statuses.size() < 8 && Clock::now() < end) bus.handleTimeout(200);
+  for (test::ChildProcess* child : {&a, &b}) {
+    child->signal(SIGTERM);
+    const auto exit_status = child->wait_exit(2000);
+    ASSERT_TRUE(exit_status.has_value());
+    EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  }
+  char host[256] = "";
+  ASSERT_EQ(gethostname(host, sizeof host - 1), 0);
+  const std::string name_a = std::string(host) + ":" + std::to_string(a.pid());
+  const std::string name_b = std::string(host) + ":" + std::to_string(b.pid());
+  int from_a = 0, from_b = 0;
+  for (const auto& m : got.lanes) {
+    from_a += m.instance == name_a;
+    from_b += m.instance == name_b;
+  }
+  EXPECT_GT(from_a, 0);
+  EXPECT_GT(from_b, 0);
+  EXPECT_EQ(from_a + from_b, static_cast<int>(got.lanes.size())) << "every lane message names its sender";
+  for (const auto& s : got.statuses) EXPECT_TRUE(s.instance == name_a || s.instance == name_b) << s.instance;
+  const std::string log_a = test::read_file(dir.file("a.stderr")), log_b = test::read_file(dir.file("b.stderr"));
+  EXPECT_EQ(count_of(log_a, "another publisher on CCDLANE_STATUS: instance \"" + name_b + "\""), 1) << log_a;
+  EXPECT_EQ(count_of(log_b, "another publisher on CCDLANE_STATUS: instance \"" + name_a + "\""), 1) << log_b;
+  EXPECT_EQ(count_of(log_a, "another publisher"), 1) << log_a;
+  EXPECT_EQ(count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
 }
 
 }  // namespace
