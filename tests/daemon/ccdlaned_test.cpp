@@ -368,18 +368,22 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
   const std::string config = dir.write("ccdlane.toml", config_text(test::kBusUrl, 30));
   test::ChildProcess a({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("a.stderr"), {}});
   test::ChildProcess b({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("b.stderr"), {}});
-  const auto end = Clock::now() + std::chrono::seconds(15);
-  while (got.statuses.size() < 8 && Clock::now() < end) bus.handleTimeout(200);
+  char host[256] = "";
+  ASSERT_EQ(gethostname(host, sizeof host - 1), 0);
+  const std::string name_a = std::string(host) + ":" + std::to_string(a.pid());
+  const std::string name_b = std::string(host) + ":" + std::to_string(b.pid());
+  // Each has heard the other's status (sent once a second) before its own next tick.
+  const auto statuses_from = [&](const std::string& name) {
+    return std::count_if(got.statuses.begin(), got.statuses.end(), [&](const status_t& s) { return s.instance == name; });
+  };
+  const auto end = Clock::now() + std::chrono::seconds(20);
+  while ((statuses_from(name_a) < 3 || statuses_from(name_b) < 3) && Clock::now() < end) bus.handleTimeout(200);
   for (test::ChildProcess* child : {&a, &b}) {
     child->signal(SIGTERM);
     const auto exit_status = child->wait_exit(2000);
     ASSERT_TRUE(exit_status.has_value());
     EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
   }
-  char host[256] = "";
-  ASSERT_EQ(gethostname(host, sizeof host - 1), 0);
-  const std::string name_a = std::string(host) + ":" + std::to_string(a.pid());
-  const std::string name_b = std::string(host) + ":" + std::to_string(b.pid());
   int from_a = 0, from_b = 0;
   for (const auto& m : got.lanes) {
     from_a += m.instance == name_a;
