@@ -2,9 +2,12 @@
 // this maps its states and counters onto the daemon's status and logs its events.
 #include "app/gx1_attitude_provider.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+
+#include "base/clock.hpp"
 
 namespace ccdlane {
 
@@ -20,7 +23,9 @@ Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, LogSink 
 Gx1AttitudeProvider::~Gx1AttitudeProvider() { close(); }
 
 void Gx1AttitudeProvider::note(LogLevel level, const char* category, const char* line) {
-  log_to(log_, level, category, "%s", line);
+  // While an absent device is retried, each failed attempt only updates the problem: the
+  // absence was said once, and the line that finds the device says the rest.
+  if (!retrying_.load(std::memory_order_relaxed)) log_to(log_, level, category, "%s", line);
   std::lock_guard<std::mutex> lock(problem_mutex_);
   std::snprintf(problem_, sizeof problem_, "%s", line);
 }
@@ -35,9 +40,17 @@ std::string Gx1AttitudeProvider::open() {
   session_ = std::make_unique<gx1::Gx1Session>(path, options_, [this](LogLevel level, const char* category, const char* line) { note(level, category, line); });
   if (const int rc = session_->open(); rc < 0) {
     const std::string why = rc == -ETIMEDOUT ? "the sensor did not answer" : std::strerror(-rc);
-    session_.reset();
-    if (emulator_) emulator_->stop();
-    return "gyro.device: \"" + device_ + "\": " + path + ": " + why;
+    const std::string line = "gyro.device: \"" + device_ + "\": " + path + ": " + why;
+    if (emulator_) {
+      session_.reset();
+      emulator_->stop();
+      return line;
+    }
+    // Kept: run() retries the device, and until it answers the gyro is reported lost.
+    absent_.store(true, std::memory_order_release);
+    std::lock_guard<std::mutex> lock(problem_mutex_);
+    std::snprintf(problem_, sizeof problem_, "absent: %s", line.c_str());
+    return line;
   }
   {
     std::lock_guard<std::mutex> lock(problem_mutex_);
@@ -49,7 +62,43 @@ std::string Gx1AttitudeProvider::open() {
 
 void Gx1AttitudeProvider::run(const std::atomic<bool>& stop) {
   if (!session_) return;
+  if (absent_.load(std::memory_order_acquire)) retry_until_found(stop);
   while (!stop.load(std::memory_order_acquire)) session_->poll_once(100);
+}
+
+void Gx1AttitudeProvider::retry_until_found(const std::atomic<bool>& stop) {
+  constexpr std::int64_t kFirstBackoffNs = 500'000'000, kMaxBackoffNs = 8'000'000'000;
+  std::int64_t backoff = kFirstBackoffNs;
+  retrying_.store(true, std::memory_order_relaxed);
+  while (!stop.load(std::memory_order_acquire)) {
+    // Sleep in short steps: stopping must not wait out a backoff.
+    for (const std::int64_t until = monotonic_ns() + backoff; monotonic_ns() < until;) {
+      if (stop.load(std::memory_order_acquire)) break;
+      sleep_until(std::min(until, monotonic_ns() + 100'000'000));
+    }
+    if (stop.load(std::memory_order_acquire)) break;
+    if (session_->open() == 0) {
+      retrying_.store(false, std::memory_order_relaxed);
+      {
+        std::lock_guard<std::mutex> lock(problem_mutex_);
+        problem_[0] = '\0';
+      }
+      opened_.store(true, std::memory_order_release);
+      absent_.store(false, std::memory_order_release);
+      log_to(log_, LogLevel::notice, "gyro", "%s: found after being absent at start: streaming", device_.c_str());
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(problem_mutex_);
+      if (std::strncmp(problem_, "absent: ", 8) != 0) {
+        char why[sizeof problem_];
+        std::snprintf(why, sizeof why, "%s", problem_);
+        std::snprintf(problem_, sizeof problem_, "absent: %.240s", why);
+      }
+    }
+    backoff = std::min(2 * backoff, kMaxBackoffNs);
+  }
+  retrying_.store(false, std::memory_order_relaxed);
 }
 
 void Gx1AttitudeProvider::close() {
@@ -73,6 +122,7 @@ std::optional<std::int64_t> Gx1AttitudeProvider::newest_sample_ns() const {
 }
 
 GyroState Gx1AttitudeProvider::state() const {
+  if (absent_.load(std::memory_order_acquire)) return GyroState::lost;
   if (!opened_.load(std::memory_order_acquire) || !session_) return GyroState::starting;
   switch (session_->state()) {
     case DeviceState::opening:

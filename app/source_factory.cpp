@@ -11,8 +11,9 @@
 namespace ccdlane {
 namespace {
 
-std::unique_ptr<FrameSource> make_synth(const Config& c) {
+std::unique_ptr<FrameSource> make_synth(const Config& c, std::function<bool()> cancelled) {
   SynthSourceOptions o;
+  o.cancelled = std::move(cancelled);
   o.rate_hz = c.source.rate_hz;
   // With a gyro device (the emulator in the demo) the frames carry no reading of their
   // own, so that the live gyro is what the priors come from.
@@ -75,9 +76,9 @@ std::string frames_without_gyro(const Config& config) {
   return std::string("source.kind: \"") + kind_name(config.source.kind) + "\" frames carry no gyro reading";
 }
 
-std::unique_ptr<FrameSource> make_frame_source(const Config& config) {
+std::unique_ptr<FrameSource> make_frame_source(const Config& config, std::function<bool()> cancelled) {
   switch (config.source.kind) {
-    case SourceKind::synth: return make_synth(config);
+    case SourceKind::synth: return make_synth(config, std::move(cancelled));
     case SourceKind::frames: return make_frames(config);
     case SourceKind::v4l2: return make_v4l2(config);
     case SourceKind::aravis: return make_aravis(config);

@@ -1,6 +1,7 @@
 // [source] kind -> the FrameSource that captures it.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -18,6 +19,8 @@ std::string frames_without_gyro(const Config& config);
 
 // The source for [source], not yet opened. Throws std::runtime_error when a camera
 // string cannot be made into a source.
-std::unique_ptr<FrameSource> make_frame_source(const Config& config);
+// `cancelled`, when given, is asked during long start-up work (rendering the synthetic
+// drive), which then gives up so that open() returns at once.
+std::unique_ptr<FrameSource> make_frame_source(const Config& config, std::function<bool()> cancelled = {});
 
 }  // namespace ccdlane

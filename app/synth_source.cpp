@@ -34,6 +34,7 @@ std::string SynthSource::open() {
   pixels_.assign(frame_bytes_ * static_cast<std::size_t>(count_), 0);
   gyro_.resize(static_cast<std::size_t>(count_));
   for (int k = 0; k < count_; ++k) {
+    if (options_.cancelled && options_.cancelled()) return kSynthInterrupted;
     const SynthFrame truth = drive_.frame(static_cast<std::uint64_t>(k));
     renderer.render(truth, {pixels_.data() + frame_bytes_ * static_cast<std::size_t>(k), width_, height_, stride,
                             format_, bits_});

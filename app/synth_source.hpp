@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,11 +20,17 @@ struct SynthSourceOptions {
   bool gyro_in_meta = true;     // put each frame's gyro reading in FrameMeta.gyro
   std::uint64_t frames = 0;     // then end of stream; 0: loop for ever
   static constexpr double kMaxSeconds = 4.0;  // rendered ahead: at most this much drive
+  // Asked between frames while open() renders: true gives up (open() returns
+  // kSynthInterrupted), so that a stop request does not wait out seconds of rendering.
+  std::function<bool()> cancelled;
 };
 
 // How many frames the source renders for `config`: [synth] frames, at most
 // kMaxSeconds of the drive (memory: 800x600 mono8 is 0.5 MB a frame), at least 1.
 int synth_source_frame_count(const Config& config);
+
+// What SynthSource::open() returns when its `cancelled` said stop.
+inline constexpr const char* kSynthInterrupted = "synth: start-up interrupted";
 
 class SynthSource final : public FrameSource {
  public:

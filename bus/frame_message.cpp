@@ -39,7 +39,7 @@ std::optional<PixelFormat> image_format(std::int8_t f) {
 }  // namespace
 
 void prepare_frame_message(frame_t& msg, int width, int height, PixelFormat format) {
-  msg.utime = msg.sequence = msg.t_ns = 0;
+  msg.utime = msg.sequence = msg.t_ns = msg.source_sequence = 0;
   msg.significant_bits = format == PixelFormat::mono16 ? 16 : 8;
   msg.has_gyro = false;
   msg.gyro_roll_deg = msg.gyro_pitch_deg = msg.gyro_yaw_deg = 0.0;
@@ -61,6 +61,7 @@ bool to_frame_message(const ImageView& image, const FrameRecord& record, frame_t
     return false;
   msg.utime = record.utime;
   msg.sequence = static_cast<std::int64_t>(record.sequence);
+  msg.source_sequence = static_cast<std::int64_t>(record.source_sequence);
   msg.t_ns = record.t_ns;
   msg.significant_bits = static_cast<std::int8_t>(image.significant_bits);
   msg.has_gyro = record.gyro.has_value();
@@ -100,6 +101,7 @@ std::string frame_image(const frame_t& msg, ImageView& image) {
 FrameRecord frame_record(const frame_t& msg) {
   FrameRecord r;
   r.sequence = static_cast<std::uint64_t>(msg.sequence);
+  r.source_sequence = static_cast<std::uint64_t>(msg.source_sequence);
   r.t_ns = msg.t_ns;
   r.utime = msg.utime;
   if (msg.has_gyro) r.gyro = Gx1Angles{msg.gyro_roll_deg, msg.gyro_pitch_deg, msg.gyro_yaw_deg};

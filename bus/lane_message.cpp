@@ -148,6 +148,8 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   out.iterations = e.iterations;
   out.latency_us = e.latency_us;
   to_ldw_fields(e.ldw, out);
+  out.roll_unobservable = e.roll_unobservable ? 1 : 0;
+  out.source_frame = static_cast<std::int64_t>(e.source_frame);
 }
 
 LaneEstimate from_message(const lane_estimate_t& m) {
@@ -175,6 +177,8 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.iterations = m.iterations;
   e.latency_us = m.latency_us;
   e.ldw = from_ldw_fields(m);
+  e.roll_unobservable = m.roll_unobservable != 0;
+  e.source_frame = static_cast<std::uint64_t>(m.source_frame);
   return e;
 }
 

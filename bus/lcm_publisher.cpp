@@ -18,10 +18,14 @@ LcmPublisher::LcmPublisher(const LcmConfig& config)
   if (!lcm_->good()) throw std::runtime_error("lcm: cannot open the bus \"" + config.url + "\" ([lcm] url)");
   lane_capacity_ = lane_message_.getEncodedSize();
   status_t largest;
+  largest.instance.assign(kStatusTextMax, 'x');
   largest.camera.assign(kStatusTextMax, 'x');
   largest.camera_problem.assign(kStatusTextMax, 'x');
   largest.gyro_problem.assign(kStatusTextMax, 'x');
   status_capacity_ = largest.getEncodedSize();
+  lane_message_.instance.assign(kStatusTextMax, 'x');  // sized for the longest instance name
+  lane_capacity_ = lane_message_.getEncodedSize();
+  lane_message_.instance.clear();
   lane_bytes_ = std::make_unique<std::uint8_t[]>(static_cast<std::size_t>(lane_capacity_));
   status_bytes_ = std::make_unique<std::uint8_t[]>(static_cast<std::size_t>(status_capacity_));
 }
@@ -40,7 +44,7 @@ bool LcmPublisher::publish_lane(const LaneEstimate& estimate, std::int64_t captu
 
 bool LcmPublisher::publish_status(const status_t& status) {
   // Refuse rather than overrun: the buffer was sized for texts of kStatusTextMax.
-  for (const std::string* text : {&status.camera, &status.camera_problem, &status.gyro_problem})
+  for (const std::string* text : {&status.camera, &status.camera_problem, &status.gyro_problem, &status.instance})
     if (text->size() > kStatusTextMax) return false;
   return publish_bytes(status_channel_, status_bytes_.get(), status_capacity_, status);
 }
@@ -53,6 +57,38 @@ void LcmPublisher::enable_frames(int width, int height, PixelFormat format) {
 bool LcmPublisher::publish_frame(const ImageView& image, const FrameRecord& record) {
   if (frame_bytes_.empty() || !to_frame_message(image, record, frame_message_)) return false;
   return publish_bytes(frames_channel_, frame_bytes_.data(), static_cast<int>(frame_bytes_.size()), frame_message_);
+}
+
+void LcmPublisher::set_instance(const std::string& instance) {
+  instance_ = instance.substr(0, kStatusTextMax);
+  lane_message_.instance = instance_;
+}
+
+void LcmPublisher::watch_for_other_instances() {
+  if (watching_) return;
+  for (std::string* text : {&received_.camera, &received_.camera_problem, &received_.gyro_problem, &received_.instance})
+    text->reserve(kStatusTextMax + 1);
+  // The C API: its handler gets the channel as a C string, where lcm-cpp's would build a
+  // std::string per message (an allocation for a long prefix).
+  lcm_subscribe(lcm_->getUnderlyingLCM(), status_channel_.c_str(), &LcmPublisher::on_status, this);
+  watching_ = true;
+}
+
+void LcmPublisher::on_status(const lcm_recv_buf_t* rbuf, const char*, void* self) {
+  auto& p = *static_cast<LcmPublisher*>(self);
+  if (p.received_.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) return;
+  if (p.received_.instance == p.instance_ || p.other_seen_) return;
+  p.other_seen_ = true;
+  p.other_new_ = true;
+}
+
+const char* LcmPublisher::poll_bus() {
+  if (!watching_) return nullptr;
+  while (lcm_->handleTimeout(0) > 0) {
+  }
+  if (!other_new_) return nullptr;
+  other_new_ = false;
+  return received_.instance.c_str();
 }
 
 }  // namespace ccdlane

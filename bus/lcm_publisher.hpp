@@ -54,12 +54,28 @@ class LcmPublisher : public LaneSink {
   const std::string& lanes_channel() const { return lanes_channel_; }
   const std::string& status_channel() const { return status_channel_; }
   const std::string& url() const { return url_; }
+
+  // This daemon's name on the bus ("host:pid"), sent in every lane message (status
+  // messages carry it from their writer). At most kStatusTextMax characters.
+  void set_instance(const std::string& instance);
+  const std::string& instance() const { return instance_; }
+  // Listens on the status channel for status messages of other instances. Allocates the
+  // receive message once; poll_bus() then allocates nothing for status-sized texts.
+  void watch_for_other_instances();
+  // Handles what arrived since the last call, without waiting. Returns the instance of
+  // another publisher seen on the status channel, the first time one is seen; else null.
+  const char* poll_bus();
   lcm::LCM& bus() { return *lcm_; }
 
  private:
   bool publish_bytes(const std::string& channel, std::uint8_t* buffer, int capacity, const auto& message);
 
+  static void on_status(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
+
   std::string url_;
+  std::string instance_;
+  status_t received_{};           // the last status seen on the bus, decoded in place
+  bool watching_ = false, other_seen_ = false, other_new_ = false;
   std::unique_ptr<lcm::LCM> lcm_;
   std::string lanes_channel_, status_channel_, frames_channel_;
   lane_estimate_t lane_message_{};

@@ -2,6 +2,9 @@
 // next status tick, so shutdown and reporting need no extra thread and no handler.
 #include "daemon/daemon.hpp"
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <exception>
 #include <memory>
 
@@ -30,10 +33,16 @@ class StatusTicker {
  public:
   StatusTicker(Pipeline& pipeline, AttitudeProvider* gyro, LcmPublisher& publisher, SystemdNotifier& notifier,
                const std::string& camera, std::int64_t start_ns)
-      : pipeline_(pipeline), gyro_(gyro), publisher_(publisher), notifier_(notifier), report_(camera),
+      : pipeline_(pipeline), gyro_(gyro), publisher_(publisher), notifier_(notifier),
+        report_(camera, publisher.instance()),
         window_(1 << 16), start_ns_(start_ns) {}
 
   void tick() {
+    if (const char* other = publisher_.poll_bus())
+      log_line(LogLevel::warning, "lcm",
+               "another publisher on %s: instance \"%s\" (we are \"%s\"); its messages interleave with ours on %s "
+               "(said once)",
+               publisher_.status_channel().c_str(), other, publisher_.instance().c_str(), publisher_.url().c_str());
     pipeline_.drain_latency(window_);
     char camera_problem[kStatusTextMax + 1];
     char gyro_problem[kStatusTextMax + 1] = "";
@@ -72,6 +81,13 @@ class StatusTicker {
   std::int64_t start_ns_;
   std::atomic<bool> said_publish_failed_{false};
 };
+
+// "host:pid": which daemon sent a message, when two share a bus.
+std::string instance_name() {
+  char host[256] = "";
+  if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "unknown-host");
+  return std::string(host) + ":" + std::to_string(getpid());
+}
 
 }  // namespace
 
@@ -119,16 +135,30 @@ int run_daemon(const Config& config) {
     return 1;
   };
   try {
-    source = make_frame_source(config);
-    if (std::string why = source->open(); !why.empty()) return fail("camera", why.c_str());
+    // Rendering the synthetic drive takes seconds: a SIGTERM meanwhile must not wait for it.
+    source = make_frame_source(config, [&signals] { return signals.terminate_pending(); });
+    if (std::string why = source->open(); !why.empty()) {
+      if (signals.terminate_pending() && signals.wait(0) == SignalWaiter::Event::terminate) {
+        log_line(LogLevel::info, "stop", "SIG%s during start-up: stopping", sigabbrev_np(signals.last_signal()));
+        return 0;
+      }
+      return fail("camera", why.c_str());
+    }
     source_open = true;
     gyro = make_attitude_provider(config);
     if (gyro) {
-      if (std::string why = gyro->open(); !why.empty()) return fail("gyro", why.c_str());
+      // An absent gyro degrades the estimate, it does not stop the lanes: a gyro lost
+      // mid-run is handled so too, and a daemon that exits here is restart-looped.
+      if (std::string why = gyro->open(); !why.empty()) {
+        if (gyro->state() != GyroState::lost) return fail("gyro", why.c_str());
+        log_line(LogLevel::warning, "gyro", "absent: %s; running without it and retrying the device", why.c_str());
+      }
       gyro_open = true;
     }
     processor = std::make_unique<EstimatorProcessor>(config, *source);
     publisher = std::make_unique<LcmPublisher>(config.lcm);
+    publisher->set_instance(instance_name());
+    publisher->watch_for_other_instances();
     // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
     if (config.lcm.publish_frames) publisher->enable_frames(source->width(), source->height(), source->format());
   } catch (const std::exception& e) {
@@ -139,9 +169,10 @@ int run_daemon(const Config& config) {
   ServiceHeartbeat heartbeat(notifier);
   StatusTicker status(pipeline, gyro.get(), *publisher, notifier, source->describe(), start_ns);
   const FramePoolLayout& pool = pipeline.pool().layout();
-  log_line(LogLevel::info, "start", "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s",
+  log_line(LogLevel::info, "start", "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s, instance %s",
            source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pool.count, pool.width, pool.height,
-           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(), publisher->url().c_str());
+           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(), publisher->url().c_str(),
+           publisher->instance().c_str());
   if (notifier.watchdog_interval_us() > 0)
     log_line(LogLevel::info, "systemd", "watchdog every %.3f s, pinged while frames flow",
              static_cast<double>(notifier.watchdog_interval_us()) * 1e-6);

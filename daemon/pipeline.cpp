@@ -12,6 +12,7 @@
 #include "daemon/allocation_counter.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
+#include "core/lane/lane_estimator.hpp"
 
 namespace ccdlane {
 namespace {
@@ -38,6 +39,8 @@ PipelineOptions pipeline_options(const Config& c) {
   o.capture_priority = c.realtime.capture_priority;
   o.processing_priority = c.realtime.processing_priority;
   o.gyro_priority = c.realtime.gyro_priority;
+  const LaneEstimatorOptions estimator = c.estimator_options();
+  o.roll_needs_gyro = !observability_problem(estimator, false).empty() && observability_problem(estimator, true).empty();
   return o;
 }
 
@@ -150,22 +153,10 @@ void Pipeline::capture_loop() {
       case CaptureStatus::frame: {
         last_frame_ns = now;
         last_frame_ns_.store(now, std::memory_order_relaxed);
-        slots_[current] = SlotMeta{meta, now};
+        slots_[current] = SlotMeta{meta, now, next_frame_++};
         frames_in_.fetch_add(1, std::memory_order_relaxed);
         set_camera_state(CameraState::streaming);
-        if (const auto oldest = queued_.push_dropping_oldest(current)) {
-          // Processing is behind: the oldest waiting frame made room, its buffer is ours.
-          frames_dropped_.fetch_add(1, std::memory_order_relaxed);
-          current = *oldest;
-        } else {
-          // Pool sizing guarantees a free buffer now; wait rather than overwrite a
-          // buffer someone else owns should that reasoning ever be wrong.
-          while (!returned_.try_pop(current)) {
-            if (stop_.load(std::memory_order_acquire)) return;
-            std::this_thread::yield();
-          }
-        }
-        frame_bell_.ring();
+        if (!queue_current(current)) return;
         break;
       }
       case CaptureStatus::timeout:
@@ -174,8 +165,20 @@ void Pipeline::capture_loop() {
       case CaptureStatus::recovering:
         set_camera_state(CameraState::recovering);
         break;
-      case CaptureStatus::error:
-        break;  // counted by the source; the next frame may be fine
+      case CaptureStatus::error: {
+        // Counted by the source; the next frame may be fine. The bad one still takes its
+        // frame number and goes out as a lane message with ok = false, so that a
+        // subscriber sees it instead of a gap that looks like a drop.
+        slots_[current] = SlotMeta{meta, now, next_frame_++, true};
+        if (slots_[current].meta.t_ns == 0) slots_[current].meta.t_ns = now;
+        frames_in_.fetch_add(1, std::memory_order_relaxed);
+        // Nothing but bad frames for stall_timeout (a frame directory removed, a camera
+        // sending only garbage) is a stall, as silence is: one line, then quiet.
+        if (now - last_frame_ns >= options_.stall_timeout_ns) set_camera_state(CameraState::stalled);
+        if (camera_state_.load(std::memory_order_relaxed) != CameraState::stalled) report_bad_frame(now);
+        if (!queue_current(current)) return;
+        break;
+      }
       case CaptureStatus::end_of_stream:
         set_camera_state(CameraState::ended);
         capture_ended_.store(true, std::memory_order_release);
@@ -183,6 +186,43 @@ void Pipeline::capture_loop() {
         return;
     }
   }
+}
+
+bool Pipeline::queue_current(std::uint32_t& current) {
+  if (const auto oldest = queued_.push_dropping_oldest(current)) {
+    // Processing is behind: the oldest waiting frame made room, its buffer is ours.
+    frames_dropped_.fetch_add(1, std::memory_order_relaxed);
+    current = *oldest;
+  } else {
+    // Pool sizing guarantees a free buffer now; wait rather than overwrite a buffer
+    // someone else owns should that reasoning ever be wrong.
+    while (!returned_.try_pop(current)) {
+      if (stop_.load(std::memory_order_acquire)) return false;
+      std::this_thread::yield();
+    }
+  }
+  frame_bell_.ring();
+  return true;
+}
+
+void Pipeline::report_bad_frame(std::int64_t now_ns) {
+  // A directory of damaged files (or a camera sending garbage) must not flood the log:
+  // the first line names the file and cause, later ones say how many went unsaid.
+  if (bad_frame_logged_ns_ != 0 && now_ns - bad_frame_logged_ns_ < kBadFrameLogPeriodNs) {
+    ++bad_frames_unlogged_;
+    return;
+  }
+  char problem[sizeof problem_] = "";
+  source_.copy_last_problem(problem, sizeof problem);
+  if (bad_frames_unlogged_ > 0)
+    log_line(LogLevel::warning, "camera", "%s: bad frame %llu: %s (and %llu more bad frames since the last such line)",
+             camera_name_.c_str(), static_cast<unsigned long long>(next_frame_ - 1), problem,
+             static_cast<unsigned long long>(bad_frames_unlogged_));
+  else
+    log_line(LogLevel::warning, "camera", "%s: bad frame %llu: %s", camera_name_.c_str(),
+             static_cast<unsigned long long>(next_frame_ - 1), problem);
+  bad_frame_logged_ns_ = now_ns;
+  bad_frames_unlogged_ = 0;
 }
 
 void Pipeline::processing_loop() {
@@ -214,6 +254,17 @@ void Pipeline::processing_loop() {
 
 void Pipeline::process_one(std::uint32_t index) {
   const SlotMeta slot = slots_[index];
+  if (slot.bad) {
+    if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
+    LaneEstimate estimate;
+    estimate.frame = slot.frame;
+    estimate.source_frame = slot.meta.sequence;
+    estimate.t_ns = slot.meta.frame_t_ns();
+    estimate.ok = false;
+    estimate.reason = EstimateFailure::no_frame;
+    publish(estimate, slot.received_ns);
+    return;
+  }
   std::optional<Gx1Angles> attitude = slot.meta.gyro;
   if (!attitude && gyro_) {
     attitude = gyro_->attitude_at(slot.meta.t_ns);
@@ -221,17 +272,33 @@ void Pipeline::process_one(std::uint32_t index) {
   }
   const ImageView image = pool_.view(static_cast<int>(index));
   LaneEstimate estimate = processor_.process(image, slot.meta, attitude);
+  estimate.roll_unobservable = options_.roll_needs_gyro && !attitude;
+  // The source's id may wrap (a 16-bit block id) or restart with the camera: messages go
+  // out under the run's own count, with the source's id beside it.
+  estimate.frame = slot.frame;
+  estimate.source_frame = slot.meta.sequence;
   if (sink_.publishes_frames()) {
     // Only processed frames go out, in processing order (after any drop), keyed as the
     // lane message is: the log holds the very frame stream the estimator's tracking saw.
-    const FrameRecord record{slot.meta.sequence, slot.meta.frame_t_ns(), realtime_us_of_monotonic(slot.meta.t_ns),
-                             attitude};
+    const FrameRecord record{slot.frame, slot.meta.frame_t_ns(), realtime_us_of_monotonic(slot.meta.t_ns), attitude,
+                             slot.meta.sequence};
     if (!sink_.publish_frame(image, record)) frame_publish_errors_.fetch_add(1, std::memory_order_relaxed);
   }
   // The pixels are no longer needed: give the buffer back before publishing the lanes.
   if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
+  publish(estimate, slot.received_ns);
 
-  estimate.latency_us = (monotonic_ns() - slot.received_ns) / 1000;
+  if (!ready_.load(std::memory_order_relaxed)) {
+    // Everything is allocated and every lazy first-use path has run once: from here on,
+    // any allocation is a defect, and the status says how many there were.
+    allocation_counter::start_counting();
+    ready_.store(true, std::memory_order_release);
+    log_line(LogLevel::info, "pipeline", "ready: first frame processed (%s)", camera_name_.c_str());
+  }
+}
+
+void Pipeline::publish(LaneEstimate& estimate, std::int64_t received_ns) {
+  estimate.latency_us = (monotonic_ns() - received_ns) / 1000;
   const std::int64_t publish_utime = realtime_us();
   if (!sink_.publish_lane(estimate, publish_utime - estimate.latency_us, publish_utime))
     publish_errors_.fetch_add(1, std::memory_order_relaxed);
@@ -242,16 +309,8 @@ void Pipeline::process_one(std::uint32_t index) {
   else not_ok_by_reason_[static_cast<int>(estimate.reason) % kEstimateFailureKinds].fetch_add(1, std::memory_order_relaxed);
   // The statistics measure up to the end of the publish call, which the message's own
   // latency_us (encoded before sending) cannot include.
-  if (!latencies_.try_push((published_ns - slot.received_ns) / 1000))
+  if (!latencies_.try_push((published_ns - received_ns) / 1000))
     latency_samples_lost_.fetch_add(1, std::memory_order_relaxed);
-
-  if (!ready_.load(std::memory_order_relaxed)) {
-    // Everything is allocated and every lazy first-use path has run once: from here on,
-    // any allocation is a defect, and the status says how many there were.
-    allocation_counter::start_counting();
-    ready_.store(true, std::memory_order_release);
-    log_line(LogLevel::info, "pipeline", "ready: first frame processed (%s)", camera_name_.c_str());
-  }
 }
 
 void Pipeline::gyro_loop() {

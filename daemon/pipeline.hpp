@@ -34,6 +34,9 @@ struct PipelineOptions {
   int processing_priority = 0;
   int gyro_priority = 0;
   std::size_t latency_queue = 16384;           // latency samples waiting for the status thread
+  // The roll is observable only through a gyro reading (phi and y0 free, no roll or
+  // lane-width prior): a frame without one is flagged roll_unobservable.
+  bool roll_needs_gyro = false;
 };
 
 // The options ccdlaned runs its pipeline with: [daemon] and [realtime].
@@ -41,6 +44,8 @@ PipelineOptions pipeline_options(const Config& config);
 
 class Pipeline {
  public:
+  static constexpr std::int64_t kBadFrameLogPeriodNs = 10'000'000'000;
+
   // Allocates everything the threads will use: queue_depth + 2 frames of the (open)
   // source's size, the rings and the latency queue. `gyro` may be null (no gyro).
   Pipeline(FrameSource& source, AttitudeProvider* gyro, FrameProcessor& processor, LaneSink& sink,
@@ -77,12 +82,20 @@ class Pipeline {
   struct SlotMeta {
     FrameMeta meta;
     std::int64_t received_ns = 0;  // CLOCK_MONOTONIC when capture() returned the frame
+    std::uint64_t frame = 0;       // the run's frame number (meta.sequence is the source's own)
+    bool bad = false;              // capture() said error: no pixels, published ok = false (no_frame)
   };
 
   void capture_loop();
   void processing_loop();
   void gyro_loop();
   void process_one(std::uint32_t index);
+  // Sends one estimate (every frame's, bad ones included) and counts it.
+  void publish(LaneEstimate& estimate, std::int64_t received_ns);
+  // Hands the filled buffer to processing and takes a free one; false when stopping.
+  bool queue_current(std::uint32_t& current);
+  // A bad frame: logged at most every kBadFrameLogPeriodNs, with how many went unsaid.
+  void report_bad_frame(std::int64_t now_ns);
   void set_camera_state(CameraState state);
   // How long a camera said to be streaming has been without a frame while the capture
   // call is stuck (past twice its timeout); 0 otherwise.
@@ -117,6 +130,9 @@ class Pipeline {
   std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, frame_publish_errors_{0}, latency_samples_lost_{0};
   std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
       source_reconnects_{0};
+  std::uint64_t next_frame_ = 0;  // the capture thread's: the next frame number of this run
+  std::int64_t bad_frame_logged_ns_ = 0;   // the capture thread's: last bad-frame log line
+  std::uint64_t bad_frames_unlogged_ = 0;  //   and the bad frames since, not logged
   std::atomic<CameraState> camera_state_{CameraState::starting};
   std::atomic<std::int64_t> last_frame_ns_{0};    // CLOCK_MONOTONIC of the last frame captured
   std::atomic<std::int64_t> capture_call_ns_{0};  // when the current capture() call began; 0 between calls

@@ -34,4 +34,11 @@ SignalWaiter::Event SignalWaiter::wait(std::int64_t timeout_ns) {
   return sig == SIGHUP ? Event::hangup : Event::terminate;
 }
 
+bool SignalWaiter::terminate_pending() const {
+  sigset_t pending;
+  sigemptyset(&pending);
+  if (sigpending(&pending) != 0) return false;
+  return sigismember(&pending, SIGTERM) == 1 || sigismember(&pending, SIGINT) == 1;
+}
+
 }  // namespace ccdlane

@@ -21,6 +21,9 @@ class SignalWaiter {
 
   // Waits up to timeout_ns for one of them; none on timeout.
   Event wait(std::int64_t timeout_ns);
+  // Whether SIGTERM or SIGINT is waiting, without taking it: start-up work that takes
+  // seconds (rendering the synthetic drive) asks this between steps.
+  bool terminate_pending() const;
   // The signal behind the last event (SIGTERM, SIGINT, SIGHUP).
   int last_signal() const { return last_; }
 

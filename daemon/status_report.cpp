@@ -39,7 +39,9 @@ std::int64_t total(std::uint64_t v) { return static_cast<std::int64_t>(v); }
 
 }  // namespace
 
-StatusReport::StatusReport(const std::string& camera) {
+StatusReport::StatusReport(const std::string& camera, const std::string& instance) {
+  message_.instance.reserve(kStatusTextMax);
+  assign_cut(message_.instance, instance.c_str());
   message_.camera.reserve(kStatusTextMax);
   message_.camera_problem.reserve(kStatusTextMax);
   message_.gyro_problem.reserve(kStatusTextMax);

@@ -30,7 +30,7 @@ class StatusReport {
  public:
   // Allocates the message's strings once (kStatusTextMax each); `camera` describes the
   // source for the message's camera field.
-  explicit StatusReport(const std::string& camera);
+  explicit StatusReport(const std::string& camera, const std::string& instance = "");
 
   // The message for the period since the previous update (or since start). No allocation.
   const status_t& update(const StatusInputs& in);

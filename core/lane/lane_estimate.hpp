@@ -77,6 +77,12 @@ struct LaneEstimate {
   int iterations = 0;
   std::int64_t latency_us = 0;  // frame timestamp (or processing start) to result
   LdwEstimate ldw{};
+  // No gyro reading for this frame while the configuration needs one to observe the roll
+  // (phi and y0 free, no roll or lane-width prior): phi and y0 are not to be trusted.
+  bool roll_unobservable = false;
+  // The source's own id for the frame (Aravis block id, V4L2 sequence, frames.csv row),
+  // which may wrap or restart; `frame` is the daemon's own count, unique within a run.
+  std::uint64_t source_frame = 0;
 };
 
 }  // namespace ccdlane

@@ -90,7 +90,11 @@ TEST(Gx1AttitudeProvider, AMissingDeviceNamesTheKeyAndThePath) {
   EXPECT_EQ(provider.open(), "gyro.device: \"/nonexistent/ttyUSB9\": /nonexistent/ttyUSB9: No such file or directory");
   EXPECT_FALSE(provider.newest_sample_ns());
   EXPECT_FALSE(provider.attitude_at(monotonic_ns()));
-  EXPECT_EQ(provider.state(), GyroState::starting);
+  // Absent at start: lost, with the cause as its problem, while the gyro thread retries.
+  EXPECT_EQ(provider.state(), GyroState::lost);
+  char problem[256];
+  provider.last_problem(problem, sizeof problem);
+  EXPECT_EQ(std::string(problem).rfind("absent: ", 0), 0u) << problem;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <ccdlane/lane_estimate_t.hpp>
@@ -290,6 +291,113 @@ TEST(CcdlanedCommand, WithoutAnyConfigurationTheBuiltInDemoIsChecked) {
   const auto r = test::run_process({kDaemon, "--check-config"});
   EXPECT_EQ(r.exit_status, 0) << r.err;
   EXPECT_EQ(r.out, "the built-in demo: configuration ok\n");
+}
+
+// Lanes and status as a subscriber on the private bus sees them.
+struct BusCapture {
+  explicit BusCapture(lcm::LCM& bus) {
+    bus.subscribeFunction(
+        "CCDLANE_LANES",
+        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, BusCapture* g) { g->lanes.push_back(*m); },
+        this);
+    bus.subscribeFunction(
+        "CCDLANE_STATUS",
+        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, BusCapture* g) { g->statuses.push_back(*m); },
+        this);
+  }
+  std::vector<lane_estimate_t> lanes;
+  std::vector<status_t> statuses;
+};
+
+// A gyro absent at start degrades the daemon instead of ending it: lanes go out, each
+// saying that the roll is not observable (the default solver has phi and y0 free, no
+// prior), the status says the gyro is lost and why, and the device keeps being tried.
+TEST(CcdlanedBus, AnAbsentGyroAtStartDegradesAndSaysSoPerMessage) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config =
+      dir.write("ccdlane.toml", config_text(test::kBusUrl, 30, "[gyro]\ndevice = \"/dev/ttyNONEXISTENT\"\n"));
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  const auto end = Clock::now() + std::chrono::seconds(15);
+  while (got.statuses.size() < 7 && Clock::now() < end) bus.handleTimeout(200);
+  EXPECT_FALSE(child.wait_exit(0).has_value()) << "still running 7 s in: " << test::read_file(dir.file("stderr"));
+  child.signal(SIGTERM);
+  const auto exit_status = child.wait_exit(2000);
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  const std::string log = test::read_file(dir.file("stderr"));
+  ASSERT_GE(got.statuses.size(), 7u) << log;
+  ASSERT_GE(got.lanes.size(), 30u) << log;
+  for (const auto& m : got.lanes) EXPECT_EQ(m.roll_unobservable, 1) << "frame " << m.frame;
+  const status_t& s = got.statuses[got.statuses.size() - 2];
+  EXPECT_EQ(s.gyro_state, status_t::GYRO_LOST);
+  EXPECT_EQ(s.gyro_problem.rfind("absent: ", 0), 0u) << s.gyro_problem;
+  EXPECT_NE(s.gyro_problem.find("/dev/ttyNONEXISTENT"), std::string::npos) << s.gyro_problem;
+  EXPECT_EQ(count_of(log, "gyro: warning: absent: "), 1) << "said once, not at every retry: " << log;
+}
+
+// SIGTERM while the synthetic drive is still being rendered (120 frames: seconds of
+// work): the daemon stops within about a second, not after the rendering.
+TEST(Ccdlaned, SigtermDuringStartUpStopsWithinASecond) {
+  test::TempDir dir;
+  const std::string config = dir.write(
+      "ccdlane.toml", "[synth]\nframes = 120\n[source]\nkind = \"synth\"\nrate_hz = 30\n[lcm]\nurl = \"memq://\"\n");
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const auto before = Clock::now();
+  child.signal(SIGTERM);
+  const std::optional<int> exit_status = child.wait_exit(5000);
+  const auto took = Clock::now() - before;
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_TRUE(WIFEXITED(*exit_status));
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("stderr"));
+  EXPECT_LT(took, std::chrono::milliseconds(1200)) << test::read_file(dir.file("stderr"));
+}
+
+// Two daemons on one bus: every message names its sender ("host:pid"), and each daemon
+// warns once that another instance publishes on its channels.
+TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config = dir.write("ccdlane.toml", config_text(test::kBusUrl, 30));
+  test::ChildProcess a({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("a.stderr"), {}});
+  test::ChildProcess b({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("b.stderr"), {}});
+  char host[256] = "";
+  ASSERT_EQ(gethostname(host, sizeof host - 1), 0);
+  const std::string name_a = std::string(host) + ":" + std::to_string(a.pid());
+  const std::string name_b = std::string(host) + ":" + std::to_string(b.pid());
+  // Each has heard the other's status (sent once a second) before its own next tick.
+  const auto statuses_from = [&](const std::string& name) {
+    return std::count_if(got.statuses.begin(), got.statuses.end(), [&](const status_t& s) { return s.instance == name; });
+  };
+  const auto end = Clock::now() + std::chrono::seconds(20);
+  while ((statuses_from(name_a) < 3 || statuses_from(name_b) < 3) && Clock::now() < end) bus.handleTimeout(200);
+  for (test::ChildProcess* child : {&a, &b}) {
+    child->signal(SIGTERM);
+    const auto exit_status = child->wait_exit(2000);
+    ASSERT_TRUE(exit_status.has_value());
+    EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  }
+  int from_a = 0, from_b = 0;
+  for (const auto& m : got.lanes) {
+    from_a += m.instance == name_a;
+    from_b += m.instance == name_b;
+  }
+  EXPECT_GT(from_a, 0);
+  EXPECT_GT(from_b, 0);
+  EXPECT_EQ(from_a + from_b, static_cast<int>(got.lanes.size())) << "every lane message names its sender";
+  for (const auto& s : got.statuses) EXPECT_TRUE(s.instance == name_a || s.instance == name_b) << s.instance;
+  const std::string log_a = test::read_file(dir.file("a.stderr")), log_b = test::read_file(dir.file("b.stderr"));
+  EXPECT_EQ(count_of(log_a, "another publisher on CCDLANE_STATUS: instance \"" + name_b + "\""), 1) << log_a;
+  EXPECT_EQ(count_of(log_b, "another publisher on CCDLANE_STATUS: instance \"" + name_a + "\""), 1) << log_b;
+  EXPECT_EQ(count_of(log_a, "another publisher"), 1) << log_a;
+  EXPECT_EQ(count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
 }
 
 }  // namespace

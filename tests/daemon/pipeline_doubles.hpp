@@ -27,12 +27,15 @@ class RecordingSink : public LaneSink {
     EstimateFailure reason;
     double theta_deg, phi_deg;
     std::int64_t latency_us, capture_utime, publish_utime;
+    std::uint64_t source_frame;
+    bool roll_unobservable;
   };
   explicit RecordingSink(std::size_t capacity) : records_(capacity) {}
   bool publish_lane(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t publish_utime) override {
     const std::uint64_t n = count_.load(std::memory_order_relaxed);
     if (n >= records_.size()) return false;
-    records_[n] = Record{e.frame, e.ok, e.reason, e.theta_deg, e.phi_deg, e.latency_us, capture_utime, publish_utime};
+    records_[n] = Record{e.frame, e.ok, e.reason, e.theta_deg, e.phi_deg, e.latency_us, capture_utime, publish_utime,
+                         e.source_frame, e.roll_unobservable};
     count_.store(n + 1, std::memory_order_release);
     return true;
   }
@@ -102,6 +105,25 @@ class CorruptingSource : public TestPatternSource {
     if (s == CaptureStatus::frame && meta.sequence % 10 == 9) render_test_pattern(into, meta.sequence - 1);
     return s;
   }
+};
+
+// A camera whose own frame id wraps at `modulus` (as Aravis' 16-bit block id does) and
+// jumps back to 0 at frame `restart_at` (as after a camera restart).
+class WrappingSource : public TestPatternSource {
+ public:
+  WrappingSource(const TestPatternOptions& o, std::uint64_t modulus, std::uint64_t restart_at)
+      : TestPatternSource(o), modulus_(modulus), restart_at_(restart_at) {}
+  CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override {
+    const CaptureStatus s = TestPatternSource::capture(into, meta, timeout_ms);
+    if (s != CaptureStatus::frame) return s;
+    const std::uint64_t n = meta.sequence;
+    meta.sequence = (n >= restart_at_ ? n - restart_at_ : n) % modulus_;
+    render_test_pattern(into, meta.sequence);  // intact under the number it carries
+    return s;
+  }
+
+ private:
+  std::uint64_t modulus_, restart_at_;
 };
 
 class FakeGyro : public AttitudeProvider {

@@ -4,7 +4,10 @@
 // camera reported, and a prompt stop. Runs under TSan in CI.
 #include "daemon/pipeline.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <filesystem>
 
 #include <atomic>
 #include <chrono>
@@ -17,7 +20,15 @@
 #include <gtest/gtest.h>
 
 #include "daemon/allocation_counter.hpp"
+#include "daemon/status_report.hpp"
+#include "drivers/frames/frame_directory_source.hpp"
+#include "drivers/frames/frame_directory_writer.hpp"
+#include "drivers/frames/pgm.hpp"
+#include "tests/daemon/child_process.hpp"
+#include "tests/support/run_process.hpp"
+#include <ccdlane/lane_estimate_t.hpp>
 #include "base/clock.hpp"
+#include "base/log.hpp"
 #include "tests/support/test_pattern_source.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
 
@@ -31,6 +42,7 @@ using test::FakeGyro;
 using test::LockstepSource;
 using test::RecordingSink;
 using test::StallingSource;
+using test::WrappingSource;
 using test::small_frames;
 
 // Runs a finite source to its end (and until `also` holds); the allocations counted
@@ -241,6 +253,170 @@ TEST(Pipeline, ACaptureCallThatDoesNotReturnIsReportedAsAStall) {
   EXPECT_STREQ(problem, "");
   pipeline.stop();
   allocation_counter::stop_counting();
+}
+
+// The camera's own id wraps and restarts; the daemon's frame numbers do not: unique and
+// increasing for the whole run, with the camera's id kept beside them.
+TEST(Pipeline, FrameNumbersStayUniqueWhenTheCamerasIdWrapsOrRestarts) {
+  constexpr std::uint64_t kFrames = 200, kModulus = 16, kRestartAt = 90;
+  RecordingSink sink(kFrames);
+  WrappingSource source(small_frames(kFrames, 2000), kModulus, kRestartAt);
+  ASSERT_EQ(source.open(), "");
+  TestPatternProcessor processor;
+  Rig rig;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, PipelineOptions{});
+  ASSERT_TRUE(run_to_end(pipeline).has_value()) << "did not finish";
+  const auto records = sink.records();
+  ASSERT_EQ(records.size(), pipeline.totals().frames_processed);
+  ASSERT_GT(records.size(), 2 * kModulus);
+  int repeated_source_ids = 0;
+  for (std::size_t i = 1; i < records.size(); ++i) {
+    EXPECT_GT(records[i].frame, records[i - 1].frame) << "at message " << i;
+    repeated_source_ids += records[i].source_frame <= records[i - 1].source_frame;
+  }
+  EXPECT_GT(repeated_source_ids, 0) << "the test's source must wrap";
+  EXPECT_LT(records.back().frame, kFrames) << "one number per frame captured";
+  for (const auto& r : records) {
+    // Frame n of the run carried the camera's id for frame n.
+    const std::uint64_t n = r.frame;
+    EXPECT_EQ(r.source_frame, (n >= kRestartAt ? n - kRestartAt : n) % kModulus) << "frame " << n;
+    EXPECT_TRUE(r.ok) << "frame " << n;
+  }
+}
+
+// Accepts every frame it is given: whatever is not ok was found bad before processing.
+class AcceptingProcessor : public FrameProcessor {
+ public:
+  LaneEstimate process(const ImageView&, const FrameMeta& meta, std::optional<Gx1Angles>) override {
+    LaneEstimate e;
+    e.frame = meta.sequence;
+    e.t_ns = meta.frame_t_ns();
+    e.ok = true;
+    return e;
+  }
+};
+
+// A looping frame directory, 64x48, six frames 5 ms apart, each carrying its gyro reading.
+std::string write_frames(const test::TempDir& dir, int count) {
+  const std::string path = dir.file("frames");
+  std::vector<std::uint8_t> px(64 * 48);
+  FrameDirectoryWriter w(path, {true, {}});
+  for (int i = 0; i < count; ++i) {
+    MutableImageView view{px.data(), 64, 48, 64, PixelFormat::mono8, 8};
+    render_test_pattern(view, static_cast<std::uint64_t>(i));
+    w.write(view, i * 5'000'000LL, Gx1Angles{0.0, 0.0, 0.0});
+  }
+  w.finish();
+  return path;
+}
+
+// The log lines written while it lives, from a temporary file.
+struct CapturedLog {
+  test::TempDir dir;
+  std::string path = dir.file("log");
+  int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  CapturedLog() { set_log_output(fd, false); }
+  ~CapturedLog() {
+    set_log_output(STDERR_FILENO, false);
+    ::close(fd);
+  }
+  std::string text() const { return test::read_file(path); }
+};
+
+int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Truncated, deleted and resized files in a looping directory: every one goes out as a
+// lane message with ok = false (no_frame) under its own frame number, is counted in the
+// status, and the first is logged naming the file (the rest within 10 s only counted).
+TEST(Pipeline, BadFilesOfALoopingFrameDirectoryArePublishedCountedAndLogged) {
+  test::TempDir dir;
+  const std::string frames = write_frames(dir, 6);
+  std::filesystem::resize_file(frames + "/000001.pgm", 20);
+  std::filesystem::remove(frames + "/000003.pgm");
+  std::vector<std::uint8_t> small(32 * 24, 7);
+  write_pgm(frames + "/000004.pgm", ImageView{small.data(), 32, 24, 32, PixelFormat::mono8, 8});
+
+  CapturedLog log;
+  RecordingSink sink(1000);
+  FrameDirectorySource source({frames, 200.0, true, 64, 48});
+  ASSERT_EQ(source.open(), "");
+  AcceptingProcessor processor;
+  Rig rig;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, PipelineOptions{});
+  pipeline.start();
+  pipeline.run();
+  EXPECT_TRUE(eventually([&] { return sink.count() >= 18; }));  // three passes
+  pipeline.stop();
+
+  const auto records = sink.records();
+  const PipelineTotals t = pipeline.totals();
+  ASSERT_EQ(records.size(), t.frames_processed);
+  std::uint64_t bad = 0;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const auto& r = records[i];
+    if (i > 0) {
+      EXPECT_GT(r.frame, records[i - 1].frame);
+    }
+    const std::uint64_t row = r.source_frame % 6;
+    const bool damaged = row == 1 || row == 3 || row == 4;
+    EXPECT_EQ(r.ok, !damaged) << "frame " << r.frame << " (row " << row << ")";
+    if (damaged) {
+      EXPECT_EQ(r.reason, EstimateFailure::no_frame) << "frame " << r.frame;
+      ++bad;
+    }
+  }
+  EXPECT_GE(bad, 6u);
+  EXPECT_EQ(t.frames_in, t.frames_processed + t.frames_dropped + t.frames_unprocessed) << "bad frames accounted too";
+
+  StatusReport report(source.describe());
+  StatusInputs in;
+  in.totals = t;
+  report.update(in);
+  const status_t& s = report.message();
+  EXPECT_EQ(s.not_ok_by_reason[lane_estimate_t::REASON_NO_FRAME], static_cast<std::int64_t>(bad));
+  EXPECT_EQ(s.frames_not_ok_total, static_cast<std::int64_t>(bad));
+  EXPECT_GE(s.source_errors_total, static_cast<std::int64_t>(bad));
+  EXPECT_EQ(s.frames_processed_total - s.frames_not_ok_total, static_cast<std::int64_t>(records.size() - bad));
+
+  const std::string text = log.text();
+  EXPECT_EQ(count_of(text, ": bad frame "), 1) << "rate-limited: " << text;
+  EXPECT_EQ(count_of(text, frames + "/000001.pgm: "), 1) << text;
+}
+
+// The frame directory removed while it plays: every read fails, which after
+// stall_timeout is a stall, said in one line, as a camera's silence is.
+TEST(Pipeline, AVanishedFrameDirectoryIsAStallAfterTheStallTimeout) {
+  test::TempDir dir;
+  const std::string frames = write_frames(dir, 6);
+  CapturedLog log;
+  RecordingSink sink(100000);
+  FrameDirectorySource source({frames, 200.0, true, 64, 48});
+  ASSERT_EQ(source.open(), "");
+  AcceptingProcessor processor;
+  Rig rig;
+  PipelineOptions options;
+  options.stall_timeout_ns = 300'000'000;
+  Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, options);
+  pipeline.start();
+  pipeline.run();
+  ASSERT_TRUE(eventually([&] { return sink.count() >= 6; }));
+  EXPECT_EQ(pipeline.totals().camera, CameraState::streaming);
+  std::filesystem::remove_all(frames);
+  const auto removed = std::chrono::steady_clock::now();
+  EXPECT_TRUE(eventually([&] { return pipeline.totals().camera == CameraState::stalled; }, 3s));
+  EXPECT_GE(std::chrono::steady_clock::now() - removed, 250ms) << "not before the stall timeout";
+  std::this_thread::sleep_for(700ms);  // more failed reads: still one line
+  char problem[256];
+  pipeline.camera_problem(problem, sizeof problem);
+  pipeline.stop();
+  EXPECT_EQ(pipeline.totals().camera, CameraState::stalled);
+  EXPECT_NE(std::string(problem).find(frames + "/"), std::string::npos) << problem;
+  const std::string text = log.text();
+  EXPECT_EQ(count_of(text, "stalled"), 1) << text;
 }
 
 TEST(Pipeline, StopsPromptlyWhileStreaming) {

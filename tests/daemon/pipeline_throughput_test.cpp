@@ -181,8 +181,9 @@ TEST(PipelineThroughput, FakeCameraAtItsMaximumRateNoFrameCorruptedDropsCountedE
   ASSERT_FALSE(records.empty());
   std::size_t at = 0;
   for (const auto& r : records) {
-    while (at < captured.size() && captured[at] != r.frame) ++at;
-    ASSERT_LT(at, captured.size()) << "frame " << r.frame << " processed out of order, twice or never captured";
+    // The camera's own id travels as source_frame (frame is the run's count).
+    while (at < captured.size() && captured[at] != r.source_frame) ++at;
+    ASSERT_LT(at, captured.size()) << "frame " << r.source_frame << " processed out of order, twice or never captured";
     ++at;
   }
   // The camera lost none on the way in (consecutive ids), so the gaps in the processed
@@ -190,9 +191,13 @@ TEST(PipelineThroughput, FakeCameraAtItsMaximumRateNoFrameCorruptedDropsCountedE
   ASSERT_EQ(t.source.dropped, 0u);
   ASSERT_EQ(t.source.errors, 0u);
   for (std::size_t i = 1; i < captured.size(); ++i) ASSERT_EQ(ids_between(captured[i - 1], captured[i]), 0u) << i;
-  std::uint64_t gaps = records.front().frame == captured.front() ? 0 : ids_between(captured.front(), records.front().frame) + 1;
-  for (std::size_t i = 1; i < records.size(); ++i) gaps += ids_between(records[i - 1].frame, records[i].frame);
-  if (records.back().frame != captured.back()) gaps += ids_between(records.back().frame, captured.back()) + 1;
+  std::uint64_t gaps = records.front().source_frame == captured.front()
+                           ? 0
+                           : ids_between(captured.front(), records.front().source_frame) + 1;
+  for (std::size_t i = 1; i < records.size(); ++i)
+    gaps += ids_between(records[i - 1].source_frame, records[i].source_frame);
+  if (records.back().source_frame != captured.back())
+    gaps += ids_between(records.back().source_frame, captured.back()) + 1;
   EXPECT_EQ(gaps, t.frames_dropped + t.frames_unprocessed) << "every frame not processed is a counted drop";
   EXPECT_EQ(t.camera, CameraState::streaming);
 }

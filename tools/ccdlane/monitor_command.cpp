@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -146,6 +147,12 @@ class Monitor {
                     camera_state_name(s.camera_state), gyro_state_name(s.gyro_state), gyro_reconnects,
                     static_cast<double>(s.latency_p99_us) * 1e-3, static_cast<long long>(s.frames_dropped_total),
                     static_cast<long long>(s.allocations_since_ready));
+    }
+    // Which daemon: two on one bus interleave their messages on the same channels.
+    const std::string* instance = last_lane_ ? &last_lane_->instance : last_status_ ? &last_status_->instance : nullptr;
+    if (instance && !instance->empty()) {
+      const std::size_t used = std::strlen(text);
+      std::snprintf(text + used, sizeof text - used, " | instance %s", instance->c_str());
     }
     std::cout << text << std::endl;
     lanes_in_second_ = 0;
