@@ -342,3 +342,34 @@ TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
 
 }  // namespace
 }  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// Damage in the middle of an LCM log and a cut end: replay goes on past both, names
+// them, keeps its output, and exits 1 because frames were lost.
+TEST(ReplayCommand, ADamagedOrCutLogLosesOnlyTheDamagedEventsAndExitsOne) {
+  test::TempDir dir;
+  const std::string log = dir.file("x.lcmlog");
+  const auto rec = test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", log, "--count", "6"});
+  ASSERT_EQ(rec.exit_status, 0) << rec.err;
+  std::ifstream in(log, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t event = bytes.size() / 6;
+  for (const std::string damage : {"data length", "sync", "cut"}) {
+    SCOPED_TRACE(damage);
+    std::vector<char> b = bytes;
+    if (damage == "data length") b[3 * event + 24] = 0x7f, b[3 * event + 25] = b[3 * event + 26] = b[3 * event + 27] = '\xff';
+    if (damage == "sync") b[3 * event] = 0;
+    if (damage == "cut") b.resize(b.size() - 1000);
+    const std::string path = dir.file(damage + ".lcmlog");
+    std::ofstream(path, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
+    const auto r = test::run_process({kTool, "replay", kReferenceCamera, path});
+    EXPECT_EQ(r.exit_status, 1) << r.err;
+    EXPECT_EQ(json_lines(r.out).size(), 5u) << "the other frames are replayed";
+    EXPECT_NE(r.err.find("1 event(s) lost to damage"), std::string::npos) << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace ccdlane

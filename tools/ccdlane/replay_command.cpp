@@ -170,6 +170,10 @@ CommandAction setup_replay(CLI::App& sub) {
       }
     } else {
       for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
+        if (n == FrameLogReader::Next::lost) {  // no frame to print: its number is unknown
+          std::cerr << "ccdlane replay: " << log->problem() << '\n';
+          continue;
+        }
         const FrameRecord& r = log->record();
         const ImageView& image = log->image();
         bool usable = n == FrameLogReader::Next::frame;
@@ -182,7 +186,7 @@ CommandAction setup_replay(CLI::App& sub) {
         }
         replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro);
       }
-      if (frames == 0)
+      if (frames == 0 && log->lost_events() == 0)
         throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +
                          std::to_string(log->other_events()) + " events on other channels)");
     }
@@ -195,6 +199,14 @@ CommandAction setup_replay(CLI::App& sub) {
                   frames + csv_issues, ok, skipped, processed ? 1e3 * total_s / static_cast<double>(processed) : 0.0,
                   1e3 * worst_s, static_cast<unsigned long long>(worst_frame));
     std::cerr << summary << '\n';
+    // Frames lost to a damaged or cut log are a failed replay even when the rest went
+    // well: the output is kept, the status says it is incomplete.
+    if (log && log->lost_events() > 0) {
+      std::fprintf(stderr, "ccdlane replay: %s: %llu event(s) lost to damage (%llu bytes skipped)%s\n", a->input.c_str(),
+                   static_cast<unsigned long long>(log->lost_events()),
+                   static_cast<unsigned long long>(log->lost_bytes()), log->truncated() ? ", the last one cut short" : "");
+      return 1;
+    }
     if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");
     return 0;
   };
