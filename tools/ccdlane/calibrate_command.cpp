@@ -21,6 +21,7 @@
 #include "core/calibration/camera_calibration.hpp"
 #include "app/config_loader.hpp"
 #include "core/solver/lane_solver.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/grey_picture.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -182,23 +183,6 @@ std::string camera_table(const CameraCalibration& c, const CameraSpec& chip, std
   return t.str();
 }
 
-// Written under a temporary name and renamed: the file is whole or absent.
-void write_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(tmp + ": cannot write");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename " + tmp + " to it");
-  }
-}
 
 // Found corners as green crosses, the model's corners as red ones.
 void write_overlays(const std::string& dir, const std::vector<Picture>& pictures, const std::vector<int>& used,
@@ -258,7 +242,7 @@ int run_camera(const CameraArgs& args) {
   if (args.out.empty()) {
     std::cout << table;
   } else {
-    write_atomically(args.out, table);
+    write_file_checked(args.out, table);
     std::cerr << "wrote [camera] to " << args.out << "\n";
   }
   return 0;

@@ -19,6 +19,7 @@
 #include "bus/channels.hpp"
 #include "bus/lane_message.hpp"
 #include "bus/status_names.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
@@ -95,7 +96,7 @@ class Monitor {
     last_lane_ = m;
     if (args_.json) {
       print_json_line(std::cout, lane_estimate_json(from_message(m)));
-      std::cout.flush();  // live through pipes, one object per message
+      flush_checked(std::cout, "standard output");  // live through pipes, one object per message
     }
   }
 
@@ -130,7 +131,8 @@ class Monitor {
                     static_cast<double>(s.latency_p99_us) * 1e-3, static_cast<long long>(s.frames_dropped_total),
                     static_cast<long long>(s.allocations_since_ready));
     }
-    std::cout << text << std::endl;
+    std::cout << text << '\n';
+    flush_checked(std::cout, "standard output");
     lanes_in_second_ = 0;
     lanes_printed_ = lanes_;
   }

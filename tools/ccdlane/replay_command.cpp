@@ -15,6 +15,7 @@
 #include "bus/channels.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "bus/frame_log.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -28,33 +29,6 @@ struct ReplayArgs {
   std::string out;
   std::string overlay;
   bool sigmas = false;
-};
-
-// The output file: written under a temporary name, renamed on success, removed otherwise.
-class OutputFile {
- public:
-  explicit OutputFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
-    stream_.open(tmp_, std::ios::binary | std::ios::trunc);
-    if (!stream_) throw UsageError(path_ + ": cannot create the output file");
-  }
-  ~OutputFile() {
-    if (!committed_) {
-      stream_.close();
-      std::remove(tmp_.c_str());
-    }
-  }
-  std::ostream& stream() { return stream_; }
-  void commit() {
-    stream_.close();
-    if (stream_.fail() || std::rename(tmp_.c_str(), path_.c_str()) != 0)
-      throw std::runtime_error(path_ + ": cannot write the output file");
-    committed_ = true;
-  }
-
- private:
-  std::string path_, tmp_;
-  std::ofstream stream_;
-  bool committed_ = false;
 };
 
 void draw_overlay(const std::string& path, const ImageView& frame, const LaneEstimator& estimator,
@@ -117,7 +91,13 @@ CommandAction setup_replay(CLI::App& sub) {
     const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
 
     std::unique_ptr<OutputFile> file;
-    if (!a->out.empty()) file = std::make_unique<OutputFile>(a->out);
+    if (!a->out.empty()) {
+      try {
+        file = std::make_unique<OutputFile>(a->out);
+      } catch (const std::runtime_error& e) {
+        throw UsageError(e.what());
+      }
+    }
     std::ostream& out = file ? file->stream() : std::cout;
     if (!a->overlay.empty()) {
       std::error_code ec;
@@ -190,8 +170,8 @@ CommandAction setup_replay(CLI::App& sub) {
         throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +
                          std::to_string(log->other_events()) + " events on other channels)");
     }
-    out.flush();
     if (file) file->commit();
+    else flush_checked(std::cout, "standard output");
     const std::size_t processed = frames - (skipped - csv_issues);
     char summary[256];
     std::snprintf(summary, sizeof summary,
