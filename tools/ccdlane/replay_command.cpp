@@ -82,15 +82,21 @@ CommandAction setup_replay(CLI::App& sub) {
     } catch (const std::runtime_error& e) {  // FrameDirectoryError, FrameLogError
       throw UsageError(e.what());
     }
+    // The picture size is the camera's, from the configuration; a frame of another size is
+    // skipped and counted wherever it is, the first one included. The first readable
+    // frame gives only the pixel format.
     const auto header = dir ? dir->probe_first() : std::nullopt;
-    if (header && (header->width != W || header->height != H))
-      throw UsageError(a->input + ": frames are " + std::to_string(header->width) + "x" +
-                       std::to_string(header->height) + ", the camera of " + a->config + " is " + std::to_string(W) +
-                       "x" + std::to_string(H));
     const PixelFormat format = header ? header->format() : PixelFormat::mono8;
     const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
 
     std::unique_ptr<OutputFile> file;
+    // The output must not replace the input: its frames.csv, or the log itself.
+    if (!a->out.empty()) {
+      std::error_code ec;
+      const std::string input_file = is_log ? a->input : a->input + "/frames.csv";
+      if (std::filesystem::equivalent(a->out, input_file, ec))
+        throw UsageError(a->out + ": is the input being replayed (" + input_file + "); choose another --out");
+    }
     if (!a->out.empty()) {
       try {
         file = std::make_unique<OutputFile>(a->out);
@@ -111,7 +117,7 @@ CommandAction setup_replay(CLI::App& sub) {
     std::size_t skipped = csv_issues;
 
     LaneEstimator estimator(config.estimator_options());
-    std::size_t frames = 0, ok = 0;
+    std::size_t frames = 0, ok = 0, overlays = 0;
     double total_s = 0.0, worst_s = 0.0;
     std::uint64_t worst_frame = 0;
     // One frame through the pipeline; `image` null for a frame that could not be read.
@@ -134,7 +140,14 @@ CommandAction setup_replay(CLI::App& sub) {
       if (!a->overlay.empty()) {
         char name[32];
         std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
-        draw_overlay(a->overlay + name, *image, estimator, config);
+        try {
+          draw_overlay(a->overlay + name, *image, estimator, config);
+        } catch (const std::runtime_error& failure) {
+          // Each PNG is whole or absent (temporary name, then rename): say what is there.
+          throw std::runtime_error(std::string(failure.what()) + "; " + std::to_string(overlays) +
+                                   " complete overlays remain in " + a->overlay + ", no partial file");
+        }
+        ++overlays;
       }
     };
 
