@@ -61,8 +61,12 @@ void FrameLogWriter::write(const ImageView& image, const FrameRecord& record) {
   event.channel = channel_;
   event.datalen = size;
   event.data = bytes_.data();
-  if (size < 0 || log_->writeEvent(&event) != 0)
+  // Flushed per event (a frame is large anyway), so that a full disk costs at most the
+  // event being written.
+  FILE* file = log_->getFilePtr();
+  if (size < 0 || log_->writeEvent(&event) != 0 || std::fflush(file) != 0)
     throw FrameLogError(tmp_ + ": cannot write frame " + std::to_string(record.sequence) + ": " + std::strerror(errno));
+  whole_bytes_ = ::ftello(file);
   ++frames_;
 }
 
@@ -71,11 +75,25 @@ void FrameLogWriter::finish() {
   FILE* file = log_->getFilePtr();
   const bool flushed = std::fflush(file) == 0 && !std::ferror(file) && ::fsync(::fileno(file)) == 0;
   const int error = errno;
+  if (!flushed) throw FrameLogError(tmp_ + ": write failed: " + std::strerror(error));  // keep_written() may still cut
   log_.reset();
-  if (!flushed) throw FrameLogError(tmp_ + ": write failed: " + std::strerror(error));
   if (::rename(tmp_.c_str(), path_.c_str()) != 0)
     throw FrameLogError(path_ + ": cannot rename into place: " + std::strerror(errno));
   finished_ = true;
+}
+
+std::string FrameLogWriter::keep_written() noexcept {
+  if (finished_ || !log_) return finished_ ? "" : "nothing to keep";
+  FILE* file = log_->getFilePtr();
+  std::fflush(file);  // fails again on a full disk: the cut below drops what it left
+  const int fd = ::fileno(file);
+  std::string why;
+  if (::ftruncate(fd, whole_bytes_) != 0 || ::fsync(fd) != 0) why = tmp_ + ": cannot cut back to whole events: " + std::strerror(errno);
+  log_.reset();
+  if (why.empty() && ::rename(tmp_.c_str(), path_.c_str()) != 0)
+    why = path_ + ": cannot rename into place: " + std::strerror(errno);
+  finished_ = why.empty();
+  return why;
 }
 
 FrameLogReader::FrameLogReader(std::string path, std::string channel)

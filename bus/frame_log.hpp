@@ -42,6 +42,10 @@ class FrameLogWriter {
   // The event's timestamp is record.utime. Throws FrameLogError when the disk refuses.
   void write(const ImageView& image, const FrameRecord& record);
   void finish();
+  // After a failed write (a full disk): cuts the file back to the last whole event and
+  // renames it into place, so a long recording keeps what it had. Returns "" or why the
+  // frames could not be kept (the .tmp file then stays, for the reader to salvage).
+  std::string keep_written() noexcept;
 
   std::size_t frames_written() const { return frames_; }
   const std::string& path() const { return path_; }
@@ -52,6 +56,7 @@ class FrameLogWriter {
   frame_t message_{};
   std::vector<std::uint8_t> bytes_;
   std::size_t frames_ = 0;
+  long long whole_bytes_ = 0;  // the file up to the end of the last event written and flushed
   bool finished_ = false;
 };
 
