@@ -152,8 +152,8 @@ CommandAction setup_monitor(CLI::App& sub) {
   auto args = std::make_shared<MonitorArgs>();
   sub.add_option("--lcm", args->url, "LCM bus URL")->capture_default_str();
   sub.add_option("--prefix", args->prefix, "channel prefix ([lcm] prefix of the daemon)")->capture_default_str();
-  sub.add_option("--count", args->count, "stop after N lane messages")->check(CLI::PositiveNumber);
-  sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(CLI::PositiveNumber);
+  sub.add_option("--count", args->count, "stop after N lane messages")->check(positive_number());
+  sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(positive_number());
   sub.add_flag("--json", args->json, "print each lane message as a JSON object, one per line (as ccdlane replay)");
   sub.footer("Without --json: one line a second with the latest lane estimate and the daemon's status. "
              "Exit status 1 when no lane message arrived.");

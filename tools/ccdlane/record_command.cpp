@@ -277,7 +277,7 @@ CommandAction setup_record(CLI::App& sub) {
   sub.add_option("--out", a->out, "a frame directory to create, or FILE.lcmlog (an LCM log of ccdlane.frame_t)")
       ->required();
   sub.add_option("--config", a->config, "configuration (TOML): [camera] Nu x Nv, [gyro] device, [synth], [lcm] prefix");
-  sub.add_option("--seconds", a->seconds, "stop after S seconds of frames")->check(CLI::PositiveNumber);
+  sub.add_option("--seconds", a->seconds, "stop after S seconds of frames")->check(positive_number());
   sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
   sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")->check(CLI::Range(0.0, 10000.0));
   sub.footer("Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "
