@@ -183,9 +183,11 @@ CommandAction setup_replay(CLI::App& sub) {
         throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +
                          std::to_string(log->other_events()) + " events on other channels)");
     }
+    const std::size_t processed = frames - (skipped - csv_issues);
+    // Nothing replayed is bad input, not a result: no output file is left.
+    if (frames > 0 && processed == 0 && file) file.reset();
     if (file) file->commit();
     else flush_checked(std::cout, "standard output");
-    const std::size_t processed = frames - (skipped - csv_issues);
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
