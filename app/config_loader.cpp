@@ -2,7 +2,13 @@
 // of a possible value; the first problem is reported with file, line and key.
 #include "app/config_loader.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -11,6 +17,8 @@
 #include <vector>
 
 #include <toml++/toml.h>
+
+#include "base/unique_fd.hpp"
 
 namespace ccdlane {
 namespace {
@@ -148,6 +156,12 @@ void read_camera(TableReader& r, Config& c) {
   for (const auto& [key, value] : sizes) require(value > 0.0, r, key, "must be > 0, got " + format_number(value));
   require(cam.Nu >= 2, r, "Nu", "must be at least 2, got " + std::to_string(cam.Nu));
   require(cam.Nv >= 2, r, "Nv", "must be at least 2, got " + std::to_string(cam.Nv));
+  // Frames are allocated at start-up from these: refuse what cannot be (a 16-bit frame
+  // at the limit is 128 MiB, and the daemon holds queue_depth + 2 of them).
+  require(cam.Nu <= kMaxImageSide, r, "Nu",
+          "must be at most " + std::to_string(kMaxImageSide) + " pixels, got " + std::to_string(cam.Nu));
+  require(cam.Nv <= kMaxImageSide, r, "Nv",
+          "must be at most " + std::to_string(kMaxImageSide) + " pixels, got " + std::to_string(cam.Nv));
   require(cam.Uc_mm < cam.U_mm, r, "Uc_mm", "a cell cannot be as wide as the chip (U_mm = " + format_number(cam.U_mm) + ")");
   require(cam.Vc_mm < cam.V_mm, r, "Vc_mm", "a cell cannot be as tall as the chip (V_mm = " + format_number(cam.V_mm) + ")");
   require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + 1e-9), r, "Nu",
@@ -584,12 +598,26 @@ std::vector<std::string> config_keys() {
 }
 
 Config load_config_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path + ": cannot read the configuration file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw ConfigError(path + ": error while reading the configuration file");
-  return parse_config(text.str(), path);
+  const auto fail = [&](const std::string& why) { throw ConfigError(path + ": " + why); };
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail(std::string("cannot read the configuration file: ") + std::strerror(errno));
+  const UniqueFd file(fd);
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) fail(std::string("cannot read the configuration file: ") + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) fail("is a directory, not a configuration file");
+  // A device or a pipe is read too (a process substitution), but never past the cap.
+  std::string text;
+  char chunk[16384];
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail(std::string("error while reading the configuration file: ") + std::strerror(errno));
+    if (n == 0) break;
+    text.append(chunk, static_cast<std::size_t>(n));
+    if (text.size() > kMaxConfigBytes)
+      fail("larger than " + std::to_string(kMaxConfigBytes >> 20) + " MB: not a configuration file");
+  }
+  return parse_config(text, path);
 }
 
 }  // namespace ccdlane

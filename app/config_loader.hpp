@@ -17,6 +17,11 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Limits on what a configuration may ask for, checked at load: a picture side (frames
+// are allocated from [camera] Nu x Nv), and the size of the file itself.
+inline constexpr int kMaxImageSide = 8192;
+inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;
+
 // Parses TOML text; `source_name` names it in error messages.
 Config parse_config(std::string_view toml_text, const std::string& source_name);
 
@@ -24,7 +29,8 @@ Config parse_config(std::string_view toml_text, const std::string& source_name);
 // keys of each [[lines]] table), table by table.
 std::vector<std::string> config_keys();
 
-// Reads and parses a file. Throws ConfigError (also for a file that cannot be read).
+// Reads and parses a file. Throws ConfigError (also for a file that cannot be read: the
+// reason from the system, "is a directory", or more than kMaxConfigBytes).
 Config load_config_file(const std::string& path);
 
 }  // namespace ccdlane

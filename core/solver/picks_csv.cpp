@@ -16,6 +16,27 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
+// A field as it may be shown in an error: quoted, at most 40 bytes, anything that is
+// not printable ASCII escaped, so that a binary file cannot flood or garble a terminal.
+std::string excerpt(std::string_view field) {
+  constexpr std::size_t kShown = 40;
+  std::string out = "\"";
+  for (const char c : field.substr(0, kShown)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7F && c != '"' && c != '\\') {
+      out += c;
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 15];
+    }
+  }
+  out += '"';
+  if (field.size() > kShown) out += "... (" + std::to_string(field.size()) + " bytes)";
+  return out;
+}
+
 class RowError {
  public:
   RowError(const std::string& source, int line) : prefix_(source + ":" + std::to_string(line) + ": ") {}
@@ -58,18 +79,18 @@ PicksCsv parse_picks_csv(std::string_view text, const std::string& source_name) 
     }
     if (!have_header) {
       if (count != 3 || fields[0] != "line" || fields[1] != "px" || fields[2] != "py")
-        error.fail("expected the header line,px,py, got \"" + std::string(row) + "\"");
+        error.fail("expected the header line,px,py, got " + excerpt(row));
       have_header = true;
       continue;
     }
     if (count != 3) error.fail("expected 3 fields (line,px,py), got " + std::to_string(count));
     Pick pick;
     if (!parse_whole(fields[0], pick.line) || pick.line < 0)
-      error.fail("line: not a lane-line id (an integer >= 0): \"" + std::string(fields[0]) + "\"");
+      error.fail("line: not a lane-line id (an integer >= 0): " + excerpt(fields[0]));
     if (!parse_whole(fields[1], pick.px) || !std::isfinite(pick.px))
-      error.fail("px: not a finite number: \"" + std::string(fields[1]) + "\"");
+      error.fail("px: not a finite number: " + excerpt(fields[1]));
     if (!parse_whole(fields[2], pick.py) || !std::isfinite(pick.py))
-      error.fail("py: not a finite number: \"" + std::string(fields[2]) + "\"");
+      error.fail("py: not a finite number: " + excerpt(fields[2]));
     out.picks.push_back(pick);
     out.source_lines.push_back(line_no);
   }

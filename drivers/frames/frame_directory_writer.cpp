@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -51,6 +53,8 @@ FrameDirectoryWriter::FrameDirectoryWriter(std::string dir, FrameDirectoryLayout
   if (layout_.gyro) header += ",roll_deg,pitch_deg,yaw_deg";
   for (const std::string& c : layout_.truth_columns) header += "," + c;
   csv_ << header << '\n';
+  csv_.flush();
+  csv_bytes_ = csv_.tellp();
 }
 
 FrameDirectoryWriter::~FrameDirectoryWriter() {
@@ -98,7 +102,23 @@ void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, cons
   }
   csv_ << row << '\n';
   csv_.flush();
-  if (!csv_) throw FrameDirectoryError(tmp_csv_ + ": write failed");
+  if (!csv_) throw FrameDirectoryError(tmp_csv_ + ": write failed: " + std::strerror(errno));
+  csv_bytes_ = csv_.tellp();
+  kept_frames_ = files_.size();
+}
+
+std::string FrameDirectoryWriter::keep_written() noexcept {
+  if (finished_) return "";
+  csv_.clear();
+  csv_.close();  // may fail again: the row it held is cut off below
+  if (::truncate(tmp_csv_.c_str(), csv_bytes_) != 0) return tmp_csv_ + ": cannot cut back to whole rows: " + std::strerror(errno);
+  // A picture without its row was the frame being written: not part of the recording.
+  for (std::size_t i = kept_frames_; i < files_.size(); ++i) ::unlink((dir_ + "/" + files_[i]).c_str());
+  files_.resize(kept_frames_);
+  const std::string final_csv = dir_ + "/frames.csv";
+  if (::rename(tmp_csv_.c_str(), final_csv.c_str()) != 0) return final_csv + ": cannot rename into place: " + std::strerror(errno);
+  finished_ = true;
+  return "";
 }
 
 void FrameDirectoryWriter::finish() {

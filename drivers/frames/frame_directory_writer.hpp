@@ -42,8 +42,12 @@ class FrameDirectoryWriter {
 
   // Puts frames.csv in place. After this the destructor leaves everything where it is.
   void finish();
+  // After a failed write (a full disk): frames.csv with the rows of the frames written
+  // whole, put in place, so a long recording keeps what it had. Returns "" or why not.
+  std::string keep_written() noexcept;
 
   std::size_t frames_written() const { return files_.size(); }
+  std::size_t frames_kept() const { return kept_frames_; }
   const std::string& path() const { return dir_; }
 
  private:
@@ -57,6 +61,8 @@ class FrameDirectoryWriter {
   bool created_dir_ = false;
   bool finished_ = false;
   std::int64_t last_t_ns_ = 0;
+  std::size_t kept_frames_ = 0;     // frames whose row reached frames.csv.tmp
+  std::streamoff csv_bytes_ = 0;    // of frames.csv.tmp up to the last whole row
 };
 
 }  // namespace ccdlane

@@ -8,6 +8,15 @@
 namespace ccdlane {
 namespace {
 
+// Which angle of a gyro reading lies outside what the 3DM-GX1 reports (roll and yaw
+// -180..180 degrees, pitch -90..90), or nullptr.
+const char* gyro_out_of_range(const Gx1Angles& g) {
+  if (!(std::abs(g.roll_deg) <= 180.0)) return "roll_deg: outside -180..180 degrees";
+  if (!(std::abs(g.pitch_deg) <= 90.0)) return "pitch_deg: outside -90..90 degrees";
+  if (!(std::abs(g.yaw_deg) <= 180.0)) return "yaw_deg: outside -180..180 degrees";
+  return nullptr;
+}
+
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
@@ -132,6 +141,11 @@ FramesCsv parse_frames_csv(std::string_view text, const std::string& name) {
           bad = true;
         } else if (!y.empty() && !parse_double(y, g.yaw_deg)) {
           issue("yaw_deg: not a number: \"" + std::string(y) + "\"");
+          bad = true;
+        } else if (const char* range = gyro_out_of_range(g)) {
+          // The 3DM-GX1 reports Euler angles in these ranges (its driver wraps them so):
+          // anything else is damage, not a prior to weigh the solver with.
+          issue(range);
           bad = true;
         }
         row.gyro = g;

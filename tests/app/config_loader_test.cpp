@@ -2,7 +2,12 @@
 #include "app/config_loader.hpp"
 #include "tests/support/config_error.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -166,6 +171,43 @@ TEST(ConfigLoader, SyntaxErrorsNameTheLine) {
 
 TEST(ConfigLoader, MissingFileIsAConfigError) {
   EXPECT_THROW(load_config_file("/nonexistent/ccdlane.toml"), ConfigError);
+}
+
+std::string load_error(const std::string& path) {
+  try {
+    load_config_file(path);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ConfigLoader, ADirectoryIsNoConfiguration) {
+  EXPECT_EQ(load_error("/etc"), "/etc: is a directory, not a configuration file");
+}
+
+TEST(ConfigLoader, AnEndlessFileIsReadOnlyUpToOneMegabyte) {
+  EXPECT_EQ(load_error("/dev/zero"), "/dev/zero: larger than 1 MB: not a configuration file");
+}
+
+TEST(ConfigLoader, AFileThatCannotBeOpenedSaysWhy) {
+  EXPECT_EQ(load_error("/nonexistent/ccdlane.toml"),
+            "/nonexistent/ccdlane.toml: cannot read the configuration file: No such file or directory");
+  if (::geteuid() == 0) GTEST_SKIP() << "running as root: permissions do not stop root from reading a file";
+  char dir[] = "/tmp/ccdlane-config-XXXXXX";
+  ASSERT_NE(::mkdtemp(dir), nullptr);
+  const std::string path = std::string(dir) + "/locked.toml";
+  { std::ofstream(path) << "[camera]\n"; }
+  ::chmod(path.c_str(), 0);
+  EXPECT_EQ(load_error(path), path + ": cannot read the configuration file: Permission denied");
+  ::unlink(path.c_str());
+  ::rmdir(dir);
+}
+
+TEST(ConfigLoader, PicturesTooLargeToAllocateAreRefused) {
+  EXPECT_EQ(error_of("[camera]\nNu = 100000\nNv = 100000\nUc_mm = 0.00001\nVc_mm = 0.00001\n"),
+            "test.toml:2: camera.Nu: must be at most 8192 pixels, got 100000");
+  EXPECT_EQ(error_of("[camera]\nNv = 8193\nVc_mm = 0.0001\n"), "test.toml:2: camera.Nv: must be at most 8192 pixels, got 8193");
 }
 
 TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {

@@ -234,7 +234,7 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
 
   r = test::run_process({kDaemon, "--config", dir.file("missing.toml")});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(r.err, "ccdlaned: " + dir.file("missing.toml") + ": cannot read the configuration file\n");
+  EXPECT_EQ(r.err, "ccdlaned: " + dir.file("missing.toml") + ": cannot read the configuration file: No such file or directory\n");
 
   r = test::run_process({kDaemon, "--frobnicate"});
   EXPECT_EQ(r.exit_status, 2);

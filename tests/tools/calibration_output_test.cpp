@@ -1,6 +1,7 @@
 // The calibrate commands' output: TOML floats read back to the same double, and a table
 // written atomically (whole, no temporary left behind; an unwritable place throws).
 #include "tools/ccdlane/calibration_output.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -25,12 +26,14 @@ TEST(CalibrationOutput, TomlFloatsReadBackExactly) {
 TEST(CalibrationOutput, WritesWholeAndLeavesNoTemporary) {
   test::TempDir dir;
   const std::string path = dir.file("t.toml");
-  write_atomically(path, "[mount]\nH_mm = 1.0\n");
+  write_file_checked(path, "[mount]\nH_mm = 1.0\n");
   std::ifstream in(path);
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   EXPECT_EQ(text, "[mount]\nH_mm = 1.0\n");
-  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
-  EXPECT_THROW(write_atomically(dir.file("no/such/dir/t.toml"), "x"), std::runtime_error);
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path())) ++files;
+  EXPECT_EQ(files, 1u) << "no temporary left beside it";
+  EXPECT_THROW(write_file_checked(dir.file("no/such/dir/t.toml"), "x"), std::runtime_error);
 }
 
 }  // namespace

@@ -144,6 +144,10 @@ TEST(MonitorCommandAlone, BadUsageIsExitTwo) {
   const auto r = test::run_process({kTool, "monitor", "--count", "0"});
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+  EXPECT_EQ(r.err, "ccdlane: --count: must be a number greater than 0, got 0 (see ccdlane --help)\n");
+  const auto s = test::run_process({kTool, "monitor", "--seconds", "-1"});
+  EXPECT_EQ(s.exit_status, 2);
+  EXPECT_EQ(s.err, "ccdlane: --seconds: must be a number greater than 0, got -1 (see ccdlane --help)\n");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // of an LCM log giving the same JSON Lines as the frame directory of the same frames.
 #include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -213,6 +214,45 @@ TEST(RecordCommand, BadUseIsOneLineAndLeavesNothingBehind) {
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"g.toml", "taken.lcmlog"}));
 }
+
+}  // namespace
+}  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// `record` into a 2 MB tmpfs (a private mount namespace: root only) fills it after a
+// few 800x600 frames. What was written is kept, whole, and replays; the command says how
+// many frames were saved and exits 1.
+void record_into_a_full_disk(const std::string& out_name) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs in a private mount namespace";
+  test::TempDir dir;
+  const std::string small = dir.file("small");
+  std::filesystem::create_directory(small);
+  const std::string script =
+      "mount -t tmpfs -o size=2m tmpfs \"$1\" || exit 99; out=\"$1/$4\"; "
+      "\"$2\" record synth --config \"$3\" --out \"$out\" --count 50; echo \"record rc=$?\"; ls \"$1\"; "
+      "\"$2\" replay \"$3\" \"$out\" >/dev/null; echo \"replay rc=$?\"";
+  const auto r = test::run_process({"/usr/bin/unshare", "-m", "--propagation", "private", "/bin/sh", "-c", script, "sh",
+                                    small, CCDLANE_TOOL, std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml",
+                                    out_name});
+  if (r.exit_status == 99) GTEST_SKIP() << "cannot mount a tmpfs here: " << r.err;
+  EXPECT_NE(r.out.find("record rc=1\n"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  const std::string saved = " frames before it are saved in " + small + "/" + out_name;
+  const std::size_t at = r.err.find(saved);
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const std::size_t number = r.err.rfind("the ", at) + 4;
+  const int kept = std::stoi(r.err.substr(number, at - number));
+  EXPECT_GE(kept, 2) << "a 2 MB disk holds a few 469 KiB frames";
+  EXPECT_NE(r.out.find(out_name + "\n"), std::string::npos) << "kept under its final name: " << r.out;
+  EXPECT_EQ(r.out.find(".tmp"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("replay rc=0\n"), std::string::npos) << "the kept frames are whole: " << r.out << r.err;
+  EXPECT_NE(r.err.find("ccdlane replay: " + std::to_string(kept) + " frames, "), std::string::npos) << r.err;
+}
+
+TEST(RecordCommand, AFullDiskKeepsTheLogWrittenSoFar) { record_into_a_full_disk("drive.lcmlog"); }
+TEST(RecordCommand, AFullDiskKeepsTheFrameDirectoryWrittenSoFar) { record_into_a_full_disk("drive"); }
 
 }  // namespace
 }  // namespace ccdlane

@@ -2,6 +2,8 @@
 // their truth columns (accuracy within the solver's own sigmas, >= 98% of frames ok);
 // on the real pictures of the shared data; with damaged input; the JSON contract; the
 // overlays and the output file.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -329,8 +331,11 @@ TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
   ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "1"}).exit_status, 0);
   const std::string real = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced";
   auto r = test::run_process({kTool, "replay", kReferenceCamera, real, "--out", dir.file("o.jsonl")});
+  // Every frame the wrong size for the camera: each is named and skipped (the same rule
+  // as for one bad frame), and with none left the run is bad input, with no output.
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(r.err, "ccdlane: " + real + ": frames are 1280x720, the camera of " + kReferenceCamera + " is 800x600\n");
+  EXPECT_NE(r.err.find(real + "/000000.pgm: wrong size: 1280x720, expected 800x600\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ccdlane: " + real + ": none of the frames could be read\n"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.jsonl")));
   r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("nothing")});
   EXPECT_EQ(r.exit_status, 2);
@@ -344,6 +349,98 @@ TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
   r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road/frames.csv")});
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_EQ(r.err, "ccdlane: " + dir.file("road/frames.csv") + ": not an LCM log (no LCM event at its start)\n");
+}
+
+}  // namespace
+}  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// Damage in the middle of an LCM log and a cut end: replay goes on past both, names
+// them, keeps its output, and exits 1 because frames were lost.
+TEST(ReplayCommand, ADamagedOrCutLogLosesOnlyTheDamagedEventsAndExitsOne) {
+  test::TempDir dir;
+  const std::string log = dir.file("x.lcmlog");
+  const auto rec = test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", log, "--count", "6"});
+  ASSERT_EQ(rec.exit_status, 0) << rec.err;
+  std::ifstream in(log, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t event = bytes.size() / 6;
+  for (const std::string damage : {"data length", "sync", "cut"}) {
+    SCOPED_TRACE(damage);
+    std::vector<char> b = bytes;
+    if (damage == "data length") b[3 * event + 24] = 0x7f, b[3 * event + 25] = b[3 * event + 26] = b[3 * event + 27] = '\xff';
+    if (damage == "sync") b[3 * event] = 0;
+    if (damage == "cut") b.resize(b.size() - 1000);
+    const std::string path = dir.file(damage + ".lcmlog");
+    std::ofstream(path, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
+    const auto r = test::run_process({kTool, "replay", kReferenceCamera, path});
+    EXPECT_EQ(r.exit_status, 1) << r.err;
+    EXPECT_EQ(json_lines(r.out).size(), 5u) << "the other frames are replayed";
+    EXPECT_NE(r.err.find("1 event(s) lost to damage"), std::string::npos) << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// One rule for a frame of the wrong size, wherever it is: skipped and counted. The
+// camera's size is the configuration's, not the first frame's.
+TEST(ReplayCommand, AWrongSizedFirstFrameIsSkippedLikeAnyOther) {
+  test::TempDir dir;
+  const std::string road = dir.file("road");
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "4"}).exit_status, 0);
+  std::ofstream(road + "/000000.pgm", std::ios::binary | std::ios::trunc) << "P5\n40 30\n255\n" << std::string(1200, 'x');
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, road});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_EQ(out[0]["reason"], "no_frame");
+  EXPECT_NE(r.err.find("ccdlane replay: 4 frames, 3 ok, 1 skipped;"), std::string::npos) << r.err;
+}
+
+TEST(ReplayCommand, OutIsNeverTheInputItself) {
+  test::TempDir dir;
+  const std::string road = dir.file("road");
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "2"}).exit_status, 0);
+  std::ifstream before_in(road + "/frames.csv");
+  const std::string before((std::istreambuf_iterator<char>(before_in)), std::istreambuf_iterator<char>());
+  const auto r = test::run_process({kTool, "replay", kReferenceCamera, road, "--out", road + "/frames.csv"});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find(": is the input being replayed (" + road + "/frames.csv); choose another --out"), std::string::npos)
+      << r.err;
+  std::ifstream after_in(road + "/frames.csv");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), std::istreambuf_iterator<char>()), before);
+}
+
+// Overlays onto a 2 MB tmpfs (a private mount namespace: root only): the disk fills
+// after a few PNGs; what remains is whole PNGs and no temporary file, and the error says so.
+TEST(ReplayCommand, OverlaysOnAFullDiskLeaveOnlyWholePictures) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs in a private mount namespace";
+  test::TempDir dir;
+  const std::string road = dir.file("road"), small = dir.file("small");
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "12"}).exit_status, 0);
+  std::filesystem::create_directory(small);
+  const std::string script = "mount -t tmpfs -o size=2m tmpfs \"$1\" || exit 99; \"$2\" replay \"$3\" \"$4\" --overlay \"$1/o\" "
+                             ">/dev/null; echo \"rc=$?\"; ls \"$1/o\"; for f in \"$1\"/o/*.png; do tail -c 8 \"$f\" | od -An -tx1; done";
+  const auto r = test::run_process({"/usr/bin/unshare", "-m", "--propagation", "private", "/bin/sh", "-c", script, "sh",
+                                    small, kTool, kReferenceCamera, road});
+  if (r.exit_status == 99) GTEST_SKIP() << "cannot mount a tmpfs here: " << r.err;
+  EXPECT_NE(r.out.find("rc=1\n"), std::string::npos) << r.out << r.err;
+  EXPECT_EQ(r.out.find(".tmp"), std::string::npos) << "no partial file left: " << r.out;
+  EXPECT_NE(r.err.find("complete overlays remain in " + small + "/o, no partial file"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  // Every PNG left ends with its IEND chunk.
+  std::size_t pngs = 0;
+  for (std::size_t p = r.out.find(".png"); p != std::string::npos; p = r.out.find(".png", p + 1)) ++pngs;
+  std::size_t iends = 0;
+  for (std::size_t p = r.out.find("49 45 4e 44 ae 42 60 82"); p != std::string::npos; p = r.out.find("49 45 4e 44 ae 42 60 82", p + 1)) ++iends;
+  EXPECT_GT(pngs, 0u);
+  EXPECT_EQ(iends, pngs) << r.out;
 }
 
 }  // namespace

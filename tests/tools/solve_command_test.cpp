@@ -182,6 +182,31 @@ TEST_F(SolveCommandErrors, PickAboveTheHorizon) {
                 dir.file("p.toml") + "): at or above the horizon\n");
 }
 
+TEST_F(SolveCommandErrors, PicksOutsideTheImageAreRefusedAsSuch) {
+  // Each on its own, among picks that would solve: below, right of, left of the picture,
+  // and far beyond it (which used to be called "at or above the horizon").
+  for (const std::string pick : {"0,-100,501", "1,900,590", "0,0.1,700", "1,99999,500", "0,400,601"}) {
+    SCOPED_TRACE(pick);
+    const std::string csv = picks("line,px,py\n0,191,501\n0,223,470\n1,571,509\n1,539,476\n" + pick + "\n");
+    const std::string e = solve_error({problem(), "--picks", csv});
+    EXPECT_EQ(e.rfind("ccdlane: " + csv + ":6: pick (", 0), 0u) << e;
+    EXPECT_NE(e.find(") is outside the image (px 0.5..800.5, py 0.5..600.5 for the 800x600 camera of " +
+                     dir.file("p.toml") + ")\n"),
+              std::string::npos)
+        << e;
+  }
+}
+
+TEST_F(SolveCommandErrors, AGarbagePicksFileIsQuotedShortAndEscaped) {
+  std::string garbage = "line,px,py\n0,";
+  for (int i = 0; i < 200; ++i) garbage += static_cast<char>(i % 2 ? 0x1b : 0xfe);
+  const std::string e = solve_error({problem(), "--picks", picks(garbage + ",1\n")});
+  EXPECT_LT(e.size(), 300u) << e;
+  EXPECT_EQ(e.find('\x1b'), std::string::npos) << "no raw control byte reaches the terminal";
+  EXPECT_NE(e.find("px: not a finite number: \"\\xfe\\x1b\\xfe"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"... (200 bytes)"), std::string::npos) << e;
+}
+
 TEST_F(SolveCommandErrors, MissingOrUnreadablePicksAndBadProblems) {
   EXPECT_EQ(solve_error({problem()}),
             "ccdlane: " + dir.file("p.toml") + ": no picks: give --picks FILE.csv or [solver] picks = \"FILE.csv\"\n");

@@ -106,3 +106,21 @@ TEST(SynthCommand, BadInputIsOneLineExitTwoAndLeavesNothing) {
 
 }  // namespace
 }  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// A configuration within the limits that still needs more memory than the process may
+// have (ulimit -v): one plain line, exit 1, never "std::bad_alloc".
+TEST(SynthCommand, OutOfMemoryIsOneLineNotARawBadAlloc) {
+  test::TempDir dir;
+  const std::string config =
+      dir.write("big.toml", "[camera]\nNu = 8192\nNv = 8192\nUc_mm = 0.0007\nVc_mm = 0.0005\nk_px2 = 0\n");
+  const auto r = test::run_process({"/bin/sh", "-c", "ulimit -v 300000; exec \"$@\"", "sh", CCDLANE_TOOL, "synth", config,
+                                    "--out", dir.file("out"), "--frames", "1"});
+  EXPECT_EQ(r.exit_status, 1) << r.err;
+  EXPECT_EQ(r.err, "ccdlane: out of memory: the configuration or input asks for more than this machine has\n");
+}
+
+}  // namespace
+}  // namespace ccdlane

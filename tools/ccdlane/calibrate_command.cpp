@@ -22,6 +22,7 @@
 #include "app/config_loader.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "tools/ccdlane/calibration_output.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/grey_picture.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -162,6 +163,7 @@ std::string camera_table(const CameraCalibration& c, const CameraSpec& chip, std
   return t.str();
 }
 
+
 // Found corners as green crosses, the model's corners as red ones.
 void write_overlays(const std::string& dir, const std::vector<Picture>& pictures, const std::vector<int>& used,
                     const CameraCalibration& c) {
@@ -220,7 +222,7 @@ int run_camera(const CameraArgs& args) {
   if (args.out.empty()) {
     std::cout << table;
   } else {
-    write_atomically(args.out, table);
+    write_file_checked(args.out, table);
     std::cerr << "wrote [camera] to " << args.out << "\n";
   }
   return 0;

@@ -14,6 +14,7 @@
 #include "core/calibration/mount_calibration.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "tools/ccdlane/calibration_output.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {
@@ -119,7 +120,7 @@ int run_mount(const MountArgs& args) {
   if (args.out.empty()) {
     std::cout << tables;
   } else {
-    write_atomically(args.out, tables);
+    write_file_checked(args.out, tables);
     std::cerr << "wrote [mount] and [attitude] to " << args.out << "\n";
   }
   return 0;

@@ -23,6 +23,19 @@ void catch_stop_signals() {
 
 bool stop_requested() { return g_stop != 0; }
 
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        errno = 0;
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !(v > 0.0) || !std::isfinite(v))
+          return "must be a number greater than 0, got " + text;
+        return "";
+      },
+      "POSITIVE");
+}
+
 double parse_number(const std::string& text, const std::string& what) {
   errno = 0;
   char* end = nullptr;

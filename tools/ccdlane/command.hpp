@@ -32,6 +32,10 @@ struct Command {
 void catch_stop_signals();
 bool stop_requested();
 
+// A number > 0, refused as "must be greater than 0, got X" (CLI11's PositiveNumber
+// prints its range up to DBL_MAX, 1.797e308, in full).
+CLI::Validator positive_number();
+
 // Parses a whole-string number; throws UsageError naming the argument otherwise.
 double parse_number(const std::string& text, const std::string& what);
 

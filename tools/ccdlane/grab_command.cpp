@@ -114,7 +114,7 @@ CommandAction setup_grab(CLI::App& sub) {
   sub.add_option("--fps", a->fps, "frame rate; 0 leaves the device's (default 30)")->check(CLI::Range(0.0, 10000.0));
   sub.add_option("--format", a->format, "mono8 or mono16 (default mono8)")->check(CLI::IsMember({"mono8", "mono16"}));
   sub.add_option("--buffers", a->buffers, "driver buffers (default 8)")->check(CLI::Range(2, 32));
-  sub.add_option("--exposure-us", a->exposure_us, "exposure time, microseconds")->check(CLI::PositiveNumber);
+  sub.add_option("--exposure-us", a->exposure_us, "exposure time, microseconds")->check(positive_number());
   sub.add_option("--gain", a->gain, "gain, in the device's units");
   sub.footer("Prints the device, the format obtained, frames received and dropped, the measured rate and the "
              "latency from each frame's timestamp (CLOCK_MONOTONIC) to its delivery. Exit 1 when the camera "

@@ -13,6 +13,7 @@
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
 #include "drivers/device_state.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 
@@ -40,7 +41,7 @@ void print_sample(const gx1::Gx1Sample& s, bool json) {
                   s.angles.yaw_deg);
     std::cout << line;
   }
-  std::cout.flush();  // one line per sample as it comes, also into a pipe
+  flush_checked(std::cout, "standard output");  // one line per sample as it comes, also into a pipe
 }
 
 struct Gx1Args {

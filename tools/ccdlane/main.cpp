@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "app/config_loader.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {
@@ -65,7 +66,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    return action ? action() : 2;
+    const int status = action ? action() : 2;
+    // What a command printed must have reached its reader: a full disk or a closed pipe
+    // behind standard output is a failure, whatever the command returned.
+    flush_checked(std::cout, "standard output");
+    return status;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "ccdlane: out of memory: the configuration or input asks for more than this machine has\n";
+    return 1;
   } catch (const UsageError& e) {
     std::cerr << "ccdlane: " << e.what() << '\n';
     return 2;

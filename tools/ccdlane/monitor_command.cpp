@@ -20,6 +20,7 @@
 #include "bus/channels.hpp"
 #include "bus/lane_message.hpp"
 #include "bus/status_names.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
@@ -96,7 +97,7 @@ class Monitor {
     last_lane_ = m;
     if (args_.json) {
       print_json_line(std::cout, lane_estimate_json(from_message(m)));
-      std::cout.flush();  // live through pipes, one object per message
+      flush_checked(std::cout, "standard output");  // live through pipes, one object per message
     }
   }
 
@@ -154,7 +155,8 @@ class Monitor {
       const std::size_t used = std::strlen(text);
       std::snprintf(text + used, sizeof text - used, " | instance %s", instance->c_str());
     }
-    std::cout << text << std::endl;
+    std::cout << text << '\n';
+    flush_checked(std::cout, "standard output");
     lanes_in_second_ = 0;
     lanes_printed_ = lanes_;
   }
@@ -174,8 +176,8 @@ CommandAction setup_monitor(CLI::App& sub) {
   auto args = std::make_shared<MonitorArgs>();
   sub.add_option("--lcm", args->url, "LCM bus URL")->capture_default_str();
   sub.add_option("--prefix", args->prefix, "channel prefix ([lcm] prefix of the daemon)")->capture_default_str();
-  sub.add_option("--count", args->count, "stop after N lane messages")->check(CLI::PositiveNumber);
-  sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(CLI::PositiveNumber);
+  sub.add_option("--count", args->count, "stop after N lane messages")->check(positive_number());
+  sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(positive_number());
   sub.add_flag("--json", args->json, "print each lane message as a JSON object, one per line (as ccdlane replay)");
   sub.footer("Without --json: one line a second with the latest lane estimate and the daemon's status. "
              "Exit status 1 when no lane message arrived.");

@@ -107,11 +107,15 @@ void Overlay::write_png(const std::string& path) const {
   const std::string tmp = path + ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
-  const bool encoded = encode_rgb_png(f, rgb_.data(), width_, height_);
+  errno = 0;
+  const bool encoded = encode_rgb_png(f, rgb_.data(), width_, height_) && std::fflush(f) == 0;
+  int error = errno;
   const bool closed = std::fclose(f) == 0;
+  if (!closed && !error) error = errno;
   if (!encoded || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (!error) error = errno;
     std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write the PNG");
+    throw std::runtime_error(path + ": cannot write the PNG: " + (error ? std::strerror(error) : "encoding failed"));
   }
 }
 

@@ -128,8 +128,12 @@ class Recording {
   void write(const ImageView& image, const FrameRecord& record) {
     if (written_ == 0) first_t_ns_ = record.t_ns;
     last_t_ns_ = record.t_ns;
-    if (log_) log_->write(image, record);
-    else directory_->write(image, record.t_ns, record.gyro);
+    try {
+      if (log_) log_->write(image, record);
+      else directory_->write(image, record.t_ns, record.gyro);
+    } catch (const std::runtime_error& failure) {  // FrameLogError, FrameDirectoryError: a full disk
+      keep_written(failure.what());
+    }
     ++written_;
     with_gyro_ += record.gyro.has_value();
     width_ = image.width, height_ = image.height, format_ = image.format;
@@ -137,12 +141,28 @@ class Recording {
 
   void finish(const std::string& from) {
     if (written_ == 0) throw std::runtime_error("record: no frame was recorded from " + from);
-    if (log_) log_->finish();
-    else directory_->finish();
+    try {
+      if (log_) log_->finish();
+      else directory_->finish();
+    } catch (const std::runtime_error& failure) {
+      keep_written(failure.what());
+    }
     const double span = static_cast<double>(last_t_ns_ - first_t_ns_) * 1e-9;
     std::fprintf(stderr, "ccdlane record: %zu frames of %dx%d %s (%.3f s) from %s, %zu with a gyro reading, to %s\n",
                  written_, width_, height_, format_ == PixelFormat::mono16 ? "mono16" : "mono8", span, from.c_str(),
                  with_gyro_, log_ ? log_->path().c_str() : directory_->path().c_str());
+  }
+
+  // A recording that cannot go on keeps the frames it has: a long drive must not lose
+  // everything to a full disk. Says how many were saved, then fails the command.
+  [[noreturn]] void keep_written(const std::string& failure) {
+    const std::size_t kept = log_ ? log_->frames_written() : directory_->frames_kept();
+    const std::string why = log_ ? log_->keep_written() : directory_->keep_written();
+    const std::string path = log_ ? log_->path() : directory_->path();
+    if (!why.empty())
+      throw std::runtime_error(failure + "; the " + std::to_string(kept) + " frames before it could not be kept: " + why);
+    throw std::runtime_error(failure + "; recording stopped: the " + std::to_string(kept) +
+                             " frames before it are saved in " + path);
   }
 
   // Wall-clock capture time for frame-time t_ns: the first frame at `start`, the rest
@@ -260,7 +280,7 @@ CommandAction setup_record(CLI::App& sub) {
   sub.add_option("--out", a->out, "a frame directory to create, or FILE.lcmlog (an LCM log of ccdlane.frame_t)")
       ->required();
   sub.add_option("--config", a->config, "configuration (TOML): [camera] Nu x Nv, [gyro] device, [synth], [lcm] prefix");
-  sub.add_option("--seconds", a->seconds, "stop after S seconds of frames")->check(CLI::PositiveNumber);
+  sub.add_option("--seconds", a->seconds, "stop after S seconds of frames")->check(positive_number());
   sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
   sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")->check(CLI::Range(0.0, 10000.0));
   sub.footer("Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "

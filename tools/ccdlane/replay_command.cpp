@@ -15,6 +15,7 @@
 #include "bus/channels.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "bus/frame_log.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
@@ -28,33 +29,6 @@ struct ReplayArgs {
   std::string out;
   std::string overlay;
   bool sigmas = false;
-};
-
-// The output file: written under a temporary name, renamed on success, removed otherwise.
-class OutputFile {
- public:
-  explicit OutputFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
-    stream_.open(tmp_, std::ios::binary | std::ios::trunc);
-    if (!stream_) throw UsageError(path_ + ": cannot create the output file");
-  }
-  ~OutputFile() {
-    if (!committed_) {
-      stream_.close();
-      std::remove(tmp_.c_str());
-    }
-  }
-  std::ostream& stream() { return stream_; }
-  void commit() {
-    stream_.close();
-    if (stream_.fail() || std::rename(tmp_.c_str(), path_.c_str()) != 0)
-      throw std::runtime_error(path_ + ": cannot write the output file");
-    committed_ = true;
-  }
-
- private:
-  std::string path_, tmp_;
-  std::ofstream stream_;
-  bool committed_ = false;
 };
 
 void draw_overlay(const std::string& path, const ImageView& frame, const LaneEstimator& estimator,
@@ -108,17 +82,30 @@ CommandAction setup_replay(CLI::App& sub) {
     } catch (const std::runtime_error& e) {  // FrameDirectoryError, FrameLogError
       throw UsageError(e.what());
     }
+    // The picture size is the camera's, from the configuration; a frame of another size is
+    // skipped and counted wherever it is, the first one included. The first readable
+    // frame gives only the pixel format.
     const auto header = dir ? dir->probe_first() : std::nullopt;
-    if (header && (header->width != W || header->height != H))
-      throw UsageError(a->input + ": frames are " + std::to_string(header->width) + "x" +
-                       std::to_string(header->height) + ", the camera of " + a->config + " is " + std::to_string(W) +
-                       "x" + std::to_string(H));
     const PixelFormat format = header ? header->format() : PixelFormat::mono8;
     const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
 
     std::unique_ptr<OutputFile> file;
-    if (!a->out.empty()) file = std::make_unique<OutputFile>(a->out);
+    // The output must not replace the input: its frames.csv, or the log itself.
+    if (!a->out.empty()) {
+      std::error_code ec;
+      const std::string input_file = is_log ? a->input : a->input + "/frames.csv";
+      if (std::filesystem::equivalent(a->out, input_file, ec))
+        throw UsageError(a->out + ": is the input being replayed (" + input_file + "); choose another --out");
+    }
+    if (!a->out.empty()) {
+      try {
+        file = std::make_unique<OutputFile>(a->out);
+      } catch (const std::runtime_error& e) {
+        throw UsageError(e.what());
+      }
+    }
     std::ostream& out = file ? file->stream() : std::cout;
+    const std::string out_name = file ? a->out : "standard output";
     if (!a->overlay.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(a->overlay, ec);
@@ -132,17 +119,18 @@ CommandAction setup_replay(CLI::App& sub) {
 
     const LaneEstimatorOptions options = config.estimator_options();
     LaneEstimator estimator(options);
-    std::size_t frames = 0, ok = 0;
+    std::size_t frames = 0, ok = 0, overlays = 0;
     double total_s = 0.0, worst_s = 0.0;
     std::uint64_t worst_frame = 0;
     // One frame through the pipeline; `image` null for a frame that could not be read.
+    bool observability_checked = false;
     const auto replay_frame = [&](const ImageView* image, std::uint64_t index, std::int64_t t_ns,
                                   const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle) {
       // As the daemon does at start: refuse solves that cannot determine what they are
-      // asked for. The roll is measured when the recording's first frame carries a gyro
-      // reading, or when it was made with a gyro (whose first readings may come after the
-      // first frames), as the daemon counts a configured gyro.
-      if (frames == 0)
+      // asked for. The roll is measured when the recording's first readable frame carries
+      // a gyro reading, or when it was made with a gyro (whose first readings may come
+      // after the first frames), as the daemon counts a configured gyro.
+      if (image && !observability_checked && (observability_checked = true))
         if (const std::string why = observability_problem(options, gyro || !config.gyro.device.empty());
             !why.empty())
           throw UsageError(a->config + ": " + why + " (the frames of " + a->input + " carry " +
@@ -151,6 +139,7 @@ CommandAction setup_replay(CLI::App& sub) {
       if (!image) {
         ++skipped;
         print_json_line(out, lane_estimate_json(estimator.no_frame(index, t_ns, vehicle), a->sigmas));
+        check_written(out, out_name);
         return;
       }
       const auto t0 = std::chrono::steady_clock::now();
@@ -161,10 +150,18 @@ CommandAction setup_replay(CLI::App& sub) {
       if (dt > worst_s) worst_s = dt, worst_frame = index;
       ok += e.ok;
       print_json_line(out, lane_estimate_json(e, a->sigmas));
+      check_written(out, out_name);
       if (!a->overlay.empty()) {
         char name[32];
         std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
-        draw_overlay(a->overlay + name, *image, estimator, config);
+        try {
+          draw_overlay(a->overlay + name, *image, estimator, config);
+        } catch (const std::runtime_error& failure) {
+          // Each PNG is whole or absent (temporary name, then rename): say what is there.
+          throw std::runtime_error(std::string(failure.what()) + "; " + std::to_string(overlays) +
+                                   " complete overlays remain in " + a->overlay + ", no partial file");
+        }
+        ++overlays;
       }
     };
 
@@ -183,6 +180,10 @@ CommandAction setup_replay(CLI::App& sub) {
       }
     } else {
       for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
+        if (n == FrameLogReader::Next::lost) {  // no frame to print: its number is unknown
+          std::cerr << "ccdlane replay: " << log->problem() << '\n';
+          continue;
+        }
         const FrameRecord& r = log->record();
         const ImageView& image = log->image();
         bool usable = n == FrameLogReader::Next::frame;
@@ -199,19 +200,29 @@ CommandAction setup_replay(CLI::App& sub) {
         vehicle.indicator = r.indicator;
         replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro, vehicle);
       }
-      if (frames == 0)
+      if (frames == 0 && log->lost_events() == 0)
         throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +
                          std::to_string(log->other_events()) + " events on other channels)");
     }
-    out.flush();
-    if (file) file->commit();
     const std::size_t processed = frames - (skipped - csv_issues);
+    // Nothing replayed is bad input, not a result: no output file is left.
+    if (frames > 0 && processed == 0 && file) file.reset();
+    if (file) file->commit();
+    else flush_checked(std::cout, "standard output");
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
                   frames + csv_issues, ok, skipped, processed ? 1e3 * total_s / static_cast<double>(processed) : 0.0,
                   1e3 * worst_s, static_cast<unsigned long long>(worst_frame));
     std::cerr << summary << '\n';
+    // Frames lost to a damaged or cut log are a failed replay even when the rest went
+    // well: the output is kept, the status says it is incomplete.
+    if (log && log->lost_events() > 0) {
+      std::fprintf(stderr, "ccdlane replay: %s: %llu event(s) lost to damage (%llu bytes skipped)%s\n", a->input.c_str(),
+                   static_cast<unsigned long long>(log->lost_events()),
+                   static_cast<unsigned long long>(log->lost_bytes()), log->truncated() ? ", the last one cut short" : "");
+      return 1;
+    }
     if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");
     return 0;
   };

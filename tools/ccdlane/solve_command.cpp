@@ -143,6 +143,20 @@ int run_solve(const SolveArgs& args) {
   request.num_lines = count_lines(config, csv, args.problem, path);
   request.initial_lines = initial_lines;
 
+  // A pick is a pixel of the picture: outside it, it is a typo or another camera's
+  // pixel, not a point beyond the horizon.
+  for (std::size_t i = 0; i < csv.picks.size(); ++i) {
+    const Pick& p = csv.picks[i];
+    const double Nu = config.camera.Nu, Nv = config.camera.Nv;
+    if (p.px < 0.5 || p.px > Nu + 0.5 || p.py < 0.5 || p.py > Nv + 0.5) {
+      std::ostringstream out;
+      out << path << ':' << csv.source_lines[i] << ": pick (" << p.px << ", " << p.py << ") is outside the image (px 0.5.."
+          << Nu + 0.5 << ", py 0.5.." << Nv + 0.5 << " for the " << config.camera.Nu << "x" << config.camera.Nv
+          << " camera of " << args.problem << ")";
+      throw UsageError(out.str());
+    }
+  }
+
   const int needed = required_picks(request);
   if (static_cast<int>(csv.picks.size()) < needed)
     throw UsageError(path + ": " + std::to_string(csv.picks.size()) + " picks, but " + args.problem +

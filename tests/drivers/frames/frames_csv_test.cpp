@@ -95,6 +95,25 @@ TEST(FramesCsv, MalformedRowsAreNamedAndSkipped) {
   EXPECT_EQ(csv.issues, want);
 }
 
+// Angles a 3DM-GX1 cannot report are damage, not priors: refused like any bad cell.
+TEST(FramesCsv, GyroAnglesOutsideWhatTheGyroReportsAreRefused) {
+  const FramesCsv csv = parse_frames_csv(
+      "file,t_ns,roll_deg,pitch_deg,yaw_deg\n"
+      "0.pgm,100,1e308,0,0\n"
+      "1.pgm,200,0,90.5,0\n"
+      "2.pgm,300,0,0,-181\n"
+      "3.pgm,400,-180,-90,180\n",
+      "d/frames.csv");
+  ASSERT_EQ(csv.rows.size(), 1u);
+  EXPECT_EQ(csv.rows[0].file, "3.pgm");
+  const std::vector<std::string> want = {
+      "d/frames.csv:2: roll_deg: outside -180..180 degrees",
+      "d/frames.csv:3: pitch_deg: outside -90..90 degrees",
+      "d/frames.csv:4: yaw_deg: outside -180..180 degrees",
+  };
+  EXPECT_EQ(csv.issues, want);
+}
+
 std::string header_error(const std::string& text) {
   try {
     parse_frames_csv(text, "f.csv");
