@@ -186,7 +186,8 @@ double RoadRenderer::shadow_at(double X, double Y, double sh_c, double sh_s, dou
     return field > kTreeShadowThreshold ? 1.0 - scene_.shadow_depth : 1.0;
   }
   const double u = wrap((X + odometer_) * sh_c + Y * sh_s + shadow_offset, kShadowPeriodMm);
-  const double in = smoothstep(0.0, kShadowSoftMm, u) * (1.0 - smoothstep(kShadowLengthMm, kShadowLengthMm + kShadowSoftMm, u));
+  const double in =
+      smoothstep(0.0, kShadowSoftMm, u) * (1.0 - smoothstep(kShadowLengthMm, kShadowLengthMm + kShadowSoftMm, u));
   return 1.0 - scene_.shadow_depth * in;
 }
 
@@ -306,7 +307,8 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
   if (is_colour(out.format)) {
     // Colour: each channel its own noise. A grey scene rendered into a colour frame is
     // neutral (its luma in every channel).
-    const std::size_t order[3] = {out.format == PixelFormat::rgb8 ? 0u : 2u, 1u, out.format == PixelFormat::rgb8 ? 2u : 0u};
+    const bool rgb = out.format == PixelFormat::rgb8;
+    const std::size_t order[3] = {rgb ? 0u : 2u, 1u, rgb ? 2u : 0u};  // the plane of each byte
     for (int y = 0; y < H; ++y) {
       const std::size_t at = static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
       std::uint8_t* row = out.row(y);
@@ -314,8 +316,8 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
         for (std::size_t k = 0; k < 3; ++k) {
           const std::size_t c = channels_ == 3 ? order[k] : 0u;
           const float n = sigma > 0.0f ? sigma * gauss_[noise.next() >> 52] : 0.0f;
-          row[3 * x + static_cast<int>(k)] =
-              static_cast<std::uint8_t>(std::clamp(radiance_[c * plane + at + static_cast<std::size_t>(x)] + n + 0.5f, 0.0f, 255.0f));
+          const float value = radiance_[c * plane + at + static_cast<std::size_t>(x)] + n + 0.5f;
+          row[3 * x + static_cast<int>(k)] = static_cast<std::uint8_t>(std::clamp(value, 0.0f, 255.0f));
         }
     }
     return;

@@ -177,13 +177,17 @@ TEST(RoadRenderer, YellowPaintOnConcreteStandsOutInColourOnly) {
   EXPECT_GT(checked, 10);
 }
 
-TEST(RoadRenderer, GreyFramesOfAColourSceneAreItsLumaAndTheBarrierStandsLeftOfTheRoad) {
+TEST(RoadRenderer, GreyFramesOfAColourSceneAreItsLumaTheBarrierStandsLeftAndNothingIsAllocated) {
   const Config c = colour_road();
   const SynthDrive drive(c.synth, c.nominal_pose());
   const SynthFrame f = drive.frame(3);
   RoadRenderer r(c.camera, c.synth);
   Image rgb(400, 300, PixelFormat::rgb8), bgr(400, 300, PixelFormat::bgr8), grey(400, 300);
-  r.render(f, rgb.view);
+  {
+    test::AllocationScope scope;
+    r.render(f, rgb.view);
+    EXPECT_EQ(scope.count(), 0u);
+  }
   r.render(f, bgr.view);
   r.render(f, grey.view);
   for (int y = 0; y < 300; y += 3)
