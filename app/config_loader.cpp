@@ -384,6 +384,17 @@ void read_synth(TableReader& r, Config& c) {
   r.integer("bits", s.bits);
   r.boolean("gyro", s.gyro);
   r.number("gyro_noise_deg", s.gyro_noise_deg);
+  r.boolean("colour", s.colour);
+  r.boolean("yellow_left_edge", s.yellow_left_edge);
+  r.number("yellow_paint_grey", s.yellow_paint_grey);
+  std::string surface = "asphalt";
+  r.string("surface", surface);
+  if (surface == "asphalt") s.surface = RoadSurface::asphalt;
+  else if (surface == "concrete") s.surface = RoadSurface::concrete;
+  else r.fail(r.node("surface"), "surface", "must be \"asphalt\" or \"concrete\", got \"" + surface + "\"");
+  r.number("concrete_grey", s.concrete_grey);
+  r.boolean("hard_shadows", s.hard_shadows);
+  r.boolean("barrier", s.barrier);
   r.reject_unknown();
 
   require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");
@@ -413,7 +424,9 @@ void read_synth(TableReader& r, Config& c) {
   const std::pair<const char*, double> greys[] = {{"asphalt_grey", s.asphalt_grey},
                                                  {"paint_grey", s.paint_grey},
                                                  {"sky_grey", s.sky_grey},
-                                                 {"verge_grey", s.verge_grey}};
+                                                 {"verge_grey", s.verge_grey},
+                                                 {"yellow_paint_grey", s.yellow_paint_grey},
+                                                 {"concrete_grey", s.concrete_grey}};
   for (const auto& [key, value] : greys) require(value >= 0.0 && value <= 255.0, r, key, "must be a grey level 0..255");
   require(s.texture_grey >= 0.0 && s.texture_grey <= 100.0, r, "texture_grey", "must be 0..100");
   require(s.gradient >= 0.0 && s.gradient < 1.0, r, "gradient", "must be 0 .. < 1");
@@ -422,6 +435,7 @@ void read_synth(TableReader& r, Config& c) {
   require(s.blur_px >= 0.0 && s.blur_px <= 10.0, r, "blur_px", "must be 0..10");
   require(s.supersample >= 1 && s.supersample <= 16, r, "supersample", "must be 1..16");
   require(s.bits >= 8 && s.bits <= 16, r, "bits", "must be 8 (mono8) or 9..16 (mono16)");
+  require(!s.colour || s.bits == 8, r, "colour", "colour frames are rgb8: leave bits at 8");
   require(s.gyro_noise_deg >= 0.0 && s.gyro_noise_deg <= 10.0, r, "gyro_noise_deg", "must be 0..10");
 }
 

@@ -21,6 +21,10 @@ float peak_offset(std::int32_t a, std::int32_t b, std::int32_t c) {
   return std::clamp(static_cast<float>(c - a) / den, -0.5f, 0.5f);
 }
 
+// A step beside a bar larger than this fraction of the bar's contrast, within the
+// derivative's reach, biases the bar's edges (see scan_row).
+constexpr float kStepInReach = 0.25f;
+
 }  // namespace
 
 MarkScanner::MarkScanner(int max_width)
@@ -95,6 +99,15 @@ int MarkScanner::scan_row(const Pixel* row, int width, const ScanRow& r, int sca
     const float inside = mean(ia + 1, ib);
     const float left = mean(ia - flank, ia - 1), right = mean(ib + 2, ib + 1 + flank);
     if (!(inside - left >= min_contrast) || !(inside - right >= min_contrast)) continue;
+    // The box derivative places an edge where the row is flat for h pixels beyond it; a
+    // second step within that reach (a shadow border, a patch, a dash's end) pulls the
+    // peak towards it by up to h/2. Such a bar's centre is not where the paint is: drop it
+    // rather than hand the solver a biased pick.
+    const float near_left = mean(ia - h, ia - 1), far_left = mean(ia - 2 * h, ia - h - 1);
+    const float near_right = mean(ib + 2, ib + 1 + h), far_right = mean(ib + 2 + h, ib + 1 + 2 * h);
+    if (std::abs(near_left - far_left) > kStepInReach * (inside - near_left) ||
+        std::abs(near_right - far_right) > kStepInReach * (inside - near_right))
+      continue;
     // The bar's own width: its area above the sides over its peak. Edge distance alone
     // cannot tell a thin bright line (a crack, a wire) from a mark, because the box
     // derivative spreads a thin line's edges to the box's width.

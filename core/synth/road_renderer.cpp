@@ -21,6 +21,36 @@ constexpr double kShadowSoftMm = 500.0;
 constexpr double kHazeStartMm = 80000.0;
 constexpr double kHazeRangeMm = 300000.0;
 constexpr int kGaussTable = 4096;
+// Tree shadows: lattice noise at two scales, thresholded, so blobs of many sizes with
+// sharp borders fall across the lane at all angles.
+constexpr double kTreeShadowMm = 3000.0;
+constexpr double kTreeDetailMm = 1100.0;
+constexpr double kTreeShadowThreshold = 0.25;
+// A concrete (Jersey) barrier: 810 mm high, its sunlit foot the lowest 250 mm.
+constexpr double kBarrierHeightMm = 810.0;
+constexpr double kBarrierFootMm = 250.0;
+constexpr double kBarrierGrey = 135.0;
+constexpr double kBarrierFootGrey = 220.0;
+
+using Rgb = RoadRenderer::Rgb;
+Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
+Rgb operator-(const Rgb& a, const Rgb& b) { return {a.r - b.r, a.g - b.g, a.b - b.b}; }
+Rgb operator*(double k, const Rgb& a) { return {k * a.r, k * a.g, k * a.b}; }
+
+// Luma (Rec. 601) written so that a neutral colour's luma is its value exactly: grey
+// scenes render bit for bit as they did before colour existed.
+double luma(const Rgb& c) { return c.r + 0.587 * (c.g - c.r) + 0.114 * (c.b - c.r); }
+
+// Hues as channel ratios scaled to luma 1, so that a surface's grey level is its luma.
+Rgb hue(double r, double g, double b) {
+  const double l = 0.299 * r + 0.587 * g + 0.114 * b;
+  return {r / l, g / l, b / l};
+}
+const Rgb kNeutral{1.0, 1.0, 1.0};
+const Rgb kYellowPaint = hue(1.0, 0.8, 0.25);  // road-marking yellow: its blue far below red and green
+const Rgb kConcrete = hue(1.02, 1.0, 0.95);    // slightly warm
+const Rgb kGrass = hue(0.85, 1.0, 0.7);
+const Rgb kSky = hue(0.8, 0.92, 1.15);
 
 // Smooth lattice noise in [-1, 1] (bilinear between hashed lattice values).
 double value_noise(double x, double y, std::uint64_t seed) {
@@ -51,9 +81,10 @@ double wrap(double x, double period) {
 
 }  // namespace
 
-RoadRenderer::RoadRenderer(const CameraSpec& camera, const SynthConfig& scene) : camera_(camera), scene_(scene) {
+RoadRenderer::RoadRenderer(const CameraSpec& camera, const SynthConfig& scene)
+    : camera_(camera), scene_(scene), channels_(scene.colour ? 3 : 1) {
   const std::size_t n = static_cast<std::size_t>(camera.Nu) * static_cast<std::size_t>(camera.Nv);
-  radiance_.assign(n, 0.0f);
+  radiance_.assign(n * static_cast<std::size_t>(channels_), 0.0f);
   if (scene.blur_px > 0.0) {
     scratch_.assign(n, 0.0f);
     const int radius = static_cast<int>(std::ceil(3.0 * scene.blur_px));
@@ -91,7 +122,7 @@ bool RoadRenderer::paint_at(double X, double Y) const {
 }
 
 double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
-                                    double fpY) const {
+                                    double fpY, int& line) const {
   // Only pixels whose footprint straddles a mark's side or a dash's end are
   // supersampled; the rest are inside or outside the paint as a whole.
   const double bend = c_ * X * X, slope = std::abs(2.0 * c_ * X);
@@ -101,6 +132,7 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
     const double lateral = std::abs(Y - l.y0 - bend);
     const double reach = fpY + slope * fpX;
     if (lateral > l.half_width + reach) continue;
+    line = j;
     if (lateral > l.half_width - reach) {
       edge = true;
       break;
@@ -128,7 +160,11 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
   return samples ? static_cast<double>(hits) / samples : 0.0;
 }
 
-double RoadRenderer::shade_ground(double X, double Y, double footprint) const {
+Rgb RoadRenderer::tinted(double grey, const Rgb& tint) const {
+  return scene_.colour ? grey * tint : Rgb{grey, grey, grey};
+}
+
+Rgb RoadRenderer::shade_ground(double X, double Y, double footprint) const {
   const double bend = c_ * X * X;
   const bool road = Y - bend <= road_left_ && Y - bend >= road_right_;
   const std::uint64_t seed = scene_.seed;
@@ -136,11 +172,45 @@ double RoadRenderer::shade_ground(double X, double Y, double footprint) const {
   const double sx = X + odometer_;  // texture is fixed to the road, the car moves over it
   double texture = 0.7 * fine * value_noise(sx / kFineTextureMm, Y / kFineTextureMm, seed) +
                    0.5 * coarse * value_noise(sx / kCoarseTextureMm, Y / kCoarseTextureMm, seed + 1);
-  return road ? scene_.asphalt_grey + scene_.texture_grey * texture
-              : scene_.verge_grey + 2.0 * scene_.texture_grey * texture;
+  if (!road) return tinted(scene_.verge_grey + 2.0 * scene_.texture_grey * texture, kGrass);
+  if (scene_.surface == RoadSurface::concrete)
+    return tinted(scene_.concrete_grey + 0.5 * scene_.texture_grey * texture, kConcrete);
+  return tinted(scene_.asphalt_grey + scene_.texture_grey * texture, kNeutral);
 }
 
-double RoadRenderer::sky(double qx, double qy, double qz) const {
+double RoadRenderer::shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const {
+  if (scene_.hard_shadows) {
+    const double sx = X + odometer_;
+    const double field = value_noise(sx / kTreeShadowMm, Y / kTreeShadowMm, scene_.seed + 71) +
+                         0.5 * value_noise(sx / kTreeDetailMm, Y / kTreeDetailMm, scene_.seed + 72);
+    return field > kTreeShadowThreshold ? 1.0 - scene_.shadow_depth : 1.0;
+  }
+  const double u = wrap((X + odometer_) * sh_c + Y * sh_s + shadow_offset, kShadowPeriodMm);
+  const double in =
+      smoothstep(0.0, kShadowSoftMm, u) * (1.0 - smoothstep(kShadowLengthMm, kShadowLengthMm + kShadowSoftMm, u));
+  return 1.0 - scene_.shadow_depth * in;
+}
+
+// The barrier's face is the vertical surface over the left asphalt edge (following the
+// road's bend); a ray hits it when it crosses that surface below the barrier's top before
+// reaching the ground.
+bool RoadRenderer::barrier_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const {
+  if (!scene_.barrier || q.y >= 0.0) return false;  // the ray must head left (Y grows along -q)
+  double t = (lens.y - road_left_) / q.y;
+  for (int it = 0; it < 3; ++it) {
+    const double X = lens.x - t * q.x;
+    t = (lens.y - road_left_ - c_ * X * X) / q.y;
+  }
+  if (t <= 0.0 || (q.z > 0.0 && t >= t_ground)) return false;
+  const double Z = lens.z - t * q.z;  // height above the road
+  if (Z < 0.0 || Z > kBarrierHeightMm) return false;
+  const double X = lens.x - t * q.x + odometer_;
+  const double grain = scene_.texture_grey * value_noise(X / 400.0, Z / 400.0, scene_.seed + 81);
+  colour = tinted((Z < kBarrierFootMm ? kBarrierFootGrey : kBarrierGrey) + grain, kConcrete);
+  return true;
+}
+
+Rgb RoadRenderer::sky(double qx, double qy, double qz) const {
   const double len = std::sqrt(qx * qx + qy * qy + qz * qz);
   const double elevation = -qz / len;  // of the ray going out into the scene, radians
   // A band of trees and posts on the horizon: vertical structure that is not road paint.
@@ -148,8 +218,8 @@ double RoadRenderer::sky(double qx, double qy, double qz) const {
   const auto bin = static_cast<std::int64_t>(std::floor(azimuth / 0.004));
   const std::uint64_t h = synth::hash(scene_.seed, 31, static_cast<std::uint64_t>(bin));
   const double height = 0.012 + 0.03 * synth::unit(h) * synth::unit(synth::mix64(h));
-  if (elevation < height) return scene_.verge_grey * 0.8 + 45.0 * synth::unit(synth::mix64(h + 1));
-  return scene_.sky_grey + 40.0 * std::min(elevation, 0.5);
+  if (elevation < height) return tinted(scene_.verge_grey * 0.8 + 45.0 * synth::unit(synth::mix64(h + 1)), kGrass);
+  return tinted(scene_.sky_grey + 40.0 * std::min(elevation, 0.5), kSky);
 }
 
 void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) {
@@ -170,13 +240,16 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
     lines_[j].half_width = 0.5 * (edge ? scene_.edge_line_width_mm : scene_.line_width_mm);
     lines_[j].dashed = scene_.dashed == DashedLines::all || (scene_.dashed == DashedLines::inner && !edge);
     lines_[j].phase = period_ * synth::unit(synth::hash(scene_.seed, 41, static_cast<std::uint64_t>(j)));
+    lines_[j].paint = j == 0 && scene_.yellow_left_edge ? tinted(scene_.yellow_paint_grey, kYellowPaint)
+                                                        : tinted(scene_.paint_grey, kNeutral);
   }
   road_left_ = lines_[0].y0 + kShoulderMm;
   road_right_ = lines_[num_lines_ - 1].y0 - kShoulderMm;
   const double shadow_angle = 0.35 + 0.5 * synth::unit(synth::hash(scene_.seed, 51));
   const double sh_c = std::cos(shadow_angle), sh_s = std::sin(shadow_angle);
   const double shadow_offset = kShadowPeriodMm * synth::unit(synth::hash(scene_.seed, 52));
-  const double haze_grey = scene_.sky_grey * 0.85;
+  const Rgb haze = tinted(scene_.sky_grey * 0.85, kSky);
+  const std::size_t plane = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
 
   for (int y = 0; y < H; ++y) {
     float* dst = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
@@ -187,8 +260,10 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
       const double r2 = dx * dx + dy * dy;
       double s = 1.0;
       const Ray q = v.ray(px, py, &s);
-      double value;
-      if (q.z <= 0.0) {
+      Rgb value;
+      if (barrier_at(L, q, q.z > 0.0 ? L.z / q.z : 0.0, value)) {
+        // The barrier stands in the sun: the road's shadows are not cast on it.
+      } else if (q.z <= 0.0) {
         value = sky(q.x, q.y, q.z);
       } else {
         const double inv_qz = 1.0 / q.z;
@@ -202,21 +277,25 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
         const double fpX = 0.5 * (std::abs(dXa) + std::abs(dXb)), fpY = 0.5 * (std::abs(dYa) + std::abs(dYb));
         const double footprint = 2.0 * std::sqrt(fpX * fpY) + 1e-9;
         value = shade_ground(X, Y, footprint);
-        const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY);
-        if (cover > 0.0) value += cover * (scene_.paint_grey - value);
-        if (scene_.shadow_depth > 0.0) {
-          const double u = wrap((X + odometer_) * sh_c + Y * sh_s + shadow_offset, kShadowPeriodMm);
-          const double in = smoothstep(0.0, kShadowSoftMm, u) * (1.0 - smoothstep(kShadowLengthMm, kShadowLengthMm + kShadowSoftMm, u));
-          value *= 1.0 - scene_.shadow_depth * in;
-        }
-        if (X > kHazeStartMm) value += std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze_grey - value);
+        int line = 0;
+        const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY, line);
+        if (cover > 0.0) value = value + cover * (lines_[line].paint - value);
+        if (scene_.shadow_depth > 0.0) value = shadow_at(X, Y, sh_c, sh_s, shadow_offset) * value;
+        if (X > kHazeStartMm) value = value + std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze - value);
       }
       // Illumination falling off across the picture and towards its corners.
-      value *= 1.0 + scene_.gradient * (dx / W - 0.5 * r2 / corner2);
-      dst[x] = static_cast<float>(value);
+      value = (1.0 + scene_.gradient * (dx / W - 0.5 * r2 / corner2)) * value;
+      if (channels_ == 1) {
+        dst[x] = static_cast<float>(luma(value));
+      } else {
+        dst[x] = static_cast<float>(value.r);
+        dst[plane + x] = static_cast<float>(value.g);
+        dst[2 * plane + x] = static_cast<float>(value.b);
+      }
     }
   }
-  if (scene_.blur_px > 0.0) blur();
+  if (scene_.blur_px > 0.0)
+    for (int c = 0; c < channels_; ++c) blur(radiance_.data() + static_cast<std::size_t>(c) * plane);
 
   // Sensor: noise, quantisation, clipping.
   synth::PixelNoise noise(synth::hash(scene_.seed, 61, truth.index));
@@ -225,6 +304,28 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
   const float maxval = static_cast<float>((1 << bits) - 1);
   const float scale = maxval / 255.0f;
   const float sigma = static_cast<float>(scene_.noise_sigma);
+  if (is_colour(out.format)) {
+    // Colour: each channel its own noise. A grey scene rendered into a colour frame is
+    // neutral (its luma in every channel).
+    const bool rgb = out.format == PixelFormat::rgb8;
+    const std::size_t order[3] = {rgb ? 0u : 2u, 1u, rgb ? 2u : 0u};  // the plane of each byte
+    for (int y = 0; y < H; ++y) {
+      const std::size_t at = static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      std::uint8_t* row = out.row(y);
+      for (int x = 0; x < W; ++x)
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t c = channels_ == 3 ? order[k] : 0u;
+          const float n = sigma > 0.0f ? sigma * gauss_[noise.next() >> 52] : 0.0f;
+          const float value = radiance_[c * plane + at + static_cast<std::size_t>(x)] + n + 0.5f;
+          row[3 * x + static_cast<int>(k)] = static_cast<std::uint8_t>(std::clamp(value, 0.0f, 255.0f));
+        }
+    }
+    return;
+  }
+  // Grey frames of a colour scene are its luma.
+  if (channels_ == 3)
+    for (std::size_t i = 0; i < plane; ++i)
+      radiance_[i] = static_cast<float>(luma({radiance_[i], radiance_[plane + i], radiance_[2 * plane + i]}));
   for (int y = 0; y < H; ++y) {
     const float* src = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
     std::uint8_t* row = out.row(y);
@@ -241,11 +342,11 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
   }
 }
 
-void RoadRenderer::blur() {
+void RoadRenderer::blur(float* radiance) {
   const int W = camera_.Nu, H = camera_.Nv, R = static_cast<int>(kernel_.size()) - 1;
   // Rows into scratch, then columns back into radiance, clamping at the borders.
   for (int y = 0; y < H; ++y) {
-    const float* src = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    const float* src = radiance + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
     float* dst = scratch_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
     for (int x = 0; x < W; ++x) {
       float sum = kernel_[0] * src[x];
@@ -254,7 +355,7 @@ void RoadRenderer::blur() {
     }
   }
   for (int y = 0; y < H; ++y) {
-    float* dst = radiance_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    float* dst = radiance + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
     for (int x = 0; x < W; ++x) {
       float sum = kernel_[0] * scratch_[static_cast<std::size_t>(y * W + x)];
       for (int i = 1; i <= R; ++i)

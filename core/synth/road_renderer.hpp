@@ -1,6 +1,7 @@
 // Renders a synthetic road frame through the exact camera model of docs/geometry.md: for each
-// pixel, undistort, cast the ray to the road, and shade what it hits (asphalt texture,
-// lane paint, verge, shadows, sky), then blur and add sensor noise.
+// pixel, undistort, cast the ray to the road, and shade what it hits (asphalt or concrete
+// texture, white and yellow lane paint, verge, soft or hard shadows, a barrier, sky), then
+// blur and add sensor noise. Colour scenes give rgb8; grey frames are the scene's luma.
 #pragma once
 
 #include <vector>
@@ -19,27 +20,41 @@ class RoadRenderer {
   RoadRenderer(const CameraSpec& camera, const SynthConfig& scene);
 
   // Renders frame `truth` into `out` (Nu x Nv; mono8, or mono16 scaled to
-  // out.significant_bits). Deterministic for the scene's seed and truth.index.
+  // out.significant_bits; rgb8 or bgr8 from a colour scene, the luma otherwise).
+  // Deterministic for the scene's seed and truth.index.
   void render(const SynthFrame& truth, const MutableImageView& out);
 
-  // The format frames of this scene have ([synth] bits).
-  PixelFormat format() const { return scene_.bits > 8 ? PixelFormat::mono16 : PixelFormat::mono8; }
+  // The format frames of this scene have ([synth] colour, bits).
+  PixelFormat format() const {
+    return scene_.colour ? PixelFormat::rgb8 : scene_.bits > 8 ? PixelFormat::mono16 : PixelFormat::mono8;
+  }
+
+  // Linear light on the 8-bit scale, one value per channel.
+  struct Rgb {
+    double r, g, b;
+  };
 
  private:
   struct Line {
     double y0, half_width, phase;
     bool dashed;
+    Rgb paint;
   };
 
-  double shade_ground(double X, double Y, double footprint) const;
-  double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY) const;
+  Rgb shade_ground(double X, double Y, double footprint) const;
+  double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY,
+                        int& line) const;
   bool paint_at(double X, double Y) const;
-  double sky(double qx, double qy, double qz) const;
-  void blur();
+  Rgb sky(double qx, double qy, double qz) const;
+  bool barrier_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
+  double shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const;
+  Rgb tinted(double grey, const Rgb& tint) const;
+  void blur(float* radiance);  // one plane of radiance_
 
   CameraSpec camera_;
   SynthConfig scene_;
-  std::vector<float> radiance_;  // linear grey levels (8-bit scale), before noise
+  int channels_ = 1;             // 3 for a colour scene
+  std::vector<float> radiance_;  // linear levels (8-bit scale) before noise: the luma, or R, G, B planes
   std::vector<float> scratch_;   // blur pass
   std::vector<float> kernel_;    // Gaussian taps, one side
   std::vector<float> gauss_;     // a table of N(0,1) samples for sensor noise

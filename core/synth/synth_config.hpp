@@ -9,6 +9,10 @@ namespace ccdlane {
 // Which lane lines are dashed: the inner ones (edges solid, the usual highway), all, none.
 enum class DashedLines : std::uint8_t { inner, all, none };
 
+// What the road is made of: dark asphalt, or light concrete (on which yellow paint has
+// almost no contrast in grey).
+enum class RoadSurface : std::uint8_t { asphalt, concrete };
+
 struct SynthConfig {
   // The sequence.
   std::uint64_t seed = 1;
@@ -49,6 +53,17 @@ struct SynthConfig {
   double blur_px = 0.0;           // Gaussian blur sigma, pixels; 0 = sharp
   int supersample = 4;            // sub-samples per pixel side at mark edges
   int bits = 8;                   // 8: mono8 frames; 9..16: mono16 frames of that depth
+
+  // Real-road disturbances. All off by default: the grey scene above is then unchanged.
+  bool colour = false;               // rgb8 frames (bits must be 8); grey frames are the luma
+  bool yellow_left_edge = false;     // the leftmost line is yellow paint (US: the median side)
+  double yellow_paint_grey = 175.0;  // its luma
+  RoadSurface surface = RoadSurface::asphalt;
+  double concrete_grey = 170.0;      // the road's grey (luma) on concrete, instead of asphalt_grey
+  bool hard_shadows = false;         // tree shadows: blobs with sharp borders across the road,
+                                     //   darkening by shadow_depth, instead of soft bands
+  bool barrier = false;              // a concrete barrier beside the left shoulder whose foot
+                                     //   is bright (sunlit), a bar of light off the road plane
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

@@ -1,7 +1,8 @@
 // The renderer against the camera model: lane marks appear where projecting the truth
 // lines puts them (to a few hundredths of a pixel), the sky is above the horizon, noise
-// has the configured sigma, 16-bit frames scale, rendering is deterministic and
-// allocation-free.
+// has the configured sigma, 16-bit frames scale, colour scenes (yellow paint on concrete,
+// hard shadows, a barrier) look as configured and their grey frames are their luma,
+// rendering is deterministic and allocation-free.
 #include "core/synth/road_renderer.hpp"
 
 #include <cmath>
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/detection/paint_measure.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "tests/core/synth/rendered_road.hpp"
 #include "tests/core/synth/truth_projection.hpp"
@@ -128,6 +130,81 @@ TEST(RoadRenderer, SixteenBitFramesAreTheEightBitScaled) {
   r.render(f, i16.view);
   for (int y = 0; y < 300; y += 7)
     for (int x = 0; x < 400; x += 7) EXPECT_NEAR(i16.at(x, y) * 255.0 / 4095.0, i8.at(x, y), 0.6) << x << "," << y;
+}
+
+// A colour scene with every disturbance: yellow left edge on concrete, tree shadows, barrier.
+Config colour_road() {
+  Config c = small_camera();
+  c.attitude = {0.0, 4.0, 0.0};
+  SynthConfig& s = c.synth;
+  s.colour = s.yellow_left_edge = s.hard_shadows = s.barrier = true;
+  s.surface = RoadSurface::concrete;
+  s.shadow_depth = 0.5;
+  s.lanes = 2;
+  s.ego_lane = 0;
+  s.weave_mm = 0;
+  s.noise_sigma = s.gradient = 0.0;
+  return c;
+}
+
+TEST(RoadRenderer, YellowPaintOnConcreteStandsOutInColourOnly) {
+  Config c = colour_road();
+  c.synth.hard_shadows = false;
+  c.synth.shadow_depth = 0.0;
+  c.synth.texture_grey = 0.0;
+  c.synth.dashed = DashedLines::none;
+  const SynthDrive drive(c.synth, c.nominal_pose());
+  const SynthFrame f = drive.frame(0);
+  RoadRenderer r(c.camera, c.synth);
+  ASSERT_EQ(r.format(), PixelFormat::rgb8);
+  Image img(400, 300, PixelFormat::rgb8);
+  r.render(f, img.view);
+  const CameraModel cam(c.camera, f.pose);
+  int checked = 0;
+  for (int y = 200; y < 300; y += 5) {
+    const auto yellow = test::truth_column(cam, f, 0, y + 1.0), white = test::truth_column(cam, f, 1, y + 1.0);
+    if (!yellow || !white || *yellow < 20) continue;
+    const int xy = static_cast<int>(std::lround(*yellow)) - 1, xw = static_cast<int>(std::lround(*white)) - 1;
+    const int road = (xy + xw) / 2;
+    const ImageView v = img.view;
+    // In grey (luma) the yellow line is within a few levels of the concrete, below the
+    // detector's default minimum contrast; the paint measure puts it far above.
+    EXPECT_LT(std::abs(v.at(xy, y) - v.at(road, y)), 10) << y;
+    EXPECT_GT(paint_measure_at(v, xy, y) - paint_measure_at(v, road, y), 60) << y;
+    EXPECT_GT(paint_measure_at(v, xw, y) - paint_measure_at(v, road, y), 20) << y;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST(RoadRenderer, GreyFramesOfAColourSceneAreItsLumaTheBarrierStandsLeftAndNothingIsAllocated) {
+  const Config c = colour_road();
+  const SynthDrive drive(c.synth, c.nominal_pose());
+  const SynthFrame f = drive.frame(3);
+  RoadRenderer r(c.camera, c.synth);
+  Image rgb(400, 300, PixelFormat::rgb8), bgr(400, 300, PixelFormat::bgr8), grey(400, 300);
+  {
+    test::AllocationScope scope;
+    r.render(f, rgb.view);
+    EXPECT_EQ(scope.count(), 0u);
+  }
+  r.render(f, bgr.view);
+  r.render(f, grey.view);
+  for (int y = 0; y < 300; y += 3)
+    for (int x = 0; x < 400; x += 3) {
+      EXPECT_NEAR(ImageView(rgb.view).at(x, y), grey.at(x, y), 1.0) << x << "," << y;
+      EXPECT_EQ(ImageView(bgr.view).at(x, y), ImageView(rgb.view).at(x, y)) << x << "," << y;
+    }
+  // The barrier's bright foot: on rows that see the road 10 m ahead, left of the yellow
+  // line, some pixel as bright as the foot's concrete.
+  const CameraModel cam(c.camera, f.pose);
+  const auto p = cam.pixel_from_point(Vec3(10000, f.y0_mm[0] + 700, 0));
+  ASSERT_TRUE(p);
+  const int y = static_cast<int>(p->y()) - 1;
+  double brightest = 0;
+  for (int x = std::max(0, static_cast<int>(p->x()) - 30); x < static_cast<int>(p->x()); ++x)
+    brightest = std::max<double>(brightest, grey.at(x, y));
+  EXPECT_GT(brightest, 200.0);
 }
 
 TEST(RoadRenderer, DeterministicPerSeedAndAllocationFree) {

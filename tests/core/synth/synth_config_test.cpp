@@ -75,6 +75,28 @@ gyro_noise_deg = 0.05
   EXPECT_EQ(s.gyro_noise_deg, 0.05);
 }
 
+TEST(SynthConfig, ReadsTheRealRoadKeysOffByDefault) {
+  const SynthConfig off = parse_config("", "empty.toml").synth;
+  EXPECT_FALSE(off.colour || off.yellow_left_edge || off.hard_shadows || off.barrier);
+  EXPECT_EQ(off.surface, RoadSurface::asphalt);
+  const SynthConfig s = parse_config(R"(
+[synth]
+colour = true
+yellow_left_edge = true
+yellow_paint_grey = 160
+surface = "concrete"
+concrete_grey = 180
+hard_shadows = true
+barrier = true
+)",
+                                     "colour.toml")
+                            .synth;
+  EXPECT_TRUE(s.colour && s.yellow_left_edge && s.hard_shadows && s.barrier);
+  EXPECT_EQ(s.yellow_paint_grey, 160.0);
+  EXPECT_EQ(s.surface, RoadSurface::concrete);
+  EXPECT_EQ(s.concrete_grey, 180.0);
+}
+
 TEST(SynthConfig, StrictErrors) {
   EXPECT_EQ(error_of("[synth]\nlanes = 5\n"), "s.toml:2: synth.lanes: must be 2..4, got 5");
   EXPECT_EQ(error_of("[synth]\nego_lane = 3\n"), "s.toml:2: synth.ego_lane: must be a lane of the road, 0..2");
@@ -90,6 +112,11 @@ TEST(SynthConfig, StrictErrors) {
             "s.toml:3: synth.lane_change_at_s: a lane change goes to the lane on the right, and ego_lane is the "
             "rightmost");
   EXPECT_EQ(error_of("[synth]\ngyro = 1\n"), "s.toml:2: synth.gyro: must be true or false, got an integer");
+  EXPECT_EQ(error_of("[synth]\nsurface = \"gravel\"\n"),
+            "s.toml:2: synth.surface: must be \"asphalt\" or \"concrete\", got \"gravel\"");
+  EXPECT_EQ(error_of("[synth]\nconcrete_grey = 256\n"), "s.toml:2: synth.concrete_grey: must be a grey level 0..255");
+  EXPECT_EQ(error_of("[synth]\ncolour = true\nbits = 12\n"),
+            "s.toml:2: synth.colour: colour frames are rgb8: leave bits at 8");
 }
 
 }  // namespace
