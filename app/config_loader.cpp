@@ -7,10 +7,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -162,12 +162,12 @@ void read_camera(TableReader& r, Config& c) {
           "must be at most " + std::to_string(kMaxImageSide) + " pixels, got " + std::to_string(cam.Nu));
   require(cam.Nv <= kMaxImageSide, r, "Nv",
           "must be at most " + std::to_string(kMaxImageSide) + " pixels, got " + std::to_string(cam.Nv));
-  require(cam.Uc_mm < cam.U_mm, r, "Uc_mm", "a cell cannot be as wide as the chip (U_mm = " + format_number(cam.U_mm) + ")");
-  require(cam.Vc_mm < cam.V_mm, r, "Vc_mm", "a cell cannot be as tall as the chip (V_mm = " + format_number(cam.V_mm) + ")");
-  require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + 1e-9), r, "Nu",
-          "Nu cells of Uc_mm do not fit on a chip U_mm wide");
-  require(cam.Vc_mm * cam.Nv <= cam.V_mm * (1.0 + 1e-9), r, "Nv",
-          "Nv cells of Vc_mm do not fit on a chip V_mm tall");
+  require(cam.Uc_mm < cam.U_mm, r, "Uc_mm",
+          "a cell cannot be as wide as the chip (U_mm = " + format_number(cam.U_mm) + ")");
+  require(cam.Vc_mm < cam.V_mm, r, "Vc_mm",
+          "a cell cannot be as tall as the chip (V_mm = " + format_number(cam.V_mm) + ")");
+  require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + 1e-9), r, "Nu", "Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  require(cam.Vc_mm * cam.Nv <= cam.V_mm * (1.0 + 1e-9), r, "Nv", "Nv cells of Vc_mm do not fit on a chip V_mm tall");
   require(c.f_mm > 0.0, r, "f_mm", "must be > 0, got " + format_number(c.f_mm));
   if (!has_cx) cam.cx = CameraSpec::default_cx(cam.Nu);
   if (!has_cy) cam.cy = CameraSpec::default_cy(cam.Nv);
@@ -203,9 +203,12 @@ void read_attitude(TableReader& r, Config& c) {
 void read_solver(TableReader& r, Config& c) {
   std::string mode = "reprojection";
   r.string("mode", mode);
-  if (mode == "reprojection") c.solver.mode = SolverMode::reprojection;
-  else if (mode == "paper") c.solver.mode = SolverMode::paper;
-  else r.fail(r.node("mode"), "mode", "must be \"reprojection\" or \"paper\", got \"" + mode + "\"");
+  if (mode == "reprojection")
+    c.solver.mode = SolverMode::reprojection;
+  else if (mode == "paper")
+    c.solver.mode = SolverMode::paper;
+  else
+    r.fail(r.node("mode"), "mode", "must be \"reprojection\" or \"paper\", got \"" + mode + "\"");
 
   if (const toml::node* n = r.take("free")) {
     const toml::array* a = n->as_array();
@@ -214,8 +217,10 @@ void read_solver(TableReader& r, Config& c) {
     for (const toml::node& e : *a) {
       const auto name = e.value<std::string>();
       const auto p = name ? free_param_from_name(*name) : std::nullopt;
-      if (!p) r.fail(&e, "free", "unknown parameter " + (name ? "\"" + *name + "\"" : std::string("(not a string)")) +
-                                     "; expected any of psi theta phi H f y0 m c");
+      if (!p)
+        r.fail(&e, "free",
+               "unknown parameter " + (name ? "\"" + *name + "\"" : std::string("(not a string)")) +
+                   "; expected any of psi theta phi H f y0 m c");
       set.add(*p);
     }
     if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
@@ -223,9 +228,12 @@ void read_solver(TableReader& r, Config& c) {
   }
   std::string line_model = "straight";
   r.string("line_model", line_model);
-  if (line_model == "straight") c.solver.line_model = LineModel::per_line;
-  else if (line_model == "curved") c.solver.line_model = LineModel::shared_curvature;
-  else r.fail(r.node("line_model"), "line_model", "must be \"straight\" or \"curved\", got \"" + line_model + "\"");
+  if (line_model == "straight")
+    c.solver.line_model = LineModel::per_line;
+  else if (line_model == "curved")
+    c.solver.line_model = LineModel::shared_curvature;
+  else
+    r.fail(r.node("line_model"), "line_model", "must be \"straight\" or \"curved\", got \"" + line_model + "\"");
   if (c.solver.line_model == LineModel::shared_curvature && c.solver.free.has(FreeParam::c))
     r.fail(r.node("line_model"), "line_model",
            "\"curved\" solves one curvature shared by all lines: leave c out of free (c frees one per line)");
@@ -267,11 +275,16 @@ void read_gyro(TableReader& r, Config& c) {
 void read_source(TableReader& r, Config& c) {
   std::string kind = "synth";
   r.string("kind", kind);
-  if (kind == "synth") c.source.kind = SourceKind::synth;
-  else if (kind == "frames") c.source.kind = SourceKind::frames;
-  else if (kind == "v4l2") c.source.kind = SourceKind::v4l2;
-  else if (kind == "aravis") c.source.kind = SourceKind::aravis;
-  else r.fail(r.node("kind"), "kind", "must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"" + kind + "\"");
+  if (kind == "synth")
+    c.source.kind = SourceKind::synth;
+  else if (kind == "frames")
+    c.source.kind = SourceKind::frames;
+  else if (kind == "v4l2")
+    c.source.kind = SourceKind::v4l2;
+  else if (kind == "aravis")
+    c.source.kind = SourceKind::aravis;
+  else
+    r.fail(r.node("kind"), "kind", "must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"" + kind + "\"");
   r.string("device", c.source.device);
   r.string("camera", c.source.camera);
   r.string("path", c.source.path);
@@ -279,10 +292,14 @@ void read_source(TableReader& r, Config& c) {
   r.boolean("loop", c.source.loop);
   std::string pixels = "auto";
   r.string("pixel_format", pixels);
-  if (pixels == "auto") c.source.pixel_format = SourcePixels::automatic;
-  else if (pixels == "grey") c.source.pixel_format = SourcePixels::grey;
-  else if (pixels == "colour") c.source.pixel_format = SourcePixels::colour;
-  else r.fail(r.node("pixel_format"), "pixel_format", "must be \"auto\", \"grey\" or \"colour\", got \"" + pixels + "\"");
+  if (pixels == "auto")
+    c.source.pixel_format = SourcePixels::automatic;
+  else if (pixels == "grey")
+    c.source.pixel_format = SourcePixels::grey;
+  else if (pixels == "colour")
+    c.source.pixel_format = SourcePixels::colour;
+  else
+    r.fail(r.node("pixel_format"), "pixel_format", "must be \"auto\", \"grey\" or \"colour\", got \"" + pixels + "\"");
   r.reject_unknown();
   require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
@@ -295,8 +312,8 @@ void read_lcm(TableReader& r, Config& c) {
   r.boolean("publish_frames", c.lcm.publish_frames);
   r.reject_unknown();
   const std::string_view url = c.lcm.url;
-  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") ||
-                              url.starts_with("tcpq://") || url.starts_with("file://");
+  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") || url.starts_with("tcpq://") ||
+                              url.starts_with("file://");
   require(known_provider, r, "url",
           "must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
   // LCM channel names are at most 63 bytes; leave room for the longest suffix.
@@ -356,10 +373,14 @@ void read_synth(TableReader& r, Config& c) {
   r.number("edge_line_width_mm", s.edge_line_width_mm);
   std::string dashed = "inner";
   r.string("dashed", dashed);
-  if (dashed == "inner") s.dashed = DashedLines::inner;
-  else if (dashed == "all") s.dashed = DashedLines::all;
-  else if (dashed == "none") s.dashed = DashedLines::none;
-  else r.fail(r.node("dashed"), "dashed", "must be \"inner\", \"all\" or \"none\", got \"" + dashed + "\"");
+  if (dashed == "inner")
+    s.dashed = DashedLines::inner;
+  else if (dashed == "all")
+    s.dashed = DashedLines::all;
+  else if (dashed == "none")
+    s.dashed = DashedLines::none;
+  else
+    r.fail(r.node("dashed"), "dashed", "must be \"inner\", \"all\" or \"none\", got \"" + dashed + "\"");
   r.number("dash_length_mm", s.dash_length_mm);
   r.number("dash_gap_mm", s.dash_gap_mm);
   r.number("curvature_per_mm", s.curvature_per_mm);
@@ -389,9 +410,12 @@ void read_synth(TableReader& r, Config& c) {
   r.number("yellow_paint_grey", s.yellow_paint_grey);
   std::string surface = "asphalt";
   r.string("surface", surface);
-  if (surface == "asphalt") s.surface = RoadSurface::asphalt;
-  else if (surface == "concrete") s.surface = RoadSurface::concrete;
-  else r.fail(r.node("surface"), "surface", "must be \"asphalt\" or \"concrete\", got \"" + surface + "\"");
+  if (surface == "asphalt")
+    s.surface = RoadSurface::asphalt;
+  else if (surface == "concrete")
+    s.surface = RoadSurface::concrete;
+  else
+    r.fail(r.node("surface"), "surface", "must be \"asphalt\" or \"concrete\", got \"" + surface + "\"");
   r.number("concrete_grey", s.concrete_grey);
   r.boolean("hard_shadows", s.hard_shadows);
   r.boolean("barrier", s.barrier);
@@ -413,20 +437,20 @@ void read_synth(TableReader& r, Config& c) {
           "must be within +-1e-5 (a radius of at least 50 m)");
   require(s.weave_mm >= 0.0 && s.weave_mm < s.lane_width_mm / 2, r, "weave_mm", "must be 0 .. half a lane");
   const std::pair<const char*, double> periods[] = {{"weave_period_s", s.weave_period_s},
-                                                   {"bump_period_s", s.bump_period_s},
-                                                   {"roll_period_s", s.roll_period_s},
-                                                   {"lane_change_s", s.lane_change_s}};
+                                                    {"bump_period_s", s.bump_period_s},
+                                                    {"roll_period_s", s.roll_period_s},
+                                                    {"lane_change_s", s.lane_change_s}};
   for (const auto& [key, value] : periods) require(value > 0.0, r, key, "must be > 0");
   require(std::abs(s.pitch_bump_deg) <= 10.0, r, "pitch_bump_deg", "must be within +-10");
   require(std::abs(s.roll_sway_deg) <= 10.0, r, "roll_sway_deg", "must be within +-10");
   require(s.lane_change_at_s < 0.0 || s.ego_lane + 1 < s.lanes, r, "lane_change_at_s",
           "a lane change goes to the lane on the right, and ego_lane is the rightmost");
   const std::pair<const char*, double> greys[] = {{"asphalt_grey", s.asphalt_grey},
-                                                 {"paint_grey", s.paint_grey},
-                                                 {"sky_grey", s.sky_grey},
-                                                 {"verge_grey", s.verge_grey},
-                                                 {"yellow_paint_grey", s.yellow_paint_grey},
-                                                 {"concrete_grey", s.concrete_grey}};
+                                                  {"paint_grey", s.paint_grey},
+                                                  {"sky_grey", s.sky_grey},
+                                                  {"verge_grey", s.verge_grey},
+                                                  {"yellow_paint_grey", s.yellow_paint_grey},
+                                                  {"concrete_grey", s.concrete_grey}};
   for (const auto& [key, value] : greys) require(value >= 0.0 && value <= 255.0, r, key, "must be a grey level 0..255");
   require(s.texture_grey >= 0.0 && s.texture_grey <= 100.0, r, "texture_grey", "must be 0..100");
   require(s.gradient >= 0.0 && s.gradient < 1.0, r, "gradient", "must be 0 .. < 1");
@@ -524,9 +548,9 @@ void read_ldw(TableReader& r, Config& c) {
   require(w.earliest_margin_mm >= 0.0 && w.earliest_margin_mm < w.earliest_warning_mm, r, "earliest_margin_mm",
           "must be 0 .. < earliest_warning_mm (" + format_number(w.earliest_warning_mm) + ")");
   require(w.tlc_threshold_s >= 0.0 && w.tlc_threshold_s <= 5.0, r, "tlc_threshold_s", "must be 0..5");
-  require(w.min_threshold_mm > w.latest_warning_mm &&
-              w.min_threshold_mm <= w.earliest_warning_mm - w.earliest_margin_mm,
-          r, "min_threshold_mm", "must lie between latest_warning_mm and earliest_warning_mm - earliest_margin_mm");
+  require(
+      w.min_threshold_mm > w.latest_warning_mm && w.min_threshold_mm <= w.earliest_warning_mm - w.earliest_margin_mm, r,
+      "min_threshold_mm", "must lie between latest_warning_mm and earliest_warning_mm - earliest_margin_mm");
   require(w.min_approach_mps > 0.0 && w.min_approach_mps <= 1.0, r, "min_approach_mps", "must be > 0 and <= 1");
   require(w.rearm_mm >= 0.0 && w.rearm_mm <= 2000.0, r, "rearm_mm", "must be 0..2000");
   require(w.rearm_margin_mm >= 0.0 && w.rearm_margin_mm <= 2000.0, r, "rearm_margin_mm", "must be 0..2000");
@@ -544,10 +568,10 @@ struct Section {
   SectionReader read;
 };
 constexpr Section kSections[] = {
-    {"camera", read_camera}, {"mount", read_mount}, {"attitude", read_attitude}, {"solver", read_solver},
-    {"prior", read_prior},   {"gyro", read_gyro},   {"source", read_source},     {"lcm", read_lcm},
-    {"realtime", read_realtime}, {"daemon", read_daemon},     {"synth", read_synth},
-    {"detection", read_detection}, {"vehicle", read_vehicle}, {"ldw", read_ldw},
+    {"camera", read_camera},     {"mount", read_mount},   {"attitude", read_attitude}, {"solver", read_solver},
+    {"prior", read_prior},       {"gyro", read_gyro},     {"source", read_source},     {"lcm", read_lcm},
+    {"realtime", read_realtime}, {"daemon", read_daemon}, {"synth", read_synth},       {"detection", read_detection},
+    {"vehicle", read_vehicle},   {"ldw", read_ldw},
 };
 
 }  // namespace

@@ -37,7 +37,8 @@ std::string Gx1AttitudeProvider::open() {
       return "gyro.device: \"emulated\": cannot start the 3DM-GX1 emulator: " + std::string(std::strerror(-rc));
     path = emulator_->slave_path();
   }
-  session_ = std::make_unique<gx1::Gx1Session>(path, options_, [this](LogLevel level, const char* category, const char* line) { note(level, category, line); });
+  session_ = std::make_unique<gx1::Gx1Session>(
+      path, options_, [this](LogLevel level, const char* category, const char* line) { note(level, category, line); });
   if (const int rc = session_->open(); rc < 0) {
     const std::string why = rc == -ETIMEDOUT ? "the sensor did not answer" : std::strerror(-rc);
     const std::string line = "gyro.device: \"" + device_ + "\": " + path + ": " + why;

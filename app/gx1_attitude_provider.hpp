@@ -43,7 +43,8 @@ class Gx1AttitudeProvider final : public AttitudeProvider {
  private:
   // The device was absent at open(): tries it again with backoff until found or stopped.
   void retry_until_found(const std::atomic<bool>& stop);
-  void note(LogLevel level, const char* category, const char* line);  // the session's log lines: logged, and kept as the problem
+  void note(LogLevel level, const char* category,
+            const char* line);  // the session's log lines: logged, and kept as the problem
 
   std::string device_;
   LogSink log_;
@@ -53,7 +54,7 @@ class Gx1AttitudeProvider final : public AttitudeProvider {
   std::atomic<bool> opened_{false};
   std::atomic<bool> absent_{false};    // open() failed: the gyro thread keeps trying the device
   std::atomic<bool> retrying_{false};  // failed retries are not logged, only kept as the problem
-  mutable std::mutex problem_mutex_;  // taken when the session logs (events, not samples)
+  mutable std::mutex problem_mutex_;   // taken when the session logs (events, not samples)
   char problem_[256] = {};
 };
 

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <memory>
 
-#include "core/synth/synth_drive.hpp"
 #include "app/gx1_attitude_provider.hpp"
-#include "base/log.hpp"
 #include "app/synth_source.hpp"
+#include "base/log.hpp"
+#include "core/synth/synth_drive.hpp"
 
 namespace ccdlane {
 namespace {

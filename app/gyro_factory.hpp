@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "app/config.hpp"
 #include "app/attitude_provider.hpp"
+#include "app/config.hpp"
 #include "base/log.hpp"
 
 namespace ccdlane {

@@ -44,8 +44,12 @@ CameraSettings camera_settings(const Config& c) {
   return s;
 }
 
-std::unique_ptr<FrameSource> make_v4l2(const Config& c) { return make_camera("v4l2:" + c.source.device, camera_settings(c)); }
-std::unique_ptr<FrameSource> make_aravis(const Config& c) { return make_camera("aravis:" + c.source.camera, camera_settings(c)); }
+std::unique_ptr<FrameSource> make_v4l2(const Config& c) {
+  return make_camera("v4l2:" + c.source.device, camera_settings(c));
+}
+std::unique_ptr<FrameSource> make_aravis(const Config& c) {
+  return make_camera("aravis:" + c.source.camera, camera_settings(c));
+}
 
 const char* kind_name(SourceKind kind) {
   switch (kind) {

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/synth/road_renderer.hpp"
 #include "base/clock.hpp"
+#include "core/synth/road_renderer.hpp"
 
 namespace ccdlane {
 
@@ -36,8 +36,8 @@ std::string SynthSource::open() {
   for (int k = 0; k < count_; ++k) {
     if (options_.cancelled && options_.cancelled()) return kSynthInterrupted;
     const SynthFrame truth = drive_.frame(static_cast<std::uint64_t>(k));
-    renderer.render(truth, {pixels_.data() + frame_bytes_ * static_cast<std::size_t>(k), width_, height_, stride,
-                            format_, bits_});
+    renderer.render(
+        truth, {pixels_.data() + frame_bytes_ * static_cast<std::size_t>(k), width_, height_, stride, format_, bits_});
     gyro_[static_cast<std::size_t>(k)] = truth.gyro;
   }
   start_ns_ = monotonic_ns();
@@ -64,8 +64,10 @@ CaptureStatus SynthSource::capture(const MutableImageView& into, FrameMeta& meta
   meta.sequence = next_;
   meta.t_ns = monotonic_ns();
   meta.recorded_t_ns = drive_.t_ns(next_);  // the drive's clock, as `ccdlane synth` stamps frame n
-  if (options_.gyro_in_meta) meta.gyro = gyro_[k];
-  else meta.gyro.reset();
+  if (options_.gyro_in_meta)
+    meta.gyro = gyro_[k];
+  else
+    meta.gyro.reset();
   ++next_;
   delivered_.fetch_add(1, std::memory_order_relaxed);
   return CaptureStatus::frame;

@@ -4,8 +4,8 @@
 #pragma once
 
 #include <atomic>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,9 +16,9 @@
 namespace ccdlane {
 
 struct SynthSourceOptions {
-  double rate_hz = 30.0;        // playback pace; 0: as fast as frames are asked for
-  bool gyro_in_meta = true;     // put each frame's gyro reading in FrameMeta.gyro
-  std::uint64_t frames = 0;     // then end of stream; 0: loop for ever
+  double rate_hz = 30.0;                      // playback pace; 0: as fast as frames are asked for
+  bool gyro_in_meta = true;                   // put each frame's gyro reading in FrameMeta.gyro
+  std::uint64_t frames = 0;                   // then end of stream; 0: loop for ever
   static constexpr double kMaxSeconds = 4.0;  // rendered ahead: at most this much drive
   // Asked between frames while open() renders: true gives up (open() returns
   // kSynthInterrupted), so that a stop request does not wait out seconds of rendering.

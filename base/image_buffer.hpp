@@ -15,8 +15,8 @@ class ImageBuffer {
   ImageBuffer(int width, int height, PixelFormat format, int significant_bits)
       : pixels_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
                 static_cast<std::size_t>(bytes_per_pixel(format))),
-        view_{pixels_.data(), width, height, static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(format), format,
-              significant_bits} {}
+        view_{pixels_.data(), width,           height, static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(format),
+              format,         significant_bits} {}
   ImageBuffer(const ImageBuffer&) = delete;
   ImageBuffer& operator=(const ImageBuffer&) = delete;
 

@@ -50,7 +50,8 @@ void log_line(LogLevel level, const char* category, const char* format, ...) {
   va_start(args, format);
   const int m = std::vsnprintf(line + used, sizeof line - used, format, args);
   va_end(args);
-  if (m > 0) used += static_cast<std::size_t>(m) < sizeof line - used ? static_cast<std::size_t>(m) : sizeof line - used - 1;
+  if (m > 0)
+    used += static_cast<std::size_t>(m) < sizeof line - used ? static_cast<std::size_t>(m) : sizeof line - used - 1;
   if (used >= sizeof line - 1) used = sizeof line - 2;  // keep room for the newline
   line[used++] = '\n';
   // One write per line, so lines from different threads never interleave.

@@ -88,7 +88,8 @@ std::string FrameLogWriter::keep_written() noexcept {
   std::fflush(file);  // fails again on a full disk: the cut below drops what it left
   const int fd = ::fileno(file);
   std::string why;
-  if (::ftruncate(fd, whole_bytes_) != 0 || ::fsync(fd) != 0) why = tmp_ + ": cannot cut back to whole events: " + std::strerror(errno);
+  if (::ftruncate(fd, whole_bytes_) != 0 || ::fsync(fd) != 0)
+    why = tmp_ + ": cannot cut back to whole events: " + std::strerror(errno);
   log_.reset();
   if (why.empty() && ::rename(tmp_.c_str(), path_.c_str()) != 0)
     why = path_ + ": cannot rename into place: " + std::strerror(errno);

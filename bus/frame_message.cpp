@@ -84,12 +84,14 @@ std::string frame_image(const frame_t& msg, ImageView& image) {
   const std::optional<PixelFormat> known = image_format(msg.pixel_format);
   if (!known) return frame + "unknown pixel_format " + std::to_string(msg.pixel_format);
   const PixelFormat format = *known;
-  if (msg.width < 1 || msg.height < 1) return frame + "impossible size " + std::to_string(msg.width) + "x" + std::to_string(msg.height);
+  if (msg.width < 1 || msg.height < 1)
+    return frame + "impossible size " + std::to_string(msg.width) + "x" + std::to_string(msg.height);
   if (msg.row_stride < msg.width * bytes_per_pixel(format))
     return frame + "row_stride " + std::to_string(msg.row_stride) + " is shorter than a row";
   const auto expected = static_cast<std::int64_t>(msg.row_stride) * msg.height;
   if (msg.data_size != expected || msg.data.size() != static_cast<std::size_t>(msg.data_size))
-    return frame + "data_size " + std::to_string(msg.data_size) + " is not row_stride x height = " + std::to_string(expected);
+    return frame + "data_size " + std::to_string(msg.data_size) +
+           " is not row_stride x height = " + std::to_string(expected);
   const int max_bits = format == PixelFormat::mono16 ? 16 : 8;
   const int min_bits = format == PixelFormat::mono16 ? 9 : 8;
   if (msg.significant_bits < min_bits || msg.significant_bits > max_bits)

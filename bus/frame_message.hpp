@@ -16,10 +16,10 @@ namespace ccdlane {
 
 // What a recorded frame carries besides its pixels.
 struct FrameRecord {
-  std::uint64_t sequence = 0;      // the source's frame number (frames.csv row for a frame directory)
-  std::int64_t t_ns = 0;           // the frame's own timestamp
-  std::int64_t utime = 0;          // wall-clock capture time, microseconds since the Unix epoch
-  std::optional<Gx1Angles> gyro;   // the gyro reading at t_ns, if there is one
+  std::uint64_t sequence = 0;         // the source's frame number (frames.csv row for a frame directory)
+  std::int64_t t_ns = 0;              // the frame's own timestamp
+  std::int64_t utime = 0;             // wall-clock capture time, microseconds since the Unix epoch
+  std::optional<Gx1Angles> gyro;      // the gyro reading at t_ns, if there is one
   std::uint64_t source_sequence = 0;  // the source's own id for the frame (may wrap or restart)
   // The vehicle at the frame, if known (vehicle_state_t; frames.csv's columns).
   std::optional<double> speed_kmh = std::nullopt;

@@ -79,8 +79,9 @@ LdwEstimate from_ldw_fields(const lane_estimate_t& m) {
   l.warning = side_from_code(m.ldw_warning);
   l.fired = side_from_code(m.ldw_fired);
   l.warnings = static_cast<std::uint32_t>(std::max(0, m.ldw_warnings));
-  l.track = m.ldw_track >= M::TRACK_LOST && m.ldw_track <= M::TRACK_COASTING ? static_cast<ldw::TrackStatus>(m.ldw_track)
-                                                                             : ldw::TrackStatus::lost;
+  l.track = m.ldw_track >= M::TRACK_LOST && m.ldw_track <= M::TRACK_COASTING
+                ? static_cast<ldw::TrackStatus>(m.ldw_track)
+                : ldw::TrackStatus::lost;
   l.tracked = l.track != ldw::TrackStatus::lost;
   l.dlc_left_mm = l.tracked ? m.dlc_left_mm : 0.0;
   l.dlc_right_mm = l.tracked ? m.dlc_right_mm : 0.0;
@@ -137,8 +138,10 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   const int n = std::clamp(e.num_lines, 0, kMaxLaneLines);
   out.num_lines = static_cast<std::int8_t>(n);
   for (int i = 0; i < kMaxLaneLines; ++i) {
-    if (i < n) copy_line(e.lines[static_cast<std::size_t>(i)], out.lines[i]);
-    else out.lines[i] = lane_line_t{};
+    if (i < n)
+      copy_line(e.lines[static_cast<std::size_t>(i)], out.lines[i]);
+    else
+      out.lines[i] = lane_line_t{};
   }
   out.lane_width_mm = e.lane_width_mm;
   out.lateral_offset_mm = e.lateral_offset_mm;
@@ -157,8 +160,10 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.frame = static_cast<std::uint64_t>(m.frame);
   e.t_ns = m.t_ns;
   e.ok = m.ok != 0;
-  if (m.reason > M::REASON_NONE && m.reason < kReasonCount) e.reason = static_cast<EstimateFailure>(m.reason);
-  else e.reason = e.ok ? EstimateFailure::none : EstimateFailure::solver_failed;
+  if (m.reason > M::REASON_NONE && m.reason < kReasonCount)
+    e.reason = static_cast<EstimateFailure>(m.reason);
+  else
+    e.reason = e.ok ? EstimateFailure::none : EstimateFailure::solver_failed;
   e.psi_deg = m.psi_deg;
   e.theta_deg = m.theta_deg;
   e.phi_deg = m.phi_deg;

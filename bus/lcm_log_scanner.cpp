@@ -25,8 +25,10 @@ std::uint64_t big_endian(const unsigned char* p, int n) {
 LcmLogScanner::LcmLogScanner(int fd, std::int64_t max_data_bytes)
     : fd_(fd), max_data_bytes_(std::clamp<std::int64_t>(max_data_bytes, 0, kLcmLogMaxDataBytes)) {
   struct stat st {};
-  if (::fstat(fd_, &st) != 0) error_ = std::strerror(errno);
-  else if (st.st_size > 0) file_size_ = static_cast<std::uint64_t>(st.st_size);
+  if (::fstat(fd_, &st) != 0)
+    error_ = std::strerror(errno);
+  else if (st.st_size > 0)
+    file_size_ = static_cast<std::uint64_t>(st.st_size);
 }
 
 bool LcmLogScanner::read_at(std::uint64_t at, void* into, std::size_t n) {
@@ -160,8 +162,7 @@ void LcmLogScanner::skip_region(std::uint64_t from, std::uint64_t to, const std:
   events_lost_ += events;
   bytes_skipped_ += to - from;
   last_damage_ = "bytes " + std::to_string(from) + ".." + std::to_string(to) + " (" + std::to_string(to - from) +
-                 " bytes, about " + std::to_string(events) + (events == 1 ? " event" : " events") +
-                 ") skipped: " + why;
+                 " bytes, about " + std::to_string(events) + (events == 1 ? " event" : " events") + ") skipped: " + why;
 }
 
 bool LcmLogScanner::next() {

@@ -36,8 +36,7 @@ bool LcmPublisher::publish_bytes(const std::string& channel, std::uint8_t* buffe
   return lcm_->publish(channel, buffer, static_cast<unsigned int>(size)) == 0;
 }
 
-bool LcmPublisher::publish_lane(const LaneEstimate& estimate, std::int64_t capture_utime,
-                                std::int64_t publish_utime) {
+bool LcmPublisher::publish_lane(const LaneEstimate& estimate, std::int64_t capture_utime, std::int64_t publish_utime) {
   to_message(estimate, capture_utime, publish_utime, lane_message_);
   return publish_bytes(lanes_channel_, lane_bytes_.get(), lane_capacity_, lane_message_);
 }
@@ -92,4 +91,3 @@ const char* LcmPublisher::poll_bus() {
 }
 
 }  // namespace ccdlane
-

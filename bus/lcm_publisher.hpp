@@ -74,7 +74,7 @@ class LcmPublisher : public LaneSink {
 
   std::string url_;
   std::string instance_;
-  status_t received_{};           // the last status seen on the bus, decoded in place
+  status_t received_{};  // the last status seen on the bus, decoded in place
   bool watching_ = false, other_seen_ = false, other_new_ = false;
   std::unique_ptr<lcm::LCM> lcm_;
   std::string lanes_channel_, status_channel_, frames_channel_;

@@ -23,8 +23,9 @@ int main(int argc, char** argv) {
   CLI::App app{"ccdlaned: lanes from one camera with a known CCD geometry, published over LCM"};
   std::string config_path;
   bool check_only = false;
-  app.add_option("--config", config_path, std::string("configuration file (TOML); default ") + kDefaultConfig +
-                                              ", or the built-in demo when that does not exist");
+  app.add_option("--config", config_path,
+                 std::string("configuration file (TOML); default ") + kDefaultConfig +
+                     ", or the built-in demo when that does not exist");
   app.add_flag("--check-config", check_only, "validate the configuration and exit (0: usable, 2: not)");
   app.set_version_flag("--version", std::string(CCDLANE_VERSION));
   app.footer(

@@ -8,19 +8,19 @@
 #include <exception>
 #include <memory>
 
-#include "daemon/allocation_counter.hpp"
-#include "base/clock.hpp"
 #include "app/gyro_factory.hpp"
-#include "daemon/latency_window.hpp"
-#include "bus/lcm_publisher.hpp"
+#include "app/source_factory.hpp"
+#include "base/clock.hpp"
 #include "base/log.hpp"
-#include "daemon/pipeline.hpp"
+#include "bus/lcm_publisher.hpp"
+#include "daemon/allocation_counter.hpp"
 #include "daemon/frame_processor.hpp"
+#include "daemon/latency_window.hpp"
+#include "daemon/pipeline.hpp"
 #include "daemon/realtime.hpp"
 #include "daemon/sd_notifier.hpp"
 #include "daemon/service_heartbeat.hpp"
 #include "daemon/signal_waiter.hpp"
-#include "app/source_factory.hpp"
 #include "daemon/status_report.hpp"
 
 namespace ccdlane {
@@ -33,9 +33,13 @@ class StatusTicker {
  public:
   StatusTicker(Pipeline& pipeline, AttitudeProvider* gyro, LcmPublisher& publisher, SystemdNotifier& notifier,
                const std::string& camera, std::int64_t start_ns)
-      : pipeline_(pipeline), gyro_(gyro), publisher_(publisher), notifier_(notifier),
+      : pipeline_(pipeline),
+        gyro_(gyro),
+        publisher_(publisher),
+        notifier_(notifier),
         report_(camera, publisher.instance()),
-        window_(1 << 16), start_ns_(start_ns) {}
+        window_(1 << 16),
+        start_ns_(start_ns) {}
 
   void tick() {
     if (const char* other = publisher_.poll_bus())
@@ -99,14 +103,13 @@ std::string solver_observability_problem(const Config& c) {
   // A frame directory is expected to carry its gyro: name the file that does not.
   if (!why.empty() && !no_recorded_gyro.empty() && c.source.kind == SourceKind::frames &&
       why.find("phi and y0") != std::string::npos)
-    return no_recorded_gyro + " and there is no [gyro] device, no [prior] phi_deg and no [prior] lane_width_mm, "
-                              "while solver.free has phi and y0: the roll is not observable; add one of them or fix phi";
+    return no_recorded_gyro +
+           " and there is no [gyro] device, no [prior] phi_deg and no [prior] lane_width_mm, "
+           "while solver.free has phi and y0: the roll is not observable; add one of them or fix phi";
   return why;
 }
 
-std::string daemon_config_problem(const Config& config) {
-  return solver_observability_problem(config);
-}
+std::string daemon_config_problem(const Config& config) { return solver_observability_problem(config); }
 
 Config demo_config() {
   Config c = default_config();
@@ -169,7 +172,8 @@ int run_daemon(const Config& config) {
   ServiceHeartbeat heartbeat(notifier);
   StatusTicker status(pipeline, gyro.get(), *publisher, notifier, source->describe(), start_ns);
   const FramePoolLayout& pool = pipeline.pool().layout();
-  log_line(LogLevel::info, "start", "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s, instance %s",
+  log_line(LogLevel::info, "start",
+           "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s, instance %s",
            source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pool.count, pool.width, pool.height,
            publisher->lanes_channel().c_str(), publisher->status_channel().c_str(), publisher->url().c_str(),
            publisher->instance().c_str());
@@ -217,15 +221,14 @@ int run_daemon(const Config& config) {
   pipeline.stop();  // threads joined: the capture wait is bounded, queued frames are left
   source->close();  // streams off, device closed
   if (gyro) gyro->close();
-  status.tick();    // the last word on the bus; udpm sends synchronously, nothing is left queued
+  status.tick();  // the last word on the bus; udpm sends synchronously, nothing is left queued
   const status_t& s = status.last();
   // in = processed + dropped + left queued at the stop: every frame is accounted for.
   log_line(LogLevel::info, "stop",
            "%lld frames in, %lld processed, %lld dropped, %lld left queued at stop, %lld not ok, "
            "%lld allocations after ready",
            static_cast<long long>(s.frames_in_total), static_cast<long long>(s.frames_processed_total),
-           static_cast<long long>(s.frames_dropped_total),
-           static_cast<long long>(pipeline.totals().frames_unprocessed),
+           static_cast<long long>(s.frames_dropped_total), static_cast<long long>(pipeline.totals().frames_unprocessed),
            static_cast<long long>(s.frames_not_ok_total), static_cast<long long>(s.allocations_since_ready));
   return 0;
 }

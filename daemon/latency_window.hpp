@@ -12,7 +12,7 @@ struct LatencySummary {
   std::int64_t samples = 0;  // all samples of the window, also those beyond capacity
   std::int64_t p50_us = 0;   // nearest-rank percentiles of the stored samples; 0 when none
   std::int64_t p99_us = 0;
-  std::int64_t max_us = 0;   // over all samples
+  std::int64_t max_us = 0;  // over all samples
 };
 
 class LatencyWindow {

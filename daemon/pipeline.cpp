@@ -9,10 +9,10 @@
 #include <exception>
 #include <stdexcept>
 
-#include "daemon/allocation_counter.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
 #include "core/lane/lane_estimator.hpp"
+#include "daemon/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
@@ -40,7 +40,8 @@ PipelineOptions pipeline_options(const Config& c) {
   o.processing_priority = c.realtime.processing_priority;
   o.gyro_priority = c.realtime.gyro_priority;
   const LaneEstimatorOptions estimator = c.estimator_options();
-  o.roll_needs_gyro = !observability_problem(estimator, false).empty() && observability_problem(estimator, true).empty();
+  o.roll_needs_gyro =
+      !observability_problem(estimator, false).empty() && observability_problem(estimator, true).empty();
   return o;
 }
 
@@ -111,7 +112,8 @@ void Pipeline::set_camera_state(CameraState state) {
   if (state != CameraState::streaming) source_.copy_last_problem(problem, sizeof problem);
   // The pipeline may call a stall before the driver has a word for it.
   if (state == CameraState::stalled && problem[0] == '\0')
-    std::snprintf(problem, sizeof problem, "no frame for %.1f s", static_cast<double>(options_.stall_timeout_ns) * 1e-9);
+    std::snprintf(problem, sizeof problem, "no frame for %.1f s",
+                  static_cast<double>(options_.stall_timeout_ns) * 1e-9);
   {
     std::lock_guard<std::mutex> lock(problem_mutex_);
     std::snprintf(problem_, sizeof problem_, "%s", problem);
@@ -162,9 +164,7 @@ void Pipeline::capture_loop() {
       case CaptureStatus::timeout:
         if (now - last_frame_ns >= options_.stall_timeout_ns) set_camera_state(CameraState::stalled);
         break;
-      case CaptureStatus::recovering:
-        set_camera_state(CameraState::recovering);
-        break;
+      case CaptureStatus::recovering: set_camera_state(CameraState::recovering); break;
       case CaptureStatus::error: {
         // Counted by the source; the next frame may be fine. The bad one still takes its
         // frame number and goes out as a lane message with ok = false, so that a
@@ -305,8 +305,11 @@ void Pipeline::publish(LaneEstimate& estimate, std::int64_t received_ns) {
   const std::int64_t published_ns = monotonic_ns();
 
   frames_processed_.fetch_add(1, std::memory_order_relaxed);
-  if (estimate.ok) frames_ok_.fetch_add(1, std::memory_order_relaxed);
-  else not_ok_by_reason_[static_cast<int>(estimate.reason) % kEstimateFailureKinds].fetch_add(1, std::memory_order_relaxed);
+  if (estimate.ok)
+    frames_ok_.fetch_add(1, std::memory_order_relaxed);
+  else
+    not_ok_by_reason_[static_cast<int>(estimate.reason) % kEstimateFailureKinds].fetch_add(1,
+                                                                                           std::memory_order_relaxed);
   // The statistics measure up to the end of the publish call, which the message's own
   // latency_us (encoded before sending) cannot include.
   if (!latencies_.try_push((published_ns - received_ns) / 1000))
@@ -361,7 +364,8 @@ std::int64_t Pipeline::stuck_silence_ns() const {
 void Pipeline::camera_problem(char* out, std::size_t size) const {
   if (size == 0) return;
   if (const std::int64_t silent = stuck_silence_ns(); silent >= options_.stall_timeout_ns) {
-    std::snprintf(out, size, "no frame for %.1f s (the capture call has not returned)", static_cast<double>(silent) * 1e-9);
+    std::snprintf(out, size, "no frame for %.1f s (the capture call has not returned)",
+                  static_cast<double>(silent) * 1e-9);
     return;
   }
   std::lock_guard<std::mutex> lock(problem_mutex_);

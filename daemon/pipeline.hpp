@@ -12,28 +12,28 @@
 #include <thread>
 #include <vector>
 
-#include "app/config.hpp"
 #include "app/attitude_provider.hpp"
+#include "app/config.hpp"
+#include "base/spsc_ring.hpp"
+#include "bus/lane_sink.hpp"
 #include "daemon/doorbell.hpp"
 #include "daemon/frame_processor.hpp"
-#include "bus/lane_sink.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/pipeline_totals.hpp"
 #include "daemon/realtime.hpp"
-#include "base/spsc_ring.hpp"
 #include "drivers/camera/frame_pool.hpp"
 #include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 
 struct PipelineOptions {
-  int queue_depth = 4;                         // frames waiting for processing; beyond, the oldest is dropped
-  int capture_timeout_ms = 100;                // bounds how long stop() waits for the capture thread
+  int queue_depth = 4;                            // frames waiting for processing; beyond, the oldest is dropped
+  int capture_timeout_ms = 100;                   // bounds how long stop() waits for the capture thread
   std::int64_t stall_timeout_ns = 2'000'000'000;  // no frame for this long: camera stalled
-  int capture_priority = 0;                    // SCHED_FIFO priorities, 0 = normal scheduling
+  int capture_priority = 0;                       // SCHED_FIFO priorities, 0 = normal scheduling
   int processing_priority = 0;
   int gyro_priority = 0;
-  std::size_t latency_queue = 16384;           // latency samples waiting for the status thread
+  std::size_t latency_queue = 16384;  // latency samples waiting for the status thread
   // The roll is observable only through a gyro reading (phi and y0 free, no roll or
   // lane-width prior): a frame without one is flagged roll_unobservable.
   bool roll_needs_gyro = false;
@@ -130,7 +130,7 @@ class Pipeline {
   std::atomic<std::uint64_t> no_attitude_{0}, publish_errors_{0}, frame_publish_errors_{0}, latency_samples_lost_{0};
   std::atomic<std::uint64_t> source_frames_{0}, source_dropped_{0}, source_errors_{0}, source_timeouts_{0},
       source_reconnects_{0};
-  std::uint64_t next_frame_ = 0;  // the capture thread's: the next frame number of this run
+  std::uint64_t next_frame_ = 0;           // the capture thread's: the next frame number of this run
   std::int64_t bad_frame_logged_ns_ = 0;   // the capture thread's: last bad-frame log line
   std::uint64_t bad_frames_unlogged_ = 0;  //   and the bad frames since, not logged
   std::atomic<CameraState> camera_state_{CameraState::starting};

@@ -20,9 +20,7 @@ int sys_set_fifo_priority(int priority) {
   p.sched_priority = priority;
   return -::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);  // returns an errno value
 }
-int sys_set_affinity(const cpu_set_t& cpus) {
-  return -::pthread_setaffinity_np(::pthread_self(), sizeof cpus, &cpus);
-}
+int sys_set_affinity(const cpu_set_t& cpus) { return -::pthread_setaffinity_np(::pthread_self(), sizeof cpus, &cpus); }
 
 constexpr RealtimeSyscalls kSystemCalls{sys_lock_all_memory, sys_unlock_all_memory, sys_set_fifo_priority,
                                         sys_set_affinity};
@@ -105,8 +103,8 @@ bool RealtimeSetup::apply_to_current_thread(const char* thread, int priority) {
 void RealtimeSetup::describe(char* out, std::size_t size) const {
   char list[128];
   format_cpus(config_.cpus, list, sizeof list);
-  std::snprintf(out, size, "mlock %s, SCHED_FIFO on %d thread(s), cpus %s",
-                memory_locked() ? "on" : "off", fifo_threads(), config_.cpus.empty() ? "any" : list);
+  std::snprintf(out, size, "mlock %s, SCHED_FIFO on %d thread(s), cpus %s", memory_locked() ? "on" : "off",
+                fifo_threads(), config_.cpus.empty() ? "any" : list);
 }
 
 }  // namespace ccdlane

@@ -15,9 +15,9 @@ namespace ccdlane {
 // The system calls involved, each returning 0 or -errno. Tests substitute them to play
 // "not permitted" without changing users.
 struct RealtimeSyscalls {
-  int (*lock_all_memory)();                  // mlockall(MCL_CURRENT | MCL_FUTURE)
-  int (*unlock_all_memory)();                // munlockall()
-  int (*set_fifo_priority)(int priority);    // SCHED_FIFO for the calling thread
+  int (*lock_all_memory)();                    // mlockall(MCL_CURRENT | MCL_FUTURE)
+  int (*unlock_all_memory)();                  // munlockall()
+  int (*set_fifo_priority)(int priority);      // SCHED_FIFO for the calling thread
   int (*set_affinity)(const cpu_set_t& cpus);  // CPU affinity of the calling thread
 };
 const RealtimeSyscalls& system_realtime_syscalls();

@@ -2,11 +2,11 @@
 // socket names included); this adds rate limiting and a once-only failure report.
 #include "daemon/sd_notifier.hpp"
 
-#include <systemd/sd-daemon.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+
+#include <systemd/sd-daemon.h>
 
 #include "base/log.hpp"
 

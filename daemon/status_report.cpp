@@ -24,9 +24,7 @@ static_assert(static_cast<int>(GyroState::stale) == status_t::GYRO_STALE);
 static_assert(static_cast<int>(GyroState::lost) == status_t::GYRO_LOST);
 static_assert(sizeof(status_t::not_ok_by_reason) / sizeof(std::int64_t) == kEstimateFailureKinds);
 
-void assign_cut(std::string& field, const char* text) {
-  field.assign(text, strnlen(text, kStatusTextMax));
-}
+void assign_cut(std::string& field, const char* text) { field.assign(text, strnlen(text, kStatusTextMax)); }
 
 std::int32_t period_count(std::uint64_t now, std::uint64_t before) {
   const std::uint64_t d = now >= before ? now - before : 0;

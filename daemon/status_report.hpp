@@ -18,7 +18,7 @@ struct StatusInputs {
   std::int64_t utime = 0;      // now, microseconds since the epoch
   std::int64_t uptime_us = 0;  // since start
   PipelineTotals totals;
-  LatencySummary latency;      // of the period since the previous update
+  LatencySummary latency;  // of the period since the previous update
   const char* camera_problem = "";
   GyroState gyro = GyroState::none;
   GyroCounters gyro_counters;

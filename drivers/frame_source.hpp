@@ -14,16 +14,16 @@
 namespace ccdlane {
 
 enum class CaptureStatus : std::uint8_t {
-  frame,        // `into` holds a new frame, `meta` describes it
-  timeout,      // nothing arrived within the timeout (the stream may be stalled)
-  recovering,   // the device is gone or restarting; capture() keeps trying with backoff
-  end_of_stream,// a finite source (frame directory without loop) has no more frames
-  error,        // this frame was bad (counted); the next call may succeed
+  frame,          // `into` holds a new frame, `meta` describes it
+  timeout,        // nothing arrived within the timeout (the stream may be stalled)
+  recovering,     // the device is gone or restarting; capture() keeps trying with backoff
+  end_of_stream,  // a finite source (frame directory without loop) has no more frames
+  error,          // this frame was bad (counted); the next call may succeed
 };
 
 struct FrameMeta {
-  std::uint64_t sequence = 0;   // the source's own frame counter (gaps = dropped frames)
-  std::int64_t t_ns = 0;        // CLOCK_MONOTONIC, from the driver where it gives one
+  std::uint64_t sequence = 0;     // the source's own frame counter (gaps = dropped frames)
+  std::int64_t t_ns = 0;          // CLOCK_MONOTONIC, from the driver where it gives one
   std::optional<Gx1Angles> gyro;  // a recorded gyro reading (frame directories, synth)
   // The frame's own timestamp when the source plays a recording (frame directory, the
   // synthetic drive): its t_ns as recorded, which estimates and re-recorded frames carry,
@@ -36,11 +36,11 @@ struct FrameMeta {
 };
 
 struct SourceCounters {
-  std::uint64_t frames = 0;        // delivered
-  std::uint64_t dropped = 0;       // sequence gaps seen from the device
-  std::uint64_t errors = 0;        // bad frames, buffer status errors, damaged files
+  std::uint64_t frames = 0;   // delivered
+  std::uint64_t dropped = 0;  // sequence gaps seen from the device
+  std::uint64_t errors = 0;   // bad frames, buffer status errors, damaged files
   std::uint64_t timeouts = 0;
-  std::uint64_t reconnects = 0;    // successful reopen/restart after a loss or stall
+  std::uint64_t reconnects = 0;  // successful reopen/restart after a loss or stall
 };
 
 class FrameSource {

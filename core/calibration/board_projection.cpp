@@ -5,9 +5,10 @@
 // point enters only additively: d observed / d c = I.
 #include "core/calibration/board_projection.hpp"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+
+#include <Eigen/Geometry>
 
 #include "core/geometry/distortion.hpp"
 
@@ -54,8 +55,7 @@ std::optional<Vec2> observed_pixel_of_board_point(const CameraSpec& chip, const 
   }
   if (d_pose) {
     Eigen::Matrix<double, 2, 3> dv_dp;
-    dv_dp << su * inv_z, 0.0, -su * p.x() * inv_z * inv_z,
-             0.0, sv * inv_z, -sv * p.y() * inv_z * inv_z;
+    dv_dp << su * inv_z, 0.0, -su * p.x() * inv_z * inv_z, 0.0, sv * inv_z, -sv * p.y() * inv_z * inv_z;
     const Eigen::Matrix<double, 2, 3> d_obs_d_p = d_obs_d_v * dv_dp;
     // exp([w]x) R X ~ R X + w x (R X): d p / d w = -[R X]x.
     d_pose->leftCols<3>() = -d_obs_d_p * skew(turned);

@@ -15,9 +15,9 @@ namespace ccdlane::calibration {
 // as the datasheet gives it.
 struct Intrinsics {
   double f_mm = 0.0;
-  double cx = 0.0;    // principal point, 1-based pixels
+  double cx = 0.0;  // principal point, 1-based pixels
   double cy = 0.0;
-  double k_px2 = 0.0; // division-model distortion (docs/geometry.md)
+  double k_px2 = 0.0;  // division-model distortion (docs/geometry.md)
 };
 constexpr int kIntrinsicCount = 4;  // f_mm, cx, cy, k_px2, in this order in every Jacobian
 

@@ -9,11 +9,12 @@
 // keeps the f / k columns, 1e8 apart in raw units, well conditioned) and Nielsen's update.
 #include "core/calibration/camera_calibration.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "core/calibration/homography_initialisation.hpp"
 
@@ -204,8 +205,8 @@ CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, 
   state.intrinsics = {initial_f_mm, CameraSpec::default_cx(chip.Nu), CameraSpec::default_cy(chip.Nv), 0.0};
   std::vector<Mat3> homographies;
   for (std::size_t v = 0; v < views.size(); ++v) {
-    const auto h = board_to_chip_homography(chip, state.intrinsics.cx, state.intrinsics.cy, corners,
-                                            views[v].corners_px);
+    const auto h =
+        board_to_chip_homography(chip, state.intrinsics.cx, state.intrinsics.cy, corners, views[v].corners_px);
     if (!h)
       return refused(CalibrationStatus::no_convergence,
                      "view " + std::to_string(v) + ": its corners do not fit a plane's picture", static_cast<int>(v));
@@ -232,8 +233,8 @@ CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, 
     ViewResidual view;
     view.pose = state.poses[v];
     view.tilt_deg = board_tilt_deg(view.pose);
-    const auto rows = r.segment(static_cast<Eigen::Index>(2 * corners.size() * v),
-                                static_cast<Eigen::Index>(2 * corners.size()));
+    const auto rows =
+        r.segment(static_cast<Eigen::Index>(2 * corners.size() * v), static_cast<Eigen::Index>(2 * corners.size()));
     view.rms_px = std::sqrt(rows.squaredNorm() / static_cast<double>(corners.size()));
     for (std::size_t i = 0; i < corners.size(); ++i)
       view.reprojected_px.push_back(views[v].corners_px[i] + rows.segment<2>(static_cast<Eigen::Index>(2 * i)));
@@ -266,8 +267,9 @@ CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, 
   const Eigen::MatrixXd inverse =
       eigen.eigenvectors() * values.cwiseInverse().asDiagonal() * eigen.eigenvectors().transpose();
   const double s2 = sum_squares / dof;
-  c.covariance = s2 * (d.head<kIntrinsicCount>().asDiagonal() * inverse.topLeftCorner<kIntrinsicCount, kIntrinsicCount>() *
-                       d.head<kIntrinsicCount>().asDiagonal());
+  c.covariance =
+      s2 * (d.head<kIntrinsicCount>().asDiagonal() * inverse.topLeftCorner<kIntrinsicCount, kIntrinsicCount>() *
+            d.head<kIntrinsicCount>().asDiagonal());
   c.sigma = {std::sqrt(c.covariance(0, 0)), std::sqrt(c.covariance(1, 1)), std::sqrt(c.covariance(2, 2)),
              std::sqrt(c.covariance(3, 3))};
   if (!(c.sigma.f_mm <= options.max_relative_f_sigma * c.intrinsics.f_mm)) {

@@ -13,19 +13,19 @@ namespace ccdlane::calibration {
 
 // One picture's found corners, in board_corners' order, as 1-based observed pixels.
 struct BoardView {
-  int width = 0;   // picture size in pixels
+  int width = 0;  // picture size in pixels
   int height = 0;
   std::vector<Vec2> corners_px;
 };
 
 enum class CalibrationStatus {
   ok,
-  too_few_views,      // fewer than kMinViews pictures with the board found
-  mixed_sizes,        // pictures of different sizes (failed_view names the first odd one)
-  wrong_size,         // pictures that are not the chip's Nu x Nv
-  wrong_corner_count, // a view without exactly the board's corners (a caller's bug)
-  not_determined,     // the views do not fix f (all boards nearly facing the camera)
-  no_convergence,     // the fit could not be completed (numerical failure)
+  too_few_views,       // fewer than kMinViews pictures with the board found
+  mixed_sizes,         // pictures of different sizes (failed_view names the first odd one)
+  wrong_size,          // pictures that are not the chip's Nu x Nv
+  wrong_corner_count,  // a view without exactly the board's corners (a caller's bug)
+  not_determined,      // the views do not fix f (all boards nearly facing the camera)
+  no_convergence,      // the fit could not be completed (numerical failure)
 };
 
 struct CalibrationOptions {
@@ -39,19 +39,19 @@ struct CalibrationOptions {
 
 struct ViewResidual {
   double rms_px = 0.0;
-  double tilt_deg = 0.0;   // board normal from the optical axis
+  double tilt_deg = 0.0;  // board normal from the optical axis
   BoardPose pose;
   std::vector<Vec2> reprojected_px;  // the model's corners, board_corners' order
 };
 
 struct CameraCalibration {
   CalibrationStatus status = CalibrationStatus::no_convergence;
-  std::string message;     // why, for anything but ok
-  int failed_view = -1;    // the view a size refusal is about
+  std::string message;   // why, for anything but ok
+  int failed_view = -1;  // the view a size refusal is about
   Intrinsics intrinsics;
-  Intrinsics sigma;        // from the covariance scaled by the residual variance
+  Intrinsics sigma;                                      // from the covariance scaled by the residual variance
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // f_mm, cx, cy, k_px2
-  double rms_px = 0.0;     // sqrt(mean |observed - model|^2) over the corners, as OpenCV reports it
+  double rms_px = 0.0;             // sqrt(mean |observed - model|^2) over the corners, as OpenCV reports it
   double residual_sigma_px = 0.0;  // sqrt(sum r^2 / (equations - unknowns))
   int iterations = 0;
   std::vector<ViewResidual> views;

@@ -1,9 +1,10 @@
 // Zhang's homography initialisation, reduced to one focal length with a known principal point.
 #include "core/calibration/homography_initialisation.hpp"
 
+#include <cmath>
+
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
-#include <cmath>
 
 namespace ccdlane::calibration {
 namespace {
@@ -26,8 +27,8 @@ Vec2 apply(const Mat3& t, const Vec2& p) { return (t * p.homogeneous()).hnormali
 
 }  // namespace
 
-std::optional<Mat3> board_to_chip_homography(const CameraSpec& chip, double cx, double cy,
-                                             std::span<const Vec3> board, std::span<const Vec2> corners_px) {
+std::optional<Mat3> board_to_chip_homography(const CameraSpec& chip, double cx, double cy, std::span<const Vec3> board,
+                                             std::span<const Vec2> corners_px) {
   const std::size_t n = board.size();
   if (n < 4 || corners_px.size() != n) return std::nullopt;
   std::vector<Vec2> from(n), to(n);

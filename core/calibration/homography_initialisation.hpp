@@ -11,8 +11,8 @@ namespace ccdlane::calibration {
 // The homography taking board (x, y, 1) to chip millimetres about the principal point,
 // ((Px - cx) pitch_u, (Py - cy) pitch_v, 1), fitted by normalised DLT (Hartley) to the
 // corners as if there were no distortion. Empty for fewer than 4 corners or a degenerate fit.
-std::optional<Mat3> board_to_chip_homography(const CameraSpec& chip, double cx, double cy,
-                                             std::span<const Vec3> board, std::span<const Vec2> corners_px);
+std::optional<Mat3> board_to_chip_homography(const CameraSpec& chip, double cx, double cy, std::span<const Vec3> board,
+                                             std::span<const Vec2> corners_px);
 
 // Zhang's closed form ("A flexible new technique for camera calibration", 2000) reduced
 // to the one unknown this model has: with the principal point assumed and square chip

@@ -188,8 +188,7 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
       continue;
     }
     std::size_t end = i + 1;
-    while (end < n && keep[end] &&
-           1e-9 * static_cast<double>(frames[end].t_ns - frames[end - 1].t_ns) <= o.max_gap_s)
+    while (end < n && keep[end] && 1e-9 * static_cast<double>(frames[end].t_ns - frames[end - 1].t_ns) <= o.max_gap_s)
       ++end;
     const std::size_t count = end - i;
     // A stretch lasts from its first frame to one frame interval past its last.
@@ -209,7 +208,8 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
       for (std::size_t k = i; k < end; ++k) {
         const MountFrame& f = frames[k];
         const double t = 1e-9 * static_cast<double>(f.t_ns) - t0;
-        const auto b = first_block + static_cast<std::size_t>(std::min(blocks - 1, static_cast<int>(t / (duration / blocks))));
+        const auto b =
+            first_block + static_cast<std::size_t>(std::min(blocks - 1, static_cast<int>(t / (duration / blocks))));
         psi[b] += f.psi_deg, theta[b] += f.theta_deg, width[b] += f.lane_width_mm;
         ++block_frames[b];
         if (f.phi_deg) phi[b] += *f.phi_deg, ++phi_frames[b];

@@ -29,11 +29,11 @@ struct MountFrame {
   bool lane = false;  // solved, with lines on both sides of the vehicle
   double psi_deg = 0.0, theta_deg = 0.0;
   double sigma_psi_deg = 0.0, sigma_theta_deg = 0.0;
-  std::optional<double> phi_deg;   // from the lines' spacing: three or more lines only
-  double c_per_mm = 0.0;           // the road's curvature (NaN when the solve could not tell)
-  double lane_width_mm = 0.0;      // as measured with H at its nominal value
+  std::optional<double> phi_deg;  // from the lines' spacing: three or more lines only
+  double c_per_mm = 0.0;          // the road's curvature (NaN when the solve could not tell)
+  double lane_width_mm = 0.0;     // as measured with H at its nominal value
   double sigma_lane_width_mm = 0.0;
-  double lateral_offset_mm = 0.0;  // from the own lane's centre, positive left
+  double lateral_offset_mm = 0.0;      // from the own lane's centre, positive left
   std::optional<double> gyro_yaw_deg;  // the gyro's yaw, for the turn rate; any zero
 };
 
@@ -46,8 +46,8 @@ LaneEstimatorOptions mount_estimator_options(LaneEstimatorOptions options, doubl
 
 // The frame's MountFrame from the estimate (and the solve behind it, null if none),
 // solved with roll fixed at `phi_deg` and H at `nominal_H_mm`.
-MountFrame mount_frame(const LaneEstimate& estimate, const SolveResult* solution,
-                       const std::optional<Gx1Angles>& gyro, double phi_deg, double nominal_H_mm);
+MountFrame mount_frame(const LaneEstimate& estimate, const SolveResult* solution, const std::optional<Gx1Angles>& gyro,
+                       double phi_deg, double nominal_H_mm);
 
 // How far (degrees) the lines at lateral offsets y0_mm, seen from height H_mm, are turned
 // about the vanishing point from lines equally spaced: the roll the solve was off by
@@ -70,7 +70,7 @@ struct MountOptions {
   // Stretches are cut into blocks this long; the blocks' spread gives the sigmas (the
   // heading wanders over seconds, so single frames are not independent samples).
   double block_s = 2.0;
-  double min_straight_s = 6.0;       // less straight driving than this determines nothing
+  double min_straight_s = 6.0;  // less straight driving than this determines nothing
 };
 
 enum class MountStatus {
@@ -85,7 +85,7 @@ struct MountCalibration {
   std::string message;  // why, for anything but ok
   double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0, H_mm = 0.0;
   double sigma_psi_deg = 0.0, sigma_theta_deg = 0.0, sigma_phi_deg = 0.0, sigma_H_mm = 0.0;
-  bool phi_determined = false;  // false: no stretch showed three lines (phi_deg is then the reference)
+  bool phi_determined = false;     // false: no stretch showed three lines (phi_deg is then the reference)
   double measured_width_mm = 0.0;  // the lane width at the nominal H
   double sigma_measured_width_mm = 0.0;
   double straight_s = 0.0;  // time on the kept stretches

@@ -12,9 +12,9 @@ namespace {
 
 static_assert(kMaxDetectedLines == kMaxLaneLines, "detection reports at most what the solver takes");
 
-constexpr int kMaxScanRows = 360;          // beyond, rows are subsampled evenly
-constexpr int kCandidatesPerPixelRow = 24; // capacity: marks per scanned row, on average
-constexpr double kMinMarkPx = 0.8;         // marks narrower than this are not resolved
+constexpr int kMaxScanRows = 360;              // beyond, rows are subsampled evenly
+constexpr int kCandidatesPerPixelRow = 24;     // capacity: marks per scanned row, on average
+constexpr double kMinMarkPx = 0.8;             // marks narrower than this are not resolved
 constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
 
 // 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).

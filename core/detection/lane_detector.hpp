@@ -6,12 +6,12 @@
 #include <span>
 #include <vector>
 
+#include "base/image_view.hpp"
 #include "core/detection/detection_config.hpp"
 #include "core/detection/ground_projector.hpp"
 #include "core/detection/lane_marks.hpp"
 #include "core/detection/line_grouper.hpp"
 #include "core/detection/mark_scanner.hpp"
-#include "base/image_view.hpp"
 
 namespace ccdlane {
 

@@ -33,23 +33,23 @@ struct LinePrior {
 };
 
 struct DetectedLine {
-  LinePrior fit;             // at the detection pose
-  int marks = 0;             // candidates grouped into it
-  int first_pick = 0;        // its picks: DetectionResult::picks[first_pick .. + num_picks)
+  LinePrior fit;       // at the detection pose
+  int marks = 0;       // candidates grouped into it
+  int first_pick = 0;  // its picks: DetectionResult::picks[first_pick .. + num_picks)
   int num_picks = 0;
-  double near_mm = 0.0;      // the road distances it was seen over
+  double near_mm = 0.0;  // the road distances it was seen over
   double far_mm = 0.0;
-  double rms_mm = 0.0;       // lateral scatter of its marks about the fit
-  int prior_index = -1;      // the prior line it continues, -1 = newly found
+  double rms_mm = 0.0;   // lateral scatter of its marks about the fit
+  int prior_index = -1;  // the prior line it continues, -1 = newly found
 };
 
 // Counts of what the row filter found and why candidates were dropped.
 struct DetectionCounters {
   int scan_rows = 0;
-  int candidates = 0;          // dark-bright-dark bars of a plausible width and contrast
-  int off_road = 0;            // above the horizon or out of the searched range
-  int wrong_orientation = 0;   // not running towards the road's vanishing point
-  int grouped = 0;             // on a reported line
+  int candidates = 0;         // dark-bright-dark bars of a plausible width and contrast
+  int off_road = 0;           // above the horizon or out of the searched range
+  int wrong_orientation = 0;  // not running towards the road's vanishing point
+  int grouped = 0;            // on a reported line
 };
 
 struct DetectionResult {

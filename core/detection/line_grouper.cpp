@@ -155,8 +155,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
   return true;
 }
 
-int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors,
-                       const GroupingParams& params, std::array<DetectedLine, kMaxDetectedLines>& out) {
+int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
+                       std::array<DetectedLine, kMaxDetectedLines>& out) {
   std::array<DetectedLine, kMaxFoundLines>& lines = found_;
   for (MarkCandidate& m : marks) m.line = -1;
   int n = 0;

@@ -12,8 +12,8 @@
 namespace ccdlane {
 
 struct GroupingParams {
-  int min_marks = 8;           // candidates a line needs
-  double min_span_mm = 3000.0; // and the road distance they must cover
+  int min_marks = 8;            // candidates a line needs
+  double min_span_mm = 3000.0;  // and the road distance they must cover
   int max_lines = 4;
   double min_separation_mm = 1500.0;  // two lines nearer than this (at 10 m) are one
   // Lateral road distance one pixel spans, per mm of distance (about pitch_u / f): the
@@ -36,8 +36,8 @@ class LineGrouper {
   int group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
             std::array<DetectedLine, kMaxDetectedLines>& lines);
 
-  static constexpr int kY0Bins = 300;   // -15 m .. 15 m in 100 mm
-  static constexpr int kSlopeBins = 41; // -0.25 .. 0.25
+  static constexpr int kY0Bins = 300;    // -15 m .. 15 m in 100 mm
+  static constexpr int kSlopeBins = 41;  // -0.25 .. 0.25
   static constexpr int kRansacIterations = 48;
   static constexpr int kMaxFoundLines = 8;  // searched for, before the nearest are kept
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/detection/lane_marks.hpp"
 #include "base/image_view.hpp"
+#include "core/detection/lane_marks.hpp"
 
 namespace ccdlane {
 
@@ -17,7 +17,7 @@ struct ScanRow {
   float mark_px = 1.0f;    // expected mark width along this row, pixels
   float min_width_px = 1;  // accepted bar widths
   float max_width_px = 4;
-  int half_width = 1;      // of the box derivative (noise averaging at the mark's scale)
+  int half_width = 1;  // of the box derivative (noise averaging at the mark's scale)
 };
 
 class MarkScanner {
@@ -34,7 +34,7 @@ class MarkScanner {
 
  private:
   struct Edge {
-    float x;         // 0-based position of the edge (between pixels: x + 0.5 of the left one)
+    float x;  // 0-based position of the edge (between pixels: x + 0.5 of the left one)
     std::int32_t strength;
   };
   template <typename Pixel>
@@ -43,7 +43,7 @@ class MarkScanner {
 
   std::vector<std::uint16_t> measure_;  // a colour row's paint measure
   std::vector<std::int64_t> prefix_;    // prefix sums of the row
-  std::vector<std::int32_t> grad_;    // box derivative
+  std::vector<std::int32_t> grad_;      // box derivative
   std::vector<Edge> rising_, falling_;
 };
 

@@ -16,9 +16,7 @@ void paint_measure_row(const ImageView& image, int y, int x0, int x1, std::uint1
     case PixelFormat::mono8:
       for (int x = x0; x < x1; ++x) out[x] = row[x];
       return;
-    case PixelFormat::mono16:
-      std::memcpy(out + x0, row + 2 * x0, 2 * static_cast<std::size_t>(x1 - x0));
-      return;
+    case PixelFormat::mono16: std::memcpy(out + x0, row + 2 * x0, 2 * static_cast<std::size_t>(x1 - x0)); return;
     case PixelFormat::rgb8:
       for (int x = x0; x < x1; ++x) {
         const std::uint8_t* p = row + 3 * x;

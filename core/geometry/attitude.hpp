@@ -41,7 +41,6 @@ struct AttitudeTrig {
 
 // The matrix mapping film-frame components to fixed-frame components. Each optional
 // out-parameter receives the element-wise derivative of T with respect to that angle.
-Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi = nullptr, Mat3* dT_dtheta = nullptr,
-                     Mat3* dT_dphi = nullptr);
+Mat3 attitude_matrix(const Attitude& a, Mat3* dT_dpsi = nullptr, Mat3* dT_dtheta = nullptr, Mat3* dT_dphi = nullptr);
 
 }  // namespace ccdlane

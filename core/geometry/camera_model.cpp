@@ -10,9 +10,7 @@
 
 namespace ccdlane {
 
-CameraModel::CameraModel(const CameraSpec& spec, const CameraPose& pose) : spec_(spec) {
-  set_pose(pose);
-}
+CameraModel::CameraModel(const CameraSpec& spec, const CameraPose& pose) : spec_(spec) { set_pose(pose); }
 
 void CameraModel::set_pose(const CameraPose& pose) {
   pose_ = pose;
@@ -20,9 +18,7 @@ void CameraModel::set_pose(const CameraPose& pose) {
   lens_in_film_ = lens_in_film(spec_, pose.f_mm);
 }
 
-Vec3 CameraModel::chip_origin() const {
-  return Vec3(0.0, 0.0, pose_.H_mm) - T_ * Vec3(0.0, spec_.yM_mm, spec_.zM_mm);
-}
+Vec3 CameraModel::chip_origin() const { return Vec3(0.0, 0.0, pose_.H_mm) - T_ * Vec3(0.0, spec_.yM_mm, spec_.zM_mm); }
 
 Vec3 CameraModel::lens_centre(PoseJacobian3* d_pose) const {
   if (d_pose) {
@@ -71,15 +67,14 @@ std::optional<Vec2> CameraModel::ideal_pixel_from_point(const Vec3& point_mm, Po
   if (d_point || d_pose) {
     // du/dd for u = c - s * (dx, dy) / dz.
     Eigen::Matrix<double, 2, 3> du_dd;
-    du_dd << -su * inv_z, 0.0, su * d.x() * inv_z * inv_z,
-             0.0, -sv * inv_z, sv * d.y() * inv_z * inv_z;
+    du_dd << -su * inv_z, 0.0, su * d.x() * inv_z * inv_z, 0.0, -sv * inv_z, sv * d.y() * inv_z * inv_z;
     if (d_point) *d_point = du_dd * T_.transpose();
     if (d_pose) {
       for (int k = 0; k < 3; ++k) d_pose->col(k) = du_dd * (dT_[k].transpose() * above_mount);
       d_pose->col(kHeight) = du_dd * (-T_.row(2).transpose());
       // f moves the lens along the axis (d_z changes) and scales the image.
-      d_pose->col(kFocal) = du_dd * Vec3(0.0, 0.0, -1.0) +
-                            Vec2(-d.x() * inv_z / spec_.pitch_u(), -d.y() * inv_z / spec_.pitch_v());
+      d_pose->col(kFocal) =
+          du_dd * Vec3(0.0, 0.0, -1.0) + Vec2(-d.x() * inv_z / spec_.pitch_u(), -d.y() * inv_z / spec_.pitch_v());
     }
   }
   return ideal;

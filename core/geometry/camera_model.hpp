@@ -14,9 +14,9 @@ namespace ccdlane {
 enum PoseParam : int { kPsi = 0, kTheta = 1, kPhi = 2, kHeight = 3, kFocal = 4, kPoseParams = 5 };
 
 struct CameraPose {
-  Attitude attitude;   // radians
-  double H_mm = 0.0;   // height of the mounting point above the road
-  double f_mm = 0.0;   // focal length (lens centre to chip)
+  Attitude attitude;  // radians
+  double H_mm = 0.0;  // height of the mounting point above the road
+  double f_mm = 0.0;  // focal length (lens centre to chip)
 };
 
 using PoseJacobian2 = Eigen::Matrix<double, 2, kPoseParams>;
@@ -35,7 +35,7 @@ class CameraModel {
   const CameraPose& pose() const { return pose_; }
   const Mat3& attitude_matrix() const { return T_; }
   Vec2 principal_point() const { return {spec_.cx, spec_.cy}; }
-  Vec3 chip_origin() const;  // O_F, fixed frame
+  Vec3 chip_origin() const;                                 // O_F, fixed frame
   Vec3 lens_centre(PoseJacobian3* d_pose = nullptr) const;  // L, fixed frame
   // L - H e3 in film components, (0, -yM, f - zM): where the lens sits from the mount.
   static Vec3 lens_in_film(const CameraSpec& spec, double f_mm) { return {0.0, -spec.yM_mm, f_mm - spec.zM_mm}; }
@@ -67,7 +67,7 @@ class CameraModel {
   CameraSpec spec_;
   CameraPose pose_;
   Mat3 T_;
-  Mat3 dT_[3];       // dT/dpsi, dT/dtheta, dT/dphi
+  Mat3 dT_[3];         // dT/dpsi, dT/dtheta, dT/dphi
   Vec3 lens_in_film_;  // L - H e3 in film components: (0, -yM, f - zM)
 };
 

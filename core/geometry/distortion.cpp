@@ -14,8 +14,7 @@ std::optional<Vec2> undistort_pixel(const Vec2& observed, const Vec2& centre, do
   return Vec2(centre + v / denom);
 }
 
-std::optional<Vec2> distort_pixel(const Vec2& ideal, const Vec2& centre, double k_px2,
-                                  Mat2* d_observed_d_ideal) {
+std::optional<Vec2> distort_pixel(const Vec2& ideal, const Vec2& centre, double k_px2, Mat2* d_observed_d_ideal) {
   const Vec2 v = ideal - centre;
   const double rho = v.squaredNorm();
   const double disc = 1.0 - 4.0 * k_px2 * rho;

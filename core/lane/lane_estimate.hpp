@@ -18,16 +18,16 @@ const char* to_string(Departure d);  // "none", "left", "right"
 // Why a frame gave no usable estimate (ok = false).
 enum class EstimateFailure : std::uint8_t {
   none,
-  no_frame,          // the frame could not be read (replay) or was damaged
-  too_few_marks,     // detection found fewer picks than the problem needs
-  no_lane,           // no line on one side of the vehicle: no lane to be in
-  solver_failed,     // the solver stopped without converging or rejected its input
-  rank_deficient,    // the picks do not determine the free parameters
+  no_frame,        // the frame could not be read (replay) or was damaged
+  too_few_marks,   // detection found fewer picks than the problem needs
+  no_lane,         // no line on one side of the vehicle: no lane to be in
+  solver_failed,   // the solver stopped without converging or rejected its input
+  rank_deficient,  // the picks do not determine the free parameters
 };
 const char* to_string(EstimateFailure f);
 
 struct EstimatedLine {
-  int id = 0;               // stable while the line stays in view
+  int id = 0;  // stable while the line stays in view
   double y0_mm = 0.0;
   double m = 0.0;
   double c_per_mm = 0.0;
@@ -41,15 +41,15 @@ struct EstimatedLine {
 struct LdwEstimate {
   bool available = false;
   ldw::Availability reason = ldw::Availability::no_lane;  // none when available
-  ldw::Side warning = ldw::Side::none;  // set for [ldw] warning_duration_s from a departure's warning
-  ldw::Side fired = ldw::Side::none;    // the side whose warning started at this frame
-  std::uint32_t warnings = 0;           // warnings fired since start
-  bool tracked = false;                 // the filter has a lane (status not lost): DLC and state meaningful
+  ldw::Side warning = ldw::Side::none;                    // set for [ldw] warning_duration_s from a departure's warning
+  ldw::Side fired = ldw::Side::none;                      // the side whose warning started at this frame
+  std::uint32_t warnings = 0;                             // warnings fired since start
+  bool tracked = false;  // the filter has a lane (status not lost): DLC and state meaningful
   ldw::TrackStatus track = ldw::TrackStatus::lost;
-  double dlc_left_mm = 0.0, dlc_right_mm = 0.0;  // front wheel's outer edge to the line's inner edge, + inside
+  double dlc_left_mm = 0.0, dlc_right_mm = 0.0;   // front wheel's outer edge to the line's inner edge, + inside
   std::optional<double> tlc_left_s, tlc_right_s;  // empty when not approaching that line
-  double lateral_velocity_mps = 0.0;    // + toward the left
-  double speed_mps = 0.0;               // the speed used (the input's, or [vehicle] speed_kmh)
+  double lateral_velocity_mps = 0.0;              // + toward the left
+  double speed_mps = 0.0;                         // the speed used (the input's, or [vehicle] speed_kmh)
   ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
   // The filtered lane state, SI-derived units as in the per-frame result; sigmas are NaN
   // where the state is not estimated (roll with a gyro).

@@ -30,11 +30,14 @@ std::string observability_problem(const LaneEstimatorOptions& options, bool roll
   const FreeSet& free = options.solver.free;
   const SolverPriors& p = options.priors;
   if (free.has(FreeParam::H) && !p.H_mm)
-    return "solver.free: H is free without [prior] H_mm: the camera height is not observable (scale); fix it or add the prior";
+    return "solver.free: H is free without [prior] H_mm: the camera height is not observable (scale); fix it or add "
+           "the prior";
   if (free.has(FreeParam::f) && !p.f_mm)
-    return "solver.free: f is free without [prior] f_mm: the focal length is not observable from one image; fix it or add the prior";
+    return "solver.free: f is free without [prior] f_mm: the focal length is not observable from one image; fix it or "
+           "add the prior";
   if (roll_measured || !free.has(FreeParam::phi) || !free.has(FreeParam::y0) || p.phi_deg || p.lane_width_mm) return "";
-  return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] lane_width_mm: the roll "
+  return "solver.free: phi and y0 are free with no gyro ([gyro] device), no [prior] phi_deg and no [prior] "
+         "lane_width_mm: the roll "
          "is not observable; add one of them or fix phi";
 }
 
@@ -120,7 +123,8 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
     if (static_cast<std::size_t>(i) < r.points_mm.size()) {
       const Vec2& xy = r.points_mm[static_cast<std::size_t>(i)];
       if (const auto px = camera.pixel_from_point(Vec3(xy.x(), xy.y(), 0.0)))
-        d = std::hypot(px->x() - picks_[static_cast<std::size_t>(i)].px, px->y() - picks_[static_cast<std::size_t>(i)].py);
+        d = std::hypot(px->x() - picks_[static_cast<std::size_t>(i)].px,
+                       px->y() - picks_[static_cast<std::size_t>(i)].py);
     }
     residual_px_[static_cast<std::size_t>(i)] = d;
   }
@@ -246,7 +250,6 @@ void LaneEstimator::run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle) {
 }
 
 const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
-
   auto take_detection = [this](const DetectionResult& d) {
     detection_ = &d;
     num_lines_ = std::min(d.num_lines, kMaxLaneLines);
@@ -271,7 +274,8 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
   };
 
   detection_pose_ = guess_pose(gyro);
-  take_detection(detector_.detect(image, detection_pose_, have_last_ ? tracker_.priors() : std::span<const LinePrior>{}));
+  take_detection(
+      detector_.detect(image, detection_pose_, have_last_ ? tracker_.priors() : std::span<const LinePrior>{}));
   if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
   const SolveResult* r = &solve(detection_pose_, gyro);
 

@@ -24,7 +24,7 @@ namespace ccdlane {
 // What the estimator is built from (the configuration maps onto it: Config::estimator_options).
 struct LaneEstimatorOptions {
   CameraSpec camera;
-  CameraPose nominal_pose;      // the mount: the guess before any frame, and the yaw heading is measured from
+  CameraPose nominal_pose;  // the mount: the guess before any frame, and the yaw heading is measured from
   SolverOptions solver;
   SolverPriors priors;          // a prior here overrides the gyro's for the same angle
   double gyro_sigma_deg = 0.5;  // the gyro's roll and pitch become priors with this sigma

@@ -12,8 +12,10 @@ LaneMetrics lane_metrics(std::span<const EstimatedLine> lines, double psi_deg, d
   LaneMetrics out;
   for (std::size_t j = 0; j < lines.size(); ++j) {
     const double y0 = lines[j].y0_mm;
-    if (y0 > 0.0 && (out.left < 0 || y0 < lines[static_cast<std::size_t>(out.left)].y0_mm)) out.left = static_cast<int>(j);
-    if (y0 <= 0.0 && (out.right < 0 || y0 > lines[static_cast<std::size_t>(out.right)].y0_mm)) out.right = static_cast<int>(j);
+    if (y0 > 0.0 && (out.left < 0 || y0 < lines[static_cast<std::size_t>(out.left)].y0_mm))
+      out.left = static_cast<int>(j);
+    if (y0 <= 0.0 && (out.right < 0 || y0 > lines[static_cast<std::size_t>(out.right)].y0_mm))
+      out.right = static_cast<int>(j);
   }
   double slope = 0.0;
   int sides = 0;
@@ -22,15 +24,18 @@ LaneMetrics lane_metrics(std::span<const EstimatedLine> lines, double psi_deg, d
   if (sides > 0) slope /= sides;
   out.heading_deg = psi_deg - mount_psi_deg - rad_to_deg(std::atan(slope));
   if (out.left < 0 || out.right < 0) return out;
-  const double yl = lines[static_cast<std::size_t>(out.left)].y0_mm, yr = lines[static_cast<std::size_t>(out.right)].y0_mm;
+  const double yl = lines[static_cast<std::size_t>(out.left)].y0_mm,
+               yr = lines[static_cast<std::size_t>(out.right)].y0_mm;
   // Lines farther apart than any lane: one in between was missed; nearer: not a lane.
   out.has_lane = yl - yr >= kMinLaneWidthMm && yl - yr <= kMaxLaneWidthMm;
   if (!out.has_lane) return out;
   out.lane_width_mm = yl - yr;
   out.lateral_offset_mm = -(yl + yr) / 2.0;
   const bool near_left = yl < departure_mm, near_right = -yr < departure_mm;
-  if (near_left && (!near_right || yl <= -yr)) out.departure = Departure::left;
-  else if (near_right) out.departure = Departure::right;
+  if (near_left && (!near_right || yl <= -yr))
+    out.departure = Departure::left;
+  else if (near_right)
+    out.departure = Departure::right;
   return out;
 }
 

@@ -12,7 +12,7 @@ constexpr double kMinLaneWidthMm = 2000.0;  // narrower is not a traffic lane
 constexpr double kMaxLaneWidthMm = 5500.0;  // wider: a line in between was missed
 
 struct LaneMetrics {
-  bool has_lane = false;  // a line on each side of the vehicle
+  bool has_lane = false;      // a line on each side of the vehicle
   int left = -1, right = -1;  // indices of the own lane's lines, -1 = none on that side
   double lane_width_mm = 0.0;
   double lateral_offset_mm = 0.0;

@@ -95,8 +95,8 @@ void LaneFilter::predict(double dt_s, const VehicleMotion& motion) {
 
   const double q_heading = motion.yaw_rate_radps ? config_.heading_noise_rad : config_.heading_noise_no_yaw_rate_rad;
   StateVector q;
-  q << config_.offset_noise_m, q_heading, config_.curvature_noise_per_m, config_.width_noise_m,
-      config_.pitch_noise_rad, config_.track_roll ? config_.roll_noise_rad : 0.0;
+  q << config_.offset_noise_m, q_heading, config_.curvature_noise_per_m, config_.width_noise_m, config_.pitch_noise_rad,
+      config_.track_roll ? config_.roll_noise_rad : 0.0;
   StateMatrix Q = (q.array().square() * dt).matrix().asDiagonal();
   // The heading's random walk, integrated, moves the offset too.
   const double qh2 = q_heading * q_heading, vc = v * cos_psi;

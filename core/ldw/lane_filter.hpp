@@ -36,7 +36,13 @@ using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
 // nearest line on each side, m, + left), heading (rad), curvature (1/m, 2 c of the
 // solve's y = y0 + c x^2), pitch, roll (rad).
 enum MeasurementIndex : int {
-  kLeftLine = 0, kRightLine, kMeasuredHeading, kMeasuredCurvature, kMeasuredPitch, kMeasuredRoll, kMeasurementSize
+  kLeftLine = 0,
+  kRightLine,
+  kMeasuredHeading,
+  kMeasuredCurvature,
+  kMeasuredPitch,
+  kMeasuredRoll,
+  kMeasurementSize
 };
 using MeasurementVector = Eigen::Matrix<double, kMeasurementSize, 1>;
 using MeasurementMatrix = Eigen::Matrix<double, kMeasurementSize, kMeasurementSize>;
@@ -63,11 +69,11 @@ struct LaneFilterConfig {
   // starts a new track: the road changed faster than the model allows (a curve entered
   // harder than its process noise), and coasting on the old state would drift away.
   int max_rejections = 3;
-  bool track_roll = false;          // roll is a state only without the gyro (which measures it)
+  bool track_roll = false;  // roll is a state only without the gyro (which measures it)
   // Process noise: the standard deviation each state's random walk gains in one second.
   double offset_noise_m = 0.05;
-  double heading_noise_rad = 0.01;            // with a yaw rate: its error
-  double heading_noise_no_yaw_rate_rad = 0.05; // without: the driver's steering
+  double heading_noise_rad = 0.01;              // with a yaw rate: its error
+  double heading_noise_no_yaw_rate_rad = 0.05;  // without: the driver's steering
   double curvature_noise_per_m = 5e-4;
   double width_noise_m = 0.05;
   double pitch_noise_rad = 0.03;
@@ -102,14 +108,14 @@ struct LaneState {
   // The lateral acceleration relative to the lane, v (r - v k), + toward the left; 0
   // without a yaw rate (the model then assumes none).
   double lateral_acceleration_mps2 = 0.0;
-  double since_update_s = 0.0;  // time since the last accepted measurement
-  bool updated = false;         // this step's measurement was accepted
-  bool rejected = false;        // this step had a measurement and the gate refused it
-  int rejections = 0;           // measurements refused in a row
-  bool restarted = false;       // this step's measurement started a new track after rejections
+  double since_update_s = 0.0;                // time since the last accepted measurement
+  bool updated = false;                       // this step's measurement was accepted
+  bool rejected = false;                      // this step had a measurement and the gate refused it
+  int rejections = 0;                         // measurements refused in a row
+  bool restarted = false;                     // this step's measurement started a new track after rejections
   LaneChange lane_change = LaneChange::none;  // this step re-associated to a neighbour lane
-  double nis = 0.0;             // normalised innovation squared of the accepted measurement
-  int nis_dof = 0;              //   and its degrees of freedom
+  double nis = 0.0;                           // normalised innovation squared of the accepted measurement
+  int nis_dof = 0;                            //   and its degrees of freedom
 };
 
 class LaneFilter {

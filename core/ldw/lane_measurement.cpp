@@ -17,7 +17,8 @@ LaneMeasurement measurement_from_solve(const SolveResult& r, int left_line, int 
 
   // d(measurement)/d(reduced parameter), and which components the free set reaches.
   const int n = r.num_free;
-  Eigen::Matrix<double, kMeasurementSize, Eigen::Dynamic, 0, kMeasurementSize, kMaxReducedParams> J(kMeasurementSize, n);
+  Eigen::Matrix<double, kMeasurementSize, Eigen::Dynamic, 0, kMeasurementSize, kMaxReducedParams> J(kMeasurementSize,
+                                                                                                    n);
   J.setZero();
   std::array<int, kMeasurementSize> reached{};  // free parameters feeding each component
   const double d_atan = 1.0 / (1.0 + mean_slope * mean_slope);

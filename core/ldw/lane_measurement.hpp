@@ -14,7 +14,7 @@ namespace ccdlane::ldw {
 // `roll_is_measured`: the filter tracks roll (no gyro); otherwise roll is left absent.
 //   curvature = c_left + c_right (the mean of the two lines' 2c), per metre;
 // Components the solve did not determine (fixed parameters, NaN covariance) are absent.
-LaneMeasurement measurement_from_solve(const SolveResult& result, int left_line, int right_line,
-                                       double mount_psi_rad, bool roll_is_measured);
+LaneMeasurement measurement_from_solve(const SolveResult& result, int left_line, int right_line, double mount_psi_rad,
+                                       bool roll_is_measured);
 
 }  // namespace ccdlane::ldw

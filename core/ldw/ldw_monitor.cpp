@@ -5,8 +5,7 @@
 
 namespace ccdlane::ldw {
 
-LdwMonitor::LdwMonitor(const LdwConfig& config)
-    : config_(config), filter_(config.filter), warning_(config.warning) {}
+LdwMonitor::LdwMonitor(const LdwConfig& config) : config_(config), filter_(config.filter), warning_(config.warning) {}
 
 void LdwMonitor::reset() {
   filter_.reset();

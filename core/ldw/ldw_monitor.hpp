@@ -15,16 +15,16 @@ struct LdwConfig {
   VehicleConfig vehicle;
   LaneFilterConfig filter;
   LdwWarningConfig warning;
-  double line_width_mm = 120.0;       // painted lines: DLC is to their inner edge
-  double max_offset_sigma_mm = 150.0; // a lane whose offset is less certain is not "tracked"
+  double line_width_mm = 120.0;        // painted lines: DLC is to their inner edge
+  double max_offset_sigma_mm = 150.0;  // a lane whose offset is less certain is not "tracked"
 
   bool operator==(const LdwConfig&) const = default;
 };
 
 struct LdwFrameInput {
-  double t_s = 0.0;                     // the frame's time (monotonic), seconds
-  std::optional<double> speed_mps;      // empty: [vehicle] speed_kmh
-  std::optional<double> yaw_rate_radps; // + turning left; empty: no gyro rate
+  double t_s = 0.0;                      // the frame's time (monotonic), seconds
+  std::optional<double> speed_mps;       // empty: [vehicle] speed_kmh
+  std::optional<double> yaw_rate_radps;  // + turning left; empty: no gyro rate
   TurnIndicator indicator = TurnIndicator::none;
   const LaneMeasurement* measurement = nullptr;  // null: no usable solve this frame
   bool camera_ok = true;
@@ -38,8 +38,8 @@ struct LdwResult {
   SideDistances dlc;                 // metres, + inside (meaningful while the lane is tracked)
   std::optional<double> tlc_left_s;  // empty when not approaching that line
   std::optional<double> tlc_right_s;
-  double lateral_velocity_mps = 0.0; // + toward the left
-  double speed_mps = 0.0;            // the speed used
+  double lateral_velocity_mps = 0.0;  // + toward the left
+  double speed_mps = 0.0;             // the speed used
 };
 
 class LdwMonitor {

@@ -55,16 +55,16 @@ double LdwWarning::threshold_mm(double approach_mps) const {
                     std::max(config_.min_threshold_mm, latest_threshold));
 }
 
-bool LdwWarning::side_update(SideState& side, const LdwSideInput& in, bool indicator_on, double t_s,
-                             double& threshold, bool& suppressed) {
+bool LdwWarning::side_update(SideState& side, const LdwSideInput& in, bool indicator_on, double t_s, double& threshold,
+                             bool& suppressed) {
   if (side.indicator_on && !indicator_on) side.indicator_off_at_s = t_s;
   side.indicator_on = indicator_on;
   suppressed = indicator_on || t_s - side.indicator_off_at_s < config_.indicator_hold_s;
   const double dlc_mm = in.dlc_m * 1000.0;
   threshold = threshold_mm(in.approach_mps);
   if (dlc_mm >= side.arm_at_mm) side.armed = true;
-  const bool departing = in.approach_mps >= config_.min_approach_mps && dlc_mm <= threshold &&
-                         dlc_mm >= config_.latest_warning_mm;
+  const bool departing =
+      in.approach_mps >= config_.min_approach_mps && dlc_mm <= threshold && dlc_mm >= config_.latest_warning_mm;
   if (!departing || !side.armed) return false;
   // A departure the driver signalled is used up as well: no warning for it later.
   disarm(side, in.dlc_m);
@@ -75,8 +75,10 @@ const LdwOutput& LdwWarning::update(const LdwInput& in) {
   LdwOutput& o = out_;
   o.fired = Side::none;
   const double speed_kmh = in.speed_mps * 3.6;
-  if (speed_kmh < config_.min_speed_kmh) speed_ok_ = false;
-  else if (speed_kmh >= config_.min_speed_kmh + config_.speed_hysteresis_kmh) speed_ok_ = true;
+  if (speed_kmh < config_.min_speed_kmh)
+    speed_ok_ = false;
+  else if (speed_kmh >= config_.min_speed_kmh + config_.speed_hysteresis_kmh)
+    speed_ok_ = true;
 
   o.reason = !in.camera_ok      ? Availability::camera_fault
              : !in.gyro_ok      ? Availability::gyro_fault
@@ -106,8 +108,10 @@ const LdwOutput& LdwWarning::update(const LdwInput& in) {
     const bool fire_left = side_update(left_, in.left, left_on, in.t_s, o.threshold_left_mm, o.suppressed_left);
     const bool fire_right = side_update(right_, in.right, right_on, in.t_s, o.threshold_right_mm, o.suppressed_right);
     // Both at once cannot be a departure of a rigid vehicle; the nearer line wins.
-    if (fire_left && (!fire_right || in.left.dlc_m <= in.right.dlc_m)) o.fired = Side::left;
-    else if (fire_right) o.fired = Side::right;
+    if (fire_left && (!fire_right || in.left.dlc_m <= in.right.dlc_m))
+      o.fired = Side::left;
+    else if (fire_right)
+      o.fired = Side::right;
   }
   if (o.fired != Side::none) {
     ++o.warnings;

@@ -31,9 +31,9 @@ enum class Availability : std::uint8_t {
 const char* to_string(Availability a);  // the names above
 
 struct LdwWarningConfig {
-  double min_speed_kmh = 60.0;         // below: not available (too_slow)
-  double speed_hysteresis_kmh = 2.0;   // available again at min_speed + this
-  double indicator_hold_s = 2.0;       // suppression on a side lasts this long after its indicator
+  double min_speed_kmh = 60.0;        // below: not available (too_slow)
+  double speed_hysteresis_kmh = 2.0;  // available again at min_speed + this
+  double indicator_hold_s = 2.0;      // suppression on a side lasts this long after its indicator
   // The warning zone, as the front wheel's DLC (+ inside the line's inner edge).
   double earliest_warning_mm = 750.0;  // ISO 17361: not while the wheel is farther inside
   double latest_warning_mm = -300.0;   //   and before it is this far beyond
@@ -45,7 +45,7 @@ struct LdwWarningConfig {
   double tlc_threshold_s = 0.5;
   double min_threshold_mm = 100.0;
   double earliest_margin_mm = 150.0;
-  double min_approach_mps = 0.03;   // slower is "not approaching" (the filter's noise)
+  double min_approach_mps = 0.03;  // slower is "not approaching" (the filter's noise)
   // A side re-arms once its wheel is back inside, at least rearm_mm and at least
   // rearm_margin_mm farther in than where it last warned (or was disarmed).
   double rearm_mm = 400.0;
@@ -76,11 +76,11 @@ struct LdwInput {
 struct LdwOutput {
   bool available = false;
   Availability reason = Availability::too_slow;
-  Side warning = Side::none;  // set for warning_duration_s from a departure's warning
-  Side fired = Side::none;    // the side whose warning started at this input, if any
-  bool suppressed_left = false, suppressed_right = false;  // by the indicator
+  Side warning = Side::none;                                 // set for warning_duration_s from a departure's warning
+  Side fired = Side::none;                                   // the side whose warning started at this input, if any
+  bool suppressed_left = false, suppressed_right = false;    // by the indicator
   double threshold_left_mm = 0.0, threshold_right_mm = 0.0;  // this input's thresholds
-  std::uint32_t warnings = 0;  // warnings fired since construction
+  std::uint32_t warnings = 0;                                // warnings fired since construction
 };
 
 class LdwWarning {
@@ -95,7 +95,7 @@ class LdwWarning {
  private:
   struct SideState {
     bool armed = false;
-    double arm_at_mm = 0.0;  // DLC at which it arms again
+    double arm_at_mm = 0.0;              // DLC at which it arms again
     double indicator_off_at_s = -1e300;  // when the indicator toward this side last went off
     bool indicator_on = false;
   };

@@ -93,8 +93,10 @@ ScenarioRun run_scenario(const ScenarioSpec& spec, const std::vector<VehicleFram
     const LdwResult& r = monitor.step(in);
 
     ++run.frames;
-    if (r.decision.available) ++run.available_frames;
-    else run.last_unavailable = r.decision.reason;
+    if (r.decision.available)
+      ++run.available_frames;
+    else
+      run.last_unavailable = r.decision.reason;
     if (r.lane.lane_change != LaneChange::none) ++run.lane_changes;
     if (r.decision.fired != Side::none) {
       const bool left = r.decision.fired == Side::left;
@@ -109,7 +111,8 @@ ScenarioRun run_scenario(const ScenarioSpec& spec, const std::vector<VehicleFram
       // The offset modulo a lane: the filter and the truth may switch lanes a frame apart.
       e << std::remainder(x(kOffset) - f.offset_m, f.lane_width_m), x(kHeading) - f.heading_rad,
           x(kCurvature) - f.curvature_per_m, x(kWidth) - f.lane_width_m, x(kPitch) - f.pitch_rad;
-      const Eigen::Matrix<double, kNeesDof, kNeesDof> P = monitor.filter().covariance().topLeftCorner<kNeesDof, kNeesDof>();
+      const Eigen::Matrix<double, kNeesDof, kNeesDof> P =
+          monitor.filter().covariance().topLeftCorner<kNeesDof, kNeesDof>();
       nees = e.dot(P.llt().solve(e));
     }
     run.nees.push_back(nees);
@@ -232,15 +235,18 @@ std::string format_summary(const ScenarioSummary& s) {
   char line[256];
   std::snprintf(line, sizeof line,
                 "Front wheel's outer edge at the warning, metres inside the line's inner edge\n"
-                "(earliest warning line %+.2f m, latest %+.2f m)\n\n", s.earliest_m, s.latest_m);
+                "(earliest warning line %+.2f m, latest %+.2f m)\n\n",
+                s.earliest_m, s.latest_m);
   out += line;
   std::snprintf(line, sizeof line, "%-12s %6s %-6s %5s %7s %8s %8s %8s\n", "road", "v m/s", "side", "runs", "in zone",
                 "min", "median", "max");
   out += line;
   for (const SummaryRow& r : s.rows) {
-    const auto [lo, hi] = r.wheel_dlc_m.empty() ? std::pair{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()}
-                                                : std::pair{*std::min_element(r.wheel_dlc_m.begin(), r.wheel_dlc_m.end()),
-                                                            *std::max_element(r.wheel_dlc_m.begin(), r.wheel_dlc_m.end())};
+    const auto [lo, hi] =
+        r.wheel_dlc_m.empty()
+            ? std::pair{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()}
+            : std::pair{*std::min_element(r.wheel_dlc_m.begin(), r.wheel_dlc_m.end()),
+                        *std::max_element(r.wheel_dlc_m.begin(), r.wheel_dlc_m.end())};
     std::snprintf(line, sizeof line, "%-12s %6.1f %-6s %5d %7d %+8.3f %+8.3f %+8.3f\n", r.road.c_str(), r.lateral_mps,
                   to_string(r.side), r.runs, r.passed, lo, median(r.wheel_dlc_m), hi);
     out += line;
@@ -248,7 +254,8 @@ std::string format_summary(const ScenarioSummary& s) {
   std::snprintf(line, sizeof line,
                 "\nNormal driving (weaving, curves, signalled lane changes): %d warnings in %.2f h over %d drives"
                 " = %.1f false alarms per hour\n",
-                s.false_alarms, s.normal_hours, s.normal_runs, s.normal_hours > 0 ? s.false_alarms / s.normal_hours : 0.0);
+                s.false_alarms, s.normal_hours, s.normal_runs,
+                s.normal_hours > 0 ? s.false_alarms / s.normal_hours : 0.0);
   out += line;
   std::snprintf(line, sizeof line,
                 "Suppression (signalled lane change: none; unsignalled: one; 50 km/h drift: none): %d of %d runs as "

@@ -53,7 +53,7 @@ struct ScenarioSpec {
 struct WarningEvent {
   double t_s = 0.0;
   Side side = Side::none;
-  double wheel_dlc_m = 0.0;  // the truth: that side's front wheel at the warning, + inside
+  double wheel_dlc_m = 0.0;           // the truth: that side's front wheel at the warning, + inside
   double lateral_velocity_mps = 0.0;  // the truth, toward that side
 };
 

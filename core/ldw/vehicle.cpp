@@ -10,11 +10,11 @@ double lateral_position_in_lane_m(const LanePose& pose, double ahead_m, double l
   return pose.offset_m + ahead_m * s + left_m * c - 0.5 * pose.curvature_per_m * ahead_m * ahead_m;
 }
 
-SideDistances distance_to_line_crossing(const LanePose& pose, const VehicleConfig& vehicle,
-                                        double line_width_m) {
+SideDistances distance_to_line_crossing(const LanePose& pose, const VehicleConfig& vehicle, double line_width_m) {
   const double ahead = -vehicle.front_axle_behind_camera_mm * 1e-3;
   const double half_width = 0.5 * vehicle.width_mm * 1e-3;
-  const double centre_left = -vehicle.camera_left_of_centre_mm * 1e-3;  // the vehicle's centre line, seen from the camera
+  const double centre_left =
+      -vehicle.camera_left_of_centre_mm * 1e-3;  // the vehicle's centre line, seen from the camera
   const double inner_edge = 0.5 * (pose.width_m - line_width_m);
   const double left_wheel = lateral_position_in_lane_m(pose, ahead, centre_left + half_width);
   const double right_wheel = lateral_position_in_lane_m(pose, ahead, centre_left - half_width);

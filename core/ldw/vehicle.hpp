@@ -7,10 +7,10 @@ namespace ccdlane::ldw {
 // The [vehicle] table. Keep exactly these key names: scenario files and other programs
 // use them.
 struct VehicleConfig {
-  double speed_kmh = 72.0;                     // used when no speed input arrives
-  double width_mm = 1800.0;                    // between the outer edges of the front wheels
+  double speed_kmh = 72.0;                       // used when no speed input arrives
+  double width_mm = 1800.0;                      // between the outer edges of the front wheels
   double front_axle_behind_camera_mm = -1000.0;  // negative: the axle is ahead of the camera
-  double camera_left_of_centre_mm = 0.0;       // negative: right of the vehicle's centre line
+  double camera_left_of_centre_mm = 0.0;         // negative: right of the vehicle's centre line
 
   bool operator==(const VehicleConfig&) const = default;
 };
@@ -43,7 +43,6 @@ double lateral_position_in_lane_m(const LanePose& pose, double ahead_m, double l
 
 // DLC of each front wheel. `line_width_m`: the painted line's width (the solve finds the
 // lines' centres; the wheel crosses the line at its inner edge).
-SideDistances distance_to_line_crossing(const LanePose& pose, const VehicleConfig& vehicle,
-                                        double line_width_m);
+SideDistances distance_to_line_crossing(const LanePose& pose, const VehicleConfig& vehicle, double line_width_m);
 
 }  // namespace ccdlane::ldw

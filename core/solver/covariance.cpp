@@ -18,10 +18,10 @@
 // proportion to sin(pitch), and such a yaw is not determined either.
 #include "core/solver/covariance.hpp"
 
-#include "core/solver/cholesky.hpp"
-
 #include <cmath>
 #include <limits>
+
+#include "core/solver/cholesky.hpp"
 
 namespace ccdlane::solver {
 

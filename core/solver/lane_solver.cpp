@@ -251,8 +251,8 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
   double sum_sq = 0.0;
   if (r.mode == SolverMode::reprojection) {
     const PickRows& rows = *state.rows;
-    sum_sq = (rows.r0.head(num_picks).square() + rows.r1.head(num_picks).square()).sum() * r.pixel_sigma *
-             r.pixel_sigma;
+    sum_sq =
+        (rows.r0.head(num_picks).square() + rows.r1.head(num_picks).square()).sum() * r.pixel_sigma * r.pixel_sigma;
   } else {
     camera.set_pose(state.pose);
     for (int i = 0; i < num_picks; ++i) {
@@ -289,8 +289,10 @@ void LaneSolver::Impl::finish(const SolveRequest& r, const SolverState& state, c
       case FreeParam::y0: result.sigma.y0_mm[p.line] = sigma; break;
       case FreeParam::m: result.sigma.m[p.line] = sigma; break;
       case FreeParam::c:
-        if (p.line >= 0) result.sigma.c_per_mm[p.line] = sigma;
-        else std::fill_n(result.sigma.c_per_mm.begin(), r.num_lines, sigma);  // shared
+        if (p.line >= 0)
+          result.sigma.c_per_mm[p.line] = sigma;
+        else
+          std::fill_n(result.sigma.c_per_mm.begin(), r.num_lines, sigma);  // shared
         break;
     }
   }

@@ -65,14 +65,14 @@ struct SolveRequest {
 };
 
 enum class SolveStatus : std::uint8_t {
-  converged_cost,       // relative cost decrease < 1e-12
-  converged_step,       // relative step norm < 1e-12
-  max_iterations,       // stopped without meeting a convergence rule
-  invalid_input,        // NaN/inf, a line id out of range, too many picks or lines, nothing
-                        // free, c free with a shared curvature
-  too_few_picks,        // fewer residuals than unknowns
-  no_ground_point,      // a pick's ray misses the road at the initial pose
-  numerical_failure,    // the step could not be computed
+  converged_cost,     // relative cost decrease < 1e-12
+  converged_step,     // relative step norm < 1e-12
+  max_iterations,     // stopped without meeting a convergence rule
+  invalid_input,      // NaN/inf, a line id out of range, too many picks or lines, nothing
+                      // free, c free with a shared curvature
+  too_few_picks,      // fewer residuals than unknowns
+  no_ground_point,    // a pick's ray misses the road at the initial pose
+  numerical_failure,  // the step could not be computed
 };
 const char* to_string(SolveStatus s);
 

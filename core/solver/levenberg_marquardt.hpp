@@ -56,9 +56,9 @@ bool linearise(Model& model, const ParameterLayout& layout, const LineSegments& 
 // variable projection, x), then bool evaluate_jacobians(SolverState&) for the same state
 // (false when they cannot be had): Jacobians are computed only for steps that are taken.
 template <class Model>
-LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const LineSegments& segments,
-                              int num_picks, const LmOptions& options, SolverState*& current,
-                              SolverState*& candidate, LmWorkspace& ws) {
+LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const LineSegments& segments, int num_picks,
+                              const LmOptions& options, SolverState*& current, SolverState*& candidate,
+                              LmWorkspace& ws) {
   LmOutcome out;
   const int n = layout.size();
   double lambda = options.initial_damping, nu = 2.0;

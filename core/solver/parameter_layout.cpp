@@ -32,7 +32,8 @@ ParameterLayout::ParameterLayout(const FreeSet& free, int num_lines, LineModel m
   const bool shared = model == LineModel::shared_curvature;
   num_global_ = num_pose_ + (shared ? 1 : 0);
   for (int k = 0; k < kLineParams; ++k)
-    if (free.has(kLineFree[k]) && !(shared && k == kCurvature)) line_kind_[num_line_kinds_++] = static_cast<LineParam>(k);
+    if (free.has(kLineFree[k]) && !(shared && k == kCurvature))
+      line_kind_[num_line_kinds_++] = static_cast<LineParam>(k);
 }
 
 int ParameterLayout::line_index(int line, LineParam kind) const {

@@ -44,9 +44,7 @@ class ParameterLayout {
   // Where local parameter `local` of line `line` (globals, then the line's kinds) sits in
   // the reduced vector: the globals are shared by every line, its own kinds sit at the
   // line's offset.
-  int reduced_index(int line, int local) const {
-    return local < num_global_ ? local : local + line * num_line_kinds_;
-  }
+  int reduced_index(int line, int local) const { return local < num_global_ ? local : local + line * num_line_kinds_; }
 
  private:
   int num_pose_ = 0;

@@ -56,7 +56,8 @@ bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
   if (!rows.complete(n)) return false;
   // Every column seen along b_x = Jx and b_u = Jx turned (PickRows), from their covectors.
   projection_.pull_back(rows.jx0, rows.jx1, inv_sigma_, n, seen_);
-  for (int k = 0; k < layout.num_pose(); ++k) projection_.pose_along(seen_, layout.global(k), n, rows.ax[k], rows.au[k]);
+  for (int k = 0; k < layout.num_pose(); ++k)
+    projection_.pose_along(seen_, layout.global(k), n, rows.ax[k], rows.au[k]);
   // y0, m and c move the road point sideways by 1, x and x^2; a shared c moves every
   // line's as its own c would.
   if (shared_c >= 0) {
@@ -73,9 +74,7 @@ bool ReprojectionResidual::evaluate_jacobians(SolverState& state) {
         rows.au[col].head(n) *= x_.head(n);
         rows.ax[col].head(n) *= x_.head(n);
         break;
-      default:
-        rows.au[col].head(n) *= x_.head(n).square();
-        rows.ax[col].head(n) *= x_.head(n).square();
+      default: rows.au[col].head(n) *= x_.head(n).square(); rows.ax[col].head(n) *= x_.head(n).square();
     }
   }
   return true;

@@ -89,7 +89,7 @@ void RoadProjection::differentiate(const Array& slope, double scale, int n, Arra
   double *oxx = oxx_.data(), *oxy = oxy_.data(), *oyy = oyy_.data();
   double *out_u = du.data(), *out_v = dv.data();
   const Vec3 e0 = Tt_.col(0), e1 = Tt_.col(1);  // road x and road y in film components
-  const double su = su_, sv = sv_;  // locals: see project()
+  const double su = su_, sv = sv_;              // locals: see project()
   // The arrays are distinct (no point's output is another's input): no alias checks.
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i) {

@@ -124,8 +124,8 @@ BackSubstitution back_substitute_picks(const ParameterLayout& layout, const Line
     const std::array<int, M> at = reduced_indices<M>(layout, j);
     std::array<double, M> delta;
     for (int k = 0; k < M; ++k) delta[k] = step[at[k]];
-    // Vectorised over the line's picks, the two sums included (their order is the
-    // compiler's, which the rounding of a step's norm and its predicted decrease allows).
+      // Vectorised over the line's picks, the two sums included (their order is the
+      // compiler's, which the rounding of a step's norm and its predicted decrease allows).
 #pragma omp simd reduction(+ : decrease, dx2)
     for (int i = segments.begin[j]; i < segments.begin[j + 1]; ++i) {
       // The change of the pick's residuals along b_u (p) and b_x (q) from the parameters.
@@ -183,12 +183,11 @@ void build_reduced_system(const ParameterLayout& layout, const SolverState& stat
   }
 }
 
-BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
-                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx) {
+BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments, const SolverState& state,
+                                 double lambda, const ReducedVector& step, double* dx) {
   BackSubstitution out;
-  with_local_size(layout, [&]<int M>() {
-    out = back_substitute_picks<M>(layout, segments, *state.rows, lambda, step, dx);
-  });
+  with_local_size(layout,
+                  [&]<int M>() { out = back_substitute_picks<M>(layout, segments, *state.rows, lambda, step, dx); });
   for (int k = 0; k < state.priors.count; ++k) {
     const PriorRow& row = state.priors.rows[k];
     double u = 0.0;

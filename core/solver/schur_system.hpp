@@ -25,7 +25,7 @@ struct BackSubstitution {
 
 // The x_i steps that go with a reduced step (into dx), and the cost decrease the
 // linearised problem predicts for the whole step.
-BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments,
-                                 const SolverState& state, double lambda, const ReducedVector& step, double* dx);
+BackSubstitution back_substitute(const ParameterLayout& layout, const LineSegments& segments, const SolverState& state,
+                                 double lambda, const ReducedVector& step, double* dx);
 
 }  // namespace ccdlane::solver

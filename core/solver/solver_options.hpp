@@ -25,7 +25,7 @@ class FreeSet {
   std::uint8_t bits_ = 0;
 };
 
-const char* free_param_name(FreeParam p);                 // "psi", "theta", ...
+const char* free_param_name(FreeParam p);  // "psi", "theta", ...
 std::optional<FreeParam> free_param_from_name(const std::string& name);
 
 enum class SolverMode { reprojection, paper };

@@ -12,9 +12,9 @@ namespace ccdlane::solver {
 struct SolverState {
   CameraPose pose;
   std::array<LaneLine, kMaxLaneLines> lines{};
-  double* x = nullptr;         // per pick: its distance ahead along its line, mm
-  PickRows* rows = nullptr;    // per pick: residuals and Jacobians at this point
-  LineNormals normals;         // the rows' sums per line (accumulate_normals)
+  double* x = nullptr;       // per pick: its distance ahead along its line, mm
+  PickRows* rows = nullptr;  // per pick: residuals and Jacobians at this point
+  LineNormals normals;       // the rows' sums per line (accumulate_normals)
   PriorRows priors;
   double cost = 0.0;
 };

@@ -29,10 +29,10 @@ struct PickRows {
   using Array = Eigen::ArrayXd;
   explicit PickRows(int max_picks);
 
-  Array r0, r1;    // residuals
-  Array jx0, jx1;  // d r / d x_i
-  Array ru, rx;    // b_u.r and b_x.r
-  Array w;         // 1 / |Jx|^2
+  Array r0, r1;                               // residuals
+  Array jx0, jx1;                             // d r / d x_i
+  Array ru, rx;                               // b_u.r and b_x.r
+  Array w;                                    // 1 / |Jx|^2
   std::array<Array, kMaxLocalParams> au, ax;  // b_u^T and b_x^T d r / d(local parameter k)
 
   // Pick i from its residuals and their Jacobians over the first m local parameters (J)

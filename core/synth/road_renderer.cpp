@@ -143,8 +143,10 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
     }
     const double s = wrap(X + odometer_ + l.phase, period_);
     const double to_end = std::min({s, std::abs(s - scene_.dash_length_mm), period_ - s});
-    if (to_end < fpX) edge = true;
-    else inside = inside || s < scene_.dash_length_mm;
+    if (to_end < fpX)
+      edge = true;
+    else
+      inside = inside || s < scene_.dash_length_mm;
   }
   if (!edge) return inside ? 1.0 : 0.0;
   const int n = scene_.supersample;
@@ -350,7 +352,8 @@ void RoadRenderer::blur(float* radiance) {
     float* dst = scratch_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
     for (int x = 0; x < W; ++x) {
       float sum = kernel_[0] * src[x];
-      for (int i = 1; i <= R; ++i) sum += kernel_[static_cast<std::size_t>(i)] * (src[std::max(x - i, 0)] + src[std::min(x + i, W - 1)]);
+      for (int i = 1; i <= R; ++i)
+        sum += kernel_[static_cast<std::size_t>(i)] * (src[std::max(x - i, 0)] + src[std::min(x + i, W - 1)]);
       dst[x] = sum;
     }
   }
@@ -359,8 +362,9 @@ void RoadRenderer::blur(float* radiance) {
     for (int x = 0; x < W; ++x) {
       float sum = kernel_[0] * scratch_[static_cast<std::size_t>(y * W + x)];
       for (int i = 1; i <= R; ++i)
-        sum += kernel_[static_cast<std::size_t>(i)] * (scratch_[static_cast<std::size_t>(std::max(y - i, 0) * W + x)] +
-                                                      scratch_[static_cast<std::size_t>(std::min(y + i, H - 1) * W + x)]);
+        sum +=
+            kernel_[static_cast<std::size_t>(i)] * (scratch_[static_cast<std::size_t>(std::max(y - i, 0) * W + x)] +
+                                                    scratch_[static_cast<std::size_t>(std::min(y + i, H - 1) * W + x)]);
       dst[x] = sum;
     }
   }

@@ -6,10 +6,10 @@
 
 #include <vector>
 
-#include "core/synth/synth_config.hpp"
+#include "base/image_view.hpp"
 #include "core/detection/ground_projector.hpp"
 #include "core/geometry/camera_spec.hpp"
-#include "base/image_view.hpp"
+#include "core/synth/synth_config.hpp"
 #include "core/synth/synth_drive.hpp"
 
 namespace ccdlane {

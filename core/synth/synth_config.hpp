@@ -16,54 +16,54 @@ enum class RoadSurface : std::uint8_t { asphalt, concrete };
 struct SynthConfig {
   // The sequence.
   std::uint64_t seed = 1;
-  int frames = 100;           // frames a `ccdlane synth` run writes (--frames overrides)
-  double rate_hz = 30.0;      // frame rate: t_ns = k / rate_hz
-  double speed_mps = 25.0;    // how fast the dashes go by
+  int frames = 100;         // frames a `ccdlane synth` run writes (--frames overrides)
+  double rate_hz = 30.0;    // frame rate: t_ns = k / rate_hz
+  double speed_mps = 25.0;  // how fast the dashes go by
 
   // The road (lengths in mm).
-  int lanes = 3;              // 2..4 lanes (3..5 lines)
-  int ego_lane = 1;           // 0 = leftmost lane
+  int lanes = 3;     // 2..4 lanes (3..5 lines)
+  int ego_lane = 1;  // 0 = leftmost lane
   double lane_width_mm = 3600.0;
   double line_width_mm = 120.0;       // inner lines
   double edge_line_width_mm = 150.0;  // the two outer lines
   DashedLines dashed = DashedLines::inner;
-  double dash_length_mm = 3000.0;     // US interstate: 10 ft dashes,
-  double dash_gap_mm = 9000.0;        //   30 ft gaps
-  double curvature_per_mm = 0.0;      // c of y = y0 + c x^2 (1/(2R)); 0 = straight
+  double dash_length_mm = 3000.0;  // US interstate: 10 ft dashes,
+  double dash_gap_mm = 9000.0;     //   30 ft gaps
+  double curvature_per_mm = 0.0;   // c of y = y0 + c x^2 (1/(2R)); 0 = straight
 
   // The vehicle's motion within its lane.
-  double weave_mm = 300.0;        // amplitude of the lateral weaving
+  double weave_mm = 300.0;  // amplitude of the lateral weaving
   double weave_period_s = 6.0;
-  double pitch_bump_deg = 0.4;    // amplitude of pitching over bumps
+  double pitch_bump_deg = 0.4;  // amplitude of pitching over bumps
   double bump_period_s = 1.3;
-  double roll_sway_deg = 0.3;     // amplitude of body roll
+  double roll_sway_deg = 0.3;  // amplitude of body roll
   double roll_period_s = 3.5;
-  double lane_change_at_s = -1.0; // start of a change to the lane on the right; < 0 = none
-  double lane_change_s = 4.0;     // how long it takes
+  double lane_change_at_s = -1.0;  // start of a change to the lane on the right; < 0 = none
+  double lane_change_s = 4.0;      // how long it takes
 
   // Appearance (grey levels on the 8-bit scale; 16-bit frames are scaled).
   double asphalt_grey = 95.0;
-  double texture_grey = 10.0;     // amplitude of the asphalt texture
+  double texture_grey = 10.0;  // amplitude of the asphalt texture
   double paint_grey = 200.0;
   double sky_grey = 185.0;
-  double verge_grey = 70.0;       // beyond the shoulders
-  double gradient = 0.2;          // brightness gradient across the picture (fraction)
-  double shadow_depth = 0.3;      // darkening in shadows across the road; 0 = none
-  double noise_sigma = 1.0;       // sensor noise, grey levels
-  double blur_px = 0.0;           // Gaussian blur sigma, pixels; 0 = sharp
-  int supersample = 4;            // sub-samples per pixel side at mark edges
-  int bits = 8;                   // 8: mono8 frames; 9..16: mono16 frames of that depth
+  double verge_grey = 70.0;   // beyond the shoulders
+  double gradient = 0.2;      // brightness gradient across the picture (fraction)
+  double shadow_depth = 0.3;  // darkening in shadows across the road; 0 = none
+  double noise_sigma = 1.0;   // sensor noise, grey levels
+  double blur_px = 0.0;       // Gaussian blur sigma, pixels; 0 = sharp
+  int supersample = 4;        // sub-samples per pixel side at mark edges
+  int bits = 8;               // 8: mono8 frames; 9..16: mono16 frames of that depth
 
   // Real-road disturbances. All off by default: the grey scene above is then unchanged.
   bool colour = false;               // rgb8 frames (bits must be 8); grey frames are the luma
   bool yellow_left_edge = false;     // the leftmost line is yellow paint (US: the median side)
   double yellow_paint_grey = 175.0;  // its luma
   RoadSurface surface = RoadSurface::asphalt;
-  double concrete_grey = 170.0;      // the road's grey (luma) on concrete, instead of asphalt_grey
-  bool hard_shadows = false;         // tree shadows: blobs with sharp borders across the road,
-                                     //   darkening by shadow_depth, instead of soft bands
-  bool barrier = false;              // a concrete barrier beside the left shoulder whose foot
-                                     //   is bright (sunlit), a bar of light off the road plane
+  double concrete_grey = 170.0;  // the road's grey (luma) on concrete, instead of asphalt_grey
+  bool hard_shadows = false;     // tree shadows: blobs with sharp borders across the road,
+                                 //   darkening by shadow_depth, instead of soft bands
+  bool barrier = false;          // a concrete barrier beside the left shoulder whose foot
+                                 //   is bright (sunlit), a bar of light off the road plane
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

@@ -19,9 +19,7 @@ SynthDrive::SynthDrive(const SynthConfig& scene, const CameraPose& mount)
   weave_phase_ = 2 * kPi * synth::unit(synth::hash(s, 13));
 }
 
-double SynthDrive::line_position_mm(int j) const {
-  return (0.5 * synth_.lanes - j) * synth_.lane_width_mm;
-}
+double SynthDrive::line_position_mm(int j) const { return (0.5 * synth_.lanes - j) * synth_.lane_width_mm; }
 
 double SynthDrive::vehicle_position_mm(double t) const {
   const double w = synth_.lane_width_mm;

@@ -21,16 +21,16 @@ constexpr int kMaxRoadLines = 5;  // 4 lanes
 struct SynthFrame {
   std::uint64_t index = 0;
   std::int64_t t_ns = 0;
-  CameraPose pose;                  // the camera in the road frame
-  double odometer_mm = 0.0;         // distance driven: where the dashes are
-  int num_lines = 0;                // lines of the road, left to right
+  CameraPose pose;                            // the camera in the road frame
+  double odometer_mm = 0.0;                   // distance driven: where the dashes are
+  int num_lines = 0;                          // lines of the road, left to right
   std::array<double, kMaxRoadLines> y0_mm{};  // left to right (largest first)
   double c_per_mm = 0.0;
-  int ego_lane = 0;                 // the lane the vehicle is in, 0 = leftmost
-  double lateral_offset_mm = 0.0;   // from the ego lane's centre, positive left
-  double heading_deg = 0.0;         // vehicle relative to the lane, positive left
+  int ego_lane = 0;                // the lane the vehicle is in, 0 = leftmost
+  double lateral_offset_mm = 0.0;  // from the ego lane's centre, positive left
+  double heading_deg = 0.0;        // vehicle relative to the lane, positive left
   double lane_width_mm = 0.0;
-  Gx1Angles gyro;                   // the true attitude as the 3DM-GX1 reports it, plus noise
+  Gx1Angles gyro;  // the true attitude as the 3DM-GX1 reports it, plus noise
 };
 
 class SynthDrive {

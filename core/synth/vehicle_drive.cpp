@@ -44,8 +44,8 @@ VehicleDrive::Pose2 VehicleDrive::advance(const Pose2& p, double s, double u) co
   // across steps (the drive differentiates it).
   static constexpr double node[] = {0.0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640,
                                     0.9061798459386640};
-  static constexpr double weight[] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
-                                      0.2369268850561891, 0.2369268850561891};
+  static constexpr double weight[] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665, 0.2369268850561891,
+                                      0.2369268850561891};
   const double k0 = curvature_at(s), k1 = curvature_at(s + u);
   const double rate = u != 0.0 ? (k1 - k0) / u : 0.0;
   auto heading = [&](double tau) { return p.heading + k0 * tau + 0.5 * rate * tau * tau; };
@@ -85,8 +85,8 @@ double VehicleDrive::camera_offset_from_road_centre(double t) const {
   if (sc.drift_at_s >= 0.0 && t > sc.drift_at_s) {
     // Lateral velocity rising as (1 - cos) over the ramp, then constant.
     const double T = sc.drift_ramp_s, tau = t - sc.drift_at_s;
-    n += tau < T ? 0.5 * sc.drift_mps * (tau - T / kPi * std::sin(kPi * tau / T))
-                 : sc.drift_mps * (0.5 * T + (tau - T));
+    n +=
+        tau < T ? 0.5 * sc.drift_mps * (tau - T / kPi * std::sin(kPi * tau / T)) : sc.drift_mps * (0.5 * T + (tau - T));
   }
   for (std::size_t i = 0; i < 2; ++i)
     n += sc.weave_m[i] * std::sin(kTwoPi * t / sc.weave_period_s[i] + weave_phase_[i]);

@@ -25,9 +25,9 @@ struct RoadSegment {
 
 struct LaneChangeManoeuvre {
   double start_s = 0.0;
-  double duration_s = 5.0;      // centre to centre, cosine profile
-  int direction = 1;            // +1 to the lane on the left, -1 to the right
-  bool signalled = true;        // the indicator on from indicator_lead_s before the start
+  double duration_s = 5.0;        // centre to centre, cosine profile
+  int direction = 1;              // +1 to the lane on the left, -1 to the right
+  bool signalled = true;          // the indicator on from indicator_lead_s before the start
   double indicator_lead_s = 1.5;  // until 80 % of the manoeuvre
 };
 
@@ -43,18 +43,18 @@ struct VehicleScenario {
   std::vector<RoadSegment> road;  // empty: straight
   // The camera's lateral motion (Frenet offset from its lane's centre, + left), a sum of:
   double start_offset_m = 0.0;
-  double drift_at_s = -1.0;      // the drift starts here (< 0: none),
-  double drift_mps = 0.0;        //   reaching this lateral velocity (+ left)
-  double drift_ramp_s = 1.0;     //   over this long (smooth, cosine in velocity)
-  std::array<double, 2> weave_m{0.0, 0.0};           // amplitudes of two sine weaves
+  double drift_at_s = -1.0;                 // the drift starts here (< 0: none),
+  double drift_mps = 0.0;                   //   reaching this lateral velocity (+ left)
+  double drift_ramp_s = 1.0;                //   over this long (smooth, cosine in velocity)
+  std::array<double, 2> weave_m{0.0, 0.0};  // amplitudes of two sine weaves
   std::array<double, 2> weave_period_s{7.0, 2.9};
   std::vector<LaneChangeManoeuvre> lane_changes;
   // The camera's attitude: mounting plus pitching over bumps and body roll.
   double mount_pitch_rad = 0.0524;  // 3 degrees down
   double mount_roll_rad = 0.0;
-  double pitch_bump_rad = 0.007;    // 0.4 degree
+  double pitch_bump_rad = 0.007;  // 0.4 degree
   double bump_period_s = 1.3;
-  double roll_sway_rad = 0.005;     // 0.3 degree
+  double roll_sway_rad = 0.005;  // 0.3 degree
   double roll_period_s = 3.5;
   double gyro_rate_noise_radps = 0.002;  // the yaw rate a gyro reports: truth plus this noise
   std::uint64_t seed = 1;
@@ -64,19 +64,19 @@ struct VehicleScenario {
 struct VehicleFrame {
   std::uint64_t index = 0;
   double t_s = 0.0;
-  double speed_mps = 0.0;          // of the camera, along its path
-  double yaw_rate_radps = 0.0;     // + turning left
+  double speed_mps = 0.0;                // of the camera, along its path
+  double yaw_rate_radps = 0.0;           // + turning left
   double measured_yaw_rate_radps = 0.0;  // as the gyro reports it
   ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
-  int ego_lane = 0;                // the lane the camera is in
-  double offset_m = 0.0;           // camera from the ego lane's centre, + left
+  int ego_lane = 0;                   // the lane the camera is in
+  double offset_m = 0.0;              // camera from the ego lane's centre, + left
   double lateral_velocity_mps = 0.0;  // d(offset)/dt
-  double heading_rad = 0.0;        // vehicle relative to the lane's tangent, + left
-  double curvature_per_m = 0.0;    // of the road at the camera
+  double heading_rad = 0.0;           // vehicle relative to the lane's tangent, + left
+  double curvature_per_m = 0.0;       // of the road at the camera
   double lane_width_m = 0.0;
   double left_line_m = 0.0, right_line_m = 0.0;  // the ego lane's lines from the camera, + left
   double pitch_rad = 0.0, roll_rad = 0.0;        // the camera's
-  double odometer_m = 0.0;         // along the road
+  double odometer_m = 0.0;                       // along the road
   // Each front wheel's outer edge to the inner edge of the ego lane's line on its side,
   // exact (the wheel projected onto the curved line), + inside.
   ldw::SideDistances wheel_dlc;
@@ -100,10 +100,10 @@ class VehicleDrive {
   struct Pose2 {
     double x = 0.0, y = 0.0, heading = 0.0;
   };
-  Pose2 road_at(double s) const;                    // the road's centre line
+  Pose2 road_at(double s) const;  // the road's centre line
   double curvature_at(double s) const;
   double camera_offset_from_road_centre(double t) const;
-  Pose2 camera_at(double t) const;                  // heading: the direction of motion
+  Pose2 camera_at(double t) const;                             // heading: the direction of motion
   double lateral_of(double x, double y, double s_hint) const;  // exact Frenet offset of a point
   double line_position_m(int j) const { return (0.5 * scenario_.lanes - j) * scenario_.lane_width_m; }
 

@@ -2,12 +2,12 @@
 // buffer so the streaming path never allocates.
 #include "drivers/camera/aravis_camera.hpp"
 
-#include "drivers/camera/capture_states.hpp"
-
 #include <arv.h>
 
 #include <cmath>
 #include <cstring>
+
+#include "drivers/camera/capture_states.hpp"
 
 namespace ccdlane {
 namespace {
@@ -37,7 +37,7 @@ const FormatChoice* first_available(const FormatChoice (&choices)[N], const char
                                     const std::string& only) {
   for (const FormatChoice& c : choices)
     if (only.empty() || only == c.name)
-    for (guint i = 0; i < n; ++i)
+      for (guint i = 0; i < n; ++i)
         if (available[i] && std::strcmp(available[i], c.name) == 0) return &c;
   return nullptr;
 }
@@ -78,10 +78,11 @@ std::uint64_t frames_between(std::uint64_t last, std::uint64_t id) {
 
 }  // namespace
 
-AravisCamera::AravisCamera(std::string id, CameraSettings settings) : id_(std::move(id)), settings_(std::move(settings)) {
-  format_ = settings_.format == PixelFormat::mono16    ? PixelFormat::mono16
+AravisCamera::AravisCamera(std::string id, CameraSettings settings)
+    : id_(std::move(id)), settings_(std::move(settings)) {
+  format_ = settings_.format == PixelFormat::mono16     ? PixelFormat::mono16
             : settings_.colour == ColourCapture::colour ? PixelFormat::rgb8
-                                                       : PixelFormat::mono8;
+                                                        : PixelFormat::mono8;
   backoff_.configure(settings_.reopen_min_ms, settings_.reopen_max_ms);
 }
 
@@ -104,7 +105,7 @@ std::string AravisCamera::open() {
   const char* vendor = arv_camera_get_vendor_name(camera_, nullptr);
   const char* model = arv_camera_get_model_name(camera_, nullptr);
   const char* serial = arv_camera_get_device_serial_number(camera_, nullptr);
-  const char* transport = arv_camera_is_gv_device(camera_) ? "GigE Vision"
+  const char* transport = arv_camera_is_gv_device(camera_)   ? "GigE Vision"
                           : arv_camera_is_uv_device(camera_) ? "USB3 Vision"
                                                              : "Aravis";
   char text[256];
@@ -181,8 +182,10 @@ bool AravisCamera::configure() {
 
   const bool mono16 = settings_.format == PixelFormat::mono16;
   // After the first bring-up the frame pool is sized for format(): a reconnect keeps it.
-  const bool colour_allowed = settings_.colour != ColourCapture::grey && (!format_locked_ || format_ == PixelFormat::rgb8);
-  const bool grey_allowed = settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
+  const bool colour_allowed =
+      settings_.colour != ColourCapture::grey && (!format_locked_ || format_ == PixelFormat::rgb8);
+  const bool grey_allowed =
+      settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
   guint n_available = 0;
   const char** available = arv_camera_dup_available_pixel_formats_as_strings(camera_, &n_available, nullptr);
   const FormatChoice* chosen = nullptr;
@@ -190,19 +193,20 @@ bool AravisCamera::configure() {
     chosen = first_available(kMono16Choices, available, n_available, settings_.device_format);
   } else {
     if (colour_allowed) chosen = first_available(kColourChoices, available, n_available, settings_.device_format);
-    if (!chosen && grey_allowed) chosen = first_available(kMono8Choices, available, n_available, settings_.device_format);
+    if (!chosen && grey_allowed)
+      chosen = first_available(kMono8Choices, available, n_available, settings_.device_format);
   }
   const char* wanted = !settings_.device_format.empty() ? settings_.device_format.c_str()
-                       : mono16            ? "Mono16, Mono12 or Mono10"
-                       : !colour_allowed ? "Mono8"
-                       : !grey_allowed   ? "colour (RGB8, BGR8 or 8-bit Bayer)"
-                                         : "Mono8 or colour (RGB8, BGR8 or 8-bit Bayer)";
+                       : mono16                         ? "Mono16, Mono12 or Mono10"
+                       : !colour_allowed                ? "Mono8"
+                       : !grey_allowed                  ? "colour (RGB8, BGR8 or 8-bit Bayer)"
+                                                        : "Mono8 or colour (RGB8, BGR8 or 8-bit Bayer)";
   if (!chosen) {
     char offered[200] = "";
     for (guint i = 0, at = 0; i < n_available && at + 8 < sizeof offered; ++i)
       at += static_cast<guint>(std::snprintf(offered + at, sizeof offered - at, "%s%s", i ? ", " : "", available[i]));
-    problem_.set("aravis:%s: no %s pixel format (the camera offers: %s)", id_.c_str(),
-                 wanted, n_available ? offered : "nothing");
+    problem_.set("aravis:%s: no %s pixel format (the camera offers: %s)", id_.c_str(), wanted,
+                 n_available ? offered : "nothing");
     g_free(available);
     return false;
   }
@@ -245,7 +249,8 @@ bool AravisCamera::configure() {
     fps_obtained_ = arv_camera_get_frame_rate(camera_, nullptr);
   }
   if (settings_.exposure_us) {
-    if (arv_camera_is_exposure_auto_available(camera_, nullptr)) arv_camera_set_exposure_time_auto(camera_, ARV_AUTO_OFF, nullptr);
+    if (arv_camera_is_exposure_auto_available(camera_, nullptr))
+      arv_camera_set_exposure_time_auto(camera_, ARV_AUTO_OFF, nullptr);
     arv_camera_set_exposure_time(camera_, *settings_.exposure_us, &error);
     if (failed("ExposureTime")) return false;
   }
@@ -342,7 +347,8 @@ CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& met
       continue;
     }
     const std::int64_t wake = std::min(deadline, last_frame_ns_ + stall_ns + 1'000'000);
-    ArvBuffer* buffer = arv_stream_timeout_pop_buffer(stream_, static_cast<guint64>(std::max<std::int64_t>(0, (wake - now) / 1000)));
+    ArvBuffer* buffer =
+        arv_stream_timeout_pop_buffer(stream_, static_cast<guint64>(std::max<std::int64_t>(0, (wake - now) / 1000)));
     if (buffer == nullptr) {
       if (monotonic_ns() >= deadline) {
         ++counters_.timeouts;
@@ -362,7 +368,8 @@ CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& met
     std::size_t size = 0;
     const void* data = buffer_status == ARV_BUFFER_STATUS_SUCCESS ? arv_buffer_get_image_data(buffer, &size) : nullptr;
     if (buffer_status != ARV_BUFFER_STATUS_SUCCESS) {
-      problem_.set("aravis:%s: frame %llu: %s", id_.c_str(), static_cast<unsigned long long>(id), status_name(buffer_status));
+      problem_.set("aravis:%s: frame %llu: %s", id_.c_str(), static_cast<unsigned long long>(id),
+                   status_name(buffer_status));
       status = CaptureStatus::error;
     } else if (arv_buffer_get_image_width(buffer) != width_ || arv_buffer_get_image_height(buffer) != height_ ||
                arv_buffer_get_image_pixel_format(buffer) != arv_format_) {
@@ -371,8 +378,8 @@ CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& met
                    arv_buffer_get_image_height(buffer), arv_buffer_get_image_pixel_format(buffer), width_, height_,
                    arv_format_);
       status = CaptureStatus::error;
-    } else if (!convert_frame(static_cast<const std::uint8_t*>(data), std::ptrdiff_t{width_} * wire_bytes_per_pixel(wire_),
-                              size, wire_, into)) {
+    } else if (!convert_frame(static_cast<const std::uint8_t*>(data),
+                              std::ptrdiff_t{width_} * wire_bytes_per_pixel(wire_), size, wire_, into)) {
       problem_.set("aravis:%s: frame %llu is short: %zu bytes", id_.c_str(), static_cast<unsigned long long>(id), size);
       status = CaptureStatus::error;
     } else {

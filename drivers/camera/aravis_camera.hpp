@@ -9,9 +9,9 @@
 #include <string>
 
 #include "drivers/camera/camera_settings.hpp"
+#include "drivers/camera/pixel_conversion.hpp"
 #include "drivers/device_state.hpp"
 #include "drivers/frame_source.hpp"
-#include "drivers/camera/pixel_conversion.hpp"
 
 // Aravis' types, kept out of the header (glib would come with them).
 typedef struct _ArvCamera ArvCamera;
@@ -50,7 +50,7 @@ class AravisCamera final : public FrameSource {
   int significant_bits() const { return significant_bits_; }
   double frame_rate() const { return fps_obtained_; }
   double max_frame_rate() const { return fps_max_; }  // at the current size, as the camera says
-  int packet_size() const { return packet_size_; }  // GigE Vision; 0 otherwise
+  int packet_size() const { return packet_size_; }    // GigE Vision; 0 otherwise
   // Sets any GenICam feature by name ("ExposureTime", "Gain", "BinningHorizontal"):
   // "" or one line saying why not. Remembered and applied again after a reopen.
   std::string set_control(const std::string& name, const std::string& value);

@@ -16,7 +16,8 @@ std::unique_ptr<FrameSource> make_camera(const std::string& source, const Camera
     throw std::invalid_argument("source \"" + source + "\": expected v4l2:/dev/videoN or aravis:ID");
   }
   if (where.empty()) {
-    throw std::invalid_argument("source \"" + source + "\": " + (kind == "v4l2" ? "no device path" : "no camera id or address"));
+    throw std::invalid_argument("source \"" + source +
+                                "\": " + (kind == "v4l2" ? "no device path" : "no camera id or address"));
   }
   if (kind == "v4l2") return std::make_unique<V4l2Camera>(where, settings);
   return std::make_unique<AravisCamera>(where, settings);

@@ -6,16 +6,15 @@
 #include <optional>
 
 #include "base/image_view.hpp"
-#include "drivers/frame_source.hpp"
 #include "drivers/device_state.hpp"
+#include "drivers/frame_source.hpp"
 
 namespace ccdlane {
 
 // A buffer of another size or format than the stream is a caller's bug, but on the
 // capture path it is reported and counted rather than asserted.
 inline bool capture_buffer_fits(const MutableImageView& into, int width, int height, PixelFormat format,
-                                const char* kind, const char* device, ProblemText& problem,
-                                SourceCounters& counters) {
+                                const char* kind, const char* device, ProblemText& problem, SourceCounters& counters) {
   if (into.data != nullptr && into.width == width && into.height == height && into.format == format) return true;
   problem.set("%s:%s: capture into a %dx%d buffer, the stream is %dx%d", kind, device, into.width, into.height, width,
               height);
@@ -34,9 +33,7 @@ std::optional<CaptureStatus> settle_capture_state(DeviceState& state, ReopenBack
     switch (state) {
       case DeviceState::closed:
       case DeviceState::opening:
-      case DeviceState::configuring:
-        problem.set("%s:%s: not open", kind, device);
-        return CaptureStatus::error;
+      case DeviceState::configuring: problem.set("%s:%s: not open", kind, device); return CaptureStatus::error;
       case DeviceState::recovering:
         if (!reopen_until(backoff, deadline_ns, [&] {
               if (bring_up()) return true;
@@ -46,8 +43,7 @@ std::optional<CaptureStatus> settle_capture_state(DeviceState& state, ReopenBack
           return CaptureStatus::recovering;
         ++counters.reconnects;
         continue;
-      case DeviceState::streaming:
-        return std::nullopt;
+      case DeviceState::streaming: return std::nullopt;
     }
   }
 }

@@ -25,8 +25,7 @@ FramePool::FramePool(const FramePoolLayout& layout) : layout_(layout) {
   check(layout.count >= 1 && layout.count <= kMaxFrames,
         "count " + std::to_string(layout.count) + " is not in 1.." + std::to_string(kMaxFrames));
   check(layout.width > 0 && layout.width <= 16384, "width " + std::to_string(layout.width) + " is not in 1..16384");
-  check(layout.height > 0 && layout.height <= 16384,
-        "height " + std::to_string(layout.height) + " is not in 1..16384");
+  check(layout.height > 0 && layout.height <= 16384, "height " + std::to_string(layout.height) + " is not in 1..16384");
   const std::ptrdiff_t min_stride = std::ptrdiff_t{layout.width} * bytes_per_pixel(layout.format);
   if (layout_.stride_bytes == 0) layout_.stride_bytes = round_up(min_stride, kRowAlignment);
   check(layout_.stride_bytes >= min_stride, "stride " + std::to_string(layout.stride_bytes) +
@@ -46,9 +45,9 @@ FramePool::FramePool(const FramePoolLayout& layout) : layout_(layout) {
   metas_.resize(static_cast<std::size_t>(layout.count));
   borrowed_ = std::make_unique<std::atomic<bool>[]>(static_cast<std::size_t>(layout.count));
   for (int i = 0; i < layout.count; ++i) {
-    views_[static_cast<std::size_t>(i)] = MutableImageView{pixels_.get() + buffer_bytes * i, layout.width, layout.height,
-                                                           layout_.stride_bytes, layout.format,
-                                                           layout_.significant_bits};
+    views_[static_cast<std::size_t>(i)] = MutableImageView{
+        pixels_.get() + buffer_bytes * i, layout.width, layout.height, layout_.stride_bytes, layout.format,
+        layout_.significant_bits};
     borrowed_[static_cast<std::size_t>(i)].store(false, std::memory_order_relaxed);
   }
 }
@@ -61,7 +60,7 @@ int FramePool::borrow() {
     bool expected = false;
     // acquire: the previous holder's writes to pixels and meta happen before ours.
     if (borrowed_[static_cast<std::size_t>(i)].compare_exchange_strong(expected, true, std::memory_order_acquire,
-                                                                      std::memory_order_relaxed))
+                                                                       std::memory_order_relaxed))
       return i;
   }
   return -1;
@@ -72,7 +71,7 @@ bool FramePool::give_back(int index) {
   bool expected = true;
   // release: our writes (or reads) of the buffer are done before the next borrower's.
   return borrowed_[static_cast<std::size_t>(index)].compare_exchange_strong(expected, false, std::memory_order_release,
-                                                                           std::memory_order_relaxed);
+                                                                            std::memory_order_relaxed);
 }
 
 int FramePool::available() const {

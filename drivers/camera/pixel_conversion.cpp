@@ -147,33 +147,33 @@ bool convert_frame(const std::uint8_t* src, std::ptrdiff_t src_stride, std::size
   const bool to_grey = dst.format == PixelFormat::mono8;
   switch (wire) {
     case WirePixels::mono8:
-    case WirePixels::rgb24:
-      copy_rows(src, src_stride, dst, dst_row);
-      return true;
+    case WirePixels::rgb24: copy_rows(src, src_stride, dst, dst_row); return true;
     case WirePixels::mono16_le:
-      if constexpr (std::endian::native == std::endian::little) copy_rows(src, src_stride, dst, dst_row);
-      else swap_rows16(src, src_stride, dst);
+      if constexpr (std::endian::native == std::endian::little)
+        copy_rows(src, src_stride, dst, dst_row);
+      else
+        swap_rows16(src, src_stride, dst);
       return true;
     case WirePixels::mono16_be:
-      if constexpr (std::endian::native == std::endian::big) copy_rows(src, src_stride, dst, dst_row);
-      else swap_rows16(src, src_stride, dst);
+      if constexpr (std::endian::native == std::endian::big)
+        copy_rows(src, src_stride, dst, dst_row);
+      else
+        swap_rows16(src, src_stride, dst);
       return true;
     case WirePixels::yuyv:
     case WirePixels::uyvy: {
       const bool uyvy = wire == WirePixels::uyvy;
-      if (to_grey) y_plane_of_422(src, src_stride, uyvy ? 1 : 0, dst);
-      else rgb_of_422(src, src_stride, uyvy, dst);
+      if (to_grey)
+        y_plane_of_422(src, src_stride, uyvy ? 1 : 0, dst);
+      else
+        rgb_of_422(src, src_stride, uyvy, dst);
       return true;
     }
-    case WirePixels::bgr24:
-      rgb_of_bgr(src, src_stride, dst);
-      return true;
+    case WirePixels::bgr24: rgb_of_bgr(src, src_stride, dst); return true;
     case WirePixels::bayer_rggb:
     case WirePixels::bayer_bggr:
     case WirePixels::bayer_grbg:
-    case WirePixels::bayer_gbrg:
-      rgb_of_bayer(src, src_stride, wire, dst);
-      return true;
+    case WirePixels::bayer_gbrg: rgb_of_bayer(src, src_stride, wire, dst); return true;
   }
   return false;
 }

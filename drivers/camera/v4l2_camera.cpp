@@ -2,8 +2,6 @@
 // path (including recovery) allocates, so problems are written into fixed buffers.
 #include "drivers/camera/v4l2_camera.hpp"
 
-#include "drivers/camera/capture_states.hpp"
-
 #include <linux/videodev2.h>
 #include <poll.h>
 #include <sys/mman.h>
@@ -13,6 +11,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+
+#include "drivers/camera/capture_states.hpp"
 
 namespace ccdlane {
 namespace {
@@ -31,10 +31,10 @@ constexpr FormatChoice kMono8Choices[] = {
 };
 // Full-resolution colour first; the 2x2 demosaic of Bayer last.
 constexpr FormatChoice kColourChoices[] = {
-    {V4L2_PIX_FMT_RGB24, WirePixels::rgb24, 8},        {V4L2_PIX_FMT_BGR24, WirePixels::bgr24, 8},
-    {V4L2_PIX_FMT_YUYV, WirePixels::yuyv, 8},          {V4L2_PIX_FMT_UYVY, WirePixels::uyvy, 8},
-    {V4L2_PIX_FMT_SRGGB8, WirePixels::bayer_rggb, 8},  {V4L2_PIX_FMT_SBGGR8, WirePixels::bayer_bggr, 8},
-    {V4L2_PIX_FMT_SGRBG8, WirePixels::bayer_grbg, 8},  {V4L2_PIX_FMT_SGBRG8, WirePixels::bayer_gbrg, 8},
+    {V4L2_PIX_FMT_RGB24, WirePixels::rgb24, 8},       {V4L2_PIX_FMT_BGR24, WirePixels::bgr24, 8},
+    {V4L2_PIX_FMT_YUYV, WirePixels::yuyv, 8},         {V4L2_PIX_FMT_UYVY, WirePixels::uyvy, 8},
+    {V4L2_PIX_FMT_SRGGB8, WirePixels::bayer_rggb, 8}, {V4L2_PIX_FMT_SBGGR8, WirePixels::bayer_bggr, 8},
+    {V4L2_PIX_FMT_SGRBG8, WirePixels::bayer_grbg, 8}, {V4L2_PIX_FMT_SGBRG8, WirePixels::bayer_gbrg, 8},
 };
 constexpr FormatChoice kMono16Choices[] = {
     {V4L2_PIX_FMT_Y16, WirePixels::mono16_le, 16},
@@ -85,14 +85,16 @@ bool same_control_name(const char* a, const char* b) {
   }
 }
 
-std::int64_t timeval_ns(const timeval& tv) { return std::int64_t{tv.tv_sec} * 1'000'000'000 + std::int64_t{tv.tv_usec} * 1000; }
+std::int64_t timeval_ns(const timeval& tv) {
+  return std::int64_t{tv.tv_sec} * 1'000'000'000 + std::int64_t{tv.tv_usec} * 1000;
+}
 
 }  // namespace
 
 V4l2Camera::V4l2Camera(std::string device_path, CameraSettings settings)
     : path_(std::move(device_path)),
       settings_(std::move(settings)),
-      format_(settings_.format == PixelFormat::mono16   ? PixelFormat::mono16
+      format_(settings_.format == PixelFormat::mono16     ? PixelFormat::mono16
               : settings_.colour == ColourCapture::colour ? PixelFormat::rgb8
                                                           : PixelFormat::mono8) {
   backoff_.configure(settings_.reopen_min_ms, settings_.reopen_max_ms);
@@ -159,8 +161,8 @@ bool V4l2Camera::check_capabilities() {
     return false;
   }
   if (!(caps & V4L2_CAP_STREAMING)) {
-    problem_.set("v4l2:%s: %s cannot stream (no V4L2_CAP_STREAMING; read() devices are not supported)",
-                 path_.c_str(), card_);
+    problem_.set("v4l2:%s: %s cannot stream (no V4L2_CAP_STREAMING; read() devices are not supported)", path_.c_str(),
+                 card_);
     return false;
   }
   return true;
@@ -179,15 +181,17 @@ bool V4l2Camera::negotiate_format() {
   }
   char offered_text[200] = "";
   for (int i = 0, at = 0; i < n_offered && at < static_cast<int>(sizeof offered_text) - 8; ++i)
-    at += std::snprintf(offered_text + at, sizeof offered_text - static_cast<std::size_t>(at), "%s%s",
-                        i ? ", " : "", fourcc_text(offered[i]).text);
+    at += std::snprintf(offered_text + at, sizeof offered_text - static_cast<std::size_t>(at), "%s%s", i ? ", " : "",
+                        fourcc_text(offered[i]).text);
 
   // After the first bring-up the frame pool is sized for format(): a reopen keeps it.
   const FormatChoice* chosen = nullptr;
   const FormatChoice* grey_choice = nullptr;  // YUYV from here is reduced to its Y plane
   const char* wanted = nullptr;
-  const bool colour_allowed = settings_.colour != ColourCapture::grey && (!format_locked_ || format_ == PixelFormat::rgb8);
-  const bool grey_allowed = settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
+  const bool colour_allowed =
+      settings_.colour != ColourCapture::grey && (!format_locked_ || format_ == PixelFormat::rgb8);
+  const bool grey_allowed =
+      settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
   if (settings_.format == PixelFormat::mono16) {
     chosen = first_offered(kMono16Choices, offered, n_offered);
     wanted = "Y16, Y16 big-endian, Y12 or Y10";
@@ -242,9 +246,10 @@ bool V4l2Camera::negotiate_format() {
   const std::ptrdiff_t min_line = std::ptrdiff_t{width_} * wire_bytes_per_pixel(wire_);
   bytes_per_line_ = fmt.fmt.pix.bytesperline ? static_cast<std::ptrdiff_t>(fmt.fmt.pix.bytesperline) : min_line;
   size_image_ = fmt.fmt.pix.sizeimage;
-  if (bytes_per_line_ < min_line || size_image_ < static_cast<std::size_t>(bytes_per_line_ * (height_ - 1) + min_line)) {
-    problem_.set("v4l2:%s: device reports %td bytes per line and %zu per image for %dx%d %s: too small",
-                 path_.c_str(), bytes_per_line_, size_image_, width_, height_, fourcc_text(fourcc_).text);
+  if (bytes_per_line_ < min_line ||
+      size_image_ < static_cast<std::size_t>(bytes_per_line_ * (height_ - 1) + min_line)) {
+    problem_.set("v4l2:%s: device reports %td bytes per line and %zu per image for %dx%d %s: too small", path_.c_str(),
+                 bytes_per_line_, size_image_, width_, height_, fourcc_text(fourcc_).text);
     return false;
   }
   return true;
@@ -492,7 +497,8 @@ CaptureStatus V4l2Camera::capture(const MutableImageView& into, FrameMeta& meta,
       return *settled;
     const std::int64_t now = monotonic_ns();
     if (now - last_frame_ns_ > stall_ns) {
-      problem_.set("v4l2:%s: no frame for %d ms: stream restarted", path_.c_str(), settings_.effective_stall_timeout_ms());
+      problem_.set("v4l2:%s: no frame for %d ms: stream restarted", path_.c_str(),
+                   settings_.effective_stall_timeout_ms());
       restart_stream();
       continue;
     }
@@ -553,8 +559,8 @@ CaptureStatus V4l2Camera::dequeue(const MutableImageView& into, FrameMeta& meta)
     meta.sequence = b.sequence;
     // A monotonic driver timestamp is when the frame was captured; otherwise the best we
     // have is now, which includes the driver's and our latency.
-    meta.t_ns = (b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC ? timeval_ns(b.timestamp)
-                                                                                            : now;
+    meta.t_ns =
+        (b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC ? timeval_ns(b.timestamp) : now;
     meta.gyro.reset();
   }
   r = device_.ioctl(VIDIOC_QBUF, &b);

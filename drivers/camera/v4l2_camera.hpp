@@ -8,10 +8,10 @@
 #include <string>
 
 #include "drivers/camera/camera_settings.hpp"
-#include "drivers/device_state.hpp"
-#include "drivers/frame_source.hpp"
 #include "drivers/camera/pixel_conversion.hpp"
 #include "drivers/camera/v4l2_device.hpp"
+#include "drivers/device_state.hpp"
+#include "drivers/frame_source.hpp"
 
 struct v4l2_queryctrl;
 

@@ -23,7 +23,8 @@ FrameDirectory::FrameDirectory(std::string dir) : dir_(std::move(dir)) {
   if (in.bad()) throw FrameDirectoryError(csv_path_ + ": read error");
   csv_ = parse_frames_csv(text.str(), csv_path_);
   paths_.reserve(csv_.rows.size());
-  for (const FrameRow& r : csv_.rows) paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);
+  for (const FrameRow& r : csv_.rows)
+    paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);
 }
 
 int FrameDirectory::truth_column(std::string_view name) const {

@@ -2,14 +2,14 @@
 // does not accumulate into drift.
 #include "drivers/frames/frame_directory_source.hpp"
 
-#include "drivers/device_state.hpp"
-
 #include <time.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+
+#include "drivers/device_state.hpp"
 
 namespace ccdlane {
 namespace {
@@ -37,8 +37,9 @@ std::string FrameDirectorySource::open() {
   FrameDirectory& dir = *directory_;
   if (dir.size() == 0) return dir.csv_path() + ": no usable frame rows";
   const auto header = dir.probe_first();
-  if (!header) return dir.path() + ": none of the " + std::to_string(dir.size()) + " frames can be read (" +
-                      std::string(dir.error()) + ")";
+  if (!header)
+    return dir.path() + ": none of the " + std::to_string(dir.size()) + " frames can be read (" +
+           std::string(dir.error()) + ")";
   if (options_.width > 0 && (header->width != options_.width || header->height != options_.height))
     return dir.path() + ": frames are " + std::to_string(header->width) + "x" + std::to_string(header->height) +
            ", the camera is " + std::to_string(options_.width) + "x" + std::to_string(options_.height);
@@ -92,7 +93,8 @@ CaptureStatus FrameDirectorySource::capture(const MutableImageView& into, FrameM
   meta.gyro = dir.row(i).gyro;
   // When this frame's successor is due (after the last row, the wrap adds one period).
   if (next_ < dir.size())
-    next_due_ns_ += options_.rate_hz > 0.0 ? period_ns_ : std::max<std::int64_t>(0, dir.row(next_).t_ns - dir.row(i).t_ns);
+    next_due_ns_ +=
+        options_.rate_hz > 0.0 ? period_ns_ : std::max<std::int64_t>(0, dir.row(next_).t_ns - dir.row(i).t_ns);
 
   if (dir.read(i, into) != PgmFault::none) {
     ++counters_.errors;
@@ -107,10 +109,15 @@ void FrameDirectorySource::close() { directory_.reset(); }
 
 std::string FrameDirectorySource::describe() const {
   char buf[64];
-  if (options_.rate_hz > 0.0) std::snprintf(buf, sizeof buf, "%.3g Hz", options_.rate_hz);
-  else std::snprintf(buf, sizeof buf, "as recorded");
+  if (options_.rate_hz > 0.0)
+    std::snprintf(buf, sizeof buf, "%.3g Hz", options_.rate_hz);
+  else
+    std::snprintf(buf, sizeof buf, "as recorded");
   return "frames:" + options_.path + " " + std::to_string(width_) + "x" + std::to_string(height_) +
-         (format_ == PixelFormat::mono16 ? " mono16 " : is_colour(format_) ? " rgb8 " : " mono8 ") + buf + (options_.loop ? " loop" : "");
+         (format_ == PixelFormat::mono16 ? " mono16 "
+          : is_colour(format_)           ? " rgb8 "
+                                         : " mono8 ") +
+         buf + (options_.loop ? " loop" : "");
 }
 
 std::string FrameDirectorySource::last_problem() const { return problem_.data(); }

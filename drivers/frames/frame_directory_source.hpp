@@ -12,11 +12,11 @@
 namespace ccdlane {
 
 struct FrameDirectorySourceOptions {
-  std::string path;        // the frame directory
-  double rate_hz = 0.0;    // > 0: that many frames per second; 0: as recorded (t_ns)
-  bool loop = false;       // start over at the end instead of reporting end_of_stream
-  int width = 0;           // expected frame size (the camera's Nu x Nv); 0 = that of
-  int height = 0;          //   the first readable frame
+  std::string path;      // the frame directory
+  double rate_hz = 0.0;  // > 0: that many frames per second; 0: as recorded (t_ns)
+  bool loop = false;     // start over at the end instead of reporting end_of_stream
+  int width = 0;         // expected frame size (the camera's Nu x Nv); 0 = that of
+  int height = 0;        //   the first readable frame
 };
 
 class FrameDirectorySource final : public FrameSource {
@@ -58,13 +58,13 @@ class FrameDirectorySource final : public FrameSource {
   int width_ = 0, height_ = 0;
   PixelFormat format_ = PixelFormat::mono8;
   int significant_bits_ = 8;
-  std::size_t next_ = 0;       // next row to deliver
-  std::uint64_t pass_ = 0;     // completed passes over the directory (loop)
-  std::int64_t anchor_ns_ = 0; // monotonic time at which row 0 of this pass is due
+  std::size_t next_ = 0;        // next row to deliver
+  std::uint64_t pass_ = 0;      // completed passes over the directory (loop)
+  std::int64_t anchor_ns_ = 0;  // monotonic time at which row 0 of this pass is due
   std::int64_t next_due_ns_ = 0;
   bool started_ = false;
-  std::int64_t period_ns_ = 0; // between passes when looping, and for rate_hz
-  std::int64_t pass_span_ns_ = 0; // recorded time from one pass's first frame to the next's
+  std::int64_t period_ns_ = 0;     // between passes when looping, and for rate_hz
+  std::int64_t pass_span_ns_ = 0;  // recorded time from one pass's first frame to the next's
   SourceCounters counters_;
   std::array<char, 512> problem_{};
 };

@@ -3,11 +3,11 @@
 
 #include <unistd.h>
 
-#include <charconv>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
@@ -91,7 +91,8 @@ void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, cons
   row += std::to_string(t_ns);
   if (layout_.gyro) {
     constexpr double kEmpty = std::numeric_limits<double>::quiet_NaN();
-    for (const double v : {gyro ? gyro->roll_deg : kEmpty, gyro ? gyro->pitch_deg : kEmpty, gyro ? gyro->yaw_deg : kEmpty}) {
+    for (const double v :
+         {gyro ? gyro->roll_deg : kEmpty, gyro ? gyro->pitch_deg : kEmpty, gyro ? gyro->yaw_deg : kEmpty}) {
       row += ',';
       append_number(row, v);
     }
@@ -111,12 +112,14 @@ std::string FrameDirectoryWriter::keep_written() noexcept {
   if (finished_) return "";
   csv_.clear();
   csv_.close();  // may fail again: the row it held is cut off below
-  if (::truncate(tmp_csv_.c_str(), csv_bytes_) != 0) return tmp_csv_ + ": cannot cut back to whole rows: " + std::strerror(errno);
+  if (::truncate(tmp_csv_.c_str(), csv_bytes_) != 0)
+    return tmp_csv_ + ": cannot cut back to whole rows: " + std::strerror(errno);
   // A picture without its row was the frame being written: not part of the recording.
   for (std::size_t i = kept_frames_; i < files_.size(); ++i) ::unlink((dir_ + "/" + files_[i]).c_str());
   files_.resize(kept_frames_);
   const std::string final_csv = dir_ + "/frames.csv";
-  if (::rename(tmp_csv_.c_str(), final_csv.c_str()) != 0) return final_csv + ": cannot rename into place: " + std::strerror(errno);
+  if (::rename(tmp_csv_.c_str(), final_csv.c_str()) != 0)
+    return final_csv + ": cannot rename into place: " + std::strerror(errno);
   finished_ = true;
   return "";
 }

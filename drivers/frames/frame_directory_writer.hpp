@@ -61,8 +61,8 @@ class FrameDirectoryWriter {
   bool created_dir_ = false;
   bool finished_ = false;
   std::int64_t last_t_ns_ = 0;
-  std::size_t kept_frames_ = 0;     // frames whose row reached frames.csv.tmp
-  std::streamoff csv_bytes_ = 0;    // of frames.csv.tmp up to the last whole row
+  std::size_t kept_frames_ = 0;   // frames whose row reached frames.csv.tmp
+  std::streamoff csv_bytes_ = 0;  // of frames.csv.tmp up to the last whole row
 };
 
 }  // namespace ccdlane

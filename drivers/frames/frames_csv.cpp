@@ -28,7 +28,8 @@ void split(std::string_view line, std::vector<std::string_view>& fields) {
   std::size_t start = 0;
   for (;;) {
     const std::size_t comma = line.find(',', start);
-    fields.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    fields.push_back(
+        trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
@@ -77,13 +78,20 @@ FramesCsv parse_frames_csv(std::string_view text, const std::string& name) {
             throw FrameDirectoryError(name + ":" + std::to_string(line_no) + ": column \"" + std::string(h) +
                                       "\" appears twice");
         const int col = static_cast<int>(i);
-        if (h == "file") file_col = col;
-        else if (h == "t_ns") t_col = col;
-        else if (h == "roll_deg") roll_col = col;
-        else if (h == "pitch_deg") pitch_col = col;
-        else if (h == "yaw_deg") yaw_col = col;
-        else if (h == "speed_kmh") speed_col = col;
-        else if (h == "turn_indicator") indicator_col = col;
+        if (h == "file")
+          file_col = col;
+        else if (h == "t_ns")
+          t_col = col;
+        else if (h == "roll_deg")
+          roll_col = col;
+        else if (h == "pitch_deg")
+          pitch_col = col;
+        else if (h == "yaw_deg")
+          yaw_col = col;
+        else if (h == "speed_kmh")
+          speed_col = col;
+        else if (h == "turn_indicator")
+          indicator_col = col;
         else if (h.substr(0, 6) == "truth_") {
           truth_cols.push_back(col);
           csv.truth_columns.emplace_back(h);

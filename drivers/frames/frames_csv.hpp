@@ -20,8 +20,8 @@ struct FrameRow {
   int line = 0;           // 1-based line of frames.csv, for messages
   std::string file;       // as written in frames.csv
   std::int64_t t_ns = 0;
-  std::optional<Gx1Angles> gyro;  // when the row has roll_deg and pitch_deg (yaw 0 if absent)
-  std::optional<double> speed_kmh;  // the vehicle's, when the row has one (>= 0)
+  std::optional<Gx1Angles> gyro;                  // when the row has roll_deg and pitch_deg (yaw 0 if absent)
+  std::optional<double> speed_kmh;                // the vehicle's, when the row has one (>= 0)
   TurnIndicator indicator = TurnIndicator::none;  // none, left, right, both; empty cell or no column: none
 };
 
@@ -32,14 +32,14 @@ struct FramesCsv {
   std::vector<std::string> issues;         // one "name:line: column: reason" per skipped row
   std::size_t data_rows = 0;               // rows in the file, well-formed or not
   bool has_gyro_columns = false;
-  bool has_vehicle_columns = false;        // speed_kmh or turn_indicator
+  bool has_vehicle_columns = false;  // speed_kmh or turn_indicator
 };
 
 // Parses the text of a frames.csv; `name` prefixes messages. Blank lines and lines
 // starting with '#' are ignored, other unknown columns too (e.g. a source_name). A
 // malformed row (wrong field count, a number that is not one, an empty file name, time
-// going backwards, a half gyro reading, a negative speed, an unknown indicator) is skipped and described in `issues`; a header
-// without file or t_ns, or with a repeated column, throws FrameDirectoryError.
+// going backwards, a half gyro reading, a negative speed, an unknown indicator) is skipped and described in `issues`; a
+// header without file or t_ns, or with a repeated column, throws FrameDirectoryError.
 FramesCsv parse_frames_csv(std::string_view text, const std::string& name);
 
 }  // namespace ccdlane

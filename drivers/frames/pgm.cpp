@@ -246,10 +246,11 @@ void write_pgm(const std::string& path, const ImageView& image) {
   const int bits = wide ? std::clamp(image.significant_bits, 9, 16) : 8;
   const int maxval = wide ? (1 << bits) - 1 : 255;
   char header[64];
-  const int header_len = std::snprintf(header, sizeof header, "%s\n%d %d\n%d\n", colour ? "P6" : "P5", image.width,
-                                       image.height, maxval);
+  const int header_len =
+      std::snprintf(header, sizeof header, "%s\n%d %d\n%d\n", colour ? "P6" : "P5", image.width, image.height, maxval);
   const std::size_t row_bytes = static_cast<std::size_t>(image.width) * (wide ? 2u : colour ? 3u : 1u);
-  std::vector<std::uint8_t> data(static_cast<std::size_t>(header_len) + row_bytes * static_cast<std::size_t>(image.height));
+  std::vector<std::uint8_t> data(static_cast<std::size_t>(header_len) +
+                                 row_bytes * static_cast<std::size_t>(image.height));
   std::memcpy(data.data(), header, static_cast<std::size_t>(header_len));
   std::uint8_t* out = data.data() + header_len;
   for (int y = 0; y < image.height; ++y, out += row_bytes) {

@@ -75,9 +75,9 @@ class PgmReader {
 };
 
 // Writes `image` as a binary PGM: 8-bit (maxval 255) or 16-bit big-endian (maxval
-// 2^significant_bits - 1); a colour image (rgb8 or bgr8) as an 8-bit PPM (P6, RGB). Written under a temporary name in the same directory and
-// renamed into place, so a failure never leaves a partial file. Throws
-// std::runtime_error naming the file and the reason.
+// 2^significant_bits - 1); a colour image (rgb8 or bgr8) as an 8-bit PPM (P6, RGB). Written under a temporary name in
+// the same directory and renamed into place, so a failure never leaves a partial file. Throws std::runtime_error naming
+// the file and the reason.
 void write_pgm(const std::string& path, const ImageView& image);
 
 }  // namespace ccdlane

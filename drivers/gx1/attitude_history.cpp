@@ -20,14 +20,10 @@ double interpolate_angle(double a, double b, double fraction) {
 
 const char* to_string(AttitudeStatus status) {
   switch (status) {
-    case AttitudeStatus::ok:
-      return "ok";
-    case AttitudeStatus::no_data:
-      return "no data";
-    case AttitudeStatus::stale:
-      return "stale";
-    case AttitudeStatus::out_of_range:
-      return "out of range";
+    case AttitudeStatus::ok: return "ok";
+    case AttitudeStatus::no_data: return "no data";
+    case AttitudeStatus::stale: return "stale";
+    case AttitudeStatus::out_of_range: return "out of range";
   }
   return "?";
 }
@@ -62,7 +58,8 @@ void AttitudeHistory::push(const Gx1Sample& sample) {
 Gx1Sample AttitudeHistory::load(std::uint64_t index) const {
   constexpr auto acquire = std::memory_order_acquire;
   const Slot& s = slots_[index % kCapacity];
-  return {s.t_ns.load(acquire), static_cast<std::uint16_t>(s.ticks.load(acquire)),
+  return {s.t_ns.load(acquire),
+          static_cast<std::uint16_t>(s.ticks.load(acquire)),
           {s.roll.load(acquire), s.pitch.load(acquire), s.yaw.load(acquire)}};
 }
 

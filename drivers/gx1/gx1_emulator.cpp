@@ -229,37 +229,20 @@ void Gx1Emulator::execute(std::int64_t now) {
       write_reply(ContinuousAck{streamed, ticks_at(now)});
       return;
     }
-    case cmd::firmware:
-      write_reply(FirmwareReply{options_.firmware});
-      return;
-    case cmd::serial_number:
-      write_reply(SerialNumberReply{options_.serial_number});
-      return;
+    case cmd::firmware: write_reply(FirmwareReply{options_.firmware}); return;
+    case cmd::serial_number: write_reply(SerialNumberReply{options_.serial_number}); return;
     case cmd::read_eeprom: {
       const std::uint16_t address = static_cast<std::uint16_t>((command_[1] << 8) | command_[2]);
       std::uint16_t value = 0;
       switch (address) {  // the factory values of docs/gx1.md sections 5 and 6
-        case kEepromGyroGainScale:
-          value = 8500;
-          break;
-        case kEepromAccelGainScale:
-          value = 7000;
-          break;
-        case kEepromMagGainScale:
-          value = 2000;
-          break;
+        case kEepromGyroGainScale: value = 8500; break;
+        case kEepromAccelGainScale: value = 7000; break;
+        case kEepromMagGainScale: value = 2000; break;
         case 238:
-        case 240:
-          value = 16;
-          break;
-        case 242:
-          value = 256;
-          break;
-        case 246:
-          value = 1;
-          break;
-        default:
-          break;
+        case 240: value = 16; break;
+        case 242: value = 256; break;
+        case 246: value = 1; break;
+        default: break;
       }
       write_reply(EepromReply{value, ticks_at(now)});
       return;
@@ -269,11 +252,8 @@ void Gx1Emulator::execute(std::int64_t now) {
     case cmd::stab_euler_vectors:
     case cmd::stab_quaternion:
     case cmd::inst_quaternion:
-    case cmd::temperature:
-      write_reply(measurement(c, now));
-      return;
-    default:
-      return;  // a real command this emulator does not model: no answer
+    case cmd::temperature: write_reply(measurement(c, now)); return;
+    default: return;  // a real command this emulator does not model: no answer
   }
 }
 
@@ -313,8 +293,7 @@ Reply Gx1Emulator::measurement(std::uint8_t command, std::int64_t now) const {
       r.ticks = ticks;
       return r;
     }
-    case cmd::temperature:
-      return TemperatureReply{0x2666, ticks};  // 25 degrees C (V4)
+    case cmd::temperature: return TemperatureReply{0x2666, ticks};  // 25 degrees C (V4)
     default:
       return EulerReply{command, counts_from_degrees(a.roll_deg), counts_from_degrees(a.pitch_deg),
                         counts_from_degrees(a.yaw_deg), ticks};

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "base/gx1_angles.hpp"
-#include "base/unique_fd.hpp"
 #include "base/log.hpp"
+#include "base/unique_fd.hpp"
 #include "drivers/gx1/gx1_protocol.hpp"
 
 namespace ccdlane::gx1 {
@@ -31,14 +31,14 @@ Gx1Angles circling_attitude(double t_s);
 // k % N == phase (N = 0: off).
 struct PeriodicFaults {
   unsigned garbage_every = 0, garbage_phase = 0;
-  unsigned garbage_bytes = 7;  // random bytes written just before the packet
+  unsigned garbage_bytes = 7;               // random bytes written just before the packet
   unsigned flip_every = 0, flip_phase = 0;  // one random bit of the packet flipped
   unsigned split_every = 0;                 // the packet written in pieces, 1 ms apart
 };
 
 struct EmulatorOptions {
-  std::string link;          // a stable path re-pointed at each new pty ("" = none)
-  double rate_hz = 100.0;    // continuous-mode packets per second
+  std::string link;                 // a stable path re-pointed at each new pty ("" = none)
+  double rate_hz = 100.0;           // continuous-mode packets per second
   std::uint8_t left_streaming = 0;  // a stream left running by a previous user (0: quiet)
   std::uint16_t firmware = 3102;
   std::uint16_t serial_number = 1234;
@@ -58,16 +58,16 @@ struct SentPacket {
 };
 
 struct EmulatorCounters {
-  std::uint64_t packets = 0;       // streamed packets
-  std::uint64_t replies = 0;       // answers to polls and commands
-  std::uint64_t commands = 0;      // complete commands received
-  std::uint64_t stops = 0;         // `10 00 00` received
-  std::uint64_t starts = 0;        // `10 00 CC` received
-  std::uint64_t unknown_bytes = 0; // bytes that began no known command
+  std::uint64_t packets = 0;        // streamed packets
+  std::uint64_t replies = 0;        // answers to polls and commands
+  std::uint64_t commands = 0;       // complete commands received
+  std::uint64_t stops = 0;          // `10 00 00` received
+  std::uint64_t starts = 0;         // `10 00 CC` received
+  std::uint64_t unknown_bytes = 0;  // bytes that began no known command
   std::uint64_t garbage_bytes = 0;
   std::uint64_t flipped = 0;
   std::uint64_t split = 0;
-  std::uint64_t dropped = 0;       // packets not written whole (nobody reading, buffer full)
+  std::uint64_t dropped = 0;  // packets not written whole (nobody reading, buffer full)
   std::uint64_t stalls = 0;
   std::uint64_t hangups = 0;
   std::int64_t last_start_ns = 0;  // when the last `10 00 CC` was received
@@ -93,9 +93,9 @@ class Gx1Emulator {
   // Scripted faults; thread-safe, applied by the emulator thread at the next packet.
   void inject_garbage(unsigned bytes);
   void flip_next_packet();
-  void stall(int ms);                    // sends and answers nothing for `ms`
-  void hang_up(int reappear_after_ms);   // closes the master (readers see a hang-up);
-                                         // a new pty appears later behind the link
+  void stall(int ms);                   // sends and answers nothing for `ms`
+  void hang_up(int reappear_after_ms);  // closes the master (readers see a hang-up);
+                                        // a new pty appears later behind the link
 
   EmulatorCounters counters() const;
   std::vector<SentPacket> sent() const;

@@ -53,11 +53,9 @@ std::size_t reply_length(std::uint8_t command) {
     case cmd::inst_matrix:
     case cmd::stab_matrix:
     case cmd::stab_euler_vectors:
-    case cmd::hard_iron_collect:
-      return 23;
+    case cmd::hard_iron_collect: return 23;
     case cmd::inst_quaternion:
-    case cmd::stab_quaternion:
-      return 13;
+    case cmd::stab_quaternion: return 13;
     case cmd::capture_bias:
     case cmd::tare:
     case cmd::remove_tare:
@@ -65,23 +63,18 @@ std::size_t reply_length(std::uint8_t command) {
     case cmd::self_test:
     case cmd::hard_iron_init:
     case cmd::firmware:
-    case cmd::serial_number:
-      return 5;
+    case cmd::serial_number: return 5;
     case cmd::temperature:
     case cmd::continuous:
     case cmd::read_eeprom:
-    case cmd::write_eeprom:
-      return 7;
+    case cmd::write_eeprom: return 7;
     case cmd::stab_quaternion_vectors:
-    case cmd::stab_quaternion_inst_vectors:
-      return 31;
+    case cmd::stab_quaternion_inst_vectors: return 31;
     case cmd::inst_euler:
     case cmd::stab_euler:
     case cmd::read_gains:
-    case cmd::hard_iron_compute:
-      return 11;
-    default:
-      return 0;
+    case cmd::hard_iron_compute: return 11;
+    default: return 0;
   }
 }
 
@@ -91,19 +84,14 @@ std::size_t command_length(std::uint8_t command) {
       return 2;
     case cmd::continuous:
     case cmd::read_eeprom:
-    case cmd::hard_iron_init:
-      return 3;
+    case cmd::hard_iron_init: return 3;
     case cmd::tare:
-    case cmd::remove_tare:
-      return 4;
+    case cmd::remove_tare: return 4;
     case 0x09:  // legacy write EEPROM: 09 71 ad VH VL AA
-    case cmd::hard_iron_compute:
-      return 6;
+    case cmd::hard_iron_compute: return 6;
     case cmd::write_gains:
-    case cmd::write_eeprom:
-      return 7;
-    default:
-      return reply_length(command) != 0 ? 1 : 0;
+    case cmd::write_eeprom: return 7;
+    default: return reply_length(command) != 0 ? 1 : 0;
   }
 }
 
@@ -112,7 +100,8 @@ std::uint16_t checksum(std::span<const std::uint8_t> frame) {
   // Zero-extended header and uint16 arithmetic: sign-extending a char header breaks
   // 0xF0/0xF1 (docs/gx1.md section 9.6).
   std::uint32_t sum = frame[0];
-  for (std::size_t i = 1; i + 1 < frame.size(); i += 2) sum += static_cast<std::uint32_t>((frame[i] << 8) | frame[i + 1]);
+  for (std::size_t i = 1; i + 1 < frame.size(); i += 2)
+    sum += static_cast<std::uint32_t>((frame[i] << 8) | frame[i + 1]);
   return static_cast<std::uint16_t>(sum & 0xFFFF);
 }
 
@@ -159,16 +148,11 @@ Reply decode_reply(std::span<const std::uint8_t> frame) {
       r.ticks = word_at(frame, 4);
       return r;
     }
-    case cmd::temperature:
-      return TemperatureReply{word_at(frame, 0), word_at(frame, 1)};
-    case cmd::firmware:
-      return FirmwareReply{word_at(frame, 0)};
-    case cmd::serial_number:
-      return SerialNumberReply{word_at(frame, 0)};
-    case cmd::read_eeprom:
-      return EepromReply{word_at(frame, 0), word_at(frame, 1)};
-    case cmd::continuous:
-      return ContinuousAck{word_at(frame, 0), word_at(frame, 1)};
+    case cmd::temperature: return TemperatureReply{word_at(frame, 0), word_at(frame, 1)};
+    case cmd::firmware: return FirmwareReply{word_at(frame, 0)};
+    case cmd::serial_number: return SerialNumberReply{word_at(frame, 0)};
+    case cmd::read_eeprom: return EepromReply{word_at(frame, 0), word_at(frame, 1)};
+    case cmd::continuous: return ContinuousAck{word_at(frame, 0), word_at(frame, 1)};
     default: {
       OtherReply r;
       r.header = header;

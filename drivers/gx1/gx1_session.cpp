@@ -82,8 +82,9 @@ int Gx1Session::configure() {
     bump(shared_.configure_failures);
   }
   if (rc < 0) {
-    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: no usable answer to the firmware/serial requests after %d attempts: %s",
-             device().c_str(), options_.configure_attempts, std::strerror(-rc));
+    log_to(log_, LogLevel::warning, "gyro",
+           "gx1 %s: no usable answer to the firmware/serial requests after %d attempts: %s", device().c_str(),
+           options_.configure_attempts, std::strerror(-rc));
     publish_counters();
     return rc;
   }
@@ -169,14 +170,9 @@ int Gx1Session::await_reply(std::uint8_t header, Reply& out) {
 int Gx1Session::poll_once(int timeout_ms) {
   int n = 0;
   switch (state()) {
-    case DeviceState::streaming:
-      n = stream_step(timeout_ms);
-      break;
-    case DeviceState::recovering:
-      n = recover_step(timeout_ms);
-      break;
-    default:
-      return -ENOTCONN;
+    case DeviceState::streaming: n = stream_step(timeout_ms); break;
+    case DeviceState::recovering: n = recover_step(timeout_ms); break;
+    default: return -ENOTCONN;
   }
   publish_counters();
   return n;
@@ -210,7 +206,8 @@ int Gx1Session::stream_step(int timeout_ms) {
   }
   if (now - last_sample_ns_ > options_.stream_timeout_ms * kNsPerMs) {
     bump(shared_.stream_timeouts);
-    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: no sample for %d ms: reconfiguring", device().c_str(), options_.stream_timeout_ms);
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: no sample for %d ms: reconfiguring", device().c_str(),
+           options_.stream_timeout_ms);
     if (const int rc = configure(); rc < 0) lose("reconfiguration failed", -rc);
   }
   return samples;
@@ -250,7 +247,8 @@ int Gx1Session::ingest(std::span<const std::uint8_t> bytes, std::int64_t t_read_
 
 void Gx1Session::lose(const char* what, int error) {
   bump(shared_.hangups);
-  log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s (%s): reopening with backoff", device().c_str(), what, std::strerror(error));
+  log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s (%s): reopening with backoff", device().c_str(), what,
+         std::strerror(error));
   port_.back_off(monotonic_ns());
   parser_.reset();
   reopen_failure_reported_ = false;
@@ -266,8 +264,8 @@ int Gx1Session::recover_step(int timeout_ms) {
   }
   if (rc < 0) {
     if (!reopen_failure_reported_) {
-      log_to(log_, LogLevel::warning, "gyro", "gx1 %s: reopen failed: %s (retrying, backoff up to %d ms)", device().c_str(),
-               std::strerror(-rc), options_.backoff.max_ms);
+      log_to(log_, LogLevel::warning, "gyro", "gx1 %s: reopen failed: %s (retrying, backoff up to %d ms)",
+             device().c_str(), std::strerror(-rc), options_.backoff.max_ms);
       reopen_failure_reported_ = true;
     }
     return 0;
@@ -279,8 +277,8 @@ int Gx1Session::recover_step(int timeout_ms) {
   }
   port_.reset_backoff();
   bump(shared_.reopens);
-  log_to(log_, LogLevel::notice, "gyro", "gx1 %s: reopened, streaming again (firmware %u, serial number %u)", device().c_str(),
-           unsigned{firmware()}, unsigned{serial_number()});
+  log_to(log_, LogLevel::notice, "gyro", "gx1 %s: reopened, streaming again (firmware %u, serial number %u)",
+         device().c_str(), unsigned{firmware()}, unsigned{serial_number()});
   return 0;
 }
 

@@ -20,29 +20,29 @@ namespace ccdlane::gx1 {
 
 struct SessionOptions {
   std::uint8_t stream_command = cmd::stab_euler;  // 0x0E, or 0x31 when rates are wanted
-  bool continuous = true;        // false: one poll per reply (for a person at a terminal)
-  int reply_timeout_ms = 250;    // per command reply (a 31-byte reply takes 8 ms on the wire)
-  int configure_attempts = 3;    // stop + drain + firmware handshakes before giving up
-  int drain_quiet_ms = 50;       // the drain ends once the line has been quiet this long
-  int drain_max_ms = 1500;       // ... or after this long, even if a stream will not stop
-  int stream_timeout_ms = 1000;  // no sample for this long while streaming: reconfigure
-  std::int64_t max_age_ns = 100'000'000;  // attitude_at(): farther from real samples is stale
+  bool continuous = true;                         // false: one poll per reply (for a person at a terminal)
+  int reply_timeout_ms = 250;                     // per command reply (a 31-byte reply takes 8 ms on the wire)
+  int configure_attempts = 3;                     // stop + drain + firmware handshakes before giving up
+  int drain_quiet_ms = 50;                        // the drain ends once the line has been quiet this long
+  int drain_max_ms = 1500;                        // ... or after this long, even if a stream will not stop
+  int stream_timeout_ms = 1000;                   // no sample for this long while streaming: reconfigure
+  std::int64_t max_age_ns = 100'000'000;          // attitude_at(): farther from real samples is stale
   BackoffOptions backoff;
 };
 
 struct SessionCounters {
   std::uint64_t samples = 0;
-  std::uint64_t acks = 0;            // continuous-mode acknowledgements
-  std::uint64_t other_replies = 0;   // valid replies nobody asked for
-  std::uint64_t bad_checksums = 0;   // from the parser
-  std::uint64_t unconfirmed = 0;     // from the parser
-  std::uint64_t bytes_skipped = 0;   // from the parser (garbage, damaged replies)
-  std::uint64_t bytes_drained = 0;   // discarded while stopping a stream during configuration
+  std::uint64_t acks = 0;           // continuous-mode acknowledgements
+  std::uint64_t other_replies = 0;  // valid replies nobody asked for
+  std::uint64_t bad_checksums = 0;  // from the parser
+  std::uint64_t unconfirmed = 0;    // from the parser
+  std::uint64_t bytes_skipped = 0;  // from the parser (garbage, damaged replies)
+  std::uint64_t bytes_drained = 0;  // discarded while stopping a stream during configuration
   std::uint64_t hangups = 0;
-  std::uint64_t reopens = 0;         // back to streaming after a loss
+  std::uint64_t reopens = 0;             // back to streaming after a loss
   std::uint64_t configure_failures = 0;  // handshake attempts that got no firmware/serial answer
   std::uint64_t stream_timeouts = 0;
-  std::uint64_t poll_timeouts = 0;   // polled mode: a poll without a reply in time
+  std::uint64_t poll_timeouts = 0;  // polled mode: a poll without a reply in time
 };
 
 class Gx1Session {

@@ -13,13 +13,12 @@
 #include <cerrno>
 #include <cstring>
 
-
 namespace ccdlane::gx1 {
 namespace {
 
 // Input flags that would rewrite or swallow binary data (0x0D, 0x11, 0x13 occur all the time).
-constexpr tcflag_t kForbiddenIflags = IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON | IXOFF |
-                                      IXANY | INPCK | IUCLC | IMAXBEL;
+constexpr tcflag_t kForbiddenIflags =
+    IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON | IXOFF | IXANY | INPCK | IUCLC | IMAXBEL;
 constexpr tcflag_t kForbiddenLflags = ECHO | ECHOE | ECHOK | ECHONL | ICANON | ISIG | IEXTEN;
 constexpr tcflag_t kForbiddenCflags = PARENB | CSTOPB | CRTSCTS;
 constexpr tcflag_t kRequiredCflags = CS8 | CLOCAL | CREAD;
@@ -120,7 +119,8 @@ int SerialPort::configure() {
   // them. A pty has no modem lines (ENOTTY): say so once and carry on.
   int lines = TIOCM_DTR | TIOCM_RTS;
   if (const int rc = ioctl(TIOCMBIS, &lines); rc < 0 && !modem_lines_reported_) {
-    log_to(log_, LogLevel::notice, "gyro", "serial %s: modem lines not supported (%s): carrying on", path_.c_str(), std::strerror(-rc));
+    log_to(log_, LogLevel::notice, "gyro", "serial %s: modem lines not supported (%s): carrying on", path_.c_str(),
+           std::strerror(-rc));
     modem_lines_reported_ = true;
   }
   return flush();

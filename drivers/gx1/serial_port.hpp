@@ -8,9 +8,9 @@
 #include <span>
 #include <string>
 
-#include "drivers/device_state.hpp"
-#include "base/unique_fd.hpp"
 #include "base/log.hpp"
+#include "base/unique_fd.hpp"
+#include "drivers/device_state.hpp"
 
 namespace ccdlane::gx1 {
 
@@ -24,14 +24,14 @@ enum class ReadStatus : std::uint8_t {
 struct ReadResult {
   ReadStatus status = ReadStatus::timeout;
   std::size_t bytes = 0;
-  int error = 0;         // errno for hangup/error, else 0
-  std::int64_t t_ns = 0; // CLOCK_MONOTONIC right after the read returned
+  int error = 0;          // errno for hangup/error, else 0
+  std::int64_t t_ns = 0;  // CLOCK_MONOTONIC right after the read returned
 };
 
 struct SerialCounters {
   std::uint64_t bytes_read = 0;
   std::uint64_t bytes_written = 0;
-  std::uint64_t opens = 0;          // successful opens (the first one included) and adoptions
+  std::uint64_t opens = 0;  // successful opens (the first one included) and adoptions
   std::uint64_t open_failures = 0;
   std::uint64_t hangups = 0;
 };

@@ -1,6 +1,5 @@
 // The TOML schema: defaults, every table, and errors that name file, line and key.
 #include "app/config_loader.hpp"
-#include "tests/support/config_error.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -10,6 +9,8 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+
+#include "tests/support/config_error.hpp"
 
 namespace ccdlane {
 namespace {
@@ -120,16 +121,20 @@ TEST(ConfigLoader, ImpossibleValues) {
   EXPECT_EQ(error_of("[camera]\nNu = 1\n"), "test.toml:2: camera.Nu: must be at least 2, got 1");
   EXPECT_EQ(error_of("[camera]\nUc_mm = 7\n"),
             "test.toml:2: camera.Uc_mm: a cell cannot be as wide as the chip (U_mm = 6.4)");
-  EXPECT_EQ(error_of("[camera]\nNu = 8000\n"), "test.toml:2: camera.Nu: Nu cells of Uc_mm do not fit on a chip U_mm wide");
-  EXPECT_EQ(error_of("[mount]\nH_mm = 0\n"), "test.toml:2: mount.H_mm: the camera must be above the road (H_mm > 0), got 0");
+  EXPECT_EQ(error_of("[camera]\nNu = 8000\n"),
+            "test.toml:2: camera.Nu: Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  EXPECT_EQ(error_of("[mount]\nH_mm = 0\n"),
+            "test.toml:2: mount.H_mm: the camera must be above the road (H_mm > 0), got 0");
   EXPECT_EQ(error_of("[solver]\nmode = \"fast\"\n"),
             "test.toml:2: solver.mode: must be \"reprojection\" or \"paper\", got \"fast\"");
   EXPECT_EQ(error_of("[solver]\nfree = [\"psi\", \"roll\"]\n"),
             "test.toml:2: solver.free: unknown parameter \"roll\"; expected any of psi theta phi H f y0 m c");
   EXPECT_EQ(error_of("[prior]\nH_mm = [1400, 0]\n"), "test.toml:2: prior.H_mm: needs a finite mean and a sigma > 0");
-  EXPECT_EQ(error_of("[camera]\ncx = 900\n"), "test.toml:2: camera.cx: principal point must lie on the chip (0.5 .. Nu+0.5)");
+  EXPECT_EQ(error_of("[camera]\ncx = 900\n"),
+            "test.toml:2: camera.cx: principal point must lie on the chip (0.5 .. Nu+0.5)");
   EXPECT_EQ(error_of("[camera]\nk_px2 = 1e-5\n"),
-            "test.toml:2: camera.k_px2: distortion this strong makes the image corners ambiguous (|k_px2| * r_corner^2 must be < 1)");
+            "test.toml:2: camera.k_px2: distortion this strong makes the image corners ambiguous (|k_px2| * r_corner^2 "
+            "must be < 1)");
   EXPECT_EQ(error_of("[source]\nkind = \"frames\"\n"),
             "test.toml:1: source.path: a \"frames\" source needs path = the frame directory");
   EXPECT_EQ(error_of("[realtime]\ncapture_priority = 120\n"),
@@ -158,8 +163,7 @@ TEST(ConfigLoader, LineModelStraightOrCurved) {
 TEST(ConfigLoader, SourcePixelFormatAutoGreyOrColour) {
   EXPECT_EQ(parse_config("", "empty.toml").source.pixel_format, SourcePixels::automatic);
   EXPECT_EQ(parse_config("[source]\npixel_format = \"grey\"\n", "f.toml").source.pixel_format, SourcePixels::grey);
-  EXPECT_EQ(parse_config("[source]\npixel_format = \"colour\"\n", "f.toml").source.pixel_format,
-            SourcePixels::colour);
+  EXPECT_EQ(parse_config("[source]\npixel_format = \"colour\"\n", "f.toml").source.pixel_format, SourcePixels::colour);
   EXPECT_EQ(error_of("[source]\npixel_format = \"bayer\"\n"),
             "test.toml:2: source.pixel_format: must be \"auto\", \"grey\" or \"colour\", got \"bayer\"");
 }
@@ -207,7 +211,8 @@ TEST(ConfigLoader, AFileThatCannotBeOpenedSaysWhy) {
 TEST(ConfigLoader, PicturesTooLargeToAllocateAreRefused) {
   EXPECT_EQ(error_of("[camera]\nNu = 100000\nNv = 100000\nUc_mm = 0.00001\nVc_mm = 0.00001\n"),
             "test.toml:2: camera.Nu: must be at most 8192 pixels, got 100000");
-  EXPECT_EQ(error_of("[camera]\nNv = 8193\nVc_mm = 0.0001\n"), "test.toml:2: camera.Nv: must be at most 8192 pixels, got 8193");
+  EXPECT_EQ(error_of("[camera]\nNv = 8193\nVc_mm = 0.0001\n"),
+            "test.toml:2: camera.Nv: must be at most 8192 pixels, got 8193");
 }
 
 TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
@@ -217,22 +222,26 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
   EXPECT_EQ(d.realtime.gyro_priority, 0);
   EXPECT_EQ(d.lcm.prefix, "CCDLANE_");
 
-  const Config c = parse_config("[daemon]\nqueue_depth = 8\nstall_timeout_s = 0.5\n"
-                                "[realtime]\ngyro_priority = 40\n[lcm]\nprefix = \"car-7/front.\"\n",
-                                "d.toml");
+  const Config c = parse_config(
+      "[daemon]\nqueue_depth = 8\nstall_timeout_s = 0.5\n"
+      "[realtime]\ngyro_priority = 40\n[lcm]\nprefix = \"car-7/front.\"\n",
+      "d.toml");
   EXPECT_EQ(c.daemon.queue_depth, 8);
   EXPECT_EQ(c.daemon.stall_timeout_s, 0.5);
   EXPECT_EQ(c.realtime.gyro_priority, 40);
   EXPECT_EQ(c.lcm.prefix, "car-7/front.");
 
-  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 0\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
-  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 63\n"), "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 0\n"),
+            "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
+  EXPECT_EQ(error_of("[daemon]\nqueue_depth = 63\n"),
+            "test.toml:2: daemon.queue_depth: must be between 1 and 62 frames");
   EXPECT_EQ(error_of("[daemon]\nstall_timeout_s = 0\n"),
             "test.toml:2: daemon.stall_timeout_s: must be between 0.1 and 3600 seconds");
   EXPECT_EQ(error_of("[daemon]\npool = 3\n"), "test.toml:2: daemon.pool: unknown key");
   EXPECT_EQ(error_of("[realtime]\ngyro_priority = -1\n"),
             "test.toml:2: realtime.gyro_priority: must be a SCHED_FIFO priority 0..99");
-  EXPECT_EQ(error_of("[lcm]\nprefix = \"CCD LANE\"\n"), "test.toml:2: lcm.prefix: may hold only letters, digits and _ - . /");
+  EXPECT_EQ(error_of("[lcm]\nprefix = \"CCD LANE\"\n"),
+            "test.toml:2: lcm.prefix: may hold only letters, digits and _ - . /");
   EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),
             "test.toml:2: lcm.prefix: must be at most 48 characters");
   EXPECT_EQ(error_of("[lcm]\nurl = \"\"\n"),
@@ -247,7 +256,8 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
 TEST(ConfigLoader, PublishFramesIsOffUnlessAsked) {
   EXPECT_FALSE(parse_config("", "empty.toml").lcm.publish_frames);
   EXPECT_TRUE(parse_config("[lcm]\npublish_frames = true\n", "f.toml").lcm.publish_frames);
-  EXPECT_EQ(error_of("[lcm]\npublish_frames = 1\n"), "test.toml:2: lcm.publish_frames: must be true or false, got an integer");
+  EXPECT_EQ(error_of("[lcm]\npublish_frames = 1\n"),
+            "test.toml:2: lcm.publish_frames: must be true or false, got an integer");
 }
 
 TEST(ConfigLoader, VehicleAndLdwTables) {
@@ -256,10 +266,11 @@ TEST(ConfigLoader, VehicleAndLdwTables) {
   EXPECT_EQ(d.ldw, ldw::LdwConfig{});
   EXPECT_TRUE(d.estimator_options().ldw.filter.track_roll) << "no gyro: the filter tracks roll";
 
-  const Config c = parse_config("[vehicle]\nspeed_kmh = 90\nwidth_mm = 1900\nfront_axle_behind_camera_mm = -1200\n"
-                                "camera_left_of_centre_mm = -100\n[ldw]\nmin_speed_kmh = 55\nindicator_hold_s = 3\n"
-                                "coast_s = 0.5\n[gyro]\ndevice = \"emulated\"\n",
-                                "v.toml");
+  const Config c = parse_config(
+      "[vehicle]\nspeed_kmh = 90\nwidth_mm = 1900\nfront_axle_behind_camera_mm = -1200\n"
+      "camera_left_of_centre_mm = -100\n[ldw]\nmin_speed_kmh = 55\nindicator_hold_s = 3\n"
+      "coast_s = 0.5\n[gyro]\ndevice = \"emulated\"\n",
+      "v.toml");
   EXPECT_EQ(c.vehicle.speed_kmh, 90.0);
   EXPECT_EQ(c.vehicle.width_mm, 1900.0);
   EXPECT_EQ(c.vehicle.front_axle_behind_camera_mm, -1200.0);
@@ -281,16 +292,33 @@ TEST(ConfigLoader, VehicleAndLdwTables) {
   EXPECT_EQ(error_of("[ldw]\nlatest_warning_mm = 300\n"),
             "test.toml:2: ldw.latest_warning_mm: must be beyond the line: -2000 .. < 0");
   EXPECT_EQ(error_of("[ldw]\ngate_probability = 1\n"), "test.toml:2: ldw.gate_probability: must be within (0.5, 1)");
-  EXPECT_EQ(error_of("[ldw]\nconfirm_updates = 2.5\n"), "test.toml:2: ldw.confirm_updates: must be an integer, got a number");
+  EXPECT_EQ(error_of("[ldw]\nconfirm_updates = 2.5\n"),
+            "test.toml:2: ldw.confirm_updates: must be an integer, got a number");
 }
 
 TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
   const std::vector<std::string> keys = config_keys();
-  for (const char* k : {"camera.Nu", "camera.cx", "mount.H_mm", "solver.free", "prior.lane_width_mm", "gyro.device",
-                        "source.kind", "lcm.publish_frames", "realtime.cpus", "daemon.queue_depth", "synth.seed",
-                        "detection.departure_mm", "vehicle.speed_kmh", "vehicle.width_mm",
-                        "vehicle.front_axle_behind_camera_mm", "vehicle.camera_left_of_centre_mm", "ldw.min_speed_kmh",
-                        "ldw.indicator_hold_s", "ldw.coast_s", "lines.y0_mm", "lines.c_per_mm"})
+  for (const char* k : {"camera.Nu",
+                        "camera.cx",
+                        "mount.H_mm",
+                        "solver.free",
+                        "prior.lane_width_mm",
+                        "gyro.device",
+                        "source.kind",
+                        "lcm.publish_frames",
+                        "realtime.cpus",
+                        "daemon.queue_depth",
+                        "synth.seed",
+                        "detection.departure_mm",
+                        "vehicle.speed_kmh",
+                        "vehicle.width_mm",
+                        "vehicle.front_axle_behind_camera_mm",
+                        "vehicle.camera_left_of_centre_mm",
+                        "ldw.min_speed_kmh",
+                        "ldw.indicator_hold_s",
+                        "ldw.coast_s",
+                        "lines.y0_mm",
+                        "lines.c_per_mm"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
   std::vector<std::string> sorted = keys;
   std::sort(sorted.begin(), sorted.end());

@@ -58,7 +58,8 @@ TEST(Gx1AttitudeProvider, EmulatedStreamsTheScriptedAttitudeAtAFramesTime) {
   ASSERT_NE(provider.emulator(), nullptr);
   provider.emulator()->hang_up(20);
   bool session_line = false, emulator_line = false;
-  for (const std::int64_t until = monotonic_ns() + 3'000'000'000; monotonic_ns() < until && !(session_line && emulator_line);
+  for (const std::int64_t until = monotonic_ns() + 3'000'000'000;
+       monotonic_ns() < until && !(session_line && emulator_line);
        std::this_thread::sleep_for(std::chrono::milliseconds(5))) {
     std::lock_guard<std::mutex> lock(lines.mutex);
     for (const auto& [level, text] : lines.got) {

@@ -5,8 +5,8 @@
 
 #include <array>
 #include <chrono>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -129,7 +129,8 @@ TEST(SpscRingStress, DropOldestHandsBuffersOverWithoutTearingOrLosingAny) {
 
   std::thread producer([&] {
     std::uint32_t cur = 0;
-    while (!free_ring.try_pop(cur)) {}
+    while (!free_ring.try_pop(cur)) {
+    }
     for (std::uint64_t s = 0; s < kFrames; ++s) {
       pool[cur].sequence = s;
       pool[cur].payload.fill(s);
@@ -138,7 +139,8 @@ TEST(SpscRingStress, DropOldestHandsBuffersOverWithoutTearingOrLosingAny) {
         cur = *oldest;
       } else {
         // Never empty here: kQueue waiting + one being read leaves one free.
-        while (!free_ring.try_pop(cur)) {}
+        while (!free_ring.try_pop(cur)) {
+        }
       }
       if (s % 4 == 0) std::this_thread::yield();  // a camera has a frame rate
     }

@@ -3,9 +3,9 @@
 // rendering a synthetic frame (the daemon's demo pre-renders its frames at start-up).
 // Frames are rendered once up front.
 //   build/tests/bench/detection_bench --benchmark_min_time=2
-#include <benchmark/benchmark.h>
-
 #include <vector>
+
+#include <benchmark/benchmark.h>
 
 #include "app/config_loader.hpp"
 #include "core/detection/lane_detector.hpp"
@@ -67,7 +67,8 @@ void BM_Detection(benchmark::State& state) {
   const bool colour = state.range(1) != 0;
   LaneDetector detector(s.config.camera, s.config.detection);
   std::vector<LinePrior> priors;
-  for (int j = 0; j < s.truth[0].num_lines; ++j) priors.push_back({s.truth[0].y0_mm[static_cast<std::size_t>(j)], 0, 0});
+  for (int j = 0; j < s.truth[0].num_lines; ++j)
+    priors.push_back({s.truth[0].y0_mm[static_cast<std::size_t>(j)], 0, 0});
   std::size_t i = 0;
   int lines = 0;
   for (auto _ : state) {
@@ -131,7 +132,8 @@ void BM_DetectionRealColourPictures(benchmark::State& state) {
   const Config c = camera(1280);
   std::vector<test::PngImage> frames;
   for (const char* name : {"000000.png", "000001.png"})
-    frames.push_back(test::read_png(std::string(CCDLANE_SOURCE_DIR) + "/tests/data/real/udacity-advanced-colour/" + name));
+    frames.push_back(
+        test::read_png(std::string(CCDLANE_SOURCE_DIR) + "/tests/data/real/udacity-advanced-colour/" + name));
   LaneDetector detector(c.camera, c.detection);
   const CameraPose pose = c.nominal_pose();
   std::size_t i = 0;

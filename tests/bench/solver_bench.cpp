@@ -126,7 +126,7 @@ struct CeresProblem {
   std::array<double, 3> attitude0{};
   std::vector<double> y0_0, x0;  // initial values
   std::array<double, 3> attitude{};
-  std::vector<double> y0, x;     // parameter blocks
+  std::vector<double> y0, x;  // parameter blocks
   ceres::Problem problem;
   ceres::Solver::Options options;
 
@@ -213,7 +213,8 @@ void BM_CeresReprojection(benchmark::State& state) {
     // was seen to corrupt this double, and the cost check then failed.
     benchmark::DoNotOptimize(std::as_const(summary.final_cost));
   }
-  if (!same_cost(lane_solver_cost, summary.final_cost)) state.SkipWithError("final cost differs from the lane solver's");
+  if (!same_cost(lane_solver_cost, summary.final_cost))
+    state.SkipWithError("final cost differs from the lane solver's");
   state.counters["cost"] = 2.0 * summary.final_cost;
   state.counters["iterations"] = static_cast<double>(summary.iterations.size() - 1);
   state.counters["converged"] = summary.termination_type == ceres::CONVERGENCE;

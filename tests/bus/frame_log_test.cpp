@@ -21,7 +21,8 @@ const std::string kChannel = "CCDLANE_FRAMES";
 struct Frames {
   Frames(int w, int h) : pixels(static_cast<std::size_t>(w * h)), view{pixels.data(), w, h, w, PixelFormat::mono8, 8} {}
   const ImageView& frame(int k) {
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<std::uint8_t>(i * 3 + static_cast<std::size_t>(k));
+    for (std::size_t i = 0; i < pixels.size(); ++i)
+      pixels[i] = static_cast<std::uint8_t>(i * 3 + static_cast<std::size_t>(k));
     return view;
   }
   std::vector<std::uint8_t> pixels;
@@ -154,7 +155,8 @@ struct DamagedLog {
     Frames frames(16, 8);
     {
       FrameLogWriter w(path, kChannel);
-      for (int k = 0; k < kFrames; ++k) w.write(frames.frame(k), {static_cast<std::uint64_t>(k), k * 1000LL, 5000 + k, std::nullopt});
+      for (int k = 0; k < kFrames; ++k)
+        w.write(frames.frame(k), {static_cast<std::uint64_t>(k), k * 1000LL, 5000 + k, std::nullopt});
       w.finish();
     }
     std::ifstream in(path, std::ios::binary);

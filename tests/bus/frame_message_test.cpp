@@ -20,8 +20,10 @@ struct PaddedImage {
       for (int x = 0; x < w; ++x) {
         const auto v = static_cast<std::uint16_t>((x * 7 + y * 13) % (1 << bits));
         std::uint8_t* p = pixels.data() + y * stride + x * bpp;
-        if (bpp == 1) *p = static_cast<std::uint8_t>(v);
-        else std::memcpy(p, &v, 2);
+        if (bpp == 1)
+          *p = static_cast<std::uint8_t>(v);
+        else
+          std::memcpy(p, &v, 2);
       }
     view = ImageView{pixels.data(), w, h, stride, format, bits};
   }
@@ -97,8 +99,7 @@ TEST(FrameMessage, ColourFramesKeepTheirBytesAndTheirOrder) {
     ImageView decoded;
     ASSERT_EQ(frame_image(back, decoded), "");
     EXPECT_EQ(decoded.format, format);
-    for (int y = 0; y < h; ++y)
-      EXPECT_EQ(std::memcmp(decoded.row(y), image.row(y), 3 * w), 0) << "row " << y;
+    for (int y = 0; y < h; ++y) EXPECT_EQ(std::memcmp(decoded.row(y), image.row(y), 3 * w), 0) << "row " << y;
   }
 }
 

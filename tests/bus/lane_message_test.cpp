@@ -120,15 +120,21 @@ void expect_equal(const LaneEstimate& a, const LaneEstimate& b) {
   expect_same(p.dlc_right_mm, q.dlc_right_mm, "dlc right");
   EXPECT_EQ(p.tlc_left_s, q.tlc_left_s);
   EXPECT_EQ(p.tlc_right_s, q.tlc_right_s);
-  const std::pair<double, double> same[] = {
-      {p.lateral_velocity_mps, q.lateral_velocity_mps}, {p.sigma_lateral_velocity_mps, q.sigma_lateral_velocity_mps},
-      {p.speed_mps, q.speed_mps},       {p.offset_mm, q.offset_mm},
-      {p.heading_deg, q.heading_deg},   {p.curvature_per_m, q.curvature_per_m},
-      {p.lane_width_mm, q.lane_width_mm}, {p.pitch_deg, q.pitch_deg},
-      {p.roll_deg, q.roll_deg},         {p.sigma_offset_mm, q.sigma_offset_mm},
-      {p.sigma_heading_deg, q.sigma_heading_deg}, {p.sigma_curvature_per_m, q.sigma_curvature_per_m},
-      {p.sigma_lane_width_mm, q.sigma_lane_width_mm}, {p.sigma_pitch_deg, q.sigma_pitch_deg},
-      {p.sigma_roll_deg, q.sigma_roll_deg}};
+  const std::pair<double, double> same[] = {{p.lateral_velocity_mps, q.lateral_velocity_mps},
+                                            {p.sigma_lateral_velocity_mps, q.sigma_lateral_velocity_mps},
+                                            {p.speed_mps, q.speed_mps},
+                                            {p.offset_mm, q.offset_mm},
+                                            {p.heading_deg, q.heading_deg},
+                                            {p.curvature_per_m, q.curvature_per_m},
+                                            {p.lane_width_mm, q.lane_width_mm},
+                                            {p.pitch_deg, q.pitch_deg},
+                                            {p.roll_deg, q.roll_deg},
+                                            {p.sigma_offset_mm, q.sigma_offset_mm},
+                                            {p.sigma_heading_deg, q.sigma_heading_deg},
+                                            {p.sigma_curvature_per_m, q.sigma_curvature_per_m},
+                                            {p.sigma_lane_width_mm, q.sigma_lane_width_mm},
+                                            {p.sigma_pitch_deg, q.sigma_pitch_deg},
+                                            {p.sigma_roll_deg, q.sigma_roll_deg}};
   for (const auto& [x, y] : same) expect_same(x, y, "ldw state");
   EXPECT_EQ(p.indicator, q.indicator);
 }

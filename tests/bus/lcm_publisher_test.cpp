@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon/allocation_counter.hpp"
 #include "bus/lane_message.hpp"
+#include "daemon/allocation_counter.hpp"
 #include "tests/bus/lcm_round_trip.hpp"
 
 namespace ccdlane {

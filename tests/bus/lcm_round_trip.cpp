@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon/allocation_counter.hpp"
 #include "bus/lane_message.hpp"
+#include "daemon/allocation_counter.hpp"
 
 namespace ccdlane::test {
 namespace {

@@ -78,7 +78,8 @@ TEST(VehicleStateListener, InvalidMessagesAreRefusedAndCounted) {
   VehicleStateListener listener(nullptr, "");
   const auto good = encode(message(10.0, vehicle_state_t::TURN_INDICATOR_RIGHT));
   ASSERT_TRUE(listener.accept(good.data(), static_cast<int>(good.size()), 1));
-  for (const vehicle_state_t& bad : {message(-1.0, 0), message(NAN, 0), message(10.0, 4), message(10.0, 0, true, INFINITY)}) {
+  for (const vehicle_state_t& bad :
+       {message(-1.0, 0), message(NAN, 0), message(10.0, 4), message(10.0, 0, true, INFINITY)}) {
     const auto bytes = encode(bad);
     EXPECT_FALSE(listener.accept(bytes.data(), static_cast<int>(bytes.size()), 2));
   }
@@ -137,7 +138,8 @@ TEST(VehicleStateListener, AReaderRacingTheWriterNeverSeesATornState) {
   stop = true;
   writer.join();
   EXPECT_EQ(torn, 0) << "of " << reads << " reads";
-  EXPECT_GE(changes, kChanges) << "the reader saw the writer's values change under it (" << written.load() << " written)";
+  EXPECT_GE(changes, kChanges) << "the reader saw the writer's values change under it (" << written.load()
+                               << " written)";
 }
 
 TEST(VehicleStateListener, AStaleStateGivesNoInputs) {

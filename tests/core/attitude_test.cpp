@@ -74,15 +74,18 @@ TEST(Attitude, TrigMovedBySmallStepsStaysExact) {
   for (int walk = 0; walk < 20; ++walk) {
     Attitude a{angle(rng), angle(rng), angle(rng)};
     AttitudeTrig trig = AttitudeTrig::of(a);
-    for (int k = 1; k <= 50; ++k) {  // the solver's default max_iterations
+    for (int k = 1; k <= 50; ++k) {                   // the solver's default max_iterations
       const double scale = std::pow(10.0, -(k % 8));  // steps from 1e-7 to the largest allowed
       const Attitude next{a.psi + scale * step(rng), a.theta + scale * step(rng), a.phi + scale * step(rng)};
       trig = trig.moved(a, next);
       a = next;
       const AttitudeTrig exact = AttitudeTrig::of(a);
-      for (const auto& [carried, direct] : {std::pair{trig.sin_psi, exact.sin_psi}, {trig.cos_psi, exact.cos_psi},
-                                             {trig.sin_theta, exact.sin_theta}, {trig.cos_theta, exact.cos_theta},
-                                             {trig.sin_phi, exact.sin_phi}, {trig.cos_phi, exact.cos_phi}})
+      for (const auto& [carried, direct] : {std::pair{trig.sin_psi, exact.sin_psi},
+                                            {trig.cos_psi, exact.cos_psi},
+                                            {trig.sin_theta, exact.sin_theta},
+                                            {trig.cos_theta, exact.cos_theta},
+                                            {trig.sin_phi, exact.sin_phi},
+                                            {trig.cos_phi, exact.cos_phi}})
         EXPECT_NEAR(carried, direct, 2e-15) << "walk " << walk << " step " << k;
     }
     EXPECT_LE((trig.matrix() - attitude_matrix(a)).norm(), 4e-15);

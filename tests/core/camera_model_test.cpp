@@ -22,8 +22,7 @@ TEST(CameraModelVectors, AttitudeChipOriginAndLensCentre) {
   for (const auto& c : test::load_geometry_vectors()) {
     const CameraModel cam(c.spec, c.pose);
     for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k)
-        expect_close(cam.attitude_matrix()(r, k), c.raw["T"][r][k], 1e-9, 1.0, "T");
+      for (int k = 0; k < 3; ++k) expect_close(cam.attitude_matrix()(r, k), c.raw["T"][r][k], 1e-9, 1.0, "T");
     for (int i = 0; i < 3; ++i) {
       expect_close(cam.chip_origin()[i], c.raw["O_F_mm"][i], 1e-9, 1.0, "O_F");
       expect_close(cam.lens_centre()[i], c.raw["L_mm"][i], 1e-9, 1.0, "L");

@@ -47,8 +47,10 @@ Uncommented uncomment(const std::string& text) {
     const bool setting =
         line.size() > 1 && line[0] == '#' && (std::isalpha(static_cast<unsigned char>(line[1])) || line[1] == '[');
     const std::string body = setting ? line.substr(1) : line;
-    if (!body.empty() && body[0] == '[') table = table_name(body);
-    else if (setting) u.keys.push_back(table + "." + body.substr(0, body.find_first_of(" =")));
+    if (!body.empty() && body[0] == '[')
+      table = table_name(body);
+    else if (setting)
+      u.keys.push_back(table + "." + body.substr(0, body.find_first_of(" =")));
     const bool example = setting && body.find("# example") != std::string::npos;
     u.everything += body + '\n';
     u.defaults += (example ? line : body) + '\n';
@@ -97,13 +99,16 @@ TEST_F(ShippedConfig, DocumentsEveryKeyTheLoaderKnows) {
 }
 
 TEST(ShippedConfigConvention, UncommentsSettingsNotProse) {
-  const Uncommented u = uncomment("# prose = not a setting\n[camera]\n#Nu = 640  # pixels\n#[[lines]]  # example\n"
-                                  "#y0_mm = 1.0  # example\n");
+  const Uncommented u = uncomment(
+      "# prose = not a setting\n[camera]\n#Nu = 640  # pixels\n#[[lines]]  # example\n"
+      "#y0_mm = 1.0  # example\n");
   EXPECT_EQ(u.keys, (std::vector<std::string>{"camera.Nu", "lines.y0_mm"}));
-  EXPECT_EQ(u.defaults, "# prose = not a setting\n[camera]\nNu = 640  # pixels\n#[[lines]]  # example\n"
-                        "#y0_mm = 1.0  # example\n");
-  EXPECT_EQ(u.everything, "# prose = not a setting\n[camera]\nNu = 640  # pixels\n[[lines]]  # example\n"
-                          "y0_mm = 1.0  # example\n");
+  EXPECT_EQ(u.defaults,
+            "# prose = not a setting\n[camera]\nNu = 640  # pixels\n#[[lines]]  # example\n"
+            "#y0_mm = 1.0  # example\n");
+  EXPECT_EQ(u.everything,
+            "# prose = not a setting\n[camera]\nNu = 640  # pixels\n[[lines]]  # example\n"
+            "y0_mm = 1.0  # example\n");
 }
 
 }  // namespace

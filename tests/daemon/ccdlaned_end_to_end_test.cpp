@@ -16,12 +16,12 @@
 #include <thread>
 #include <vector>
 
+#include <ccdlane/lane_estimate_t.hpp>
+#include <ccdlane/status_t.hpp>
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
-#include <ccdlane/lane_estimate_t.hpp>
-#include <ccdlane/status_t.hpp>
 #include "bus/lane_message.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/notify_socket.hpp"
@@ -47,7 +47,9 @@ struct Received {
 void subscribe(lcm::LCM& bus, Received& got) {
   bus.subscribeFunction(
       "CCDLANE_LANES",
-      +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Received* g) { g->lanes.push_back(*m); },
+      +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Received* g) {
+        g->lanes.push_back(*m);
+      },
       &got);
   bus.subscribeFunction(
       "CCDLANE_STATUS",
@@ -98,7 +100,8 @@ void expect_same(const ordered_json& daemon, const ordered_json& replay, const s
     EXPECT_EQ(daemon.size(), replay.size()) << where;
   } else if (daemon.is_array()) {
     ASSERT_EQ(daemon.size(), replay.size()) << where;
-    for (std::size_t i = 0; i < daemon.size(); ++i) expect_same(daemon[i], replay[i], where + "[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < daemon.size(); ++i)
+      expect_same(daemon[i], replay[i], where + "[" + std::to_string(i) + "]");
   } else {
     EXPECT_EQ(daemon, replay) << where;
   }
@@ -138,7 +141,8 @@ TEST_F(CcdlanedEndToEnd, FramesSourceGivesOneMessagePerFrameMatchingReplay) {
   for (int i = 0; i < kFrames; ++i) {
     const lane_estimate_t& m = got.lanes[static_cast<std::size_t>(i)];
     EXPECT_EQ(m.frame, i) << "in order, none missing";
-    expect_same(cli::lane_estimate_json(from_message(m)), expected[static_cast<std::size_t>(i)], "frame " + std::to_string(i));
+    expect_same(cli::lane_estimate_json(from_message(m)), expected[static_cast<std::size_t>(i)],
+                "frame " + std::to_string(i));
     ok += m.ok;
   }
   EXPECT_GE(ok, kFrames - 2) << "the synthetic road is an easy one";
@@ -156,16 +160,17 @@ TEST_F(CcdlanedEndToEnd, GyroHangUpsDoNotStopTheLaneMessages) {
   test::TempDir dir;
   const std::string frames = render(dir, 20, {"--no-gyro"});  // the gyro device is the only source of priors
   const std::string link = dir.file("gx1");
-  test::ChildProcess emulator({kTool, "gx1-emulate", "--link", link, "--attitude", "0,-3,0", "--hangup-every", "1.3",
-                               "--hangup-ms", "300"},
-                              test::ChildOptions{{}, dir.file("emulator.out"), dir.file("emulator.err"), {}});
+  test::ChildProcess emulator(
+      {kTool, "gx1-emulate", "--link", link, "--attitude", "0,-3,0", "--hangup-every", "1.3", "--hangup-ms", "300"},
+      test::ChildOptions{{}, dir.file("emulator.out"), dir.file("emulator.err"), {}});
   struct stat st {};
-  for (int i = 0; i < 100 && lstat(link.c_str(), &st) != 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  for (int i = 0; i < 100 && lstat(link.c_str(), &st) != 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
   ASSERT_EQ(lstat(link.c_str(), &st), 0) << test::read_file(dir.file("emulator.err"));
 
-  const std::string config = dir.write("daemon.toml", "[source]\nkind = \"frames\"\npath = \"" + frames +
-                                                          "\"\nrate_hz = 50\nloop = true\n[gyro]\ndevice = \"" + link +
-                                                          "\"\n");
+  const std::string config =
+      dir.write("daemon.toml", "[source]\nkind = \"frames\"\npath = \"" + frames +
+                                   "\"\nrate_hz = 50\nloop = true\n[gyro]\ndevice = \"" + link + "\"\n");
   test::ChildProcess daemon({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
   const auto end = Clock::now() + std::chrono::milliseconds(4500);
   while (Clock::now() < end) bus.handleTimeout(100);
@@ -219,9 +224,9 @@ TEST_F(CcdlanedEndToEnd, AStalledCameraSilencesTheWatchdogUntilItIsBack) {
                                        "[source]\nkind = \"aravis\"\ncamera = \"127.0.0.1\"\nrate_hz = 30\n"
                                        "[prior]\nphi_deg = [0.0, 1.0]\n[daemon]\nstall_timeout_s = 1.0\n");
   test::NotifySocket notify(dir.file("notify"));
-  test::ChildProcess daemon({kDaemon, "--config", config},
-                            test::ChildOptions{{"NOTIFY_SOCKET=" + notify.path(), "WATCHDOG_USEC=300000"}, "",
-                                               dir.file("stderr"), {}});
+  test::ChildProcess daemon(
+      {kDaemon, "--config", config},
+      test::ChildOptions{{"NOTIFY_SOCKET=" + notify.path(), "WATCHDOG_USEC=300000"}, "", dir.file("stderr"), {}});
   const auto log = [&] { return test::read_file(dir.file("stderr")); };
   // Notifications while the bus is served, so that lane messages are not lost meanwhile.
   const auto notifications_for = [&](std::chrono::milliseconds span) {

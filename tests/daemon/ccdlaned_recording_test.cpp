@@ -23,17 +23,17 @@
 #include <thread>
 #include <vector>
 
+#include <ccdlane/frame_t.hpp>
+#include <ccdlane/lane_estimate_t.hpp>
+#include <ccdlane/status_t.hpp>
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
-#include <ccdlane/frame_t.hpp>
-#include <ccdlane/lane_estimate_t.hpp>
-#include <ccdlane/status_t.hpp>
 #include "app/config_loader.hpp"
-#include "core/synth/synth_drive.hpp"
 #include "bus/channels.hpp"
 #include "bus/lane_message.hpp"
+#include "core/synth/synth_drive.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -97,8 +97,8 @@ void expect_interfaces_md_shape(const ordered_json& j) {
   for (const auto& [key, value] : j.items()) keys.push_back(key);
   std::vector<std::string> want = {"frame", "t_ns", "ok"};
   if (!j.value("ok", false)) want.push_back("reason");
-  for (const char* k : {"psi_deg", "theta_deg", "phi_deg", "lines", "lane_width_mm", "lateral_offset_mm",
-                        "heading_deg", "departure", "rms_px", "iterations", "latency_us", "ldw"})
+  for (const char* k : {"psi_deg", "theta_deg", "phi_deg", "lines", "lane_width_mm", "lateral_offset_mm", "heading_deg",
+                        "departure", "rms_px", "iterations", "latency_us", "ldw"})
     want.push_back(k);
   EXPECT_EQ(keys, want) << j;
   ASSERT_TRUE(j["lines"].is_array()) << j;
@@ -122,7 +122,8 @@ TEST(CcdlanedRecording, WhatLcmLoggerRecordsOfTheDaemonReplaysToTheEstimatesItPu
                                        "[synth]\nframes = 40\n"
                                        "[gyro]\ndevice = \"emulated\"\n"
                                        "[daemon]\nqueue_depth = 1\n"
-                                       "[lcm]\nurl = \"" + kUrl + "\"\npublish_frames = true\n");
+                                       "[lcm]\nurl = \"" +
+                                           kUrl + "\"\npublish_frames = true\n");
   const std::string log = dir.file("drive.lcmlog");
 
   // lcm-logger first, and listening (its file grows) before the daemon's first frame: a
@@ -138,7 +139,8 @@ TEST(CcdlanedRecording, WhatLcmLoggerRecordsOfTheDaemonReplaysToTheEstimatesItPu
       probe.publish("TEST_PROBE", &byte, 1);
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    ASSERT_GT(file_size(log), 0) << "lcm-logger did not record within 10 s: " << test::read_file(dir.file("logger.err"));
+    ASSERT_GT(file_size(log), 0) << "lcm-logger did not record within 10 s: "
+                                 << test::read_file(dir.file("logger.err"));
   }
 
   // The daemon, until it has published enough lane messages.
@@ -178,8 +180,8 @@ TEST(CcdlanedRecording, WhatLcmLoggerRecordsOfTheDaemonReplaysToTheEstimatesItPu
   }
   // Sequences missing from the log are frames the daemon dropped (it may drop a few more
   // after its last processed frame, or leave them queued at the stop).
-  const auto missing = static_cast<std::int64_t>(rec.frames.back().sequence + 1) -
-                       static_cast<std::int64_t>(rec.frames.size());
+  const auto missing =
+      static_cast<std::int64_t>(rec.frames.back().sequence + 1) - static_cast<std::int64_t>(rec.frames.size());
   EXPECT_LE(missing, last.frames_dropped_total);
   // "The lack of one" travels too: frames without a prior are the daemon's no_attitude count.
   EXPECT_EQ(without_gyro, static_cast<std::size_t>(last.no_attitude_total));
@@ -218,10 +220,11 @@ TEST(CcdlanedRecording, WhatLcmLoggerRecordsOfTheDaemonReplaysToTheEstimatesItPu
   EXPECT_NE(replay.err.find(std::to_string(compared) + " frames, "), std::string::npos) << replay.err;
   RecordProperty("frames", static_cast<int>(compared));
   RecordProperty("dropped", static_cast<int>(last.frames_dropped_total));
-  std::printf("recorded %zu processed frames (%lld dropped by the daemon, %lld of them before the last processed "
-              "one; %zu without a gyro prior); replayed %zu, %zu ok\n",
-              compared, static_cast<long long>(last.frames_dropped_total), static_cast<long long>(missing), without_gyro,
-              compared, ok);
+  std::printf(
+      "recorded %zu processed frames (%lld dropped by the daemon, %lld of them before the last processed "
+      "one; %zu without a gyro prior); replayed %zu, %zu ok\n",
+      compared, static_cast<long long>(last.frames_dropped_total), static_cast<long long>(missing), without_gyro,
+      compared, ok);
 }
 
 }  // namespace

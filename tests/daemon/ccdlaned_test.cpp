@@ -89,7 +89,8 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
   ASSERT_EQ(got.back(), "READY=1") << test::read_file(d.stderr_path);
   for (const auto& m : d.socket.receive_until("never", 1500)) got.push_back(m);
   EXPECT_GE(count_equal(got, "WATCHDOG=1"), 3) << "pings every 100 ms while frames flow";
-  const auto status = std::find_if(got.begin(), got.end(), [](const std::string& m) { return m.rfind("STATUS=", 0) == 0; });
+  const auto status =
+      std::find_if(got.begin(), got.end(), [](const std::string& m) { return m.rfind("STATUS=", 0) == 0; });
   ASSERT_NE(status, got.end());
   EXPECT_EQ(status->rfind("STATUS=streaming ", 0), 0u) << *status;
   EXPECT_NE(status->find(", 0 allocations"), std::string::npos) << *status;
@@ -124,8 +125,7 @@ TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
   EXPECT_GE(count_equal(after, "WATCHDOG=1"), 2) << "still processing after SIGHUP";
   d.terminate();
   const std::string log = test::read_file(d.stderr_path);
-  EXPECT_EQ(count_of(log, "SIGHUP: reloading the configuration is not supported; restart ccdlaned to apply changes"),
-            1)
+  EXPECT_EQ(count_of(log, "SIGHUP: reloading the configuration is not supported; restart ccdlaned to apply changes"), 1)
       << log;
 }
 
@@ -136,8 +136,8 @@ TEST(Ccdlaned, WithoutPrivilegesRealtimeIsRefusedOnceAndItRunsAnyway) {
   test::TempDir dir;
   chmod(dir.path().c_str(), 0777);  // nobody reads the config and writes its log here
   const std::string config = dir.write(
-      "ccdlane.toml", config_text("memq://", 100,
-                                  "[realtime]\nmlock = true\ncapture_priority = 50\nprocessing_priority = 40\n"));
+      "ccdlane.toml",
+      config_text("memq://", 100, "[realtime]\nmlock = true\ncapture_priority = 50\nprocessing_priority = 40\n"));
   chmod(config.c_str(), 0644);
   Supervised d(dir, config, /*nobody*/ 65534);
   chmod(d.socket.path().c_str(), 0777);  // nobody may send to it
@@ -234,7 +234,8 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
 
   r = test::run_process({kDaemon, "--config", dir.file("missing.toml")});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(r.err, "ccdlaned: " + dir.file("missing.toml") + ": cannot read the configuration file: No such file or directory\n");
+  EXPECT_EQ(r.err, "ccdlaned: " + dir.file("missing.toml") +
+                       ": cannot read the configuration file: No such file or directory\n");
 
   r = test::run_process({kDaemon, "--frobnicate"});
   EXPECT_EQ(r.exit_status, 2);
@@ -298,11 +299,15 @@ struct BusCapture {
   explicit BusCapture(lcm::LCM& bus) {
     bus.subscribeFunction(
         "CCDLANE_LANES",
-        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, BusCapture* g) { g->lanes.push_back(*m); },
+        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, BusCapture* g) {
+          g->lanes.push_back(*m);
+        },
         this);
     bus.subscribeFunction(
         "CCDLANE_STATUS",
-        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, BusCapture* g) { g->statuses.push_back(*m); },
+        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, BusCapture* g) {
+          g->statuses.push_back(*m);
+        },
         this);
   }
   std::vector<lane_estimate_t> lanes;
@@ -374,7 +379,8 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
   const std::string name_b = std::string(host) + ":" + std::to_string(b.pid());
   // Each has heard the other's status (sent once a second) before its own next tick.
   const auto statuses_from = [&](const std::string& name) {
-    return std::count_if(got.statuses.begin(), got.statuses.end(), [&](const status_t& s) { return s.instance == name; });
+    return std::count_if(got.statuses.begin(), got.statuses.end(),
+                         [&](const status_t& s) { return s.instance == name; });
   };
   const auto end = Clock::now() + std::chrono::seconds(20);
   while ((statuses_from(name_a) < 3 || statuses_from(name_b) < 3) && Clock::now() < end) bus.handleTimeout(200);

@@ -8,12 +8,12 @@
 
 #include <gtest/gtest.h>
 
-#include "core/synth/synth_drive.hpp"
-#include "base/clock.hpp"
-#include "daemon/daemon.hpp"
 #include "app/gyro_factory.hpp"
-#include "daemon/frame_processor.hpp"
 #include "app/source_factory.hpp"
+#include "base/clock.hpp"
+#include "core/synth/synth_drive.hpp"
+#include "daemon/daemon.hpp"
+#include "daemon/frame_processor.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -160,7 +160,8 @@ TEST(ConfigProblem, AFrameDirectoryWithoutGyroColumnsCannotPinTheRoll) {
   EXPECT_EQ(daemon_config_problem(c), "");
 
   c.source.path = without.path();
-  EXPECT_EQ(frames_without_gyro(c), "source.path: " + without.file("frames.csv") + " has no gyro columns (roll_deg, pitch_deg)");
+  EXPECT_EQ(frames_without_gyro(c),
+            "source.path: " + without.file("frames.csv") + " has no gyro columns (roll_deg, pitch_deg)");
   EXPECT_EQ(daemon_config_problem(c),
             "source.path: " + without.file("frames.csv") +
                 " has no gyro columns (roll_deg, pitch_deg) and there is no [gyro] device, no [prior] phi_deg and no "

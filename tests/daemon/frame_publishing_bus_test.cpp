@@ -17,11 +17,11 @@
 #include "app/config_loader.hpp"
 #include "base/clock.hpp"
 #include "base/image_buffer.hpp"
+#include "bus/lcm_publisher.hpp"
+#include "core/lane/lane_estimator.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "daemon/allocation_counter.hpp"
-#include "bus/lcm_publisher.hpp"
-#include "core/lane/lane_estimator.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -38,7 +38,8 @@ const std::string kConfig = CCDLANE_SOURCE_DIR "/tools/demo/reference-camera.tom
 class SynthFrames {
  public:
   explicit SynthFrames(const Config& config)
-      : drive_(config.synth, config.nominal_pose()), renderer_(config.camera, config.synth),
+      : drive_(config.synth, config.nominal_pose()),
+        renderer_(config.camera, config.synth),
         buffer_(config.camera.Nu, config.camera.Nv, renderer_.format(), config.synth.bits) {}
   const SynthFrame& render(std::uint64_t k) {
     frame_ = drive_.frame(k);

@@ -36,7 +36,8 @@ TEST(FramePublishing, OffUntilEnabledThenEachFrameGoesOutWithItsRecordAndPixels)
     for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<std::uint8_t>(i + k);
     const std::optional<Gx1Angles> gyro = k == 1 ? std::nullopt : std::optional<Gx1Angles>(Gx1Angles{0.5, -1.0, 33.0});
     ASSERT_TRUE(publisher.publish_frame(image, {k, static_cast<std::int64_t>(k) * 33'000'000, 1000, gyro}));
-    while (got.size() < k + 1 && publisher.bus().handleTimeout(1000) > 0) {}
+    while (got.size() < k + 1 && publisher.bus().handleTimeout(1000) > 0) {
+    }
     ASSERT_EQ(got.size(), k + 1);
     const frame_t& m = got.back();
     EXPECT_EQ(m.sequence, static_cast<std::int64_t>(k));
@@ -59,7 +60,8 @@ TEST(FramePublishing, AFrameOfAnotherSizeIsRefusedNotSent) {
   publisher.bus().subscribeFunction("CCDLANE_FRAMES", &on_frame, &got);
   std::vector<std::uint8_t> pixels(30 * 10);
   EXPECT_FALSE(publisher.publish_frame({pixels.data(), 30, 10, 30, PixelFormat::mono8, 8}, FrameRecord{}));
-  while (publisher.bus().handleTimeout(0) > 0) {}
+  while (publisher.bus().handleTimeout(0) > 0) {
+  }
   EXPECT_TRUE(got.empty());
 }
 
@@ -92,7 +94,8 @@ TEST(FramePublishing, InThePipelineTheFramesSentAreTheFramesProcessedAfterDrops)
   pipeline.run();
   ASSERT_TRUE(test::eventually([&] { return pipeline.finished(); }, std::chrono::seconds(60)));
   pipeline.stop();
-  while (publisher.bus().handleTimeout(0) > 0) {}
+  while (publisher.bus().handleTimeout(0) > 0) {
+  }
 
   const PipelineTotals t = pipeline.totals();
   EXPECT_GT(t.frames_dropped, 0u) << "the processor is far slower than the source";

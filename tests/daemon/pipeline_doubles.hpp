@@ -17,7 +17,6 @@
 
 namespace ccdlane::test {
 
-
 // What the processing thread published, into storage reserved up front.
 class RecordingSink : public LaneSink {
  public:
@@ -34,8 +33,8 @@ class RecordingSink : public LaneSink {
   bool publish_lane(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t publish_utime) override {
     const std::uint64_t n = count_.load(std::memory_order_relaxed);
     if (n >= records_.size()) return false;
-    records_[n] = Record{e.frame, e.ok, e.reason, e.theta_deg, e.phi_deg, e.latency_us, capture_utime, publish_utime,
-                         e.source_frame, e.roll_unobservable};
+    records_[n] = Record{e.frame,      e.ok,          e.reason,      e.theta_deg,    e.phi_deg,
+                         e.latency_us, capture_utime, publish_utime, e.source_frame, e.roll_unobservable};
     count_.store(n + 1, std::memory_order_release);
     return true;
   }

@@ -7,30 +7,29 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <filesystem>
-
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <ccdlane/lane_estimate_t.hpp>
 #include <gtest/gtest.h>
 
+#include "base/clock.hpp"
+#include "base/log.hpp"
 #include "daemon/allocation_counter.hpp"
 #include "daemon/status_report.hpp"
 #include "drivers/frames/frame_directory_source.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
 #include "drivers/frames/pgm.hpp"
 #include "tests/daemon/child_process.hpp"
-#include "tests/support/run_process.hpp"
-#include <ccdlane/lane_estimate_t.hpp>
-#include "base/clock.hpp"
-#include "base/log.hpp"
-#include "tests/support/test_pattern_source.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
+#include "tests/support/run_process.hpp"
+#include "tests/support/test_pattern_source.hpp"
 
 namespace ccdlane {
 namespace {
@@ -41,9 +40,9 @@ using test::eventually;
 using test::FakeGyro;
 using test::LockstepSource;
 using test::RecordingSink;
+using test::small_frames;
 using test::StallingSource;
 using test::WrappingSource;
-using test::small_frames;
 
 // Runs a finite source to its end (and until `also` holds); the allocations counted
 // after the first frame, or nullopt when it did not finish in time.
@@ -109,7 +108,7 @@ TEST(Pipeline, WhenProcessingFallsBehindTheOldestFramesAreDroppedAndCountedExact
   RecordingSink sink(kFrames);
   TestPatternSource source(small_frames(kFrames, 0));  // as fast as it can render
   ASSERT_EQ(source.open(), "");
-  TestPatternProcessor processor(/*work_us=*/300);   // far slower than that
+  TestPatternProcessor processor(/*work_us=*/300);  // far slower than that
   Rig rig;
   PipelineOptions options;
   options.queue_depth = 3;
@@ -213,7 +212,8 @@ TEST(Pipeline, AStalledCameraIsReportedWithItsProblem) {
 // the last frame, and streaming again once frames come.
 class HangingSource : public TestPatternSource {
  public:
-  HangingSource(const TestPatternOptions& o, std::uint64_t frames_before) : TestPatternSource(o), before_(frames_before) {}
+  HangingSource(const TestPatternOptions& o, std::uint64_t frames_before)
+      : TestPatternSource(o), before_(frames_before) {}
   CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override {
     if (++calls_ == before_ + 1) {
       while (!release_.load()) std::this_thread::sleep_for(1ms);

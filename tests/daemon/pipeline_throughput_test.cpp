@@ -17,10 +17,10 @@
 #include <gtest/gtest.h>
 
 #include "app/config.hpp"
-#include "daemon/allocation_counter.hpp"
-#include "base/clock.hpp"
-#include "daemon/pipeline.hpp"
 #include "app/source_factory.hpp"
+#include "base/clock.hpp"
+#include "daemon/allocation_counter.hpp"
+#include "daemon/pipeline.hpp"
 #include "drivers/camera/aravis_camera.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
 #include "tests/daemon/private_network.hpp"
@@ -159,12 +159,14 @@ TEST(PipelineThroughput, FakeCameraAtItsMaximumRateNoFrameCorruptedDropsCountedE
 
   const PipelineTotals t = pipeline.totals();
   const auto records = sink.records();
-  const double rate = static_cast<double>(before_stop.frames_in - in_at_begin) / (static_cast<double>(end_ns - begin_ns) * 1e-9);
-  std::printf("[ figures  ] Fake_1 %dx%d at %.0f fps (its maximum): %.1f frames/s captured, %llu in, %llu processed, "
-              "%llu dropped, %llu unprocessed at stop, %lld us of work per frame\n",
-              kWidth, kHeight, max_rate, rate, static_cast<unsigned long long>(t.frames_in),
-              static_cast<unsigned long long>(t.frames_processed), static_cast<unsigned long long>(t.frames_dropped),
-              static_cast<unsigned long long>(t.frames_unprocessed), static_cast<long long>(work_us));
+  const double rate =
+      static_cast<double>(before_stop.frames_in - in_at_begin) / (static_cast<double>(end_ns - begin_ns) * 1e-9);
+  std::printf(
+      "[ figures  ] Fake_1 %dx%d at %.0f fps (its maximum): %.1f frames/s captured, %llu in, %llu processed, "
+      "%llu dropped, %llu unprocessed at stop, %lld us of work per frame\n",
+      kWidth, kHeight, max_rate, rate, static_cast<unsigned long long>(t.frames_in),
+      static_cast<unsigned long long>(t.frames_processed), static_cast<unsigned long long>(t.frames_dropped),
+      static_cast<unsigned long long>(t.frames_unprocessed), static_cast<long long>(work_us));
 
   EXPECT_EQ(allocations, 0u) << "allocations after ready";
   EXPECT_EQ(processor.damaged(), 0u) << "a processed frame was not the image the camera sent with its id";

@@ -1,7 +1,5 @@
 // Real-time set-up with the real system calls: as root the settings take effect; as an
 // unprivileged user they are refused, said once, and the process carries on.
-#include "daemon/realtime.hpp"
-
 #include <fcntl.h>
 #include <grp.h>
 #include <pthread.h>
@@ -17,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "base/log.hpp"
+#include "daemon/realtime.hpp"
 
 namespace ccdlane {
 namespace {

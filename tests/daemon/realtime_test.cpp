@@ -31,10 +31,24 @@ struct FakeKernel {
 FakeKernel g_fake;
 
 const RealtimeSyscalls kFakeCalls{
-    [] { ++g_fake.lock_calls; return g_fake.lock_result; },
-    [] { ++g_fake.unlock_calls; return 0; },
-    [](int priority) { ++g_fake.fifo_calls; g_fake.last_priority = priority; return g_fake.fifo_result; },
-    [](const cpu_set_t& cpus) { ++g_fake.affinity_calls; g_fake.last_cpus = cpus; return g_fake.affinity_result; },
+    [] {
+      ++g_fake.lock_calls;
+      return g_fake.lock_result;
+    },
+    [] {
+      ++g_fake.unlock_calls;
+      return 0;
+    },
+    [](int priority) {
+      ++g_fake.fifo_calls;
+      g_fake.last_priority = priority;
+      return g_fake.fifo_result;
+    },
+    [](const cpu_set_t& cpus) {
+      ++g_fake.affinity_calls;
+      g_fake.last_cpus = cpus;
+      return g_fake.affinity_result;
+    },
 };
 
 // Collects what the setup logs.
@@ -116,7 +130,7 @@ TEST(RealtimeSetup, RefusalsAreReportedOnceAndEverythingElseGoesOn) {
   EXPECT_FALSE(rt.lock_memory());
   EXPECT_EQ(g_fake.unlock_calls, 1);  // a refused mlockall leaves no MCL_FUTURE behind
   for (const char* thread : {"capture", "processing", "gyro"}) EXPECT_FALSE(rt.apply_to_current_thread(thread, 30));
-  EXPECT_EQ(g_fake.fifo_calls, 3);      // every thread tries...
+  EXPECT_EQ(g_fake.fifo_calls, 3);  // every thread tries...
   EXPECT_EQ(g_fake.affinity_calls, 3);
   EXPECT_EQ(rt.refusals(), 7);
   EXPECT_EQ(rt.fifo_threads(), 0);

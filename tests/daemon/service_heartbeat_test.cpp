@@ -23,7 +23,7 @@ class ServiceHeartbeatTest : public ::testing::Test {
  protected:
   void SetUp() override {
     setenv("NOTIFY_SOCKET", socket_.path().c_str(), 1);  // sd_notify reads it at every call
-    setenv("WATCHDOG_USEC", "60000", 1);                  // pings at most every 20 ms
+    setenv("WATCHDOG_USEC", "60000", 1);                 // pings at most every 20 ms
     unsetenv("WATCHDOG_PID");
   }
   void TearDown() override {

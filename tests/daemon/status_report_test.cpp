@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon/allocation_counter.hpp"
 #include "bus/lcm_publisher.hpp"
+#include "daemon/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
@@ -78,7 +78,8 @@ TEST(StatusReport, NothingProcessedMeansNoRateAndTheProblemIsShown) {
   EXPECT_EQ(m.latency_samples, 0);
   char line[256];
   report.summary_line(line, sizeof line);
-  EXPECT_STREQ(line, "stalled 0.0 fps, 0% ok, 0 dropped, p99 0.0 ms, gyro none, 0 allocations; camera: no frame for 2.0 s");
+  EXPECT_STREQ(line,
+               "stalled 0.0 fps, 0% ok, 0 dropped, p99 0.0 ms, gyro none, 0 allocations; camera: no frame for 2.0 s");
 }
 
 TEST(StatusReport, TextsAreCutToTheirReservedSizeWithoutAllocating) {

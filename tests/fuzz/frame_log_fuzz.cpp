@@ -12,12 +12,12 @@
 
 namespace {
 
-#define FUZZ_CHECK(condition)                                       \
-  do {                                                              \
-    if (!(condition)) {                                             \
-      std::fprintf(stderr, "fuzz check failed: %s\n", #condition);  \
-      std::abort();                                                 \
-    }                                                               \
+#define FUZZ_CHECK(condition)                                      \
+  do {                                                             \
+    if (!(condition)) {                                            \
+      std::fprintf(stderr, "fuzz check failed: %s\n", #condition); \
+      std::abort();                                                \
+    }                                                              \
   } while (0)
 
 }  // namespace

@@ -9,12 +9,12 @@
 
 namespace {
 
-#define FUZZ_CHECK(condition)                                       \
-  do {                                                              \
-    if (!(condition)) {                                             \
-      std::fprintf(stderr, "fuzz check failed: %s\n", #condition);  \
-      std::abort();                                                 \
-    }                                                               \
+#define FUZZ_CHECK(condition)                                      \
+  do {                                                             \
+    if (!(condition)) {                                            \
+      std::fprintf(stderr, "fuzz check failed: %s\n", #condition); \
+      std::abort();                                                \
+    }                                                              \
   } while (0)
 
 using namespace ccdlane::gx1;
@@ -30,9 +30,7 @@ void expect_set(ReplyParser& parser, unsigned choice) {
     case 3:  // configuration replies
       parser.expect({cmd::firmware, cmd::serial_number, cmd::read_eeprom, cmd::temperature, cmd::stab_quaternion});
       break;
-    default:
-      parser.expect_default();
-      break;
+    default: parser.expect_default(); break;
   }
 }
 

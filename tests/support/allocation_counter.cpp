@@ -6,9 +6,7 @@
 
 namespace ccdlane::test {
 
-std::size_t allocations_in_this_thread() {
-  return static_cast<std::size_t>(allocation_counter::in_this_thread());
-}
+std::size_t allocations_in_this_thread() { return static_cast<std::size_t>(allocation_counter::in_this_thread()); }
 
 void note_allocation() { allocation_counter::note_allocation(); }
 

@@ -2,19 +2,19 @@
 // is torn (two frames mixed), stale (an older frame) or shifted fails the check.
 #include "tests/support/test_pattern_source.hpp"
 
-#include "core/geometry/gx1_attitude.hpp"
-
 #include <cmath>
 #include <cstdio>
 
-#include "core/geometry/types.hpp"
 #include "base/clock.hpp"
+#include "core/geometry/gx1_attitude.hpp"
+#include "core/geometry/types.hpp"
 
 namespace ccdlane {
 namespace {
 
 std::uint8_t pattern_value(int x, int y, std::uint64_t n) {
-  return static_cast<std::uint8_t>((static_cast<std::uint64_t>(x) + 2u * static_cast<std::uint64_t>(y) + 3u * n) & 0xffu);
+  return static_cast<std::uint8_t>((static_cast<std::uint64_t>(x) + 2u * static_cast<std::uint64_t>(y) + 3u * n) &
+                                   0xffu);
 }
 
 constexpr int kStampPixels = 8;
@@ -59,7 +59,8 @@ std::string TestPatternSource::open() {
 CaptureStatus TestPatternSource::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
   if (options_.frames != 0 && next_ >= options_.frames) return CaptureStatus::end_of_stream;
   if (options_.rate_hz > 0.0) {
-    const auto due = start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(next_) * 1e9 / options_.rate_hz));
+    const auto due =
+        start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(next_) * 1e9 / options_.rate_hz));
     const std::int64_t deadline = monotonic_ns() + static_cast<std::int64_t>(timeout_ms) * 1'000'000;
     if (due > deadline) {
       sleep_until(deadline);
@@ -78,7 +79,8 @@ CaptureStatus TestPatternSource::capture(const MutableImageView& into, FrameMeta
 
 std::string TestPatternSource::describe() const {
   char text[96];
-  std::snprintf(text, sizeof text, "test-pattern %dx%d mono8 %.4g fps", options_.width, options_.height, options_.rate_hz);
+  std::snprintf(text, sizeof text, "test-pattern %dx%d mono8 %.4g fps", options_.width, options_.height,
+                options_.rate_hz);
   return text;
 }
 

@@ -24,8 +24,8 @@ bool test_pattern_intact(const ImageView& image, std::uint64_t sequence);
 struct TestPatternOptions {
   int width = 800;
   int height = 600;
-  double rate_hz = 30.0;       // 0: as fast as frames are asked for
-  std::uint64_t frames = 0;    // then end of stream; 0: endless
+  double rate_hz = 30.0;     // 0: as fast as frames are asked for
+  std::uint64_t frames = 0;  // then end of stream; 0: endless
 };
 
 class TestPatternSource : public FrameSource {

@@ -63,8 +63,7 @@ struct RenderedPictures {
     const auto poses = test::varied_board_poses(camera, board, count, rng, min_tilt_deg, max_tilt_deg);
     for (std::size_t i = 0; i < poses.size(); ++i) {
       pictures.push_back(dir.file("board" + std::to_string(i) + ".pgm"));
-      write_pgm(pictures.back(), test::render_board(camera, board, poses[i], 2.0, rng), camera.chip.Nu,
-                camera.chip.Nv);
+      write_pgm(pictures.back(), test::render_board(camera, board, poses[i], 2.0, rng), camera.chip.Nu, camera.chip.Nv);
     }
   }
   std::vector<std::string> command(std::vector<std::string> extra) const {
@@ -148,16 +147,16 @@ TEST(CalibrateCameraCommand, PicturesNotOfTheChipSizeAreBadInput) {
 
 TEST(CalibrateCameraCommand, BadArgumentsExitTwo) {
   const RenderedPictures scene(25, 0);
-  for (const auto& extra : std::vector<std::vector<std::string>>{{"--board", "9by6"}, {"--board", "2x6"},
-                                                                 {"--square-mm", "-1"}}) {
+  for (const auto& extra :
+       std::vector<std::vector<std::string>>{{"--board", "9by6"}, {"--board", "2x6"}, {"--square-mm", "-1"}}) {
     auto argv = scene.command(extra);
     argv.push_back(scene.dir.file("missing.pgm"));
     const auto r = run_process(argv);
     EXPECT_EQ(r.exit_status, 2) << extra[1];
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
-  const auto r = run_process(
-      {CCDLANE_TOOL, "calibrate", "camera", "--config", scene.config, scene.dir.file("missing.pgm")});
+  const auto r =
+      run_process({CCDLANE_TOOL, "calibrate", "camera", "--config", scene.config, scene.dir.file("missing.pgm")});
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_NE(r.err.find("missing.pgm: cannot open the picture"), std::string::npos) << r.err;
 }
@@ -165,7 +164,8 @@ TEST(CalibrateCameraCommand, BadArgumentsExitTwo) {
 std::vector<std::string> udacity_pictures(bool with_odd_sizes) {
   std::vector<std::string> files;
   for (int i = 1; i <= 20; ++i)
-    if (with_odd_sizes || (i != 7 && i != 15)) files.push_back(kUdacityDir + "calibration" + std::to_string(i) + ".jpg");
+    if (with_odd_sizes || (i != 7 && i != 15))
+      files.push_back(kUdacityDir + "calibration" + std::to_string(i) + ".jpg");
   return files;
 }
 

@@ -24,8 +24,8 @@ std::string config_text(double psi, double theta, double phi, double H, double c
   std::ostringstream t;
   t << "[camera]\nNu = 400\nNv = 300\nUc_mm = 0.0084\nVc_mm = 0.0084\ncx = 200.5\ncy = 150.5\nk_px2 = "
     << -8.3042e-7 * 4 << "\n[mount]\nH_mm = " << H << "\n[attitude]\npsi_deg = " << psi << "\ntheta_deg = " << theta
-    << "\nphi_deg = " << phi << "\n[detection]\nmax_picks = 160\n[synth]\nrate_hz = 10.0\ncurvature_per_mm = "
-    << curvature << "\n";
+    << "\nphi_deg = " << phi
+    << "\n[detection]\nmax_picks = 160\n[synth]\nrate_hz = 10.0\ncurvature_per_mm = " << curvature << "\n";
   return t.str();
 }
 

@@ -1,7 +1,6 @@
 // The calibrate commands' output: TOML floats read back to the same double, and a table
 // written atomically (whole, no temporary left behind; an unwritable place throws).
 #include "tools/ccdlane/calibration_output.hpp"
-#include "tools/ccdlane/checked_output.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/run_process.hpp"
+#include "tools/ccdlane/checked_output.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -31,7 +31,9 @@ TEST(CalibrationOutput, WritesWholeAndLeavesNoTemporary) {
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   EXPECT_EQ(text, "[mount]\nH_mm = 1.0\n");
   std::size_t files = 0;
-  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path())) ++files;
+  for ([[maybe_unused]] const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
+    ++files;
   EXPECT_EQ(files, 1u) << "no temporary left beside it";
   EXPECT_THROW(write_file_checked(dir.file("no/such/dir/t.toml"), "x"), std::runtime_error);
 }

@@ -129,7 +129,8 @@ TEST(GeometryCommands, AgreeWithTheSpecificationOnRandomPoses) {
     } else {
       ASSERT_FALSE(gj["ground_mm"].is_null()) << g.out;
       for (int i = 0; i < 2; ++i)
-        EXPECT_LE(std::abs(gj["ground_mm"][i].get<double>() - (*want_g)[i]), 1e-6 * std::hypot((*want_g)[0], (*want_g)[1]));
+        EXPECT_LE(std::abs(gj["ground_mm"][i].get<double>() - (*want_g)[i]),
+                  1e-6 * std::hypot((*want_g)[0], (*want_g)[1]));
       EXPECT_EQ(gj["ground_mm"][2].get<double>(), 0.0);
       ++grounded;
     }
@@ -157,7 +158,8 @@ TEST(GeometryCommands, AgreeWithTheSpecificationOnRandomPoses) {
 TEST(GeometryCommands, PrintsFullPrecision) {
   test::TempDir dir;
   SpecCamera cam;
-  const auto p = test::run_process({kTool, "project", dir.write("c.toml", cam.toml()), "20563.78156", "3726.979864", "0"});
+  const auto p =
+      test::run_process({kTool, "project", dir.write("c.toml", cam.toml()), "20563.78156", "3726.979864", "0"});
   ASSERT_EQ(p.exit_status, 0);
   const Json j = Json::parse(p.out);
   // The first worked point of geometry_vectors.json, to its 1e-9 relative.

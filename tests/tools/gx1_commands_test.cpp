@@ -8,13 +8,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "tests/support/run_process.hpp"
 
@@ -85,7 +85,8 @@ TEST(Gx1Commands, StreamsJsonLinesFromTheEmulator) {
   EmulatorProcess emu({"--link", link, "--rate", "100", "--attitude", "12.5,-3.25,179.99"});
   ASSERT_EQ(emu.path(), link);
 
-  const test::ProcessResult r = test::run_process({CCDLANE_TOOL, "gx1", link, "--continuous", "--count", "20", "--json"});
+  const test::ProcessResult r =
+      test::run_process({CCDLANE_TOOL, "gx1", link, "--continuous", "--count", "20", "--json"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const auto err = lines_of(r.err);
   ASSERT_FALSE(err.empty());
@@ -123,9 +124,9 @@ TEST(Gx1Commands, PollsOneLinePerSampleByDefault) {
     long long t = 0;
     unsigned ticks = 0;
     double roll = 0, pitch = 0, yaw = 0;
-    ASSERT_EQ(std::sscanf(line.c_str(), "t_ns %lld ticks %u roll %lf pitch %lf yaw %lf deg", &t, &ticks, &roll, &pitch,
-                          &yaw),
-              5)
+    ASSERT_EQ(
+        std::sscanf(line.c_str(), "t_ns %lld ticks %u roll %lf pitch %lf yaw %lf deg", &t, &ticks, &roll, &pitch, &yaw),
+        5)
         << line;
     EXPECT_NEAR(roll, quantised(-1.0), 0.6e-4);  // printed with 4 decimals
     EXPECT_NEAR(pitch, quantised(2.0), 0.6e-4);

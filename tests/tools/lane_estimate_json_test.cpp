@@ -31,19 +31,18 @@ LaneEstimate sample() {
 
 TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
   const Json j = lane_estimate_json(sample());
-  EXPECT_EQ(j.dump(),
-            R"({"frame":12,"t_ns":400000000,"ok":true,"psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
-            R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
-            R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
-            R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"departure":"left",)"
-            R"("rms_px":0.5,"iterations":5,"latency_us":180,)"
-            R"("ldw":{"available":false,"reason":"no_lane","warning":"none","fired":"none","warnings":0,)"
-            R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
-            R"("lateral_velocity_mps":null,"speed_mps":0.0,"turn_indicator":"none","track":"lost",)"
-            R"("state":{"offset_mm":null,"heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,)"
-            R"("pitch_deg":null,"roll_deg":null},"sigma":{"offset_mm":null,"heading_deg":null,)"
-            R"("curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
-            R"("lateral_velocity_mps":null}}})");
+  EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
+                      R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
+                      R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
+                      R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"departure":"left",)"
+                      R"("rms_px":0.5,"iterations":5,"latency_us":180,)"
+                      R"("ldw":{"available":false,"reason":"no_lane","warning":"none","fired":"none","warnings":0,)"
+                      R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
+                      R"("lateral_velocity_mps":null,"speed_mps":0.0,"turn_indicator":"none","track":"lost",)"
+                      R"("state":{"offset_mm":null,"heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,)"
+                      R"("pitch_deg":null,"roll_deg":null},"sigma":{"offset_mm":null,"heading_deg":null,)"
+                      R"("curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
+                      R"("lateral_velocity_mps":null}}})");
 }
 
 TEST(LaneEstimateJson, LdwObjectWithTheDocumentedNames) {

@@ -50,14 +50,14 @@ TEST(LdwConsumer, PrintsWarningTransitionsFromTheBus) {
   const lane_estimate_t drive[] = {
       lane(0, lane_estimate_t::LDW_REASON_TOO_SLOW),  // unavailable from the start
       lane(1, lane_estimate_t::LDW_REASON_TOO_SLOW),
-      lane(2, lane_estimate_t::LDW_REASON_NO_LANE),   // another reason
-      lane(3, kOk),                                   // available
+      lane(2, lane_estimate_t::LDW_REASON_NO_LANE),  // another reason
+      lane(3, kOk),                                  // available
       lane(4, kOk),
-      lane(5, kOk, kLeft, kLeft),                     // the warning fires
-      lane(6, kOk, kLeft),                            // and stays set
-      lane(7, kOk),                                   // clear
+      lane(5, kOk, kLeft, kLeft),  // the warning fires
+      lane(6, kOk, kLeft),         // and stays set
+      lane(7, kOk),                // clear
       lane(8, kOk),
-      lane(9, kOk, kRight, kRight),                   // another departure
+      lane(9, kOk, kRight, kRight),                      // another departure
       lane(10, lane_estimate_t::LDW_REASON_GYRO_FAULT),  // clear and unavailable
       lane(11, lane_estimate_t::LDW_REASON_GYRO_FAULT),
       lane(12, kOk),

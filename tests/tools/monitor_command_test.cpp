@@ -6,9 +6,9 @@
 
 #include <chrono>
 #include <set>
-#include <thread>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <ccdlane/lane_estimate_t.hpp>
@@ -41,8 +41,8 @@ class MonitorCommand : public ::testing::Test {
  protected:
   void SetUp() override {
     if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-    const std::string config = dir_.write(
-        "ccdlane.toml", "[synth]\nframes = 10\n[source]\nrate_hz = 50\n[lcm]\nurl = \"" + kUrl + "\"\n");
+    const std::string config =
+        dir_.write("ccdlane.toml", "[synth]\nframes = 10\n[source]\nrate_hz = 50\n[lcm]\nurl = \"" + kUrl + "\"\n");
     daemon_ = std::make_unique<test::ChildProcess>(std::vector<std::string>{kDaemon, "--config", config},
                                                    test::ChildOptions{{}, "", dir_.file("daemon.log"), {}});
   }
@@ -62,10 +62,11 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
   ASSERT_EQ(r.exit_status, 0) << r.err << test::read_file(dir_.file("daemon.log"));
   const auto lines = lines_of(r.out);
   ASSERT_EQ(lines.size(), 20u);
-  const std::vector<std::string> fields = {"frame",         "t_ns",          "ok",          "psi_deg",
-                                           "theta_deg",     "phi_deg",       "lines",       "lane_width_mm",
-                                           "lateral_offset_mm", "heading_deg", "departure", "rms_px",
-                                           "iterations",    "latency_us",    "ldw"};
+  const std::vector<std::string> fields = {"frame",       "t_ns",          "ok",
+                                           "psi_deg",     "theta_deg",     "phi_deg",
+                                           "lines",       "lane_width_mm", "lateral_offset_mm",
+                                           "heading_deg", "departure",     "rms_px",
+                                           "iterations",  "latency_us",    "ldw"};
   std::uint64_t previous = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const Json j = Json::parse(lines[i]);

@@ -6,8 +6,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <regex>
 #include <sstream>
@@ -18,8 +18,8 @@
 #include <gtest/gtest.h>
 
 #include "bus/channels.hpp"
-#include "drivers/frames/frame_directory.hpp"
 #include "bus/frame_log.hpp"
+#include "drivers/frames/frame_directory.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/support/run_process.hpp"
 
@@ -62,16 +62,18 @@ std::vector<FrameRecord> records_of(const std::string& log) {
 
 void expect_missing_reported(const std::string& err, std::size_t missing) {
   const std::string line = std::to_string(missing) + " frames without a gyro reading";
-  if (missing > 0) EXPECT_NE(err.find(line), std::string::npos) << err;
-  else EXPECT_EQ(err.find("without a gyro reading"), std::string::npos) << err;
+  if (missing > 0)
+    EXPECT_NE(err.find(line), std::string::npos) << err;
+  else
+    EXPECT_EQ(err.find("without a gyro reading"), std::string::npos) << err;
 }
 
 TEST(RecordCommand, SynthIntoALogAndADirectoryReplaysToTheSameEstimates) {
   test::TempDir dir;
   const std::string log = dir.file("drive.lcmlog"), frames = dir.file("drive");
   for (const std::string& out : {log, frames}) {
-    const auto r = test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", out,
-                                      "--count", "24"});
+    const auto r =
+        test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", out, "--count", "24"});
     ASSERT_EQ(r.exit_status, 0) << r.err;
     EXPECT_NE(r.err.find("24 frames of 800x600 mono8"), std::string::npos) << r.err;
   }
@@ -100,7 +102,8 @@ TEST(RecordCommand, SynthIntoALogAndADirectoryReplaysToTheSameEstimates) {
 
 TEST(RecordCommand, AFrameDirectoryBecomesALogOfTheSameFrames) {
   test::TempDir dir;
-  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "6"}).exit_status, 0);
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "6"}).exit_status, 0);
   const auto r = test::run_process({kTool, "record", "frames:" + dir.file("road"), "--out", dir.file("road.lcmlog")});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const std::vector<FrameRecord> records = records_of(dir.file("road.lcmlog"));
@@ -128,12 +131,11 @@ TEST(RecordCommand, FakeCameraWithTheEmulatedGyroRecordsItsReadingsAtTheFramesTi
   // The emulated gyro reports the synthetic drive's attitude (as the daemon's demo does):
   // here a roll of 10 degrees amplitude over 4 s and no noise, so that what it recorded
   // can be checked against the drive's motion.
-  const std::string config = dir.write(
-      "fake.toml",
-      "[camera]\nNu = 640\nNv = 480\n[gyro]\ndevice = \"emulated\"\n"
-      "[synth]\nroll_sway_deg = 10.0\nroll_period_s = 4.0\ngyro_noise_deg = 0.0\n");
-  auto r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake.lcmlog"),
-                              "--count", "12"});
+  const std::string config = dir.write("fake.toml",
+                                       "[camera]\nNu = 640\nNv = 480\n[gyro]\ndevice = \"emulated\"\n"
+                                       "[synth]\nroll_sway_deg = 10.0\nroll_period_s = 4.0\ngyro_noise_deg = 0.0\n");
+  auto r = test::run_process(
+      {kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake.lcmlog"), "--count", "12"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const std::vector<FrameRecord> records = records_of(dir.file("fake.lcmlog"));
   ASSERT_EQ(records.size(), 12u);
@@ -162,7 +164,8 @@ TEST(RecordCommand, FakeCameraWithTheEmulatedGyroRecordsItsReadingsAtTheFramesTi
   EXPECT_GE(hi - lo, 0.9 * 10.0 * (1.0 - std::cos(2.0 * M_PI * span_s / 4.0)))
       << "the readings follow the drive's roll over " << span_s << " s";
 
-  r = test::run_process({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake"), "--count", "5"});
+  r = test::run_process(
+      {kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file("fake"), "--count", "5"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   FrameDirectory d(dir.file("fake"));
   ASSERT_EQ(d.size(), 5u);
@@ -234,8 +237,8 @@ void record_into_a_full_disk(const std::string& out_name) {
       "\"$2\" record synth --config \"$3\" --out \"$out\" --count 50; echo \"record rc=$?\"; ls \"$1\"; "
       "\"$2\" replay \"$3\" \"$out\" >/dev/null; echo \"replay rc=$?\"";
   const auto r = test::run_process({"/usr/bin/unshare", "-m", "--propagation", "private", "/bin/sh", "-c", script, "sh",
-                                    small, CCDLANE_TOOL, std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml",
-                                    out_name});
+                                    small, CCDLANE_TOOL,
+                                    std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml", out_name});
   if (r.exit_status == 99) GTEST_SKIP() << "cannot mount a tmpfs here: " << r.err;
   EXPECT_NE(r.out.find("record rc=1\n"), std::string::npos) << r.out << r.err;
   EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;

@@ -53,8 +53,8 @@ struct Stats {
 // ok frame against the truth columns.
 void replay_against_truth(const std::vector<std::string>& synth_args, int frames, const std::string& label) {
   test::TempDir dir;
-  std::vector<std::string> synth = {kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames",
-                                    std::to_string(frames)};
+  std::vector<std::string> synth = {
+      kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", std::to_string(frames)};
   synth.insert(synth.end(), synth_args.begin(), synth_args.end());
   const auto s = test::run_process(synth);
   ASSERT_EQ(s.exit_status, 0) << s.err;
@@ -90,7 +90,8 @@ void replay_against_truth(const std::vector<std::string>& synth_args, int frames
       const double y0 = e["lines"][j]["y0_mm"].get<double>();
       double best = 1e9;
       for (int t = 0; truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm"); ++t)
-        if (std::abs(*truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm") - y0) < std::abs(best)) best = *truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm") - y0;
+        if (std::abs(*truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm") - y0) < std::abs(best))
+          best = *truth.truth(i, "truth_y0_" + std::to_string(t) + "_mm") - y0;
       check(best, sigma["y0_mm"][j]);
     }
     // The lane quantities, where the truth's lane is the estimate's (not mid-crossing).
@@ -129,8 +130,9 @@ TEST(ReplayCommand, SynthesisedLaneChangeOnABendWithBlur) {
   std::stringstream config;
   config << in.rdbuf() << "\n[solver]\nfree = [\"psi\", \"theta\", \"phi\", \"y0\", \"c\"]\n";
   const std::string cfg = dir.write("bend.toml", config.str());
-  const auto s = test::run_process({kTool, "synth", cfg, "--out", dir.file("road"), "--frames", "150", "--noise", "1",
-                                    "--shadows", "0.3", "--curvature", "4e-7", "--lane-change-at", "1.5", "--blur", "0.7"});
+  const auto s =
+      test::run_process({kTool, "synth", cfg, "--out", dir.file("road"), "--frames", "150", "--noise", "1", "--shadows",
+                         "0.3", "--curvature", "4e-7", "--lane-change-at", "1.5", "--blur", "0.7"});
   ASSERT_EQ(s.exit_status, 0) << s.err;
   const auto r = test::run_process({kTool, "replay", cfg, dir.file("road"), "--sigmas"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
@@ -160,7 +162,8 @@ TEST(ReplayCommand, SynthesisedLaneChangeOnABendWithBlur) {
 
 TEST(ReplayCommand, PrintsTheDocumentedFieldsInOrder) {
   test::TempDir dir;
-  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "2"}).exit_status, 0);
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "2"}).exit_status, 0);
   std::filesystem::remove(dir.file("road/000001.pgm"));
   const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road")});
   ASSERT_EQ(r.exit_status, 0) << r.err;
@@ -169,10 +172,12 @@ TEST(ReplayCommand, PrintsTheDocumentedFieldsInOrder) {
   // nlohmann::json sorts keys; the order is checked on the text.
   const std::string first = r.out.substr(0, r.out.find('\n'));
   std::size_t at = 0;
-  for (const char* key : {"\"frame\":", "\"t_ns\":", "\"ok\":", "\"psi_deg\":", "\"theta_deg\":", "\"phi_deg\":",
-                          "\"lines\":", "\"id\":", "\"y0_mm\":", "\"m\":", "\"c_per_mm\":", "\"marks\":",
-                          "\"confidence\":", "\"lane_width_mm\":", "\"lateral_offset_mm\":", "\"heading_deg\":",
-                          "\"departure\":", "\"rms_px\":", "\"iterations\":", "\"latency_us\":", "\"ldw\":"}) {
+  for (const char* key :
+       {"\"frame\":",       "\"t_ns\":",      "\"ok\":",         "\"psi_deg\":",       "\"theta_deg\":",
+        "\"phi_deg\":",     "\"lines\":",     "\"id\":",         "\"y0_mm\":",         "\"m\":",
+        "\"c_per_mm\":",    "\"marks\":",     "\"confidence\":", "\"lane_width_mm\":", "\"lateral_offset_mm\":",
+        "\"heading_deg\":", "\"departure\":", "\"rms_px\":",     "\"iterations\":",    "\"latency_us\":",
+        "\"ldw\":"}) {
     const std::size_t p = first.find(key, at);
     ASSERT_NE(p, std::string::npos) << key << " after position " << at << " in " << first;
     at = p;
@@ -235,9 +240,10 @@ TEST(ReplayCommand, DamagedFramesAreReportedOnceCountedAndSkipped) {
 
 TEST(ReplayCommand, SixteenBitFramesReplayToo) {
   test::TempDir dir;
-  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("w"), "--frames", "3", "--bits", "12"})
-                .exit_status,
-            0);
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("w"), "--frames", "3", "--bits", "12"})
+          .exit_status,
+      0);
   const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("w")});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   for (const Json& e : json_lines(r.out)) EXPECT_TRUE(e["ok"].get<bool>());
@@ -245,7 +251,8 @@ TEST(ReplayCommand, SixteenBitFramesReplayToo) {
 
 TEST(ReplayCommand, OverlaysArePngPicturesOfEveryFrame) {
   test::TempDir dir;
-  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "2"}).exit_status, 0);
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "2"}).exit_status, 0);
   const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--overlay", dir.file("png")});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   for (const char* name : {"000000.png", "000001.png"}) {
@@ -294,7 +301,7 @@ TEST(ReplayCommand, RealPicturesOwnLaneFoundInBothFrames) {
     int frame;
     double row, left, right;
   };
-  const Anchor anchors[] = {{0, 481, 554.5, 0}, {0, 551, 453.5, 0}, {0, 641, 322.5, 0},
+  const Anchor anchors[] = {{0, 481, 554.5, 0},     {0, 551, 453.5, 0}, {0, 641, 322.5, 0},
                             {1, 481, 553.5, 736.5}, {1, 551, 0, 845.0}, {1, 641, 330.0, 987.5}};
   for (int f = 0; f < 2; ++f) {
     const Json& e = out[static_cast<std::size_t>(f)];
@@ -305,8 +312,10 @@ TEST(ReplayCommand, RealPicturesOwnLaneFoundInBothFrames) {
     double left = 1e9, right = -1e9;  // the own lane's lines
     for (const Json& l : e["lines"]) {
       const double y0 = l["y0_mm"].get<double>();
-      if (y0 > 0) left = std::min(left, y0);
-      else right = std::max(right, y0);
+      if (y0 > 0)
+        left = std::min(left, y0);
+      else
+        right = std::max(right, y0);
     }
     CameraPose pose = cfg.nominal_pose();
     pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
@@ -328,7 +337,8 @@ TEST(ReplayCommand, RealPicturesOwnLaneFoundInBothFrames) {
 
 TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
   test::TempDir dir;
-  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "1"}).exit_status, 0);
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "1"}).exit_status, 0);
   const std::string real = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced";
   auto r = test::run_process({kTool, "replay", kReferenceCamera, real, "--out", dir.file("o.jsonl")});
   // Every frame the wrong size for the camera: each is named and skipped (the same rule
@@ -362,7 +372,8 @@ namespace {
 TEST(ReplayCommand, ADamagedOrCutLogLosesOnlyTheDamagedEventsAndExitsOne) {
   test::TempDir dir;
   const std::string log = dir.file("x.lcmlog");
-  const auto rec = test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", log, "--count", "6"});
+  const auto rec =
+      test::run_process({kTool, "record", "synth", "--config", kReferenceCamera, "--out", log, "--count", "6"});
   ASSERT_EQ(rec.exit_status, 0) << rec.err;
   std::ifstream in(log, std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -370,7 +381,8 @@ TEST(ReplayCommand, ADamagedOrCutLogLosesOnlyTheDamagedEventsAndExitsOne) {
   for (const std::string damage : {"data length", "sync", "cut"}) {
     SCOPED_TRACE(damage);
     std::vector<char> b = bytes;
-    if (damage == "data length") b[3 * event + 24] = 0x7f, b[3 * event + 25] = b[3 * event + 26] = b[3 * event + 27] = '\xff';
+    if (damage == "data length")
+      b[3 * event + 24] = 0x7f, b[3 * event + 25] = b[3 * event + 26] = b[3 * event + 27] = '\xff';
     if (damage == "sync") b[3 * event] = 0;
     if (damage == "cut") b.resize(b.size() - 1000);
     const std::string path = dir.file(damage + ".lcmlog");
@@ -394,7 +406,8 @@ TEST(ReplayCommand, AWrongSizedFirstFrameIsSkippedLikeAnyOther) {
   test::TempDir dir;
   const std::string road = dir.file("road");
   ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "4"}).exit_status, 0);
-  std::ofstream(road + "/000000.pgm", std::ios::binary | std::ios::trunc) << "P5\n40 30\n255\n" << std::string(1200, 'x');
+  std::ofstream(road + "/000000.pgm", std::ios::binary | std::ios::trunc) << "P5\n40 30\n255\n"
+                                                                          << std::string(1200, 'x');
   const auto r = test::run_process({kTool, "replay", kReferenceCamera, road});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const std::vector<Json> out = json_lines(r.out);
@@ -411,7 +424,8 @@ TEST(ReplayCommand, OutIsNeverTheInputItself) {
   const std::string before((std::istreambuf_iterator<char>(before_in)), std::istreambuf_iterator<char>());
   const auto r = test::run_process({kTool, "replay", kReferenceCamera, road, "--out", road + "/frames.csv"});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_NE(r.err.find(": is the input being replayed (" + road + "/frames.csv); choose another --out"), std::string::npos)
+  EXPECT_NE(r.err.find(": is the input being replayed (" + road + "/frames.csv); choose another --out"),
+            std::string::npos)
       << r.err;
   std::ifstream after_in(road + "/frames.csv");
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), std::istreambuf_iterator<char>()), before);
@@ -425,8 +439,9 @@ TEST(ReplayCommand, OverlaysOnAFullDiskLeaveOnlyWholePictures) {
   const std::string road = dir.file("road"), small = dir.file("small");
   ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "12"}).exit_status, 0);
   std::filesystem::create_directory(small);
-  const std::string script = "mount -t tmpfs -o size=2m tmpfs \"$1\" || exit 99; \"$2\" replay \"$3\" \"$4\" --overlay \"$1/o\" "
-                             ">/dev/null; echo \"rc=$?\"; ls \"$1/o\"; for f in \"$1\"/o/*.png; do tail -c 8 \"$f\" | od -An -tx1; done";
+  const std::string script =
+      "mount -t tmpfs -o size=2m tmpfs \"$1\" || exit 99; \"$2\" replay \"$3\" \"$4\" --overlay \"$1/o\" "
+      ">/dev/null; echo \"rc=$?\"; ls \"$1/o\"; for f in \"$1\"/o/*.png; do tail -c 8 \"$f\" | od -An -tx1; done";
   const auto r = test::run_process({"/usr/bin/unshare", "-m", "--propagation", "private", "/bin/sh", "-c", script, "sh",
                                     small, kTool, kReferenceCamera, road});
   if (r.exit_status == 99) GTEST_SKIP() << "cannot mount a tmpfs here: " << r.err;
@@ -438,7 +453,9 @@ TEST(ReplayCommand, OverlaysOnAFullDiskLeaveOnlyWholePictures) {
   std::size_t pngs = 0;
   for (std::size_t p = r.out.find(".png"); p != std::string::npos; p = r.out.find(".png", p + 1)) ++pngs;
   std::size_t iends = 0;
-  for (std::size_t p = r.out.find("49 45 4e 44 ae 42 60 82"); p != std::string::npos; p = r.out.find("49 45 4e 44 ae 42 60 82", p + 1)) ++iends;
+  for (std::size_t p = r.out.find("49 45 4e 44 ae 42 60 82"); p != std::string::npos;
+       p = r.out.find("49 45 4e 44 ae 42 60 82", p + 1))
+    ++iends;
   EXPECT_GT(pngs, 0u);
   EXPECT_EQ(iends, pngs) << r.out;
 }

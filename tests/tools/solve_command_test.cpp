@@ -62,9 +62,9 @@ TEST(SolveCommand, DemoProblemSolvesThePapersPictureA) {
   // Exactly the fields of docs/interfaces.md, in its order.
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
-  EXPECT_EQ(keys, (std::vector<std::string>{"mode", "converged", "rank_deficient", "iterations", "cost", "rms_px",
-                                            "psi_deg", "theta_deg", "phi_deg", "H_mm", "f_mm", "lines", "points",
-                                            "sigma"}));
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"mode", "converged", "rank_deficient", "iterations", "cost", "rms_px", "psi_deg",
+                                      "theta_deg", "phi_deg", "H_mm", "f_mm", "lines", "points", "sigma"}));
   EXPECT_EQ(j["mode"], "reprojection");
   EXPECT_EQ(j["converged"], true);
   EXPECT_EQ(j["rank_deficient"], false);
@@ -74,7 +74,7 @@ TEST(SolveCommand, DemoProblemSolvesThePapersPictureA) {
   EXPECT_EQ(j["f_mm"], 5.05);
   ASSERT_EQ(j["lines"].size(), 2u);
   EXPECT_EQ(j["lines"][1]["id"], 1);
-  EXPECT_NEAR(j["lines"][0]["y0_mm"].get<double>() / 1027.25, 1.0, 0.05);   // one lens height aside
+  EXPECT_NEAR(j["lines"][0]["y0_mm"].get<double>() / 1027.25, 1.0, 0.05);  // one lens height aside
   EXPECT_NEAR(j["lines"][1]["y0_mm"].get<double>() / 1027.25, -1.0, 0.05);
   EXPECT_EQ(j["lines"][0]["m"], 0.0);
   // Every pick, in file order, with its mark on its line.

@@ -99,14 +99,15 @@ TEST(SpyCommand, ItsClassPathDecodesCcdlaneMessagesAsLcmSpyDoes) {
   const std::string status = encode_to(dir, "status.bin", status_message());
   const std::string classpath = spy_classpath();
   ASSERT_FALSE(classpath.empty());
-  const auto r = test::run_process({"/usr/bin/env", "CLASSPATH=" + classpath + ":" + CCDLANE_SPY_CHECK_CLASSES,
-                                    CCDLANE_JAVA, "SpyDecodeCheck", lane, "lateral_offset_mm", status, "camera",
-                                    lane, "frame"});
+  const auto r =
+      test::run_process({"/usr/bin/env", "CLASSPATH=" + classpath + ":" + CCDLANE_SPY_CHECK_CLASSES, CCDLANE_JAVA,
+                         "SpyDecodeCheck", lane, "lateral_offset_mm", status, "camera", lane, "frame"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
-  EXPECT_EQ(r.out, "Found " + std::to_string(CCDLANE_LCM_TYPE_COUNT) + " LCM types\n"
-                   "ccdlane.lane_estimate_t lateral_offset_mm=-49.5\n"
-                   "ccdlane.status_t camera=synth 800x600 mono8 30 fps\n"
-                   "ccdlane.lane_estimate_t frame=12\n");
+  EXPECT_EQ(r.out, "Found " + std::to_string(CCDLANE_LCM_TYPE_COUNT) +
+                       " LCM types\n"
+                       "ccdlane.lane_estimate_t lateral_offset_mm=-49.5\n"
+                       "ccdlane.status_t camera=synth 800x600 mono8 30 fps\n"
+                       "ccdlane.lane_estimate_t frame=12\n");
 }
 
 TEST(SpyCommand, StartsLcmSpyWithTheCcdlaneTypesOnALiveBus) {
@@ -120,9 +121,10 @@ TEST(SpyCommand, StartsLcmSpyWithTheCcdlaneTypesOnALiveBus) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (test::read_file(out).find(" plugins") == std::string::npos) {
     ASSERT_LT(std::chrono::steady_clock::now(), deadline)
-        << "lcm-spy did not come up:\n" << test::read_file(out) << test::read_file(dir.file("spy.err"));
-    ASSERT_FALSE(spy.wait_exit(100).has_value())
-        << "lcm-spy exited:\n" << test::read_file(out) << test::read_file(dir.file("spy.err"));
+        << "lcm-spy did not come up:\n"
+        << test::read_file(out) << test::read_file(dir.file("spy.err"));
+    ASSERT_FALSE(spy.wait_exit(100).has_value()) << "lcm-spy exited:\n"
+                                                 << test::read_file(out) << test::read_file(dir.file("spy.err"));
   }
   // exec'd: the process we started is java now, not a parent waiting for it.
   const std::string exe = std::filesystem::read_symlink("/proc/" + std::to_string(spy.pid()) + "/exe");

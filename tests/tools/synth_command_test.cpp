@@ -38,7 +38,8 @@ std::string slurp(const std::string& path) {
 TEST(SynthCommand, WritesAFrameDirectoryWithTruth) {
   test::TempDir dir;
   const std::string config = dir.write("cam.toml", kSmallCamera);
-  const auto r = test::run_process({kTool, "synth", config, "--out", dir.file("road"), "--frames", "4", "--lanes", "4"});
+  const auto r =
+      test::run_process({kTool, "synth", config, "--out", dir.file("road"), "--frames", "4", "--lanes", "4"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   EXPECT_TRUE(r.out.empty());
   EXPECT_NE(r.err.find("wrote 4 frames of 400x300 (8-bit)"), std::string::npos) << r.err;
@@ -62,8 +63,12 @@ TEST(SynthCommand, SameSeedSameBytesOtherSeedOtherBytes) {
   test::TempDir dir;
   const std::string config = dir.write("cam.toml", kSmallCamera);
   for (const char* out : {"a", "b"})
-    ASSERT_EQ(test::run_process({kTool, "synth", config, "--out", dir.file(out), "--frames", "2", "--seed", "5"}).exit_status, 0);
-  ASSERT_EQ(test::run_process({kTool, "synth", config, "--out", dir.file("c"), "--frames", "2", "--seed", "6"}).exit_status, 0);
+    ASSERT_EQ(
+        test::run_process({kTool, "synth", config, "--out", dir.file(out), "--frames", "2", "--seed", "5"}).exit_status,
+        0);
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", config, "--out", dir.file("c"), "--frames", "2", "--seed", "6"}).exit_status,
+      0);
   EXPECT_EQ(slurp(dir.file("a/000001.pgm")), slurp(dir.file("b/000001.pgm")));
   EXPECT_EQ(slurp(dir.file("a/frames.csv")), slurp(dir.file("b/frames.csv")));
   EXPECT_NE(slurp(dir.file("a/000001.pgm")), slurp(dir.file("c/000001.pgm")));
@@ -72,7 +77,8 @@ TEST(SynthCommand, SameSeedSameBytesOtherSeedOtherBytes) {
 TEST(SynthCommand, SixteenBitWithoutGyro) {
   test::TempDir dir;
   const std::string config = dir.write("cam.toml", kSmallCamera);
-  const auto r = test::run_process({kTool, "synth", config, "--out", dir.file("w"), "--frames", "1", "--bits", "12", "--no-gyro"});
+  const auto r =
+      test::run_process({kTool, "synth", config, "--out", dir.file("w"), "--frames", "1", "--bits", "12", "--no-gyro"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   FrameDirectory frames(dir.file("w"));
   EXPECT_FALSE(frames.has_gyro_columns());
@@ -116,8 +122,8 @@ TEST(SynthCommand, OutOfMemoryIsOneLineNotARawBadAlloc) {
   test::TempDir dir;
   const std::string config =
       dir.write("big.toml", "[camera]\nNu = 8192\nNv = 8192\nUc_mm = 0.0007\nVc_mm = 0.0005\nk_px2 = 0\n");
-  const auto r = test::run_process({"/bin/sh", "-c", "ulimit -v 300000; exec \"$@\"", "sh", CCDLANE_TOOL, "synth", config,
-                                    "--out", dir.file("out"), "--frames", "1"});
+  const auto r = test::run_process({"/bin/sh", "-c", "ulimit -v 300000; exec \"$@\"", "sh", CCDLANE_TOOL, "synth",
+                                    config, "--out", dir.file("out"), "--frames", "1"});
   EXPECT_EQ(r.exit_status, 1) << r.err;
   EXPECT_EQ(r.err, "ccdlane: out of memory: the configuration or input asks for more than this machine has\n");
 }

@@ -18,8 +18,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "core/calibration/camera_calibration.hpp"
 #include "app/config_loader.hpp"
+#include "core/calibration/camera_calibration.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "tools/ccdlane/calibration_output.hpp"
 #include "tools/ccdlane/checked_output.hpp"
@@ -93,7 +93,8 @@ std::vector<Vec2> find_corners(GreyPicture& picture, const BoardGeometry& board)
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
   std::vector<Vec2> pixels;
   // OpenCV's pixel centres are 0-based; the camera model's are 1-based.
-  for (const cv::Point2f& p : corners) pixels.emplace_back(static_cast<double>(p.x) + 1.0, static_cast<double>(p.y) + 1.0);
+  for (const cv::Point2f& p : corners)
+    pixels.emplace_back(static_cast<double>(p.x) + 1.0, static_cast<double>(p.y) + 1.0);
   return pixels;
 }
 
@@ -117,8 +118,8 @@ std::vector<Picture> read_pictures(const CameraArgs& args, const CameraSpec& chi
   const GreyPicture& first = pictures.front().picture;
   if (first.width != chip.Nu || first.height != chip.Nv)
     throw UsageError(pictures.front().path + ": the pictures are " + std::to_string(first.width) + "x" +
-                     std::to_string(first.height) + ", but " + args.config + "'s [camera] chip has Nu x Nv = " +
-                     std::to_string(chip.Nu) + "x" + std::to_string(chip.Nv));
+                     std::to_string(first.height) + ", but " + args.config +
+                     "'s [camera] chip has Nu x Nv = " + std::to_string(chip.Nu) + "x" + std::to_string(chip.Nv));
   return pictures;
 }
 
@@ -128,15 +129,15 @@ void print_report(std::ostream& out, const std::vector<Picture>& pictures, const
   for (std::size_t v = 0; v < c.views.size(); ++v) {
     const calibration::ViewResidual& view = c.views[v];
     const double distance = (view.pose.rotation * board_centre + view.pose.translation_mm).norm();
-    out << pictures[static_cast<std::size_t>(used[v])].path << ": rms " << fixed(view.rms_px, 3)
-        << " px, board tilted " << fixed(view.tilt_deg, 1) << " deg, " << fixed(distance, 0) << " mm away\n";
+    out << pictures[static_cast<std::size_t>(used[v])].path << ": rms " << fixed(view.rms_px, 3) << " px, board tilted "
+        << fixed(view.tilt_deg, 1) << " deg, " << fixed(distance, 0) << " mm away\n";
   }
   if (c.status != CalibrationStatus::ok) return;
   const std::size_t corners = used.size() * static_cast<std::size_t>(board.corner_count());
   const double f_px = c.intrinsics.f_mm / chip.pitch_u();
   out << used.size() << " of " << pictures.size() << " pictures, " << corners << " corners: reprojection RMS "
-      << fixed(c.rms_px, 3) << " px (sigma per coordinate " << fixed(c.residual_sigma_px, 3) << " px), "
-      << c.iterations << " iterations\n"
+      << fixed(c.rms_px, 3) << " px (sigma per coordinate " << fixed(c.residual_sigma_px, 3) << " px), " << c.iterations
+      << " iterations\n"
       << "f_mm  = " << fixed(c.intrinsics.f_mm, 5) << " +/- " << fixed(c.sigma.f_mm, 5) << "  (" << fixed(f_px, 1)
       << " +/- " << fixed(c.sigma.f_mm / chip.pitch_u(), 1) << " px along a row)\n"
       << "cx    = " << fixed(c.intrinsics.cx, 2) << " +/- " << fixed(c.sigma.cx, 2) << " px\n"
@@ -147,8 +148,8 @@ void print_report(std::ostream& out, const std::vector<Picture>& pictures, const
 
 std::string camera_table(const CameraCalibration& c, const CameraSpec& chip, std::size_t used, std::size_t total) {
   std::ostringstream t;
-  t << "# ccdlane calibrate camera: " << used << " of " << total << " pictures, reprojection RMS "
-    << fixed(c.rms_px, 3) << " px; sigmas in the comments\n"
+  t << "# ccdlane calibrate camera: " << used << " of " << total << " pictures, reprojection RMS " << fixed(c.rms_px, 3)
+    << " px; sigmas in the comments\n"
     << "[camera]\n"
     << "U_mm = " << toml_float(chip.U_mm) << "\n"
     << "V_mm = " << toml_float(chip.V_mm) << "\n"
@@ -162,7 +163,6 @@ std::string camera_table(const CameraCalibration& c, const CameraSpec& chip, std
     << "k_px2 = " << toml_float(c.intrinsics.k_px2) << "  # sigma " << toml_float(c.sigma.k_px2) << "\n";
   return t.str();
 }
-
 
 // Found corners as green crosses, the model's corners as red ones.
 void write_overlays(const std::string& dir, const std::vector<Picture>& pictures, const std::vector<int>& used,
@@ -192,7 +192,8 @@ int run_camera(const CameraArgs& args) {
     Picture& p = pictures[i];
     p.corners_px = find_corners(p.picture, board);
     if (p.corners_px.empty()) {
-      std::cerr << p.path << ": no " << args.board << " board found (all inner corners must be in the picture), skipped\n";
+      std::cerr << p.path << ": no " << args.board
+                << " board found (all inner corners must be in the picture), skipped\n";
       continue;
     }
     views.push_back({p.picture.width, p.picture.height, p.corners_px});
@@ -206,16 +207,13 @@ int run_camera(const CameraArgs& args) {
     return view >= 0 ? pictures[static_cast<std::size_t>(used[static_cast<std::size_t>(view)])].path + ": " : "";
   };
   switch (c.status) {
-    case CalibrationStatus::ok:
-      break;
+    case CalibrationStatus::ok: break;
     case CalibrationStatus::too_few_views:
     case CalibrationStatus::not_determined:
     case CalibrationStatus::mixed_sizes:
-    case CalibrationStatus::wrong_size:
-      throw UsageError(picture_of(c.failed_view) + c.message);
+    case CalibrationStatus::wrong_size: throw UsageError(picture_of(c.failed_view) + c.message);
     case CalibrationStatus::wrong_corner_count:
-    case CalibrationStatus::no_convergence:
-      throw std::runtime_error(picture_of(c.failed_view) + c.message);
+    case CalibrationStatus::no_convergence: throw std::runtime_error(picture_of(c.failed_view) + c.message);
   }
 
   const std::string table = camera_table(c, config.camera, views.size(), pictures.size());
@@ -227,7 +225,6 @@ int run_camera(const CameraArgs& args) {
   }
   return 0;
 }
-
 
 }  // namespace
 

@@ -61,7 +61,8 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
       const PixelFormat format = header ? header->format() : PixelFormat::mono8;
       const ImageBuffer buffer(W, H, format, header && format == PixelFormat::mono16 ? header->significant_bits() : 8);
       for (std::size_t i = 0; i < dir.size(); ++i)
-        if (dir.read(i, buffer.view()) == PgmFault::none) one(buffer.view(), dir.row(i).index, dir.row(i).t_ns, dir.row(i).gyro);
+        if (dir.read(i, buffer.view()) == PgmFault::none)
+          one(buffer.view(), dir.row(i).index, dir.row(i).t_ns, dir.row(i).gyro);
     }
   } catch (const UsageError&) {
     throw;
@@ -89,7 +90,8 @@ std::string mount_tables(const MountCalibration& m, const Config& config, const 
     t << "phi_deg = " << toml_float(m.phi_deg) << "  # sigma " << toml_float(m.sigma_phi_deg)
       << "; from equal lane widths, includes the road's mean crossfall\n";
   else
-    t << "phi_deg = " << toml_float(m.phi_deg) << "  # not determined (never three lines in view): the configured roll\n";
+    t << "phi_deg = " << toml_float(m.phi_deg)
+      << "  # not determined (never three lines in view): the configured roll\n";
   return t.str();
 }
 
@@ -97,8 +99,10 @@ int run_mount(const MountArgs& args) {
   const Config config = load_config_file(args.config);
   MountOptions o;
   o.nominal_H_mm = config.H_mm;
-  if (args.lane_width_mm > 0.0) o.lane_width_mm = {args.lane_width_mm, 0.0};
-  else if (config.prior.lane_width_mm) o.lane_width_mm = *config.prior.lane_width_mm;
+  if (args.lane_width_mm > 0.0)
+    o.lane_width_mm = {args.lane_width_mm, 0.0};
+  else if (config.prior.lane_width_mm)
+    o.lane_width_mm = *config.prior.lane_width_mm;
   const MountCalibration m = calibration::run_mount_passes(
       [&](double phi_deg) { return solve_recording(args, config, phi_deg); }, config.attitude.phi_deg, o);
   std::cerr << "frames " << m.frames << ", with lane lines on both sides " << m.frames_with_lane << ", on bends "
@@ -112,8 +116,8 @@ int run_mount(const MountArgs& args) {
             << "theta = " << fixed(m.theta_deg, 3) << " +/- " << fixed(m.sigma_theta_deg, 3) << " deg (configured "
             << fixed(config.attitude.theta_deg, 3) << ")\n"
             << "phi   = " << fixed(m.phi_deg, 3)
-            << (m.phi_determined ? " +/- " + fixed(m.sigma_phi_deg, 3) : std::string(" not determined")) << " deg (configured "
-            << fixed(config.attitude.phi_deg, 3) << ")\n"
+            << (m.phi_determined ? " +/- " + fixed(m.sigma_phi_deg, 3) : std::string(" not determined"))
+            << " deg (configured " << fixed(config.attitude.phi_deg, 3) << ")\n"
             << "H     = " << fixed(m.H_mm, 0) << " +/- " << fixed(m.sigma_H_mm, 0) << " mm (configured "
             << fixed(config.H_mm, 0) << ")\n";
   const std::string tables = mount_tables(m, config, o);
@@ -134,7 +138,8 @@ CommandAction setup_calibrate_mount(CLI::App& sub) {
   sub.add_option("recording", args->recording,
                  "frame directory (frames.csv + PGM frames) or LCM log of ccdlane.frame_t, of a drive on a marked road")
       ->required();
-  sub.add_option("--out", args->out, "write the [mount] and [attitude] tables here (atomically) instead of standard output");
+  sub.add_option("--out", args->out,
+                 "write the [mount] and [attitude] tables here (atomically) instead of standard output");
   sub.add_option("--lane-width-mm", args->lane_width_mm,
                  "the road's true lane width, if known (else [prior] lane_width_mm, else 3600 +/- 200)");
   sub.footer(

@@ -30,5 +30,4 @@ std::string toml_float(double v) {
   return s;
 }
 
-
 }  // namespace ccdlane::cli

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "drivers/camera/camera_factory.hpp"
-#include "drivers/device_state.hpp"
 #include "drivers/camera/frame_pool.hpp"
+#include "drivers/device_state.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
 #include "tools/ccdlane/command.hpp"
 
@@ -76,8 +76,8 @@ int grab(const GrabArgs& a) {
     } else if (delivered - last_frame_wall > std::int64_t{a.no_frame_timeout_s} * 1'000'000'000) {
       (void)pool.give_back(i);
       throw std::runtime_error(camera->describe() + ": no frame for " + std::to_string(a.no_frame_timeout_s) +
-                               " s after " + std::to_string(received) + " frames; last problem: " +
-                               camera->last_problem());
+                               " s after " + std::to_string(received) +
+                               " frames; last problem: " + camera->last_problem());
     }
     (void)pool.give_back(i);
   }
@@ -116,9 +116,10 @@ CommandAction setup_grab(CLI::App& sub) {
   sub.add_option("--buffers", a->buffers, "driver buffers (default 8)")->check(CLI::Range(2, 32));
   sub.add_option("--exposure-us", a->exposure_us, "exposure time, microseconds")->check(positive_number());
   sub.add_option("--gain", a->gain, "gain, in the device's units");
-  sub.footer("Prints the device, the format obtained, frames received and dropped, the measured rate and the "
-             "latency from each frame's timestamp (CLOCK_MONOTONIC) to its delivery. Exit 1 when the camera "
-             "cannot be opened or stops delivering.");
+  sub.footer(
+      "Prints the device, the format obtained, frames received and dropped, the measured rate and the "
+      "latency from each frame's timestamp (CLOCK_MONOTONIC) to its delivery. Exit 1 when the camera "
+      "cannot be opened or stops delivering.");
   return [a] { return grab(*a); };
 }
 

@@ -1,14 +1,14 @@
 // Grey pictures from JPEG (libjpeg), PNG (libpng's simplified API) and PGM (the frame reader).
 #include "tools/ccdlane/grey_picture.hpp"
 
+#include <jpeglib.h>
+#include <png.h>
+
 #include <csetjmp>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
-
-#include <jpeglib.h>
-#include <png.h>
 
 #include "drivers/frames/pgm.hpp"
 
@@ -48,7 +48,8 @@ bool decode_jpeg(const std::vector<unsigned char>& bytes, GreyPicture& out, std:
   out.height = static_cast<int>(info.output_height);
   out.pixels.resize(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height));
   while (info.output_scanline < info.output_height) {
-    JSAMPROW row = out.pixels.data() + static_cast<std::size_t>(info.output_scanline) * static_cast<std::size_t>(out.width);
+    JSAMPROW row =
+        out.pixels.data() + static_cast<std::size_t>(info.output_scanline) * static_cast<std::size_t>(out.width);
     jpeg_read_scanlines(&info, &row, 1);
   }
   jpeg_finish_decompress(&info);
@@ -81,8 +82,8 @@ void read_pgm(const std::string& path, GreyPicture& out) {
   if (reader.probe(path.c_str(), header) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
   const int bytes = header.bytes_per_sample();
   std::vector<std::uint8_t> raster(header.raster_bytes());
-  const MutableImageView into{raster.data(), header.width, header.height, header.width * bytes, header.format(),
-                              header.significant_bits()};
+  const MutableImageView into{raster.data(),        header.width,    header.height,
+                              header.width * bytes, header.format(), header.significant_bits()};
   if (reader.read(path.c_str(), into) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
   out.width = header.width;
   out.height = header.height;

@@ -10,9 +10,9 @@
 #include <sstream>
 #include <vector>
 
+#include "drivers/device_state.hpp"
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
-#include "drivers/device_state.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
@@ -70,8 +70,8 @@ int run_gx1(const Gx1Args& args) {
     if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR) throw UsageError(why);
     throw std::runtime_error(rc == -ETIMEDOUT ? why + " (no answer to the firmware request)" : why);
   }
-  std::cerr << "gx1 " << args.device << ": firmware " << firmware_text(session.firmware()) << " ("
-            << session.firmware() << "), serial number " << session.serial_number() << std::endl;
+  std::cerr << "gx1 " << args.device << ": firmware " << firmware_text(session.firmware()) << " (" << session.firmware()
+            << "), serial number " << session.serial_number() << std::endl;
   holding = false;
   for (const std::string& line : held) std::cerr << line << std::endl;
 
@@ -177,9 +177,10 @@ CommandAction setup_gx1(CLI::App& sub) {
   sub.add_option("--count", args->count, "stop after N samples (default 0: until interrupted)");
   sub.add_flag("--json", args->json,
                "one JSON object per line: {\"t_ns\",\"ticks\",\"roll_deg\",\"pitch_deg\",\"yaw_deg\"}");
-  sub.footer("Prints firmware and serial number on stderr, then one line per sample on stdout: the sensor's "
-             "gyro-stabilized Euler angles (0x0E) in degrees, sensor convention (not yet mapped to the camera), "
-             "stamped with CLOCK_MONOTONIC nanoseconds on arrival. Reopens the device if it goes away.");
+  sub.footer(
+      "Prints firmware and serial number on stderr, then one line per sample on stdout: the sensor's "
+      "gyro-stabilized Euler angles (0x0E) in degrees, sensor convention (not yet mapped to the camera), "
+      "stamped with CLOCK_MONOTONIC nanoseconds on arrival. Reopens the device if it goes away.");
   return [args] { return run_gx1(*args); };
 }
 
@@ -197,8 +198,9 @@ CommandAction setup_gx1_emulate(CLI::App& sub) {
   sub.add_option("--hangup-every", args->hangup_every_s, "hang up every S seconds (needs --link)");
   sub.add_option("--hangup-ms", args->hangup_ms, "how long the device stays away (default 1000)");
   sub.add_option("--seed", args->seed, "random seed for the faults");
-  sub.footer("Prints the path to open (the link, else /dev/pts/N) on stdout and runs until SIGINT or SIGTERM; "
-             "then prints its counters on stderr.");
+  sub.footer(
+      "Prints the path to open (the link, else /dev/pts/N) on stdout and runs until SIGINT or SIGTERM; "
+      "then prints its counters on stderr.");
   return [args] { return run_emulate(*args); };
 }
 

@@ -69,7 +69,8 @@ Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
   j["latency_us"] = e.latency_us;
   if (sigmas) {
     Json y0 = Json::array();
-    for (int k = 0; solved && k < e.num_lines; ++k) y0.push_back(json_number(e.lines[static_cast<std::size_t>(k)].sigma_y0_mm));
+    for (int k = 0; solved && k < e.num_lines; ++k)
+      y0.push_back(json_number(e.lines[static_cast<std::size_t>(k)].sigma_y0_mm));
     j["sigma"] = Json{{"psi_deg", solved ? json_number(e.sigma_psi_deg) : null},
                       {"theta_deg", solved ? json_number(e.sigma_theta_deg) : null},
                       {"phi_deg", solved ? json_number(e.sigma_phi_deg) : null},

@@ -29,11 +29,12 @@ CommandAction setup_ldw_scenarios(CLI::App& sub) {
   sub.add_option("--seeds", a->seeds, "noise seeds per case (default 20)")->check(CLI::Range(1, 1000));
   sub.add_option("--minutes", a->minutes, "minutes of normal driving per seed (default 10)")
       ->check(CLI::Range(0.5, 600.0));
-  sub.footer("Drifts of 0.1, 0.3, 0.5, 0.8 and 1.0 m/s to either side on a straight road and on curves of "
-             "R 500 m, each with --seeds noise seeds; the warning's wheel position (DLC, m, + inside) against "
-             "the earliest (0.75 m inside) and latest (0.3 m outside) warning lines; false alarms per hour of "
-             "normal driving (weaving, curves, signalled lane changes); suppression cases. The per-frame solve "
-             "is the truth plus the noise the solver reports on rendered frames (core/ldw/scenarios.hpp).");
+  sub.footer(
+      "Drifts of 0.1, 0.3, 0.5, 0.8 and 1.0 m/s to either side on a straight road and on curves of "
+      "R 500 m, each with --seeds noise seeds; the warning's wheel position (DLC, m, + inside) against "
+      "the earliest (0.75 m inside) and latest (0.3 m outside) warning lines; false alarms per hour of "
+      "normal driving (weaving, curves, signalled lane changes); suppression cases. The per-frame solve "
+      "is the truth plus the noise the solver reports on rendered frames (core/ldw/scenarios.hpp).");
   return [a] {
     const Config config = a->config.empty() ? default_config() : load_config_file(a->config);
     ldw::LdwConfig ldw = config.ldw;

@@ -50,7 +50,9 @@ class Monitor {
     // false "invalid vptr" in LCM's member-function callback.
     bus_.subscribeFunction(
         lanes_channel_,
-        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Monitor* self) { self->on_lane(*m); },
+        +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Monitor* self) {
+          self->on_lane(*m);
+        },
         this);
     bus_.subscribeFunction(
         status_channel_,
@@ -105,8 +107,8 @@ class Monitor {
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
   //  heading 0.07 deg, departure none | 30 msg/s | LDW available, warning none, DLC
-  //  910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera streaming, gyro ok, gyro reconnects 0,
-  //  p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
+  //  910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera streaming, gyro ok, gyro
+  //  reconnects 0, p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
   void print_line() {
     char text[768];
     int n = 0;
@@ -179,8 +181,9 @@ CommandAction setup_monitor(CLI::App& sub) {
   sub.add_option("--count", args->count, "stop after N lane messages")->check(positive_number());
   sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(positive_number());
   sub.add_flag("--json", args->json, "print each lane message as a JSON object, one per line (as ccdlane replay)");
-  sub.footer("Without --json: one line a second with the latest lane estimate and the daemon's status. "
-             "Exit status 1 when no lane message arrived.");
+  sub.footer(
+      "Without --json: one line a second with the latest lane estimate and the daemon's status. "
+      "Exit status 1 when no lane message arrived.");
   return [args] {
     Monitor monitor(*args);
     return monitor.run();

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "base/image_view.hpp"
 #include "core/detection/lane_marks.hpp"
 #include "core/geometry/camera_model.hpp"
-#include "base/image_view.hpp"
 
 namespace ccdlane::cli {
 

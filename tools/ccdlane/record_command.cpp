@@ -14,19 +14,19 @@
 #include <vector>
 
 #include "app/config_loader.hpp"
-#include "base/image_buffer.hpp"
-#include "core/synth/road_renderer.hpp"
-#include "core/synth/synth_drive.hpp"
-#include "bus/channels.hpp"
-#include "base/clock.hpp"
 #include "app/gx1_attitude_provider.hpp"
 #include "app/gyro_factory.hpp"
+#include "base/clock.hpp"
+#include "base/image_buffer.hpp"
+#include "bus/channels.hpp"
+#include "bus/frame_log.hpp"
+#include "core/synth/road_renderer.hpp"
+#include "core/synth/synth_drive.hpp"
 #include "drivers/camera/camera_factory.hpp"
 #include "drivers/camera/frame_pool.hpp"
 #include "drivers/device_state.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
-#include "bus/frame_log.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {
@@ -54,7 +54,8 @@ class LiveGyro {
  public:
   explicit LiveGyro(const Config& config) {
     const LogSink log = [this](LogLevel level, const char* category, const char* line) {
-      if (level != LogLevel::info && streaming_.load()) std::cerr << "ccdlane record: " << category << ": " << line << '\n';
+      if (level != LogLevel::info && streaming_.load())
+        std::cerr << "ccdlane record: " << category << ": " << line << '\n';
     };
     provider_ = make_attitude_provider(config, log);
     if (const std::string why = provider_->open(); !why.empty()) throw std::runtime_error(why);
@@ -105,7 +106,10 @@ class LiveGyro {
 class Recording {
  public:
   Recording(const RecordArgs& a, const Config& config, bool gyro, std::optional<int> default_count)
-      : count_(a.count ? a.count : a.seconds ? std::nullopt : default_count), seconds_(a.seconds) {
+      : count_(a.count     ? a.count
+               : a.seconds ? std::nullopt
+                           : default_count),
+        seconds_(a.seconds) {
     try {
       if (is_log_path(a.out))
         log_.emplace(a.out, channel_name(config.lcm.prefix, Channel::frames));
@@ -129,8 +133,10 @@ class Recording {
     if (written_ == 0) first_t_ns_ = record.t_ns;
     last_t_ns_ = record.t_ns;
     try {
-      if (log_) log_->write(image, record);
-      else directory_->write(image, record.t_ns, record.gyro);
+      if (log_)
+        log_->write(image, record);
+      else
+        directory_->write(image, record.t_ns, record.gyro);
     } catch (const std::runtime_error& failure) {  // FrameLogError, FrameDirectoryError: a full disk
       keep_written(failure.what());
     }
@@ -142,8 +148,10 @@ class Recording {
   void finish(const std::string& from) {
     if (written_ == 0) throw std::runtime_error("record: no frame was recorded from " + from);
     try {
-      if (log_) log_->finish();
-      else directory_->finish();
+      if (log_)
+        log_->finish();
+      else
+        directory_->finish();
     } catch (const std::runtime_error& failure) {
       keep_written(failure.what());
     }
@@ -160,7 +168,8 @@ class Recording {
     const std::string why = log_ ? log_->keep_written() : directory_->keep_written();
     const std::string path = log_ ? log_->path() : directory_->path();
     if (!why.empty())
-      throw std::runtime_error(failure + "; the " + std::to_string(kept) + " frames before it could not be kept: " + why);
+      throw std::runtime_error(failure + "; the " + std::to_string(kept) +
+                               " frames before it could not be kept: " + why);
     throw std::runtime_error(failure + "; recording stopped: the " + std::to_string(kept) +
                              " frames before it are saved in " + path);
   }
@@ -194,7 +203,8 @@ void record_synth(const RecordArgs& a, const Config& config) {
     const SynthFrame f = drive.frame(k);
     if (!out.wants(f.t_ns)) break;
     renderer.render(f, image);
-    out.write(image, {k, f.t_ns, out.utime_of(f.t_ns, start), s.gyro ? std::optional<Gx1Angles>(f.gyro) : std::nullopt});
+    out.write(image,
+              {k, f.t_ns, out.utime_of(f.t_ns, start), s.gyro ? std::optional<Gx1Angles>(f.gyro) : std::nullopt});
   }
   out.finish("synth");
 }
@@ -210,7 +220,7 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
   const auto header = dir->probe_first();
   if (!header) throw UsageError(path + ": no frame of the directory can be read");
   const ImageBuffer buffer(header->width, header->height, header->format(),
-                          header->format() == PixelFormat::mono16 ? header->significant_bits() : 8);
+                           header->format() == PixelFormat::mono16 ? header->significant_bits() : 8);
   const MutableImageView& image = buffer.view();
   Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()));
   const std::int64_t start = realtime_us();
@@ -282,18 +292,23 @@ CommandAction setup_record(CLI::App& sub) {
   sub.add_option("--config", a->config, "configuration (TOML): [camera] Nu x Nv, [gyro] device, [synth], [lcm] prefix");
   sub.add_option("--seconds", a->seconds, "stop after S seconds of frames")->check(positive_number());
   sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
-  sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")->check(CLI::Range(0.0, 10000.0));
-  sub.footer("Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "
-             "[camera] Nu x Nv, with the [gyro] device's reading interpolated at each frame's time. synth records "
-             "[synth] frames (or --count/--seconds of them), frames:DIR the whole directory. A log holds one "
-             "ccdlane.frame_t event per frame on channel <[lcm] prefix>FRAMES; a frame directory holds PGM files "
-             "and frames.csv (roll_deg,pitch_deg,yaw_deg when there is a gyro). Nothing is left behind on failure.");
+  sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")
+      ->check(CLI::Range(0.0, 10000.0));
+  sub.footer(
+      "Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "
+      "[camera] Nu x Nv, with the [gyro] device's reading interpolated at each frame's time. synth records "
+      "[synth] frames (or --count/--seconds of them), frames:DIR the whole directory. A log holds one "
+      "ccdlane.frame_t event per frame on channel <[lcm] prefix>FRAMES; a frame directory holds PGM files "
+      "and frames.csv (roll_deg,pitch_deg,yaw_deg when there is a gyro). Nothing is left behind on failure.");
   return [a] {
     const Config config = a->config.empty() ? default_config() : load_config_file(a->config);
     catch_stop_signals();
-    if (a->source == "synth") record_synth(*a, config);
-    else if (a->source.rfind("frames:", 0) == 0) record_frames(*a, config, a->source.substr(7));
-    else record_camera(*a, config);
+    if (a->source == "synth")
+      record_synth(*a, config);
+    else if (a->source.rfind("frames:", 0) == 0)
+      record_frames(*a, config, a->source.substr(7));
+    else
+      record_camera(*a, config);
     return 0;
   };
 }

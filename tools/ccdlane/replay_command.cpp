@@ -11,10 +11,10 @@
 
 #include "app/config_loader.hpp"
 #include "base/image_buffer.hpp"
-#include "core/lane/lane_estimator.hpp"
 #include "bus/channels.hpp"
-#include "drivers/frames/frame_directory.hpp"
 #include "bus/frame_log.hpp"
+#include "core/lane/lane_estimator.hpp"
+#include "drivers/frames/frame_directory.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
@@ -40,8 +40,8 @@ void draw_overlay(const std::string& path, const ImageView& frame, const LaneEst
     const CameraModel camera(config.camera, s->pose);
     for (int j = 0; j < s->num_lines; ++j) {
       const LaneLine& l = s->lines[static_cast<std::size_t>(j)];
-      o.draw_road_line(camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm,
-                       config.detection.max_range_mm, j);
+      o.draw_road_line(camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm, config.detection.max_range_mm,
+                       j);
     }
     o.draw_picks(estimator.solved_picks());
   } else {
@@ -66,10 +66,11 @@ CommandAction setup_replay(CLI::App& sub) {
   sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
   sub.add_option("--overlay", a->overlay, "write a PNG per frame with the marks, picks and fitted lines here");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
-  sub.footer("Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
-             "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
-             "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
-             "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
+  sub.footer(
+      "Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
+      "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
+      "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
+      "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
   return [a] {
     const Config config = load_config_file(a->config);
     const int W = config.camera.Nu, H = config.camera.Nv;
@@ -77,8 +78,10 @@ CommandAction setup_replay(CLI::App& sub) {
     std::optional<FrameDirectory> dir;
     std::optional<FrameLogReader> log;
     try {
-      if (is_log) log.emplace(a->input, channel_name(config.lcm.prefix, Channel::frames));
-      else dir.emplace(a->input);
+      if (is_log)
+        log.emplace(a->input, channel_name(config.lcm.prefix, Channel::frames));
+      else
+        dir.emplace(a->input);
     } catch (const std::runtime_error& e) {  // FrameDirectoryError, FrameLogError
       throw UsageError(e.what());
     }
@@ -131,10 +134,9 @@ CommandAction setup_replay(CLI::App& sub) {
       // a gyro reading, or when it was made with a gyro (whose first readings may come
       // after the first frames), as the daemon counts a configured gyro.
       if (image && !observability_checked && (observability_checked = true))
-        if (const std::string why = observability_problem(options, gyro || !config.gyro.device.empty());
-            !why.empty())
-          throw UsageError(a->config + ": " + why + " (the frames of " + a->input + " carry " +
-                           (gyro ? "" : "no ") + "gyro readings)");
+        if (const std::string why = observability_problem(options, gyro || !config.gyro.device.empty()); !why.empty())
+          throw UsageError(a->config + ": " + why + " (the frames of " + a->input + " carry " + (gyro ? "" : "no ") +
+                           "gyro readings)");
       ++frames;
       if (!image) {
         ++skipped;
@@ -207,8 +209,10 @@ CommandAction setup_replay(CLI::App& sub) {
     const std::size_t processed = frames - (skipped - csv_issues);
     // Nothing replayed is bad input, not a result: no output file is left.
     if (frames > 0 && processed == 0 && file) file.reset();
-    if (file) file->commit();
-    else flush_checked(std::cout, "standard output");
+    if (file)
+      file->commit();
+    else
+      flush_checked(std::cout, "standard output");
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
@@ -218,9 +222,10 @@ CommandAction setup_replay(CLI::App& sub) {
     // Frames lost to a damaged or cut log are a failed replay even when the rest went
     // well: the output is kept, the status says it is incomplete.
     if (log && log->lost_events() > 0) {
-      std::fprintf(stderr, "ccdlane replay: %s: %llu event(s) lost to damage (%llu bytes skipped)%s\n", a->input.c_str(),
-                   static_cast<unsigned long long>(log->lost_events()),
-                   static_cast<unsigned long long>(log->lost_bytes()), log->truncated() ? ", the last one cut short" : "");
+      std::fprintf(stderr, "ccdlane replay: %s: %llu event(s) lost to damage (%llu bytes skipped)%s\n",
+                   a->input.c_str(), static_cast<unsigned long long>(log->lost_events()),
+                   static_cast<unsigned long long>(log->lost_bytes()),
+                   log->truncated() ? ", the last one cut short" : "");
       return 1;
     }
     if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");

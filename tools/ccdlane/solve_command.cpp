@@ -46,8 +46,8 @@ PicksCsv read_picks(const std::string& path) {
 int count_lines(const Config& config, const PicksCsv& csv, const std::string& problem, const std::string& path) {
   const int configured = static_cast<int>(config.lines.size());
   if (configured > kMaxLaneLines)
-    throw UsageError(problem + ": lines: " + std::to_string(configured) + " [[lines]] tables, the solver handles at most " +
-                     std::to_string(kMaxLaneLines));
+    throw UsageError(problem + ": lines: " + std::to_string(configured) +
+                     " [[lines]] tables, the solver handles at most " + std::to_string(kMaxLaneLines));
   int highest = -1;
   for (std::size_t i = 0; i < csv.picks.size(); ++i) {
     const int id = csv.picks[i].line;
@@ -150,9 +150,9 @@ int run_solve(const SolveArgs& args) {
     const double Nu = config.camera.Nu, Nv = config.camera.Nv;
     if (p.px < 0.5 || p.px > Nu + 0.5 || p.py < 0.5 || p.py > Nv + 0.5) {
       std::ostringstream out;
-      out << path << ':' << csv.source_lines[i] << ": pick (" << p.px << ", " << p.py << ") is outside the image (px 0.5.."
-          << Nu + 0.5 << ", py 0.5.." << Nv + 0.5 << " for the " << config.camera.Nu << "x" << config.camera.Nv
-          << " camera of " << args.problem << ")";
+      out << path << ':' << csv.source_lines[i] << ": pick (" << p.px << ", " << p.py
+          << ") is outside the image (px 0.5.." << Nu + 0.5 << ", py 0.5.." << Nv + 0.5 << " for the "
+          << config.camera.Nu << "x" << config.camera.Nv << " camera of " << args.problem << ")";
       throw UsageError(out.str());
     }
   }
@@ -179,12 +179,10 @@ int run_solve(const SolveArgs& args) {
     case SolveStatus::invalid_input:
       throw UsageError((result.failed_pick >= 0 ? pick_at(result.failed_pick) : args.problem) +
                        ": rejected by the solver (invalid input)");
-    case SolveStatus::too_few_picks:
-      throw UsageError(path + ": too few picks for the free parameters");
+    case SolveStatus::too_few_picks: throw UsageError(path + ": too few picks for the free parameters");
     case SolveStatus::numerical_failure:
       throw std::runtime_error(args.problem + ": the solver could not compute a step (numerical failure)");
-    default:
-      break;
+    default: break;
   }
   print_json_line(std::cout, result_json(result, request));
   return 0;
@@ -194,11 +192,14 @@ int run_solve(const SolveArgs& args) {
 
 CommandAction setup_solve(CLI::App& sub) {
   auto args = std::make_shared<SolveArgs>();
-  sub.add_option("problem", args->problem, "problem file: a configuration (TOML) with [solver] and optional [prior], [[lines]]")
+  sub.add_option("problem", args->problem,
+                 "problem file: a configuration (TOML) with [solver] and optional [prior], [[lines]]")
       ->required();
-  sub.add_option("--picks", args->picks, "picks CSV (line,px,py); default: [solver] picks, relative to the problem file");
-  sub.footer("Prints one JSON object: attitude, H, f, lines, each pick's road point, cost, RMS, iterations, "
-             "convergence, rank deficiency, and the sigma of every free parameter (null where undetermined).");
+  sub.add_option("--picks", args->picks,
+                 "picks CSV (line,px,py); default: [solver] picks, relative to the problem file");
+  sub.footer(
+      "Prints one JSON object: attitude, H, f, lines, each pick's road point, cost, RMS, iterations, "
+      "convergence, rank deficiency, and the sigma of every free parameter (null where undetermined).");
   return [args] { return run_solve(*args); };
 }
 

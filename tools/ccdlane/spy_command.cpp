@@ -68,14 +68,12 @@ int spy(const SpyArgs& a) {
     throw std::runtime_error("spy: no java on PATH; install a Java runtime with AWT: apt-get install default-jre");
   const std::pair<const char*, const char*> needed[] = {{kLcmJar, "liblcm-java"}, {kJchart2dJar, "libjchart2d-java"}};
   for (const auto& [jar, package] : needed)
-    if (!is_file(jar))
-      throw std::runtime_error(std::string("spy: ") + jar + " is missing; apt-get install " + package);
+    if (!is_file(jar)) throw std::runtime_error(std::string("spy: ") + jar + " is missing; apt-get install " + package);
   std::string classpath = std::string(kLcmJar) + ":" + kJchart2dJar + ":" + types_jar();
   // The user's own types (their CLASSPATH) are found too.
   if (const char* user = std::getenv("CLASSPATH"); user && *user) classpath += std::string(":") + user;
 
-  const std::vector<std::string> argv = {java, "-Djava.net.preferIPv4Stack=true", "lcm.spy.Spy",
-                                         "--lcm-url=" + a.url};
+  const std::vector<std::string> argv = {java, "-Djava.net.preferIPv4Stack=true", "lcm.spy.Spy", "--lcm-url=" + a.url};
   if (a.print_command) {
     std::printf("CLASSPATH=%s", classpath.c_str());
     for (const std::string& arg : argv) std::printf(" '%s'", arg.c_str());
@@ -85,8 +83,9 @@ int spy(const SpyArgs& a) {
   const char* display = std::getenv("DISPLAY");
   const char* wayland = std::getenv("WAYLAND_DISPLAY");
   if ((!display || !*display) && (!wayland || !*wayland))
-    throw std::runtime_error("spy: lcm-spy is a graphical program and there is no display (DISPLAY is not set); "
-                             "run it in a desktop session, over ssh -X, or under xvfb-run");
+    throw std::runtime_error(
+        "spy: lcm-spy is a graphical program and there is no display (DISPLAY is not set); "
+        "run it in a desktop session, over ssh -X, or under xvfb-run");
 
   if (::setenv("CLASSPATH", classpath.c_str(), 1) != 0) throw std::runtime_error("spy: cannot set CLASSPATH");
   std::vector<char*> args;
@@ -107,10 +106,11 @@ CommandAction setup_spy(CLI::App& sub) {
   sub.add_option("--lcm", a->url, "LCM bus URL ([lcm] url of the daemon)")->capture_default_str();
   sub.add_flag("--print-command", a->print_command,
                "print the class path and the java command instead of starting it (checks that all are there)");
-  sub.footer("Starts lcm-spy (java lcm.spy.Spy) with lcm.jar, jchart2d.jar and the ccdlane types jar on its class "
-             "path (plus $CLASSPATH, for your own types): every channel with its rate, and the fields of "
-             "lane_estimate_t, status_t and frame_t messages. Needs a display (DISPLAY). To see raw frames "
-             "([lcm] publish_frames) add &recv_buf_size=8388608 to the URL. Exit 1 when java or a jar is missing.");
+  sub.footer(
+      "Starts lcm-spy (java lcm.spy.Spy) with lcm.jar, jchart2d.jar and the ccdlane types jar on its class "
+      "path (plus $CLASSPATH, for your own types): every channel with its rate, and the fields of "
+      "lane_estimate_t, status_t and frame_t messages. Needs a display (DISPLAY). To see raw frames "
+      "([lcm] publish_frames) add &recv_buf_size=8388608 to the URL. Exit 1 when java or a jar is missing.");
   return [a] { return spy(*a); };
 }
 

@@ -35,8 +35,15 @@ std::vector<std::string> truth_columns(int num_lines) {
 }
 
 void truth_values(const SynthFrame& f, std::vector<double>& v) {
-  v = {rad_to_deg(f.pose.attitude.psi), rad_to_deg(f.pose.attitude.theta), rad_to_deg(f.pose.attitude.phi),
-       f.pose.H_mm, f.lateral_offset_mm, f.heading_deg, f.lane_width_mm, static_cast<double>(f.ego_lane), f.c_per_mm};
+  v = {rad_to_deg(f.pose.attitude.psi),
+       rad_to_deg(f.pose.attitude.theta),
+       rad_to_deg(f.pose.attitude.phi),
+       f.pose.H_mm,
+       f.lateral_offset_mm,
+       f.heading_deg,
+       f.lane_width_mm,
+       static_cast<double>(f.ego_lane),
+       f.c_per_mm};
   for (int j = 0; j < f.num_lines; ++j) v.push_back(f.y0_mm[static_cast<std::size_t>(j)]);
 }
 
@@ -58,9 +65,10 @@ CommandAction setup_synth(CLI::App& sub) {
   sub.add_option("--gyro-noise", a->gyro_noise, "noise on the gyro roll/pitch columns, degrees")
       ->check(CLI::Range(0.0, 10.0));
   sub.add_flag("--no-gyro", a->no_gyro, "leave out the roll_deg,pitch_deg,yaw_deg columns");
-  sub.footer("Writes DIR/000000.pgm ... and DIR/frames.csv with file,t_ns, the gyro columns and truth_* "
-             "columns (attitude, lateral offset, heading, lane width, ego lane, curvature, truth_y0_J_mm "
-             "of every road line left to right). Nothing is left behind on failure.");
+  sub.footer(
+      "Writes DIR/000000.pgm ... and DIR/frames.csv with file,t_ns, the gyro columns and truth_* "
+      "columns (attitude, lateral offset, heading, lane width, ego lane, curvature, truth_y0_J_mm "
+      "of every road line left to right). Nothing is left behind on failure.");
   return [a] {
     Config config = load_config_file(a->config);
     SynthConfig& s = config.synth;

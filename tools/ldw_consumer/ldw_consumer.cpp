@@ -24,7 +24,7 @@ using Lane = ccdlane::lane_estimate_t;
 struct Options {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";  // ccdlaned's default [lcm] url
   std::string channel = "CCDLANE_LANES";                // [lcm] prefix + LANES
-  long count = 0;                // stop after this many messages; 0 = run until killed
+  long count = 0;                                       // stop after this many messages; 0 = run until killed
 };
 
 const char* side_name(std::int8_t warning) {
@@ -52,8 +52,10 @@ class Warner {
     const long long frame = static_cast<long long>(m->frame);
     const bool available = m->ldw_available != 0;
     if (received == 1 || available != available_ || (!available && m->ldw_reason != reason_)) {
-      if (available) std::printf("frame %lld: LDW available\n", frame);
-      else std::printf("frame %lld: LDW unavailable: %s\n", frame, reason_name(m->ldw_reason));
+      if (available)
+        std::printf("frame %lld: LDW available\n", frame);
+      else
+        std::printf("frame %lld: LDW unavailable: %s\n", frame, reason_name(m->ldw_reason));
       available_ = available;
       reason_ = m->ldw_reason;
     }
@@ -84,10 +86,14 @@ bool parse(int argc, char** argv, Options& o) {
     const std::string arg = argv[i];
     const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
     if (!value) return false;
-    if (arg == "--lcm") o.url = value;
-    else if (arg == "--channel") o.channel = value;
-    else if (arg == "--count") o.count = std::atol(value);
-    else return false;
+    if (arg == "--lcm")
+      o.url = value;
+    else if (arg == "--channel")
+      o.channel = value;
+    else if (arg == "--count")
+      o.count = std::atol(value);
+    else
+      return false;
     ++i;
   }
   return o.count >= 0;
@@ -109,6 +115,7 @@ int main(int argc, char** argv) {
   Warner warner;
   bus.subscribe(o.channel, &Warner::on_lane, &warner);
   std::fprintf(stderr, "ldw_consumer: listening on %s at %s\n", o.channel.c_str(), o.url.c_str());
-  while ((o.count == 0 || warner.received < o.count) && bus.handle() == 0) {}
+  while ((o.count == 0 || warner.received < o.count) && bus.handle() == 0) {
+  }
   return 0;
 }

@@ -14,13 +14,13 @@
 
 #include <benchmark/benchmark.h>
 
-#include "daemon/allocation_counter.hpp"
-#include "base/clock.hpp"
-#include "bus/lcm_publisher.hpp"
-#include "daemon/pipeline.hpp"
-#include "base/spsc_ring.hpp"
-#include "daemon/frame_processor.hpp"
 #include "app/synth_source.hpp"
+#include "base/clock.hpp"
+#include "base/spsc_ring.hpp"
+#include "bus/lcm_publisher.hpp"
+#include "daemon/allocation_counter.hpp"
+#include "daemon/frame_processor.hpp"
+#include "daemon/pipeline.hpp"
 
 namespace ccdlane {
 namespace {
@@ -38,7 +38,7 @@ void BM_Pipeline800x600At60Fps(benchmark::State& state) {
   const int priority = static_cast<int>(state.range(1));
   for (auto _ : state) {
     Config config = default_config();  // the reference camera: 800x600
-    config.synth.frames = 1000;         // as many as the source renders (4 s of the drive)
+    config.synth.frames = 1000;        // as many as the source renders (4 s of the drive)
     SynthSourceOptions o;
     o.rate_hz = 60.0;
     SynthSource source(config, o);

@@ -2,11 +2,11 @@
 // sigmas, NEES in its chi-square band, and every refusal.
 #include "core/calibration/camera_calibration.hpp"
 
-#include <Eigen/Cholesky>
 #include <cmath>
 #include <random>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
 #include "tests/core/calibration/chessboard_scene.hpp"

@@ -1,9 +1,10 @@
 // Synthetic chessboard views: poses, noisy corners and rendered pictures from known intrinsics.
 #include "tests/core/calibration/chessboard_scene.hpp"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+
+#include <Eigen/Geometry>
 
 #include "core/geometry/distortion.hpp"
 
@@ -43,8 +44,7 @@ bool board_in_picture(const ChessboardCamera& c, const BoardGeometry& board, con
   for (double x : {-2.0 * s, (board.columns + 1) * s})
     for (double y : {-2.0 * s, (board.rows + 1) * s}) {
       const auto px = observed_of_camera_point(c, pose.rotation * Vec3(x, y, 0.0) + pose.translation_mm);
-      if (!px || px->x() < 4.0 || px->y() < 4.0 || px->x() > c.chip.Nu - 3.0 || px->y() > c.chip.Nv - 3.0)
-        return false;
+      if (!px || px->x() < 4.0 || px->y() < 4.0 || px->x() > c.chip.Nu - 3.0 || px->y() > c.chip.Nv - 3.0) return false;
     }
   return true;
 }

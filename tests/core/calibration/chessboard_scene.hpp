@@ -13,7 +13,7 @@ namespace ccdlane::test {
 // A 640x480 camera on a 4 um cell with an off-centre principal point and barrel
 // distortion (k f^2 = -0.22 in normalised terms, a common wide lens).
 struct ChessboardCamera {
-  CameraSpec chip;                 // its cx, cy, k_px2 are the truth too
+  CameraSpec chip;  // its cx, cy, k_px2 are the truth too
   calibration::Intrinsics truth;
 };
 ChessboardCamera chessboard_camera();

@@ -91,19 +91,20 @@ void expect_within_3_sigma(const MountCalibration& m, const Config& truth, const
 }
 
 void print(const MountCalibration& m, const Config& truth, const char* what) {
-  std::printf("%s: %.1f s straight, %d blocks, %d/%d frames; psi %.3f +- %.3f (true %.3f), theta %.3f +- %.3f "
-              "(true %.3f), phi %.3f +- %.3f (true %.3f), H %.0f +- %.0f (true %.0f), width at nominal H %.0f +- %.0f\n",
-              what, m.straight_s, m.blocks, m.frames_kept, m.frames, m.psi_deg, m.sigma_psi_deg,
-              truth.attitude.psi_deg, m.theta_deg, m.sigma_theta_deg, truth.attitude.theta_deg, m.phi_deg,
-              m.sigma_phi_deg, truth.attitude.phi_deg, m.H_mm, m.sigma_H_mm, truth.H_mm, m.measured_width_mm,
-              m.sigma_measured_width_mm);
+  std::printf(
+      "%s: %.1f s straight, %d blocks, %d/%d frames; psi %.3f +- %.3f (true %.3f), theta %.3f +- %.3f "
+      "(true %.3f), phi %.3f +- %.3f (true %.3f), H %.0f +- %.0f (true %.0f), width at nominal H %.0f +- %.0f\n",
+      what, m.straight_s, m.blocks, m.frames_kept, m.frames, m.psi_deg, m.sigma_psi_deg, truth.attitude.psi_deg,
+      m.theta_deg, m.sigma_theta_deg, truth.attitude.theta_deg, m.phi_deg, m.sigma_phi_deg, truth.attitude.phi_deg,
+      m.H_mm, m.sigma_H_mm, truth.H_mm, m.measured_width_mm, m.sigma_measured_width_mm);
 }
 
 TEST(MountCalibration, RecoversTheMisMountWithin3SigmaAndTheSigmasShrinkWithDriveLength) {
   const Config nominal = nominal_config();
   const Config truth = true_config(nominal);
   const Recording rec = render(truth, 40.0);
-  const MountCalibration short_drive = calibrate(nominal, rec, static_cast<std::size_t>(10 * kRateHz), options_for(nominal));
+  const MountCalibration short_drive =
+      calibrate(nominal, rec, static_cast<std::size_t>(10 * kRateHz), options_for(nominal));
   const MountCalibration long_drive = calibrate(nominal, rec, rec.images.size(), options_for(nominal));
   print(short_drive, truth, "10 s");
   print(long_drive, truth, "40 s");

@@ -20,7 +20,7 @@ struct PickErrors {
   int n = 0;
 };
 inline PickErrors pick_errors(const DetectionResult& r, const SynthFrame& f, const CameraModel& cam,
-                       const std::vector<int>& truth_line_of) {
+                              const std::vector<int>& truth_line_of) {
   PickErrors e;
   double sum2 = 0;
   for (const Pick& p : r.picks) {

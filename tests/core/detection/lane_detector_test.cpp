@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/core/synth/rendered_road.hpp"
 #include "tests/core/detection/detection_truth.hpp"
+#include "tests/core/synth/rendered_road.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane {
@@ -68,8 +68,8 @@ TEST(LaneDetector, FindsTheLinesFromAWrongPose) {
   test::RenderedRoad road(c);
   LaneDetector det(c.camera, c.detection);
   const SynthFrame f = road.render(21);
-  for (const Attitude err : {Attitude{0.02, 0.0, 0.0}, Attitude{0.0, 0.015, 0.0}, Attitude{0.0, -0.015, 0.0},
-                             Attitude{0.0, 0.0, 0.03}}) {
+  for (const Attitude err :
+       {Attitude{0.02, 0.0, 0.0}, Attitude{0.0, 0.015, 0.0}, Attitude{0.0, -0.015, 0.0}, Attitude{0.0, 0.0, 0.03}}) {
     CameraPose guess = f.pose;
     guess.attitude.psi += err.psi;
     guess.attitude.theta += err.theta;

@@ -52,7 +52,8 @@ ScanRow row_for(float mark_px) {
 std::vector<MarkCandidate> scan(const std::vector<std::uint8_t>& img, const ScanRow& r, float contrast = 10) {
   MarkScanner s(200);
   std::vector<MarkCandidate> out(64);
-  const int n = s.scan(ImageView{img.data(), 200, 3, 200, PixelFormat::mono8, 8}, r, 0, contrast, 1.0f, out.data(), 0, 64);
+  const int n =
+      s.scan(ImageView{img.data(), 200, 3, 200, PixelFormat::mono8, 8}, r, 0, contrast, 1.0f, out.data(), 0, 64);
   out.resize(static_cast<std::size_t>(n));
   return out;
 }
@@ -93,12 +94,12 @@ TEST(MarkScanner, NoiseOfOneGreyLevelMovesCentresByHundredths) {
 
 TEST(MarkScanner, RejectsWhatIsNotAMarkOfThisWidth) {
   Row wide, step, faint, bright_side, dark_bar;
-  wide.bar(50, 50 + 30, 200);           // a car or a patch: 7.5 x the expected 4 px
-  step.bar(100, 200, 200);              // an edge, no far side
-  faint.bar(50, 54, 86);                // 6 grey levels: below the contrast asked
-  bright_side.bar(50, 54, 150);         // a stair up to a brighter area: not dark-bright-dark
+  wide.bar(50, 50 + 30, 200);    // a car or a patch: 7.5 x the expected 4 px
+  step.bar(100, 200, 200);       // an edge, no far side
+  faint.bar(50, 54, 86);         // 6 grey levels: below the contrast asked
+  bright_side.bar(50, 54, 150);  // a stair up to a brighter area: not dark-bright-dark
   bright_side.bar(54, 90, 220);
-  dark_bar.bar(50, 54, 20);             // a dark bar (a crack, a tar seam)
+  dark_bar.bar(50, 54, 20);  // a dark bar (a crack, a tar seam)
   for (const Row* r : {&wide, &step, &faint, &bright_side, &dark_bar})
     EXPECT_TRUE(scan(r->bytes8(), row_for(4.0f)).empty());
   Row narrow;
@@ -114,13 +115,14 @@ TEST(MarkScanner, SixteenBitRowsGiveTheSameBars) {
   std::vector<std::uint16_t> b16(600);
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 200; ++x)
-      b16[static_cast<std::size_t>(y * 200 + x)] = static_cast<std::uint16_t>(
-          std::lround(row.value[static_cast<std::size_t>(x)] * 4095.0 / 255.0));
+      b16[static_cast<std::size_t>(y * 200 + x)] =
+          static_cast<std::uint16_t>(std::lround(row.value[static_cast<std::size_t>(x)] * 4095.0 / 255.0));
   MarkScanner s(200);
   std::vector<MarkCandidate> out(8);
   const float scale = 4095.0f / 255.0f;
-  const int n = s.scan(ImageView{reinterpret_cast<const std::uint8_t*>(b16.data()), 200, 3, 400, PixelFormat::mono16, 12},
-                       row_for(5.5f), 0, 10 * scale, 1 / scale, out.data(), 0, 8);
+  const int n =
+      s.scan(ImageView{reinterpret_cast<const std::uint8_t*>(b16.data()), 200, 3, 400, PixelFormat::mono16, 12},
+             row_for(5.5f), 0, 10 * scale, 1 / scale, out.data(), 0, 8);
   ASSERT_EQ(n, 1);
   const auto c8 = scan(b8, row_for(5.5f));
   ASSERT_EQ(c8.size(), 1u);

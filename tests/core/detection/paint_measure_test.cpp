@@ -46,10 +46,11 @@ TEST(PaintMeasure, RowsAgreeWithPixelsInEveryFormat) {
     mono[x] = g;
     wide[x] = static_cast<std::uint16_t>(1000 + 300 * x);
   }
-  const ImageView views[] = {{rgb.data(), w, 1, 3 * w, PixelFormat::rgb8, 8},
-                             {bgr.data(), w, 1, 3 * w, PixelFormat::bgr8, 8},
-                             {mono.data(), w, 1, w, PixelFormat::mono8, 8},
-                             {reinterpret_cast<const std::uint8_t*>(wide.data()), w, 1, 2 * w, PixelFormat::mono16, 12}};
+  const ImageView views[] = {
+      {rgb.data(), w, 1, 3 * w, PixelFormat::rgb8, 8},
+      {bgr.data(), w, 1, 3 * w, PixelFormat::bgr8, 8},
+      {mono.data(), w, 1, w, PixelFormat::mono8, 8},
+      {reinterpret_cast<const std::uint8_t*>(wide.data()), w, 1, 2 * w, PixelFormat::mono16, 12}};
   for (const ImageView& v : views) {
     std::vector<std::uint16_t> row(w, 0xFFFF);
     paint_measure_row(v, 0, 2, w, row.data());

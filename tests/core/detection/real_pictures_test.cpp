@@ -33,8 +33,8 @@ struct PaintLine {
 
 struct Picture {
   std::string dir, file;
-  std::string config;        // path under the source tree
-  bool intrinsics_known;     // lane width in metres is then tested
+  std::string config;            // path under the source tree
+  bool intrinsics_known;         // lane width in metres is then tested
   std::vector<PaintLine> lines;  // every line detection may report; the own lane's marked
 };
 
@@ -103,17 +103,18 @@ void check_picture(const Picture& pic) {
 
   std::filesystem::create_directories(kOverlays);
   const std::string stem = kOverlays + pic.dir + "-" + pic.file.substr(0, pic.file.size() - 4);
-  test::PngImage measure{std::vector<std::uint8_t>(static_cast<std::size_t>(frame.width) * frame.height),
-                         frame.width, frame.height, PixelFormat::mono8};
+  test::PngImage measure{std::vector<std::uint8_t>(static_cast<std::size_t>(frame.width) * frame.height), frame.width,
+                         frame.height, PixelFormat::mono8};
   render_paint_measure(frame.view(), measure.mutable_view());
   test::write_png(stem + "-measure.png", measure.view());
 
   const CameraModel cam(config.camera, est.solution() ? est.solution()->pose : est.detection_pose());
   write_overlay(stem + ".png", frame, est, cam, pic);
   const DetectionCounters& n = est.detection().counters;
-  std::printf("%s/%s: detection: %d rows, %d candidates, %d off the road, %d wrongly oriented, %d grouped into %d lines\n",
-              pic.dir.c_str(), pic.file.c_str(), n.scan_rows, n.candidates, n.off_road, n.wrong_orientation, n.grouped,
-              est.detection().num_lines);
+  std::printf(
+      "%s/%s: detection: %d rows, %d candidates, %d off the road, %d wrongly oriented, %d grouped into %d lines\n",
+      pic.dir.c_str(), pic.file.c_str(), n.scan_rows, n.candidates, n.off_road, n.wrong_orientation, n.grouped,
+      est.detection().num_lines);
   ASSERT_TRUE(e.ok) << "reason " << to_string(e.reason);
   ASSERT_NE(est.solution(), nullptr);
   const SolveResult& s = *est.solution();
@@ -129,14 +130,16 @@ void check_picture(const Picture& pic) {
     int on = -1;
     for (std::size_t k = 0; k < pic.lines.size() && on < 0; ++k) {
       bool all = true;
-      for (const auto& [row, col] : pic.lines[k].row_col) all = all && std::abs(column_at_row(cam, l, row) - col) <= 3.0;
+      for (const auto& [row, col] : pic.lines[k].row_col)
+        all = all && std::abs(column_at_row(cam, l, row) - col) <= 3.0;
       if (all) on = static_cast<int>(k);
     }
     std::printf("  line %d: y0 %.0f mm m %.4f c %.2e; at the measured rows:", j, l.y0_mm, l.m, l.c_per_mm);
     for (const PaintLine& p : pic.lines)
       for (const auto& [row, col] : p.row_col) std::printf(" %.1f", column_at_row(cam, l, row) - col);
     if (std::getenv("CCDLANE_PRINT_ROWS"))
-      for (double row : {345., 380., 420., 470., 520., 460., 500., 550., 600., 650.}) std::printf(" [%g: %.1f]", row, column_at_row(cam, l, row));
+      for (double row : {345., 380., 420., 470., 520., 460., 500., 550., 600., 650.})
+        std::printf(" [%g: %.1f]", row, column_at_row(cam, l, row));
     std::printf(" -> %s\n", on < 0 ? "OFF THE PAINT" : ("painted line " + std::to_string(on)).c_str());
     EXPECT_GE(on, 0) << "line " << j << " (y0 " << l.y0_mm << " mm) is off the paint";
     if (on >= 0) ++found[static_cast<std::size_t>(on)];
@@ -161,35 +164,50 @@ const char* const kP1 = "tests/core/detection/data/udacity-p1.toml";
 // detection may report. The yellow line's rows in the first picture are also those of
 // the grey-picture test in tests/tools/replay_command_test.cpp.
 TEST(RealPictures, UdacityAdvancedStraightLines1) {
-  check_picture({"udacity-advanced-colour", "000000.png", kAdvanced, true,
-                 {{true, {{650, 309.0}, {550, 455.1}, {460, 584.4}}},     // yellow, solid
-                  {true, {{655, 1005.6}, {546, 837.1}, {500, 761.9}}},    // white, dashed
-                  {false, {{512, 1043.5}, {500, 988.8}}}}});              // next lane's, dashed
+  check_picture({"udacity-advanced-colour",
+                 "000000.png",
+                 kAdvanced,
+                 true,
+                 {{true, {{650, 309.0}, {550, 455.1}, {460, 584.4}}},   // yellow, solid
+                  {true, {{655, 1005.6}, {546, 837.1}, {500, 761.9}}},  // white, dashed
+                  {false, {{512, 1043.5}, {500, 988.8}}}}});            // next lane's, dashed
 }
 
 TEST(RealPictures, UdacityAdvancedStraightLines2) {
-  check_picture({"udacity-advanced-colour", "000001.png", kAdvanced, true,
-                 {{true, {{650, 317.6}, {600, 387.1}, {460, 584.5}}},     // white, dashed
-                  {true, {{650, 1001.9}, {550, 843.1}, {500, 766.5}}},    // white, solid
-                  {false, {{550, 70.6}, {460, 464.4}}}}});                // next lane's, dashed
+  check_picture({"udacity-advanced-colour",
+                 "000001.png",
+                 kAdvanced,
+                 true,
+                 {{true, {{650, 317.6}, {600, 387.1}, {460, 584.5}}},   // white, dashed
+                  {true, {{650, 1001.9}, {550, 843.1}, {500, 766.5}}},  // white, solid
+                  {false, {{550, 70.6}, {460, 464.4}}}}});              // next lane's, dashed
 }
 
 TEST(RealPictures, UdacityP1SolidWhiteCurve) {
-  check_picture({"udacity-p1-colour", "000000.png", kP1, false,
-                 {{true, {{450, 302.9}, {420, 339.9}, {345, 438.3}}},     // white, dashed
-                  {true, {{470, 766.4}, {420, 678.0}, {345, 545.0}}},     // white, solid
-                  {false, {{400, 100.0}, {395, 120.4}}}}});               // next lane's, dashed
+  check_picture({"udacity-p1-colour",
+                 "000000.png",
+                 kP1,
+                 false,
+                 {{true, {{450, 302.9}, {420, 339.9}, {345, 438.3}}},  // white, dashed
+                  {true, {{470, 766.4}, {420, 678.0}, {345, 545.0}}},  // white, solid
+                  {false, {{400, 100.0}, {395, 120.4}}}}});            // next lane's, dashed
 }
 
 TEST(RealPictures, UdacityP1SolidWhiteRight) {
-  check_picture({"udacity-p1-colour", "000001.png", kP1, false,
-                 {{true, {{420, 322.9}, {355, 415.3}, {345, 428.5}}},     // white, dashed
-                  {true, {{520, 813.3}, {420, 657.0}, {355, 555.5}}},     // white, solid
-                  {false, {{380, 168.1}, {350, 300.2}}}}});               // next lane's, dashed
+  check_picture({"udacity-p1-colour",
+                 "000001.png",
+                 kP1,
+                 false,
+                 {{true, {{420, 322.9}, {355, 415.3}, {345, 428.5}}},  // white, dashed
+                  {true, {{520, 813.3}, {420, 657.0}, {355, 555.5}}},  // white, solid
+                  {false, {{380, 168.1}, {350, 300.2}}}}});            // next lane's, dashed
 }
 
 TEST(RealPictures, UdacityP1SolidYellowCurve) {
-  check_picture({"udacity-p1-colour", "000002.png", kP1, false,
+  check_picture({"udacity-p1-colour",
+                 "000002.png",
+                 kP1,
+                 false,
                  {{true, {{520, 192.1}, {420, 331.2}, {345, 432.6}}},     // yellow, solid
                   {true, {{410, 639.0}, {400, 622.4}, {345, 532.0}}}}});  // white, dashed
 }
@@ -198,29 +216,41 @@ TEST(RealPictures, UdacityP1SolidYellowCurve) {
 // the far ones, and the fitted line passes 9.5 px left of it. Enable when the grouper
 // follows the shared curvature of the road's lines (issue "Curves").
 TEST(RealPictures, DISABLED_UdacityP1SolidYellowCurveNearDash) {
-  check_picture({"udacity-p1-colour", "000002.png", kP1, false,
-                 {{true, {{520, 192.1}, {420, 331.2}, {345, 432.6}}},
-                  {true, {{493, 786.8}, {410, 639.0}, {400, 622.4}}}}});
+  check_picture(
+      {"udacity-p1-colour",
+       "000002.png",
+       kP1,
+       false,
+       {{true, {{520, 192.1}, {420, 331.2}, {345, 432.6}}}, {true, {{493, 786.8}, {410, 639.0}, {400, 622.4}}}}});
 }
 
 TEST(RealPictures, UdacityP1SolidYellowCurve2) {
-  check_picture({"udacity-p1-colour", "000003.png", kP1, false,
+  check_picture({"udacity-p1-colour",
+                 "000003.png",
+                 kP1,
+                 false,
                  {{true, {{520, 197.1}, {420, 331.1}, {345, 433.4}}},     // yellow, solid
                   {true, {{505, 805.1}, {455, 720.5}, {345, 540.0}}}}});  // white, dashed
 }
 
 TEST(RealPictures, UdacityP1SolidYellowLeft) {
-  check_picture({"udacity-p1-colour", "000004.png", kP1, false,
-                 {{true, {{520, 177.4}, {470, 249.9}, {345, 424.5}}},     // yellow, solid
-                  {true, {{470, 739.0}, {440, 691.1}, {357, 561.1}}},     // white, dashed
-                  {false, {{360, 726.0}, {338, 630.8}}}}});               // next lane's, dashed
+  check_picture({"udacity-p1-colour",
+                 "000004.png",
+                 kP1,
+                 false,
+                 {{true, {{520, 177.4}, {470, 249.9}, {345, 424.5}}},  // yellow, solid
+                  {true, {{470, 739.0}, {440, 691.1}, {357, 561.1}}},  // white, dashed
+                  {false, {{360, 726.0}, {338, 630.8}}}}});            // next lane's, dashed
 }
 
 TEST(RealPictures, UdacityP1WhiteCarLaneSwitch) {
-  check_picture({"udacity-p1-colour", "000005.png", kP1, false,
-                 {{true, {{520, 212.6}, {420, 342.5}, {380, 395.5}}},     // yellow, solid
-                  {true, {{520, 840.8}, {470, 755.6}, {350, 550.0}}},     // white, dashed
-                  {false, {{380, 799.6}, {345, 635.4}}}}});               // next lane's, dashed
+  check_picture({"udacity-p1-colour",
+                 "000005.png",
+                 kP1,
+                 false,
+                 {{true, {{520, 212.6}, {420, 342.5}, {380, 395.5}}},  // yellow, solid
+                  {true, {{520, 840.8}, {470, 755.6}, {350, 550.0}}},  // white, dashed
+                  {false, {{380, 799.6}, {345, 635.4}}}}});            // next lane's, dashed
 }
 
 }  // namespace

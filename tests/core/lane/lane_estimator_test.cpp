@@ -228,7 +228,7 @@ TEST(LaneEstimator, EstimatingAllocatesNothing) {
     EXPECT_TRUE(est.estimate(view(i), i, frames[i].t_ns, frames[i].gyro, vehicle).ok);
   const bool ldw_tracked = est.estimate(view(3), 4, frames[3].t_ns + 1'000'000, frames[3].gyro, vehicle).ldw.tracked;
   est.no_frame(5, frames[3].t_ns + 2'000'000, vehicle);  // the filter coasts
-  est.reset();  // the cold-start path (detect twice) too
+  est.reset();                                           // the cold-start path (detect twice) too
   EXPECT_TRUE(est.estimate(view(1), 1, frames[1].t_ns, frames[1].gyro).ok);
   est.no_frame(2, 0);
   EXPECT_EQ(scope.count(), 0u);

@@ -25,7 +25,8 @@ LaneMeasurement measurement(double d, double psi, double kappa = 0.0, double w =
   m.value << w / 2 - d, -w / 2 - d, psi, kappa, pitch, 0.0;
   m.covariance.setZero();
   m.covariance(kLeftLine, kLeftLine) = m.covariance(kRightLine, kRightLine) = kLineSigma * kLineSigma;
-  m.covariance(kLeftLine, kRightLine) = m.covariance(kRightLine, kLeftLine) = kLineCorrelation * kLineSigma * kLineSigma;
+  m.covariance(kLeftLine, kRightLine) = m.covariance(kRightLine, kLeftLine) =
+      kLineCorrelation * kLineSigma * kLineSigma;
   m.covariance(kMeasuredHeading, kMeasuredHeading) = 0.0015 * 0.0015;
   m.covariance(kMeasuredCurvature, kMeasuredCurvature) = 1e-4 * 1e-4;
   m.covariance(kMeasuredPitch, kMeasuredPitch) = 0.001 * 0.001;

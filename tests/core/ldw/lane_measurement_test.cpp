@@ -22,9 +22,8 @@ SolveResult solve() {
   r.lines[0] = {5400.0, 0.0, 1.1e-6};
   r.lines[1] = {1800.0, 0.0, 1.0e-6};
   r.lines[2] = {-1900.0, 0.0, 0.9e-6};
-  const ReducedParam params[] = {{FreeParam::psi, -1}, {FreeParam::theta, -1}, {FreeParam::phi, -1},
-                                 {FreeParam::y0, 0},   {FreeParam::y0, 1},     {FreeParam::y0, 2},
-                                 {FreeParam::c, 1},    {FreeParam::c, 2}};
+  const ReducedParam params[] = {{FreeParam::psi, -1}, {FreeParam::theta, -1}, {FreeParam::phi, -1}, {FreeParam::y0, 0},
+                                 {FreeParam::y0, 1},   {FreeParam::y0, 2},     {FreeParam::c, 1},    {FreeParam::c, 2}};
   r.num_free = 8;
   for (int j = 0; j < 8; ++j) r.free_params[static_cast<std::size_t>(j)] = params[j];
   r.covariance = ReducedMatrix::Zero(8, 8);

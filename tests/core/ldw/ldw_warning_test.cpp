@@ -35,8 +35,7 @@ struct Drift {
   double first_dlc = 0.0;
   double t = 0.0;
 };
-Drift drift(LdwWarning& w, double& t, double from, double to, double v,
-            TurnIndicator indicator = TurnIndicator::none) {
+Drift drift(LdwWarning& w, double& t, double from, double to, double v, TurnIndicator indicator = TurnIndicator::none) {
   Drift d;
   const double step = (to < from ? -1 : 1) * std::abs(v) * kDt;
   for (double dlc = from; (step < 0 ? dlc >= to : dlc <= to); dlc += step, t += kDt) {
@@ -87,7 +86,7 @@ TEST(LdwWarning, RearmsOnlyOnceTheWheelIsBackInsideByTheMargin) {
   ASSERT_EQ(drift(w, t, 0.9, 0.2, 0.5).warnings, 1);  // warned at 0.25 m
   drift(w, t, 0.2, 0.35, -0.2);                       // back to 0.35 m: not yet re-armed
   EXPECT_EQ(drift(w, t, 0.35, 0.0, 0.5).warnings, 0);
-  drift(w, t, 0.0, 0.5, -0.2);                        // back to 0.5 m (>= 0.45): re-armed
+  drift(w, t, 0.0, 0.5, -0.2);  // back to 0.5 m (>= 0.45): re-armed
   EXPECT_EQ(drift(w, t, 0.5, 0.0, 0.5).warnings, 1);
   EXPECT_EQ(w.output().warnings, 2u);
 }
@@ -163,7 +162,7 @@ TEST(LdwWarning, SignalledDepartureIsUsedUpNotWarnedWhenTheIndicatorGoesOffLate)
   hold(w, t, 0.9);
   EXPECT_EQ(drift(w, t, 0.9, 0.0, 0.5, TurnIndicator::left).warnings, 0);
   w.update(input(t, 0.0, 0.0));  // the indicator goes off
-  t += 3.0;  // long after its hold time, the wheel still near the line and drifting
+  t += 3.0;                      // long after its hold time, the wheel still near the line and drifting
   EXPECT_EQ(drift(w, t, 0.0, -0.3, 0.5).warnings, 0);
 }
 

@@ -94,16 +94,19 @@ TEST(LdwScenarios, NormalDrivingKeepsTheWheelsOutsideTheWarningZone) {
 TEST(LdwScenarios, UnsignalledLaneChangeIsWarnedSignalledIsNot) {
   const LdwConfig config;
   for (const Side side : {Side::left, Side::right}) {
-    const ScenarioSpec unsignalled_spec = lane_change_scenario(side, false), signalled_spec = lane_change_scenario(side, true);
+    const ScenarioSpec unsignalled_spec = lane_change_scenario(side, false),
+                       signalled_spec = lane_change_scenario(side, true);
     const std::vector<VehicleFrame> unsignalled_truth = drive_truth(unsignalled_spec);
     const std::vector<VehicleFrame> signalled_truth = drive_truth(signalled_spec);
     for (int seed = 1; seed <= kSeeds; ++seed) {
-      const ScenarioRun unsignalled = run_scenario(unsignalled_spec, unsignalled_truth, static_cast<std::uint64_t>(seed), config);
+      const ScenarioRun unsignalled =
+          run_scenario(unsignalled_spec, unsignalled_truth, static_cast<std::uint64_t>(seed), config);
       ASSERT_EQ(unsignalled.warnings.size(), 1u) << to_string(side) << " seed " << seed;
       EXPECT_EQ(unsignalled.warnings[0].side, side);
       EXPECT_TRUE(unsignalled.passed);
       EXPECT_EQ(unsignalled.lane_changes, 1);
-      const ScenarioRun signalled = run_scenario(signalled_spec, signalled_truth, static_cast<std::uint64_t>(seed), config);
+      const ScenarioRun signalled =
+          run_scenario(signalled_spec, signalled_truth, static_cast<std::uint64_t>(seed), config);
       EXPECT_TRUE(signalled.warnings.empty()) << to_string(side) << " seed " << seed;
       EXPECT_EQ(signalled.lane_changes, 1);
     }

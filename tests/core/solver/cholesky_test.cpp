@@ -1,12 +1,13 @@
 // The small Cholesky solve and inverse against Eigen's, and their refusal of matrices
 // that are not positive definite.
+#include "core/solver/cholesky.hpp"
+
 #include <limits>
 #include <random>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include "core/solver/cholesky.hpp"
 #include "tests/core/solver/random_matrix.hpp"
 
 namespace ccdlane::solver {

@@ -16,7 +16,7 @@ namespace {
 TEST(Covariance, FullRankGivesTheScaledInverse) {
   std::mt19937_64 rng(1);
   Eigen::MatrixXd J = test::gaussian_matrix(rng, 40, 6);
-  J.col(2) *= 1e4;   // mm against radians: units must not matter
+  J.col(2) *= 1e4;  // mm against radians: units must not matter
   J.col(4) *= 1e-3;
   const ReducedMatrix N = J.transpose() * J;
   CovarianceWorkspace ws;
@@ -26,7 +26,8 @@ TEST(Covariance, FullRankGivesTheScaledInverse) {
   EXPECT_EQ(a.rank, 6);
   const Eigen::MatrixXd expected = 2.5 * Eigen::MatrixXd(N).inverse();
   for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) EXPECT_NEAR(cov(r, c), expected(r, c), 1e-9 * std::sqrt(expected(r, r) * expected(c, c)));
+    for (int c = 0; c < 6; ++c)
+      EXPECT_NEAR(cov(r, c), expected(r, c), 1e-9 * std::sqrt(expected(r, r) * expected(c, c)));
 }
 
 TEST(Covariance, ExactNullDirectionMarksOnlyItsParametersUndetermined) {
@@ -51,7 +52,8 @@ TEST(Covariance, ExactNullDirectionMarksOnlyItsParametersUndetermined) {
   const int kept[3] = {0, 2, 4}, in_merged[3] = {0, 2, 3};
   for (int i = 0; i < 3; ++i) {
     EXPECT_TRUE(a.determined[kept[i]]);
-    EXPECT_NEAR(cov(kept[i], kept[i]), expected(in_merged[i], in_merged[i]), 1e-9 * expected(in_merged[i], in_merged[i]));
+    EXPECT_NEAR(cov(kept[i], kept[i]), expected(in_merged[i], in_merged[i]),
+                1e-9 * expected(in_merged[i], in_merged[i]));
   }
 }
 

@@ -36,7 +36,8 @@ TEST(InitialGuess, GroundPointsAreCameraModelsOwn) {
     spec.k_px2 = k;
     for (int trial = 0; trial < 20; ++trial) {
       const CameraPose pose{{deg_to_rad(10 * u(rng)), deg_to_rad(3 + 8 * u(rng)), deg_to_rad(10 * u(rng))},
-                            1400 + 300 * u(rng), 5.05 + 0.5 * u(rng)};
+                            1400 + 300 * u(rng),
+                            5.05 + 0.5 * u(rng)};
       const CameraModel camera(spec, pose);
       std::vector<Pick> picks;
       for (int i = 0; i < 40; ++i) picks.push_back({0, 400.0 + 400.0 * u(rng), 300.0 + 300.0 * u(rng)});
@@ -72,7 +73,7 @@ TEST(InitialGuess, PickAboveTheHorizonIsNamed) {
 
 TEST(InitialGuess, LineFitRecoversStraightLinesExactly) {
   const std::vector<Pick> picks = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {2, 0, 0}};
-  const std::vector<Vec2> ground = {{5000, 1800}, {10000, 1850}, {20000, 1950},   // y = 1750 + 0.01 x
+  const std::vector<Vec2> ground = {{5000, 1800},  {10000, 1850},  {20000, 1950},  // y = 1750 + 0.01 x
                                     {6000, -1760}, {30000, -1880},                 // y = -1730 - 0.005 x
                                     {8000, 100}};
   LaneLine lines[4];
@@ -83,7 +84,7 @@ TEST(InitialGuess, LineFitRecoversStraightLinesExactly) {
   EXPECT_NEAR(lines[1].m, -0.005, 1e-12);
   EXPECT_DOUBLE_EQ(lines[2].y0_mm, 100.0);  // a single point: no slope
   EXPECT_DOUBLE_EQ(lines[2].m, 0.0);
-  EXPECT_DOUBLE_EQ(lines[3].y0_mm, 0.0);    // no picks
+  EXPECT_DOUBLE_EQ(lines[3].y0_mm, 0.0);  // no picks
   EXPECT_DOUBLE_EQ(lines[0].c_per_mm, 0.0);
   // With m fixed (at 0) the offset is the mean lateral position.
   fit_initial_lines(picks, ground.data(), 4, false, lines);

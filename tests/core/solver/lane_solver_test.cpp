@@ -72,8 +72,8 @@ TruthErrors errors_against_truth(const SolveResult& res, const SyntheticScene& s
   for (std::size_t j = 0; j < scene.lines.size(); ++j)
     for (double x = 0; x <= 40000.0; x += 5000.0) {
       const LaneLine &l = res.lines[j], &tl = scene.lines[j];
-      e.line_mm = std::max(e.line_mm, std::abs((l.y0_mm + l.m * x + l.c_per_mm * x * x) -
-                                               (tl.y0_mm + tl.m * x + tl.c_per_mm * x * x)));
+      e.line_mm = std::max(
+          e.line_mm, std::abs((l.y0_mm + l.m * x + l.c_per_mm * x * x) - (tl.y0_mm + tl.m * x + tl.c_per_mm * x * x)));
     }
   for (std::size_t i = 0; i < scene.x_mm.size(); ++i)
     e.x_rel = std::max(e.x_rel, std::abs(res.points_mm[i].x() - scene.x_mm[i]) / scene.x_mm[i]);
@@ -314,10 +314,10 @@ TEST(LaneSolverCurve, ZeroNoiseRecoversABendWithOneSharedCurvature) {
 // The errors of one model over the bend study's draws, each normalised by the sigma the
 // solver reports for it: z = error / sigma, N(0, 1) per draw when the model is right.
 struct BendErrors {
-  double yaw_bias_deg = 0.0;  // mean of sign(c) * yaw error: a bias that follows the bend
+  double yaw_bias_deg = 0.0;      // mean of sign(c) * yaw error: a bias that follows the bend
   double z_yaw = 0.0, z_c = 0.0;  // means of sign(c) * z
-  double max_abs_z = 0.0;        // over yaw, pitch, roll, y0 and c of every draw
-  double nees = 0.0, dof = 0.0;  // summed over the draws
+  double max_abs_z = 0.0;         // over yaw, pitch, roll, y0 and c of every draw
+  double nees = 0.0, dof = 0.0;   // summed over the draws
 };
 
 // Solves kDraws noisy bends (pixel noise 0.5 px, gyro pitch and roll priors of 0.5 deg
@@ -382,10 +382,11 @@ TEST(LaneSolverCurve, SharedCurvatureIsUnbiasedOnABendWhereStraightLinesBiasYaw)
   // the curved model passes, failed).
   const BendErrors straight = bend_errors(LineModel::per_line, 2027);
   EXPECT_GT(std::abs(straight.z_yaw), mean_bound);
-  std::printf("bend R 300-2000 m, %d draws: mean sign(c) * yaw error %+.4f deg straight (mean z %+.1f, NEES/dof "
-              "%.1f), %+.5f deg curved (mean z %+.3f, c %+.3f, NEES/dof %.3f, max |z| %.2f); bound |mean z| < %.3f\n",
-              kDraws, straight.yaw_bias_deg, straight.z_yaw, straight.nees / straight.dof, curved.yaw_bias_deg,
-              curved.z_yaw, curved.z_c, curved.nees / curved.dof, curved.max_abs_z, mean_bound);
+  std::printf(
+      "bend R 300-2000 m, %d draws: mean sign(c) * yaw error %+.4f deg straight (mean z %+.1f, NEES/dof "
+      "%.1f), %+.5f deg curved (mean z %+.3f, c %+.3f, NEES/dof %.3f, max |z| %.2f); bound |mean z| < %.3f\n",
+      kDraws, straight.yaw_bias_deg, straight.z_yaw, straight.nees / straight.dof, curved.yaw_bias_deg, curved.z_yaw,
+      curved.z_c, curved.nees / curved.dof, curved.max_abs_z, mean_bound);
 }
 
 TEST(LaneSolverCurve, MarksAtTwoDistancesLeaveTheCurvatureUndetermined) {

@@ -14,8 +14,7 @@ namespace ccdlane::solver {
 namespace {
 
 // docs/solver.md's r1, r2 for one pick at distance x on `line`, at `pose`.
-Vec2 spec_residuals(const CameraSpec& spec, const CameraPose& pose, const Vec2& ideal, const LaneLine& line,
-                    double x) {
+Vec2 spec_residuals(const CameraSpec& spec, const CameraPose& pose, const Vec2& ideal, const LaneLine& line, double x) {
   const CameraModel cam(spec, pose);
   const Vec3 L = cam.lens_centre(), P = cam.cell_centre(ideal);
   const double y = line.y0_mm + line.m * x + line.c_per_mm * x * x;
@@ -125,9 +124,11 @@ TEST(PaperResidual, JacobiansMatchFiniteDifferencesAtFixedX) {
             h);
         const int local = p.line < 0 ? k : f.layout.num_global() + (k - f.layout.line_offset(line));
         for (int c = 0; c < 2; ++c)
-          EXPECT_NEAR(f.rows.jacobian_column(static_cast<int>(i), local)[c], fd[c], 1e-6 * (std::abs(fd[c]) + 1e3)) << "param " << k << " pick " << i;
+          EXPECT_NEAR(f.rows.jacobian_column(static_cast<int>(i), local)[c], fd[c], 1e-6 * (std::abs(fd[c]) + 1e3))
+              << "param " << k << " pick " << i;
       }
-      const Eigen::VectorXd fd = test::central_difference([&](double t) { return r_at(ReducedVector::Zero(n), t); }, 1e-3);
+      const Eigen::VectorXd fd =
+          test::central_difference([&](double t) { return r_at(ReducedVector::Zero(n), t); }, 1e-3);
       EXPECT_NEAR(f.rows.jx0[i], fd[0], 1e-6 * (std::abs(fd[0]) + 1.0));
       EXPECT_NEAR(f.rows.jx1[i], fd[1], 1e-6 * (std::abs(fd[1]) + 1.0));
     }

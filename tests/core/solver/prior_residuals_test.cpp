@@ -24,11 +24,11 @@ TEST(PriorResiduals, AnglesInDegreesLengthsInMillimetres) {
   double cost = 0.0;
   evaluate_priors(priors, layout, pose, lines, rows, cost);
   ASSERT_EQ(rows.count, 3);
-  EXPECT_NEAR(rows.rows[0].r, 1.5, 1e-12);   // psi: (3 - 0) / 2
+  EXPECT_NEAR(rows.rows[0].r, 1.5, 1e-12);  // psi: (3 - 0) / 2
   EXPECT_EQ(rows.rows[0].size, 0);
-  EXPECT_NEAR(rows.rows[1].r, 2.0, 1e-12);   // phi: (2 - 1) / 0.5
+  EXPECT_NEAR(rows.rows[1].r, 2.0, 1e-12);  // phi: (2 - 1) / 0.5
   EXPECT_NEAR(rows.rows[1].at(layout.global_index(kPhi)), rad_to_deg(1.0) / 0.5, 1e-9);
-  EXPECT_NEAR(rows.rows[2].r, 1.5, 1e-12);   // H: (1430 - 1400) / 20
+  EXPECT_NEAR(rows.rows[2].r, 1.5, 1e-12);  // H: (1430 - 1400) / 20
   EXPECT_NEAR(rows.rows[2].at(layout.global_index(kHeight)), 1.0 / 20.0, 1e-15);
   EXPECT_NEAR(cost, 1.5 * 1.5 + 2.0 * 2.0 + 1.5 * 1.5, 1e-12);
   EXPECT_EQ(count_free_priors(priors, layout), 2);

@@ -100,7 +100,8 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
     // Steps sized to each unknown's scale: radians, mm, slope, 1/mm.
     const auto step_size = [&](int k) {
       switch (f.layout.describe(k).kind) {
-        case FreeParam::H: case FreeParam::y0: return 1e-3;
+        case FreeParam::H:
+        case FreeParam::y0: return 1e-3;
         case FreeParam::f: return 1e-6;
         case FreeParam::c: return 1e-11;
         default: return 1e-7;
@@ -126,8 +127,7 @@ TEST(ReprojectionResidual, JacobiansMatchFiniteDifferences) {
           col[1] = analytic.jacobian_column(static_cast<int>(i), local)[1];
         }
         for (int c = 0; c < 2; ++c)
-          EXPECT_NEAR(col[c], fd[2 * i + c], 1e-5 * (1.0 + std::abs(fd[2 * i + c])))
-              << "param " << k << " pick " << i;
+          EXPECT_NEAR(col[c], fd[2 * i + c], 1e-5 * (1.0 + std::abs(fd[2 * i + c]))) << "param " << k << " pick " << i;
       }
     }
     for (std::size_t i = 0; i < x0.size(); ++i) {

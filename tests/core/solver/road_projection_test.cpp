@@ -27,7 +27,8 @@ TEST(RoadProjection, MatchesCameraModelAndItsJacobians) {
   int compared = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const CameraPose pose{{deg_to_rad(10 * u(rng)), deg_to_rad(3 + 8 * u(rng)), deg_to_rad(10 * u(rng))},
-                          1400 + 300 * u(rng), 5.05 + 0.5 * u(rng)};
+                          1400 + 300 * u(rng),
+                          5.05 + 0.5 * u(rng)};
     const CameraModel camera(spec, pose);
     projection.set_pose(pose);
     // The points CameraModel can see, projected together.

@@ -14,10 +14,10 @@ namespace {
 
 struct RandomProblem {
   ParameterLayout layout;
-  std::vector<Pick> picks;       // sorted by line, as the solver keeps them
+  std::vector<Pick> picks;  // sorted by line, as the solver keeps them
   LineSegments segments;
-  std::vector<PickJacobian> J;   // each pick's Jacobian over its local parameters
-  std::vector<Vec2> Jx, r;       // and over its x, and its residuals
+  std::vector<PickJacobian> J;  // each pick's Jacobian over its local parameters
+  std::vector<Vec2> Jx, r;      // and over its x, and its residuals
   PickRows rows;
   std::vector<double> x;
   SolverState state;

@@ -15,9 +15,9 @@ namespace ccdlane::test {
 struct SceneOptions {
   int num_picks = 30;
   int num_lines = 2;
-  double max_angle_deg = 5.0;   // |psi|, |theta|, |phi| of the truth
-  double max_slope = 0.0;       // |m| of the truth (0: lines along x)
-  double max_curvature = 0.0;   // |c| of the truth, 1/mm
+  double max_angle_deg = 5.0;  // |psi|, |theta|, |phi| of the truth
+  double max_slope = 0.0;      // |m| of the truth (0: lines along x)
+  double max_curvature = 0.0;  // |c| of the truth, 1/mm
   // A bend instead (when max_radius_mm > 0): one curvature c = +-1 / (2 R) shared by all
   // lines (left or right at random), R uniform in [min_radius_mm, max_radius_mm].
   double min_radius_mm = 0.0;
@@ -32,8 +32,8 @@ struct SyntheticScene {
   CameraSpec camera;
   CameraPose truth;
   std::vector<LaneLine> lines;
-  std::vector<double> x_mm;    // each mark's truth distance ahead
-  std::vector<Pick> picks;     // exact projections of the marks
+  std::vector<double> x_mm;  // each mark's truth distance ahead
+  std::vector<Pick> picks;   // exact projections of the marks
 };
 
 // The reference camera (DH-HV2003UC, f = 5.05 mm, k = -8.3042e-7) of docs/geometry.md.

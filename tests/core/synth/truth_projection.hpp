@@ -24,8 +24,10 @@ inline std::optional<double> truth_column(const CameraModel& cam, const SynthFra
     const double mid = 0.5 * (lo + hi);
     const auto p = pixel_at(mid);
     if (!p) return std::nullopt;
-    if ((p->y() - py) * (plo->y() - py) > 0) lo = mid;
-    else hi = mid;
+    if ((p->y() - py) * (plo->y() - py) > 0)
+      lo = mid;
+    else
+      hi = mid;
   }
   return pixel_at(0.5 * (lo + hi))->x();
 }

@@ -4,11 +4,11 @@
 // indicator, and the frame handed to the renderer.
 #include "core/synth/vehicle_drive.hpp"
 
-#include "app/config.hpp"
-
 #include <cmath>
 
 #include <gtest/gtest.h>
+
+#include "app/config.hpp"
 
 namespace ccdlane {
 namespace {
@@ -86,11 +86,11 @@ TEST(VehicleDrive, LaneChangeMovesTheEgoLaneAndSignalsWhenAsked) {
   VehicleScenario s;
   s.lane_changes.push_back({5.0, 4.0, 1, true, 1.5});
   const VehicleDrive d(s, car());
-  EXPECT_EQ(d.frame(100).indicator, ldw::TurnIndicator::none);   // 3.3 s
-  EXPECT_EQ(d.frame(110).indicator, ldw::TurnIndicator::left);   // 3.7 s
-  EXPECT_EQ(d.frame(240).indicator, ldw::TurnIndicator::left);   // 8.0 s
-  EXPECT_EQ(d.frame(250).indicator, ldw::TurnIndicator::none);   // 8.3 s
-  EXPECT_EQ(d.frame(200).ego_lane, 1);  // 6.7 s: not yet across
+  EXPECT_EQ(d.frame(100).indicator, ldw::TurnIndicator::none);  // 3.3 s
+  EXPECT_EQ(d.frame(110).indicator, ldw::TurnIndicator::left);  // 3.7 s
+  EXPECT_EQ(d.frame(240).indicator, ldw::TurnIndicator::left);  // 8.0 s
+  EXPECT_EQ(d.frame(250).indicator, ldw::TurnIndicator::none);  // 8.3 s
+  EXPECT_EQ(d.frame(200).ego_lane, 1);                          // 6.7 s: not yet across
   const VehicleFrame end = d.frame(400);
   EXPECT_EQ(end.ego_lane, 0);
   EXPECT_NEAR(end.offset_m, 0.0, 1e-9);

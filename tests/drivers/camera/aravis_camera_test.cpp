@@ -88,7 +88,8 @@ StreamStats stream(AravisCamera& cam, int n) {
     if (s == CaptureStatus::frame) {
       const FrameMeta& m = pool.meta(i);
       // GigE Vision 1.x ids are 16 bits and skip 0 when they wrap.
-      if (st.frames > 0) st.id_gaps += m.sequence > last_id ? m.sequence - last_id - 1 : 0xffff - last_id + m.sequence - 1;
+      if (st.frames > 0)
+        st.id_gaps += m.sequence > last_id ? m.sequence - last_id - 1 : 0xffff - last_id + m.sequence - 1;
       st.max_age_ns = std::max(st.max_age_ns, monotonic_ns() - m.t_ns);
       const std::uint8_t probe = pool.view(i).row(cam.height() / 2)[cam.width() / 2];
       if (st.frames > 0 && probe != last_probe) st.images_change = true;
@@ -170,8 +171,7 @@ RampColours colours_of_rgb8(const ImageView& v, std::uint64_t id) {
   for (int y = 0; y < v.height; ++y)
     for (int x = 0; x < v.width; ++x)
       for (int ch = 0; ch < 3; ++ch)
-        c.of_level[(static_cast<std::uint64_t>(x + y) + id) % 255][static_cast<std::size_t>(ch)] =
-            v.row(y)[3 * x + ch];
+        c.of_level[(static_cast<std::uint64_t>(x + y) + id) % 255][static_cast<std::size_t>(ch)] = v.row(y)[3 * x + ch];
   return c;
 }
 

@@ -34,7 +34,11 @@ TEST(FramePool, BuffersAreDistinctAlignedAndSizedAsAsked) {
 }
 
 TEST(FramePool, ExplicitStrideAndBitsAreKept) {
-  FramePool pool({.count = 1, .width = 10, .height = 2, .format = PixelFormat::mono16, .stride_bytes = 100,
+  FramePool pool({.count = 1,
+                  .width = 10,
+                  .height = 2,
+                  .format = PixelFormat::mono16,
+                  .stride_bytes = 100,
                   .significant_bits = 12});
   EXPECT_EQ(pool.view(0).stride_bytes, 100);
   EXPECT_EQ(pool.view(0).significant_bits, 12);

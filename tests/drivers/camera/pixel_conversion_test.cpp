@@ -22,7 +22,8 @@ TEST(PixelConversion, Mono8CopiesRowsAndSkipsBothPaddings) {
 TEST(PixelConversion, LastRowNeedsNoPadding) {
   const std::vector<std::uint8_t> src{1, 2, 3, 99, 99, 4, 5, 6};  // 8 bytes: enough
   std::vector<std::uint8_t> dst(6);
-  EXPECT_TRUE(convert_frame(src.data(), 5, src.size(), WirePixels::mono8, {dst.data(), 3, 2, 3, PixelFormat::mono8, 8}));
+  EXPECT_TRUE(
+      convert_frame(src.data(), 5, src.size(), WirePixels::mono8, {dst.data(), 3, 2, 3, PixelFormat::mono8, 8}));
   EXPECT_FALSE(convert_frame(src.data(), 5, 7, WirePixels::mono8, {dst.data(), 3, 2, 3, PixelFormat::mono8, 8}));
 }
 
@@ -39,10 +40,10 @@ TEST(PixelConversion, Mono16LittleAndBigEndianGiveTheSameValues) {
 
 TEST(PixelConversion, YuyvKeepsTheLumaPlane) {
   // Y0 U Y1 V per pixel pair; 4x2 with a stride of 10 (2 padding bytes).
-  const std::vector<std::uint8_t> src{10, 128, 11, 129, 12, 130, 13, 131, 0, 0,
-                                      20, 1,   21, 2,   22, 3,   23, 4};
+  const std::vector<std::uint8_t> src{10, 128, 11, 129, 12, 130, 13, 131, 0, 0, 20, 1, 21, 2, 22, 3, 23, 4};
   std::vector<std::uint8_t> dst(8);
-  ASSERT_TRUE(convert_frame(src.data(), 10, src.size(), WirePixels::yuyv, {dst.data(), 4, 2, 4, PixelFormat::mono8, 8}));
+  ASSERT_TRUE(
+      convert_frame(src.data(), 10, src.size(), WirePixels::yuyv, {dst.data(), 4, 2, 4, PixelFormat::mono8, 8}));
   EXPECT_EQ(dst, (std::vector<std::uint8_t>{10, 11, 12, 13, 20, 21, 22, 23}));
 }
 
@@ -120,7 +121,8 @@ TEST(PixelConversion, BayerRggbTakesTheWindowAtEachPixel) {
   std::vector<std::uint8_t> src(16);
   for (int i = 0; i < 16; ++i) src[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(10 * (i + 1));
   std::vector<std::uint8_t> dst(48);
-  ASSERT_TRUE(convert_frame(src.data(), 4, src.size(), WirePixels::bayer_rggb, {dst.data(), 4, 4, 12, PixelFormat::rgb8, 8}));
+  ASSERT_TRUE(
+      convert_frame(src.data(), 4, src.size(), WirePixels::bayer_rggb, {dst.data(), 4, 4, 12, PixelFormat::rgb8, 8}));
   using P = std::vector<std::uint8_t>;
   EXPECT_EQ(rgb_at(dst, 4, 0, 0), (P{10, 35, 60}));
   EXPECT_EQ(rgb_at(dst, 4, 1, 0), (P{30, 45, 60}));
@@ -173,9 +175,11 @@ TEST(PixelConversion, AFlatColourSurvivesEveryBayerMosaic) {
 
 TEST(PixelConversion, RefusesOddBayerAndOddColour422) {
   std::vector<std::uint8_t> src(64), dst(64);
-  EXPECT_FALSE(convert_frame(src.data(), 3, src.size(), WirePixels::bayer_rggb, {dst.data(), 3, 2, 9, PixelFormat::rgb8, 8}));
+  EXPECT_FALSE(
+      convert_frame(src.data(), 3, src.size(), WirePixels::bayer_rggb, {dst.data(), 3, 2, 9, PixelFormat::rgb8, 8}));
   EXPECT_FALSE(convert_frame(src.data(), 6, src.size(), WirePixels::yuyv, {dst.data(), 3, 1, 9, PixelFormat::rgb8, 8}));
-  EXPECT_FALSE(convert_frame(src.data(), 4, src.size(), WirePixels::bayer_rggb, {dst.data(), 4, 2, 4, PixelFormat::mono8, 8}));
+  EXPECT_FALSE(
+      convert_frame(src.data(), 4, src.size(), WirePixels::bayer_rggb, {dst.data(), 4, 2, 4, PixelFormat::mono8, 8}));
   EXPECT_EQ(dst, std::vector<std::uint8_t>(64));
 }
 

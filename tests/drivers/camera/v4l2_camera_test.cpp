@@ -62,8 +62,8 @@ class V4l2CameraTest : public ::testing::Test {
                                      ? test::fake_pixel8(static_cast<std::uint32_t>(sequence), x, y)
                                      : test::fake_pixel16(static_cast<std::uint32_t>(sequence), x, y);
       if (v.at(x, y) != want)
-        return ::testing::AssertionFailure() << "frame " << sequence << " pixel (" << x << "," << y << ") is "
-                                             << v.at(x, y) << ", expected " << want;
+        return ::testing::AssertionFailure()
+               << "frame " << sequence << " pixel (" << x << "," << y << ") is " << v.at(x, y) << ", expected " << want;
     }
   return ::testing::AssertionSuccess();
 }
@@ -154,8 +154,8 @@ TEST_F(V4l2CameraTest, DeliversYuyvInColourWhenAskedOrAutomatic) {
       for (int y = 0; y < v.height; ++y)
         for (int x = 0; x < v.width; ++x)
           for (int c = 0; c < 3; ++c) {
-            const int want = static_cast<int>(std::lround(
-                bt601(c, test::fake_pixel8(static_cast<std::uint32_t>(meta.sequence), x, y), 50, 200)));
+            const int want = static_cast<int>(
+                std::lround(bt601(c, test::fake_pixel8(static_cast<std::uint32_t>(meta.sequence), x, y), 50, 200)));
             if (std::abs(v.row(y)[3 * x + c] - want) > 1 && bad++ < 3)
               ADD_FAILURE() << "frame " << meta.sequence << " (" << x << "," << y << ") channel " << c << ": "
                             << int{v.row(y)[3 * x + c]} << ", expected " << want;

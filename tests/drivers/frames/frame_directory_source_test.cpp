@@ -128,8 +128,8 @@ TEST(FrameDirectorySource, OpenNamesWhatIsWrong) {
   EXPECT_NE(none.open().find("nothing/frames.csv: cannot read"), std::string::npos);
   std::filesystem::remove(rec.path + "/000000.pgm");
   FrameDirectorySource unreadable({rec.path, 0.0, false, 0, 0});
-  EXPECT_EQ(unreadable.open(), rec.path + ": none of the 1 frames can be read (" + rec.path +
-                                   "/000000.pgm: missing (no such file))");
+  EXPECT_EQ(unreadable.open(),
+            rec.path + ": none of the 1 frames can be read (" + rec.path + "/000000.pgm: missing (no such file))");
 }
 
 TEST(FrameDirectorySource, CaptureAllocatesNothing) {

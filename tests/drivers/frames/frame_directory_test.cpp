@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -22,7 +22,8 @@ namespace {
 struct Frame {
   std::vector<std::uint8_t> bytes;
   MutableImageView view;
-  Frame(int w, int h, PixelFormat f = PixelFormat::mono8) : bytes(static_cast<std::size_t>(w * h * bytes_per_pixel(f))) {
+  Frame(int w, int h, PixelFormat f = PixelFormat::mono8)
+      : bytes(static_cast<std::size_t>(w * h * bytes_per_pixel(f))) {
     view = {bytes.data(), w, h, w * bytes_per_pixel(f), f, f == PixelFormat::mono16 ? 16 : 8};
   }
 };
@@ -130,7 +131,8 @@ TEST(FrameDirectory, WriterRefusesToOverwriteARecording) {
     FrameDirectoryWriter w(tmp.path(), {});
     FAIL() << "no error";
   } catch (const FrameDirectoryError& e) {
-    EXPECT_EQ(std::string(e.what()), tmp.path() + ": already holds a frame directory (frames.csv); choose another place");
+    EXPECT_EQ(std::string(e.what()),
+              tmp.path() + ": already holds a frame directory (frames.csv); choose another place");
   }
   EXPECT_THROW(FrameDirectoryWriter(tmp.file("frames.csv"), {}), FrameDirectoryError);  // not a directory
   EXPECT_THROW(FrameDirectoryWriter(tmp.file("x"), {false, {"psi"}}), FrameDirectoryError);
@@ -174,8 +176,8 @@ TEST(FrameDirectory, DamagedRecordingKeepsEveryGoodFrame) {
       EXPECT_EQ(f.bytes[0], i);
     }
   }
-  EXPECT_EQ(faults, (std::vector<PgmFault>{PgmFault::none, PgmFault::missing, PgmFault::truncated,
-                                           PgmFault::wrong_size, PgmFault::none, PgmFault::none}));
+  EXPECT_EQ(faults, (std::vector<PgmFault>{PgmFault::none, PgmFault::missing, PgmFault::truncated, PgmFault::wrong_size,
+                                           PgmFault::none, PgmFault::none}));
   EXPECT_EQ(errors[1], path + "/000001.pgm: missing (no such file)");
   EXPECT_EQ(errors[2], path + "/000002.pgm: truncated: 88 of 128 raster bytes");
   EXPECT_EQ(errors[3], path + "/000003.pgm: wrong size: 20x8, expected 16x8");

@@ -68,15 +68,15 @@ TEST(FramesCsv, OptionalVehicleColumns) {
 TEST(FramesCsv, MalformedRowsAreNamedAndSkipped) {
   const FramesCsv csv = parse_frames_csv(
       "file,t_ns,roll_deg,pitch_deg,truth_phi_deg\n"  // line 1
-      "0.pgm,100,0,0,0\n"                              // 2 good
-      "1.pgm,abc,0,0,0\n"                              // 3 t_ns
-      "2.pgm,100,0,0\n"                                // 4 field count
-      ",200,0,0,0\n"                                   // 5 empty file
-      "3.pgm,300,1,,0\n"                               // 6 half gyro
-      "4.pgm,400,0,0,x\n"                              // 7 truth
-      "5.pgm,50,0,0,0\n"                               // 8 backwards
-      "6.pgm,500,nan,0,0\n"                            // 9 not finite
-      "7.pgm,600,0,0,0\n",                             // 10 good
+      "0.pgm,100,0,0,0\n"                             // 2 good
+      "1.pgm,abc,0,0,0\n"                             // 3 t_ns
+      "2.pgm,100,0,0\n"                               // 4 field count
+      ",200,0,0,0\n"                                  // 5 empty file
+      "3.pgm,300,1,,0\n"                              // 6 half gyro
+      "4.pgm,400,0,0,x\n"                             // 7 truth
+      "5.pgm,50,0,0,0\n"                              // 8 backwards
+      "6.pgm,500,nan,0,0\n"                           // 9 not finite
+      "7.pgm,600,0,0,0\n",                            // 10 good
       "d/frames.csv");
   ASSERT_EQ(csv.rows.size(), 2u);
   EXPECT_EQ(csv.rows[1].file, "7.pgm");

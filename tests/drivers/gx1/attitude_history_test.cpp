@@ -2,12 +2,12 @@
 // "out of range", and a writer and readers racing (run under ThreadSanitizer too).
 #include "drivers/gx1/attitude_history.hpp"
 
-#include <gtest/gtest.h>
-
 #include <atomic>
 #include <cmath>
 #include <memory>
 #include <thread>
+
+#include <gtest/gtest.h>
 
 namespace ccdlane::gx1 {
 namespace {
@@ -137,8 +137,8 @@ TEST(AttitudeHistory, ReadersNeverSeeATornSample) {
     long n = 0;
     while (!done || n < 1000) {
       const std::uint64_t count = h->count();
-      const std::uint64_t base = n % 2 ? count - 2
-                                       : (count > AttitudeHistory::kCapacity ? count - AttitudeHistory::kCapacity : 0);
+      const std::uint64_t base =
+          n % 2 ? count - 2 : (count > AttitudeHistory::kCapacity ? count - AttitudeHistory::kCapacity : 0);
       const std::int64_t t = static_cast<std::int64_t>(base) * kMs + kMs / 2;
       const AttitudeQuery q = h->attitude_at(t, 10 * kMs);
       ++n;

@@ -4,9 +4,9 @@
 
 #include <unistd.h>
 
-#include <gtest/gtest.h>
-
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"

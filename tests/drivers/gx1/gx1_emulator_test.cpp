@@ -6,12 +6,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <fstream>
 #include <numbers>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "drivers/device_state.hpp"
 #include "drivers/gx1/serial_port.hpp"
@@ -84,7 +84,7 @@ TEST(Gx1Emulator, AnswersTheCommandsTheDriverUses) {
 
   const EulerVectorsReply v = host.ask<EulerVectorsReply>(encode_poll(cmd::stab_euler_vectors));
   EXPECT_EQ(v.roll, e.roll);
-  EXPECT_EQ(v.accel[2], -4681);  // -1 G at the default accel gain (V3)
+  EXPECT_EQ(v.accel[2], -4681);                               // -1 G at the default accel gain (V3)
   EXPECT_EQ(v.rate, (std::array<std::int16_t, 3>{0, 0, 0}));  // a fixed attitude does not turn
 
   // The quaternion is the same attitude: back to 3-2-1 Euler angles, within the

@@ -2,11 +2,11 @@
 // the sliding-window resynchronisation of section 7, and the command encoders.
 #include "drivers/gx1/gx1_protocol.hpp"
 
-#include <gtest/gtest.h>
-
 #include <random>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 namespace ccdlane::gx1 {
 namespace {

@@ -1,9 +1,9 @@
 // Proves "no allocation after open": a counting operator new watches the gyro thread
 // while it streams, queries the history, loses the device and reopens it.
-#include <gtest/gtest.h>
-
 #include <atomic>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "drivers/device_state.hpp"
 #include "drivers/gx1/gx1_emulator.hpp"

@@ -6,15 +6,15 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "drivers/gx1/gx1_emulator.hpp"
+#include <gtest/gtest.h>
+
 #include "drivers/device_state.hpp"
+#include "drivers/gx1/gx1_emulator.hpp"
 #include "tests/drivers/gx1/emulated_gx1.hpp"
 #include "tests/drivers/gx1/sent_packets_check.hpp"
 
@@ -155,12 +155,13 @@ TEST_F(Gx1SessionTest, NoValidPacketLostAndNoDamagedOneAcceptedUnderFaults) {
   EXPECT_GT(c.bad_checksums, 0u);
   EXPECT_GE(c.bytes_skipped, e.garbage_bytes - 9);  // all garbage skipped (the last may be in flight)
   EXPECT_EQ(c.hangups, 0u);
-  std::printf("faults: %llu flipped, %llu garbage bytes, %llu split; session: %llu samples, %llu bad checksums, "
-              "%llu unconfirmed, %llu bytes skipped\n",
-              static_cast<unsigned long long>(e.flipped), static_cast<unsigned long long>(e.garbage_bytes),
-              static_cast<unsigned long long>(e.split), static_cast<unsigned long long>(c.samples),
-              static_cast<unsigned long long>(c.bad_checksums), static_cast<unsigned long long>(c.unconfirmed),
-              static_cast<unsigned long long>(c.bytes_skipped));
+  std::printf(
+      "faults: %llu flipped, %llu garbage bytes, %llu split; session: %llu samples, %llu bad checksums, "
+      "%llu unconfirmed, %llu bytes skipped\n",
+      static_cast<unsigned long long>(e.flipped), static_cast<unsigned long long>(e.garbage_bytes),
+      static_cast<unsigned long long>(e.split), static_cast<unsigned long long>(c.samples),
+      static_cast<unsigned long long>(c.bad_checksums), static_cast<unsigned long long>(c.unconfirmed),
+      static_cast<unsigned long long>(c.bytes_skipped));
 }
 
 TEST_F(Gx1SessionTest, StreamOf0x31GivesTheSameAngles) {
@@ -195,9 +196,8 @@ TEST_F(Gx1SessionTest, StopsAndDrainsAStreamLeftRunning) {
   // Not one stale packet (sent before our start command) became a sample.
   const auto sent = emu.sent();
   for (const Gx1Sample& s : samples) {
-    const auto it = std::find_if(sent.begin(), sent.end(), [&](const SentPacket& p) {
-      return std::get<EulerReply>(p.reply).ticks == s.ticks;
-    });
+    const auto it = std::find_if(sent.begin(), sent.end(),
+                                 [&](const SentPacket& p) { return std::get<EulerReply>(p.reply).ticks == s.ticks; });
     ASSERT_NE(it, sent.end());
     EXPECT_GE(it->t_ns, e.last_start_ns) << "a packet of the old stream was delivered";
   }
@@ -248,7 +248,8 @@ TEST_F(Gx1SessionTest, AStalledSensorIsReconfigured) {
   ASSERT_EQ(session.open(), 0);
   ASSERT_GT(run(session, 200).size(), 5u);
   emu.stall(500);
-  run(session, 3000, [&] { return session.counters().stream_timeouts > 0 && session.state() == DeviceState::streaming; });
+  run(session, 3000,
+      [&] { return session.counters().stream_timeouts > 0 && session.state() == DeviceState::streaming; });
   const auto after = run(session, 300);
   ASSERT_GT(after.size(), 10u);
   EXPECT_GE(session.counters().stream_timeouts, 1u);

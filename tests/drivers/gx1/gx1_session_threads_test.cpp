@@ -1,17 +1,17 @@
 // The session as the daemon drives it: a gyro thread in poll_once(), a processing
 // thread asking attitude_at() and the counters, the emulator in its own thread. Run
 // under ThreadSanitizer in CI.
-#include <gtest/gtest.h>
-
 #include <atomic>
 #include <cmath>
 #include <string>
 #include <thread>
 
+#include <gtest/gtest.h>
+
+#include "drivers/device_state.hpp"
 #include "drivers/gx1/gx1_emulator.hpp"
 #include "drivers/gx1/gx1_session.hpp"
 #include "tests/drivers/gx1/emulated_gx1.hpp"
-#include "drivers/device_state.hpp"
 
 namespace ccdlane::gx1 {
 namespace {

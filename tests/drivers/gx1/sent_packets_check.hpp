@@ -3,10 +3,10 @@
 // and nothing else (no damaged packet accepted, nothing invented).
 #pragma once
 
-#include <gtest/gtest.h>
-
 #include <variant>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "drivers/gx1/gx1_emulator.hpp"
 

@@ -5,7 +5,6 @@
 #include "tests/drivers/camera/fake_v4l2/fake_v4l2_device.hpp"
 
 #include <fcntl.h>
-#include <fuse3/fuse_lowlevel.h>
 #include <linux/videodev2.h>
 #include <poll.h>
 #include <sys/eventfd.h>
@@ -27,6 +26,8 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+
+#include <fuse3/fuse_lowlevel.h>
 
 namespace ccdlane::test {
 namespace {
@@ -64,7 +65,8 @@ void guard(pid_t parent, int quit_fd, unsigned connection) {
   auto append_number = [](char* s, unsigned long v) {
     char digits[24];
     int n = 0;
-    do digits[n++] = static_cast<char>('0' + v % 10); while ((v /= 10) != 0);
+    do digits[n++] = static_cast<char>('0' + v % 10);
+    while ((v /= 10) != 0);
     while (*s) ++s;
     while (n) *s++ = digits[--n];
     *s = 0;
@@ -220,8 +222,10 @@ struct FakeV4l2Device::Impl {
       }
       next += static_cast<std::int64_t>(1e9 / rate);
       const std::int64_t wait = next - now_ns();
-      if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
-      else next = now_ns();  // fell behind (loaded machine): do not burst to catch up
+      if (wait > 0)
+        std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+      else
+        next = now_ns();  // fell behind (loaded machine): do not burst to catch up
       std::unique_lock lock(mutex);
       if (!streaming || stalled || unplugged || session == nullptr) continue;
       const std::uint32_t seq = sequence++;
@@ -252,7 +256,7 @@ struct FakeV4l2Device::Impl {
   static Impl& of(fuse_req_t req) { return *static_cast<Impl*>(fuse_req_userdata(req)); }
 
   static void op_getattr(fuse_req_t req, fuse_ino_t ino, fuse_file_info*) {
-    struct stat st{};
+    struct stat st {};
     st.st_ino = ino;
     st.st_mode = S_IFREG | 0666;
     st.st_nlink = 1;
@@ -295,7 +299,9 @@ struct FakeV4l2Device::Impl {
     {
       std::lock_guard lock(d.mutex);
       const auto have = static_cast<off_t>(d.data.size());
-      if (off < have) std::memcpy(out.data(), d.data.data() + off, static_cast<std::size_t>(std::min<off_t>(have - off, static_cast<off_t>(size))));
+      if (off < have)
+        std::memcpy(out.data(), d.data.data() + off,
+                    static_cast<std::size_t>(std::min<off_t>(have - off, static_cast<off_t>(size))));
     }
     const std::size_t n = off >= kFileSize ? 0 : std::min<std::size_t>(size, static_cast<std::size_t>(kFileSize - off));
     fuse_reply_buf(req, out.data(), n);
@@ -435,7 +441,8 @@ struct FakeV4l2Device::Impl {
         if (!input(in, in_size, r) || r.type != V4L2_BUF_TYPE_VIDEO_CAPTURE) return EINVAL;
         if (r.memory != V4L2_MEMORY_MMAP) return EINVAL;
         if (streaming) return EBUSY;
-        buffer_count = static_cast<int>(std::min<std::uint32_t>(r.count, static_cast<std::uint32_t>(options.max_buffers)));
+        buffer_count =
+            static_cast<int>(std::min<std::uint32_t>(r.count, static_cast<std::uint32_t>(options.max_buffers)));
         buffer_len = (pix.sizeimage + kPage - 1) / kPage * kPage;
         data.assign(buffer_len * static_cast<std::size_t>(buffer_count), 0);
         owned_by_device.assign(static_cast<std::size_t>(buffer_count), false);
@@ -458,7 +465,8 @@ struct FakeV4l2Device::Impl {
         }
         b.length = static_cast<std::uint32_t>(buffer_len);
         b.m.offset = static_cast<std::uint32_t>(b.index * buffer_len);
-        b.flags = V4L2_BUF_FLAG_MAPPED | V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | (owned_by_device[b.index] ? V4L2_BUF_FLAG_QUEUED : 0);
+        b.flags = V4L2_BUF_FLAG_MAPPED | V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC |
+                  (owned_by_device[b.index] ? V4L2_BUF_FLAG_QUEUED : 0);
         return reply(req, b);
       }
       case VIDIOC_DQBUF: {
@@ -503,8 +511,7 @@ struct FakeV4l2Device::Impl {
         fuse_reply_ioctl(req, 0, nullptr, 0);
         return 0;
       }
-      default:
-        return ENOTTY;
+      default: return ENOTTY;
     }
   }
 
@@ -546,7 +553,7 @@ struct FakeV4l2Device::Impl {
     }
     loop = std::thread([this, se] { serve(se); });
     // The kernel learns the file's size (the mmap range) only from a GETATTR.
-    struct stat st{};
+    struct stat st {};
     if (::stat(path.c_str(), &st) != 0 || st.st_size != kFileSize)
       throw std::runtime_error("fake v4l2: " + path + " does not show the served file");
     start_guardian(minor(st.st_dev));

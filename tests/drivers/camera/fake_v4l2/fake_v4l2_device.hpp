@@ -13,12 +13,12 @@
 namespace ccdlane::test {
 
 struct FakeV4l2Options {
-  std::vector<std::uint32_t> formats;                 // offered fourccs, in ENUM_FMT order
+  std::vector<std::uint32_t> formats;                  // offered fourccs, in ENUM_FMT order
   std::vector<std::pair<int, int>> sizes{{800, 600}};  // exact sizes it accepts; else the first
   double fps = 30.0;                                   // initial rate
   double max_fps = 240.0;
-  bool frame_rate_control = true;   // V4L2_CAP_TIMEPERFRAME
-  bool controls = true;             // exposure (auto, absolute) and gain
+  bool frame_rate_control = true;  // V4L2_CAP_TIMEPERFRAME
+  bool controls = true;            // exposure (auto, absolute) and gain
   int max_buffers = 16;
   std::string card = "ccdlane fake camera";
 };
