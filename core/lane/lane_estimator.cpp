@@ -43,6 +43,7 @@ std::string observability_problem(const LaneEstimatorOptions& options, bool roll
 
 LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
     : config_(config),
+      configured_attitude_(config.nominal_pose.attitude),
       detector_(config.camera, config.detection),
       solver_(config.camera, config.detection.max_picks, kMaxLaneLines),
       picks_(static_cast<std::size_t>(config.detection.max_picks)),
@@ -56,6 +57,11 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
 void LaneEstimator::reset() {
   reset_lines();
   ldw_.reset();
+}
+
+void LaneEstimator::set_mount_correction(double psi_deg, double theta_deg) {
+  config_.nominal_pose.attitude.psi = configured_attitude_.psi + deg_to_rad(psi_deg);
+  config_.nominal_pose.attitude.theta = configured_attitude_.theta + deg_to_rad(theta_deg);
 }
 
 void LaneEstimator::reset_lines() {
@@ -215,6 +221,7 @@ void LaneEstimator::run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle) {
   in.measurement = measured ? &measurement : nullptr;
   in.camera_ok = vehicle.camera_ok;
   in.gyro_ok = vehicle.gyro_ok;
+  in.calibrated = vehicle.calibrated;
   const ldw::LdwResult& r = ldw_.step(in);
 
   LdwEstimate& out = estimate_.ldw;

@@ -40,8 +40,9 @@ struct VehicleInputs {
   std::optional<double> speed_mps;       // empty: [vehicle] speed_kmh
   std::optional<double> yaw_rate_radps;  // + turning left; empty: none measured
   ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
-  bool camera_ok = true;  // false: the camera stalled or failed (LDW "camera_fault")
-  bool gyro_ok = true;    // false: a configured gyro is not delivering ("gyro_fault")
+  bool camera_ok = true;   // false: the camera stalled or failed (LDW "camera_fault")
+  bool gyro_ok = true;     // false: a configured gyro is not delivering ("gyro_fault")
+  bool calibrated = true;  // false: the mount is outside its allowed bounds (LDW "not_calibrated")
 };
 
 // Why solves set up as `options` say cannot determine what they are asked for, "" when
@@ -68,6 +69,11 @@ class LaneEstimator {
   // A frame that could not be read: ok = false (no_frame); the lane filter coasts.
   const LaneEstimate& no_frame(std::uint64_t frame, std::int64_t t_ns, const VehicleInputs& vehicle = {});
 
+  // The online refinement's correction to the configured mount's yaw and pitch
+  // (degrees): the pose the heading is measured from and cold starts begin at becomes
+  // the configured one plus this. Allocation-free; takes effect from the next frame.
+  void set_mount_correction(double psi_deg, double theta_deg);
+
   // Forgets the previous frames (their pose and lines, and the lane departure warning's
   // track and state).
   void reset();
@@ -90,6 +96,7 @@ class LaneEstimator {
   void miss();
 
   LaneEstimatorOptions config_;
+  Attitude configured_attitude_;  // config_.nominal_pose's before any mount correction
   LaneDetector detector_;
   LaneSolver solver_;
   LaneTracker tracker_;

@@ -206,6 +206,30 @@ TEST(LaneEstimator, DamagedAndEmptyFramesAndRecovery) {
   EXPECT_EQ(est.estimate(ImageView{}, 4, 0, f.gyro).reason, EstimateFailure::too_few_marks);
 }
 
+// A camera mounted 1.5 degrees off the configured yaw shows that much heading bias; the
+// online refinement's correction moves the reference the heading is measured from, and
+// the bias goes (3 of the solver's sigmas). An uncalibrated mount makes LDW unavailable.
+TEST(LaneEstimator, AMountCorrectionMovesTheHeadingReferenceAndUncalibratedStopsLdw) {
+  Config truth = small_camera();
+  truth.attitude.psi_deg += 1.5;
+  Drive d(truth);
+  Config configured = small_camera();
+  LaneEstimator est(configured.estimator_options());
+  const SynthFrame f0 = d.render(0);
+  const LaneEstimate& off = est.estimate(d.view, 0, f0.t_ns, f0.gyro);
+  ASSERT_TRUE(off.ok);
+  EXPECT_NEAR(off.heading_deg - f0.heading_deg, 1.5, 3 * off.sigma_psi_deg) << "the mis-mount is a heading bias";
+  est.set_mount_correction(1.5, 0.0);
+  VehicleInputs vehicle;
+  vehicle.calibrated = false;
+  const SynthFrame f1 = d.render(1);
+  const LaneEstimate& corrected = est.estimate(d.view, 1, f1.t_ns, f1.gyro, vehicle);
+  ASSERT_TRUE(corrected.ok);
+  EXPECT_NEAR(corrected.heading_deg, f1.heading_deg, 3 * corrected.sigma_psi_deg);
+  EXPECT_FALSE(corrected.ldw.available);
+  EXPECT_EQ(corrected.ldw.reason, ldw::Availability::not_calibrated);
+}
+
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
@@ -231,6 +255,7 @@ TEST(LaneEstimator, EstimatingAllocatesNothing) {
   est.reset();                                           // the cold-start path (detect twice) too
   EXPECT_TRUE(est.estimate(view(1), 1, frames[1].t_ns, frames[1].gyro).ok);
   est.no_frame(2, 0);
+  est.set_mount_correction(0.5, -0.5);
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_TRUE(ldw_tracked) << "the LDW chain ran on the solves";
 }
