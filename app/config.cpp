@@ -25,6 +25,18 @@ LaneEstimatorOptions Config::estimator_options() const {
   return o;
 }
 
+calibration::OnlineMountOptions Config::online_mount_options() const {
+  calibration::OnlineMountOptions o;
+  o.configured_psi_deg = attitude.psi_deg;
+  o.configured_theta_deg = attitude.theta_deg;
+  o.min_speed_kmh = calibration.min_speed_kmh;
+  o.max_curvature_per_m = 1.0 / calibration.min_radius_m;
+  o.max_correction_deg = calibration.max_correction_deg;
+  o.max_change_deg_per_min = calibration.max_change_deg_per_min;
+  o.frames_needed = calibration.frames_needed;
+  return o;
+}
+
 Config default_config() {
   Config c;
   c.camera = CameraSpec{};

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bus/lcm_publisher.hpp"
+#include "core/calibration/online_mount_refiner.hpp"
 #include "core/detection/detection_config.hpp"
 #include "core/geometry/attitude.hpp"
 #include "core/geometry/camera_model.hpp"
@@ -79,6 +80,21 @@ struct DaemonConfig {
   bool operator==(const DaemonConfig&) const = default;
 };
 
+// [calibration]: ccdlaned's online refinement of the mount's yaw and pitch ([attitude]
+// psi_deg and theta_deg stay the starting point and the centre of the bounds).
+struct CalibrationConfig {
+  bool online = false;
+  double min_speed_kmh = 50.0;
+  double min_radius_m = 1500.0;  // road bends tighter than this are not used
+  double max_correction_deg = 3.0;
+  double max_change_deg_per_min = 0.5;
+  int frames_needed = 900;
+  std::string state_file;       // "" = mount-refinement.toml in $STATE_DIRECTORY (none: not kept)
+  double save_period_s = 60.0;  // how often a changed estimate is written while running
+
+  bool operator==(const CalibrationConfig&) const = default;
+};
+
 struct Config {
   std::string path;  // where it was loaded from ("" for built-in defaults)
   CameraSpec camera;
@@ -99,11 +115,14 @@ struct Config {
   // [ldw]: the lane departure warning's tunables. Its own `vehicle` member is not read
   // from the file: estimator_options() fills it from [vehicle] above.
   ldw::LdwConfig ldw;
+  CalibrationConfig calibration;
 
   // The nominal pose: [attitude] angles, [mount] H_mm, [camera] f_mm.
   CameraPose nominal_pose() const;
   // What the lane estimator needs of all this.
   LaneEstimatorOptions estimator_options() const;
+  // What the online mount refiner needs: [calibration] around [attitude].
+  calibration::OnlineMountOptions online_mount_options() const;
   bool operator==(const Config&) const = default;
 };
 

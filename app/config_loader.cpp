@@ -562,16 +562,39 @@ void read_ldw(TableReader& r, Config& c) {
           "must be > 0 and <= 2000");
 }
 
+void read_calibration(TableReader& r, Config& c) {
+  CalibrationConfig& k = c.calibration;
+  r.boolean("online", k.online);
+  r.number("min_speed_kmh", k.min_speed_kmh);
+  r.number("min_radius_m", k.min_radius_m);
+  r.number("max_correction_deg", k.max_correction_deg);
+  r.number("max_change_deg_per_min", k.max_change_deg_per_min);
+  r.integer("frames_needed", k.frames_needed);
+  r.string("state_file", k.state_file);
+  r.number("save_period_s", k.save_period_s);
+  r.reject_unknown();
+  require(k.min_speed_kmh >= 0.0 && k.min_speed_kmh <= 200.0, r, "min_speed_kmh", "must be 0..200");
+  require(k.min_radius_m >= 100.0 && k.min_radius_m <= 1e6, r, "min_radius_m", "must be 100..1000000");
+  require(k.max_correction_deg > 0.0 && k.max_correction_deg <= 10.0, r, "max_correction_deg", "must be > 0 and <= 10");
+  require(k.max_change_deg_per_min > 0.0 && k.max_change_deg_per_min <= 60.0, r, "max_change_deg_per_min",
+          "must be > 0 and <= 60");
+  require(k.frames_needed >= 30 && k.frames_needed <= 1'000'000, r, "frames_needed", "must be 30..1000000");
+  require(k.state_file.empty() || k.state_file.front() == '/', r, "state_file",
+          "must be an absolute path (or left out: $STATE_DIRECTORY/mount-refinement.toml)");
+  require(k.save_period_s >= 1.0 && k.save_period_s <= 86400.0, r, "save_period_s", "must be 1..86400");
+}
+
 using SectionReader = void (*)(TableReader&, Config&);
 struct Section {
   const char* name;
   SectionReader read;
 };
 constexpr Section kSections[] = {
-    {"camera", read_camera},     {"mount", read_mount},   {"attitude", read_attitude}, {"solver", read_solver},
-    {"prior", read_prior},       {"gyro", read_gyro},     {"source", read_source},     {"lcm", read_lcm},
-    {"realtime", read_realtime}, {"daemon", read_daemon}, {"synth", read_synth},       {"detection", read_detection},
-    {"vehicle", read_vehicle},   {"ldw", read_ldw},
+    {"camera", read_camera},   {"mount", read_mount}, {"attitude", read_attitude},
+    {"solver", read_solver},   {"prior", read_prior}, {"gyro", read_gyro},
+    {"source", read_source},   {"lcm", read_lcm},     {"realtime", read_realtime},
+    {"daemon", read_daemon},   {"synth", read_synth}, {"detection", read_detection},
+    {"vehicle", read_vehicle}, {"ldw", read_ldw},     {"calibration", read_calibration},
 };
 
 }  // namespace

@@ -296,6 +296,40 @@ TEST(ConfigLoader, VehicleAndLdwTables) {
             "test.toml:2: ldw.confirm_updates: must be an integer, got a number");
 }
 
+TEST(ConfigLoader, CalibrationTable) {
+  const Config d = parse_config("", "empty.toml");
+  EXPECT_EQ(d.calibration, CalibrationConfig{});
+  EXPECT_FALSE(d.calibration.online);
+
+  const Config c = parse_config(
+      "[attitude]\npsi_deg = 0.5\ntheta_deg = 4\n[calibration]\nonline = true\nmin_speed_kmh = 40\n"
+      "min_radius_m = 2000\nmax_correction_deg = 2\nmax_change_deg_per_min = 1\nframes_needed = 600\n"
+      "state_file = \"/var/lib/x/m.toml\"\nsave_period_s = 30\n",
+      "k.toml");
+  EXPECT_TRUE(c.calibration.online);
+  EXPECT_EQ(c.calibration.state_file, "/var/lib/x/m.toml");
+  EXPECT_EQ(c.calibration.save_period_s, 30.0);
+  const calibration::OnlineMountOptions o = c.online_mount_options();
+  EXPECT_EQ(o.configured_psi_deg, 0.5) << "the configured mount is the centre";
+  EXPECT_EQ(o.configured_theta_deg, 4.0);
+  EXPECT_EQ(o.min_speed_kmh, 40.0);
+  EXPECT_EQ(o.max_curvature_per_m, 1.0 / 2000.0);
+  EXPECT_EQ(o.max_correction_deg, 2.0);
+  EXPECT_EQ(o.max_change_deg_per_min, 1.0);
+  EXPECT_EQ(o.frames_needed, 600);
+
+  EXPECT_EQ(error_of("[calibration]\nonline = 1\n"),
+            "test.toml:2: calibration.online: must be true or false, got an integer");
+  EXPECT_EQ(error_of("[calibration]\nmax_correction_deg = 0\n"),
+            "test.toml:2: calibration.max_correction_deg: must be > 0 and <= 10");
+  EXPECT_EQ(error_of("[calibration]\nframes_needed = 10\n"),
+            "test.toml:2: calibration.frames_needed: must be 30..1000000");
+  EXPECT_EQ(error_of("[calibration]\nstate_file = \"m.toml\"\n"),
+            "test.toml:2: calibration.state_file: must be an absolute path (or left out: "
+            "$STATE_DIRECTORY/mount-refinement.toml)");
+  EXPECT_EQ(error_of("[calibration]\nyaw = 1\n"), "test.toml:2: calibration.yaw: unknown key");
+}
+
 TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
   const std::vector<std::string> keys = config_keys();
   for (const char* k : {"camera.Nu",
