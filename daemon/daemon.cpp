@@ -16,6 +16,7 @@
 #include "daemon/allocation_counter.hpp"
 #include "daemon/frame_processor.hpp"
 #include "daemon/latency_window.hpp"
+#include "daemon/online_calibration.hpp"
 #include "daemon/pipeline.hpp"
 #include "daemon/realtime.hpp"
 #include "daemon/sd_notifier.hpp"
@@ -31,10 +32,11 @@ constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
 // Everything the status thread reads once a second, gathered without allocating.
 class StatusTicker {
  public:
-  StatusTicker(Pipeline& pipeline, AttitudeProvider* gyro, LcmPublisher& publisher, SystemdNotifier& notifier,
-               const std::string& camera, std::int64_t start_ns)
+  StatusTicker(Pipeline& pipeline, AttitudeProvider* gyro, OnlineCalibration& calibration, LcmPublisher& publisher,
+               SystemdNotifier& notifier, const std::string& camera, std::int64_t start_ns)
       : pipeline_(pipeline),
         gyro_(gyro),
+        calibration_(calibration),
         publisher_(publisher),
         notifier_(notifier),
         report_(camera, publisher.instance()),
@@ -64,6 +66,8 @@ class StatusTicker {
     }
     in.gyro_problem = gyro_problem;
     in.allocations_since_ready = in.totals.ready ? allocation_counter::count() : 0;
+    calibration_.tick(monotonic_ns());
+    in.calibration = calibration_.status();
     report_.update(in);
     if (!publisher_.publish_status(report_.message()) && first_time(said_publish_failed_))
       log_line(LogLevel::warning, "lcm", "%s: publishing status on %s failed (further failures not logged)",
@@ -78,6 +82,7 @@ class StatusTicker {
  private:
   Pipeline& pipeline_;
   AttitudeProvider* gyro_;
+  OnlineCalibration& calibration_;
   LcmPublisher& publisher_;
   SystemdNotifier& notifier_;
   StatusReport report_;
@@ -127,7 +132,8 @@ int run_daemon(const Config& config) {
 
   std::unique_ptr<FrameSource> source;
   std::unique_ptr<AttitudeProvider> gyro;
-  std::unique_ptr<FrameProcessor> processor;
+  std::unique_ptr<EstimatorProcessor> processor;
+  std::unique_ptr<OnlineCalibration> calibration;
   std::unique_ptr<LcmPublisher> publisher;
   bool source_open = false, gyro_open = false;
   // A start that fails half-way leaves no stream running and no device open.
@@ -159,6 +165,8 @@ int run_daemon(const Config& config) {
       gyro_open = true;
     }
     processor = std::make_unique<EstimatorProcessor>(config, *source);
+    calibration = std::make_unique<OnlineCalibration>(config);
+    if (calibration->enabled()) processor->attach(*calibration);
     publisher = std::make_unique<LcmPublisher>(config.lcm);
     publisher->set_instance(instance_name());
     publisher->watch_for_other_instances();
@@ -170,7 +178,7 @@ int run_daemon(const Config& config) {
 
   Pipeline pipeline(*source, gyro.get(), *processor, *publisher, realtime, pipeline_options(config));
   ServiceHeartbeat heartbeat(notifier);
-  StatusTicker status(pipeline, gyro.get(), *publisher, notifier, source->describe(), start_ns);
+  StatusTicker status(pipeline, gyro.get(), *calibration, *publisher, notifier, source->describe(), start_ns);
   const FramePoolLayout& pool = pipeline.pool().layout();
   log_line(LogLevel::info, "start",
            "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s, instance %s",
@@ -221,7 +229,8 @@ int run_daemon(const Config& config) {
   pipeline.stop();  // threads joined: the capture wait is bounded, queued frames are left
   source->close();  // streams off, device closed
   if (gyro) gyro->close();
-  status.tick();  // the last word on the bus; udpm sends synchronously, nothing is left queued
+  calibration->stop();  // the processing thread has ended: the last estimate is saved
+  status.tick();        // the last word on the bus; udpm sends synchronously, nothing is left queued
   const status_t& s = status.last();
   // in = processed + dropped + left queued at the stop: every frame is accounted for.
   log_line(LogLevel::info, "stop",

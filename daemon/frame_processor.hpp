@@ -10,6 +10,7 @@
 #include "base/image_view.hpp"
 #include "core/lane/lane_estimate.hpp"
 #include "core/lane/lane_estimator.hpp"
+#include "daemon/online_calibration.hpp"
 #include "drivers/frame_source.hpp"
 
 namespace ccdlane {
@@ -34,12 +35,21 @@ class EstimatorProcessor final : public FrameProcessor {
   // source's frames are not the camera's Nu x Nv.
   EstimatorProcessor(const Config& config, const FrameSource& source);
 
+  // The online mount refinement sees every frame from now on (not owned; it must outlive
+  // the processor). Before the pipeline starts.
+  void attach(OnlineCalibration& calibration) { calibration_ = &calibration; }
+
   LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) override {
-    return estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude);
+    VehicleInputs vehicle;
+    if (calibration_) calibration_->before_frame(estimator_, vehicle);
+    const LaneEstimate& e = estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude, vehicle);
+    if (calibration_) calibration_->after_frame(e, vehicle);
+    return e;
   }
 
  private:
   LaneEstimator estimator_;
+  OnlineCalibration* calibration_ = nullptr;
 };
 
 }  // namespace ccdlane

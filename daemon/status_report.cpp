@@ -22,6 +22,12 @@ static_assert(static_cast<int>(GyroState::starting) == status_t::GYRO_STARTING);
 static_assert(static_cast<int>(GyroState::ok) == status_t::GYRO_OK);
 static_assert(static_cast<int>(GyroState::stale) == status_t::GYRO_STALE);
 static_assert(static_cast<int>(GyroState::lost) == status_t::GYRO_LOST);
+using calibration::OnlineMountState;
+static_assert(static_cast<int>(OnlineMountState::off) == status_t::CALIBRATION_OFF);
+static_assert(static_cast<int>(OnlineMountState::uncalibrated) == status_t::CALIBRATION_UNCALIBRATED);
+static_assert(static_cast<int>(OnlineMountState::calibrating) == status_t::CALIBRATION_CALIBRATING);
+static_assert(static_cast<int>(OnlineMountState::calibrated) == status_t::CALIBRATION_CALIBRATED);
+static_assert(static_cast<int>(OnlineMountState::out_of_range) == status_t::CALIBRATION_OUT_OF_RANGE);
 static_assert(sizeof(status_t::not_ok_by_reason) / sizeof(std::int64_t) == kEstimateFailureKinds);
 
 void assign_cut(std::string& field, const char* text) { field.assign(text, strnlen(text, kStatusTextMax)); }
@@ -93,6 +99,17 @@ const status_t& StatusReport::update(const StatusInputs& in) {
   m.publish_errors_total = total(t.publish_errors);
   m.frame_publish_errors_total = total(t.frame_publish_errors);
   m.latency_samples_lost_total = total(t.latency_samples_lost);
+
+  const calibration::OnlineMountStatus& k = in.calibration;
+  m.calibration_state = static_cast<std::int8_t>(k.state);
+  m.calibration_progress = k.progress;
+  m.calibration_yaw_deg = k.applied.psi_deg;
+  m.calibration_pitch_deg = k.applied.theta_deg;
+  m.calibration_yaw_estimate_deg = k.estimate.psi_deg;
+  m.calibration_pitch_estimate_deg = k.estimate.theta_deg;
+  m.calibration_yaw_sigma_deg = k.sigma.psi_deg;
+  m.calibration_pitch_sigma_deg = k.sigma.theta_deg;
+  m.calibration_frames_total = k.frames;
 
   previous_ = t;
   previous_uptime_us_ = in.uptime_us;

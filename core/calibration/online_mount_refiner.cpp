@@ -135,4 +135,8 @@ MountAngles OnlineMountRefiner::sigma() const {
 
 LearnedMount OnlineMountRefiner::learned() const { return {estimate(), applied_, spread(), frames_}; }
 
+OnlineMountStatus OnlineMountRefiner::status() const {
+  return {state(), progress(), applied_, estimate(), sigma(), frames_};
+}
+
 }  // namespace ccdlane::calibration

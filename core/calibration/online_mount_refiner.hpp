@@ -72,6 +72,14 @@ struct LearnedMount {
   std::int64_t frames = 0;
 };
 
+// Everything a status report says about the refinement, in one copyable value.
+struct OnlineMountStatus {
+  OnlineMountState state = OnlineMountState::off;
+  double progress = 0.0;
+  MountAngles applied, estimate, sigma;
+  std::int64_t frames = 0;
+};
+
 class OnlineMountRefiner {
  public:
   explicit OnlineMountRefiner(const OnlineMountOptions& options);
@@ -96,6 +104,7 @@ class OnlineMountRefiner {
   const MountAngles& applied() const { return applied_; }
   const MountSampleCounts& counts() const { return counts_; }
   LearnedMount learned() const;
+  OnlineMountStatus status() const;
   const OnlineMountOptions& options() const { return options_; }
 
  private:

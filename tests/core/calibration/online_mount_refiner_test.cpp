@@ -65,6 +65,12 @@ TEST(OnlineMountRefiner, CalibratingReportsProgressThenCalibrated) {
   for (int i = 0; i < 150; ++i) r.add(d.next());
   EXPECT_EQ(r.state(), OnlineMountState::calibrated);
   EXPECT_DOUBLE_EQ(r.progress(), 1.0);
+  const OnlineMountStatus s = r.status();
+  EXPECT_EQ(s.state, OnlineMountState::calibrated);
+  EXPECT_EQ(s.frames, 300);
+  EXPECT_EQ(s.estimate, r.estimate());
+  EXPECT_EQ(s.sigma, r.sigma());
+  EXPECT_EQ(s.applied, r.applied());
 }
 
 TEST(OnlineMountRefiner, EstimateConvergesToTheTrueMountWithinItsSigma) {

@@ -1,0 +1,199 @@
+// The processing thread publishes its snapshot only when the mutex is free: a frame whose
+// snapshot is skipped is followed by another a frame later, while a processing thread
+// that waited on the status thread would be a real-time thread blocked by a normal one.
+#include "daemon/online_calibration.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "base/log.hpp"
+#include "daemon/mount_state_file.hpp"
+
+namespace ccdlane {
+namespace {
+
+using calibration::LearnedMount;
+using calibration::OnlineMountState;
+using calibration::OnlineMountStatus;
+
+constexpr std::size_t kMaxStateFileBytes = 4096;
+
+// [calibration] state_file, else the first directory of $STATE_DIRECTORY (systemd's
+// StateDirectory=; it may list several, separated by ':'); "" when neither is set.
+std::string state_file_path(const Config& config) {
+  if (!config.calibration.state_file.empty()) return config.calibration.state_file;
+  const char* dirs = std::getenv("STATE_DIRECTORY");
+  if (!dirs || !*dirs) return "";
+  std::string dir(dirs);
+  dir = dir.substr(0, dir.find(':'));
+  return dir + "/" + kMountStateFileName;
+}
+
+// The road's curvature at the vehicle (|1/R|, per metre) from the solved lines: the
+// curvature of y = y0 + m x + c x^2 at x = 0 is 2c; lines of one road share it.
+double road_curvature_per_m(const LaneEstimate& e) {
+  double sum = 0.0;
+  for (int j = 0; j < e.num_lines; ++j) sum += e.lines[static_cast<std::size_t>(j)].c_per_mm;
+  return e.num_lines > 0 ? std::abs(2.0 * sum / e.num_lines) * 1e3 : 0.0;
+}
+
+}  // namespace
+
+OnlineCalibration::OnlineCalibration(const Config& config)
+    : enabled_(config.calibration.online),
+      options_(config.online_mount_options()),
+      save_period_ns_(static_cast<std::int64_t>(config.calibration.save_period_s * 1e9)),
+      refiner_(options_) {
+  if (!enabled_) return;
+  path_ = state_file_path(config);
+  if (!path_.empty()) tmp_path_ = path_ + ".tmp";
+  load();
+  shared_status_ = refiner_.status();
+  shared_learned_ = refiner_.learned();
+  logged_state_ = shared_status_.state;
+  logged_applied_ = shared_status_.applied;
+  saved_frames_ = shared_learned_.frames;
+}
+
+void OnlineCalibration::load() {
+  if (path_.empty()) {
+    log_line(LogLevel::notice, "calibration",
+             "no [calibration] state_file and no $STATE_DIRECTORY: the mount learned online is not kept across "
+             "restarts; starting uncalibrated");
+    return;
+  }
+  std::ifstream in(path_, std::ios::binary);
+  if (!in) {
+    if (errno == ENOENT)
+      log_line(LogLevel::info, "calibration", "%s: no mount learned yet; starting uncalibrated", path_.c_str());
+    else
+      log_line(LogLevel::warning, "calibration", "%s: cannot be read (%s); starting uncalibrated", path_.c_str(),
+               std::strerror(errno));
+    return;
+  }
+  std::string text(kMaxStateFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  std::string why;
+  LearnedMount learned;
+  if (text.size() > kMaxStateFileBytes)
+    why = "larger than " + std::to_string(kMaxStateFileBytes) + " bytes: not a state file";
+  else if (text.find('\0') != std::string::npos)
+    why = "holds NUL bytes: not a state file";
+  else
+    why = parse_mount_state(text, options_, learned);
+  if (!why.empty()) {
+    log_line(LogLevel::warning, "calibration", "%s: not used: %s; starting uncalibrated", path_.c_str(), why.c_str());
+    return;
+  }
+  refiner_.restore(learned);
+  log_line(LogLevel::info, "calibration",
+           "%s: learned mount loaded: correction yaw %+.3f pitch %+.3f deg (estimate %+.3f %+.3f, %lld frames); %s",
+           path_.c_str(), learned.applied.psi_deg, learned.applied.theta_deg, learned.estimate.psi_deg,
+           learned.estimate.theta_deg, static_cast<long long>(learned.frames), to_string(refiner_.state()));
+}
+
+void OnlineCalibration::before_frame(LaneEstimator& estimator, VehicleInputs& vehicle) {
+  if (!enabled_) return;
+  estimator.set_mount_correction(refiner_.applied().psi_deg, refiner_.applied().theta_deg);
+  vehicle.calibrated = refiner_.state() != OnlineMountState::out_of_range;
+}
+
+void OnlineCalibration::after_frame(const LaneEstimate& e, const VehicleInputs& vehicle) {
+  if (!enabled_) return;
+  calibration::MountSample s;
+  s.t_ns = e.t_ns;
+  // ok: solved, with a line on each side of the vehicle; a roll that could not be
+  // observed leaves yaw and pitch in doubt too.
+  s.solved = e.ok && !e.roll_unobservable;
+  s.speed_kmh = e.ldw.speed_mps * 3.6;  // the speed LDW used: the vehicle's, else [vehicle] speed_kmh
+  s.curvature_per_m = road_curvature_per_m(e);
+  if (vehicle.yaw_rate_radps) s.yaw_rate_deg_s = *vehicle.yaw_rate_radps * 180.0 / 3.14159265358979323846;
+  s.psi_deg = e.psi_deg;
+  s.theta_deg = e.theta_deg;
+  refiner_.add(s);
+  std::unique_lock lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  shared_status_ = refiner_.status();
+  shared_learned_ = refiner_.learned();
+}
+
+OnlineMountStatus OnlineCalibration::status() const {
+  std::lock_guard lock(mutex_);
+  return shared_status_;
+}
+
+void OnlineCalibration::log_changes(const OnlineMountStatus& s, std::int64_t now_ns) {
+  if (s.state != logged_state_) {
+    if (s.state == OnlineMountState::out_of_range)
+      log_line(LogLevel::warning, "calibration",
+               "out of range: the mount learned is yaw %+.3f pitch %+.3f deg off [attitude], beyond "
+               "max_correction_deg %.3f; lane departure warning unavailable (not calibrated)",
+               s.estimate.psi_deg, s.estimate.theta_deg, options_.max_correction_deg);
+    else
+      log_line(LogLevel::info, "calibration",
+               "%s -> %s (estimate yaw %+.3f +- %.3f, pitch %+.3f +- %.3f deg, %lld frames)", to_string(logged_state_),
+               to_string(s.state), s.estimate.psi_deg, s.sigma.psi_deg, s.estimate.theta_deg, s.sigma.theta_deg,
+               static_cast<long long>(s.frames));
+    logged_state_ = s.state;
+  }
+  const bool moved = std::abs(s.applied.psi_deg - logged_applied_.psi_deg) >= kLoggedChangeDeg ||
+                     std::abs(s.applied.theta_deg - logged_applied_.theta_deg) >= kLoggedChangeDeg;
+  if (moved && now_ns - logged_change_ns_ >= kChangeLogPeriodNs) {
+    log_line(LogLevel::info, "calibration",
+             "mount correction now yaw %+.3f pitch %+.3f deg (was %+.3f %+.3f; estimate %+.3f +- %.3f, %+.3f +- %.3f)",
+             s.applied.psi_deg, s.applied.theta_deg, logged_applied_.psi_deg, logged_applied_.theta_deg,
+             s.estimate.psi_deg, s.sigma.psi_deg, s.estimate.theta_deg, s.sigma.theta_deg);
+    logged_applied_ = s.applied;
+    logged_change_ns_ = now_ns;
+  }
+}
+
+void OnlineCalibration::tick(std::int64_t now_ns) {
+  if (!enabled_) return;
+  OnlineMountStatus s;
+  LearnedMount learned;
+  {
+    std::lock_guard lock(mutex_);
+    s = shared_status_;
+    learned = shared_learned_;
+  }
+  log_changes(s, now_ns);
+  if (saved_ns_ == 0) saved_ns_ = now_ns;  // the first period counts from the first tick
+  if (s.state == OnlineMountState::calibrated && learned.frames != saved_frames_ &&
+      now_ns - saved_ns_ >= save_period_ns_) {
+    save(learned);
+    saved_ns_ = now_ns;
+  }
+}
+
+void OnlineCalibration::stop() {
+  if (!enabled_) return;
+  // The processing thread has ended: its refiner is ours now, complete to the last frame.
+  const OnlineMountStatus s = refiner_.status();
+  log_changes(s, logged_change_ns_ + kChangeLogPeriodNs);
+  if (s.state == OnlineMountState::calibrated && refiner_.learned().frames != saved_frames_) save(refiner_.learned());
+}
+
+void OnlineCalibration::save(const LearnedMount& learned) {
+  if (path_.empty()) return;
+  char text[1024];
+  const std::size_t n = format_mount_state(learned, options_, text, sizeof text);
+  const FileWriteError e =
+      n ? write_file_atomically(path_.c_str(), tmp_path_.c_str(), text, n) : FileWriteError{"format", 0};
+  if (e) {
+    if (!save_failed_said_)
+      log_line(LogLevel::warning, "calibration",
+               "%s: cannot save the learned mount (%s: %s); further failures not logged", path_.c_str(), e.step,
+               std::strerror(e.error));
+    save_failed_said_ = true;
+    return;
+  }
+  saved_frames_ = learned.frames;
+}
+
+}  // namespace ccdlane
