@@ -99,5 +99,27 @@ TEST(StatusReport, TextsAreCutToTheirReservedSizeWithoutAllocating) {
   EXPECT_EQ(m.gyro_problem.size(), kStatusTextMax);
 }
 
+TEST(StatusReport, TheOnlineCalibrationIsReported) {
+  StatusReport report("test-pattern 800x600");
+  EXPECT_EQ(report.update(inputs_at(1, 30, 30, 30, 0)).calibration_state, status_t::CALIBRATION_OFF);
+  StatusInputs in = inputs_at(2, 60, 60, 60, 0);
+  in.calibration.state = calibration::OnlineMountState::calibrating;
+  in.calibration.progress = 0.25;
+  in.calibration.applied = {0.5, -0.25};
+  in.calibration.estimate = {1.5, -2.0};
+  in.calibration.sigma = {0.03, 0.01};
+  in.calibration.frames = 225;
+  const status_t& m = report.update(in);
+  EXPECT_EQ(m.calibration_state, status_t::CALIBRATION_CALIBRATING);
+  EXPECT_EQ(m.calibration_progress, 0.25);
+  EXPECT_EQ(m.calibration_yaw_deg, 0.5);
+  EXPECT_EQ(m.calibration_pitch_deg, -0.25);
+  EXPECT_EQ(m.calibration_yaw_estimate_deg, 1.5);
+  EXPECT_EQ(m.calibration_pitch_estimate_deg, -2.0);
+  EXPECT_EQ(m.calibration_yaw_sigma_deg, 0.03);
+  EXPECT_EQ(m.calibration_pitch_sigma_deg, 0.01);
+  EXPECT_EQ(m.calibration_frames_total, 225);
+}
+
 }  // namespace
 }  // namespace ccdlane
