@@ -27,4 +27,15 @@ const char* gyro_state_name(int code) {
   return code >= 0 && code <= status_t::GYRO_LOST ? to_string(static_cast<GyroState>(code)) : "unknown";
 }
 
+const char* calibration_state_name(int code) {
+  switch (code) {
+    case status_t::CALIBRATION_OFF: return "off";
+    case status_t::CALIBRATION_UNCALIBRATED: return "uncalibrated";
+    case status_t::CALIBRATION_CALIBRATING: return "calibrating";
+    case status_t::CALIBRATION_CALIBRATED: return "calibrated";
+    case status_t::CALIBRATION_OUT_OF_RANGE: return "out_of_range";
+    default: return "unknown";
+  }
+}
+
 }  // namespace ccdlane

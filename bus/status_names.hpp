@@ -8,5 +8,7 @@ namespace ccdlane {
 const char* camera_state_name(int code);
 // status_t::GYRO_* -> "none", "starting", "ok", "stale", "lost".
 const char* gyro_state_name(int code);
+// status_t::CALIBRATION_* -> "off", "uncalibrated", "calibrating", "calibrated", "out_of_range".
+const char* calibration_state_name(int code);
 
 }  // namespace ccdlane

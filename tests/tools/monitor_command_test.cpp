@@ -60,8 +60,21 @@ class MonitorCommand : public ::testing::Test {
 TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
   const auto r = test::run_process({kTool, "monitor", "--lcm", kUrl, "--count", "20", "--json", "--seconds", "20"});
   ASSERT_EQ(r.exit_status, 0) << r.err << test::read_file(dir_.file("daemon.log"));
-  const auto lines = lines_of(r.out);
+  // Status messages come as {"status": {...}} objects between the lane messages.
+  std::vector<std::string> lines;
+  int statuses = 0;
+  for (const std::string& line : lines_of(r.out)) {
+    const Json j = Json::parse(line);
+    if (!j.contains("status")) {
+      lines.push_back(line);
+      continue;
+    }
+    ++statuses;
+    EXPECT_EQ(j.size(), 1u) << line;
+    EXPECT_EQ(j["status"]["calibration"]["state"], "off") << "no [calibration] online: " << line;
+  }
   ASSERT_EQ(lines.size(), 20u);
+  EXPECT_LE(statuses, 20) << "one a second, 20 lanes at 50 fps";
   const std::vector<std::string> fields = {"frame",       "t_ns",          "ok",
                                            "psi_deg",     "theta_deg",     "phi_deg",
                                            "lines",       "lane_width_mm", "lateral_offset_mm",
@@ -133,6 +146,56 @@ TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
   EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
   const std::string out = test::read_file(dir.file("out"));
   EXPECT_NE(out.find("| camera streaming, gyro ok, gyro reconnects 3, p99 "), std::string::npos) << out;
+}
+
+// The online calibration from the status message: in the live line and, with --json, in
+// a {"status": ...} object.
+TEST(MonitorCommandAlone, TheCalibrationIsShownInTheLiveLineAndAsJson) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  test::TempDir dir;
+  test::ChildProcess text({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
+                          test::ChildOptions{{}, dir.file("text"), dir.file("text.err"), {}});
+  test::ChildProcess json({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5", "--json"},
+                          test::ChildOptions{{}, dir.file("json"), dir.file("json.err"), {}});
+  lcm::LCM bus(kUrl);
+  ASSERT_TRUE(bus.good());
+  LaneEstimate e;
+  e.ok = true;
+  lane_estimate_t lane;
+  status_t status{};
+  status.camera_state = status_t::CAMERA_STREAMING;
+  status.calibration_state = status_t::CALIBRATION_CALIBRATING;
+  status.calibration_progress = 0.45;
+  status.calibration_yaw_deg = 0.25;
+  status.calibration_pitch_deg = -0.5;
+  status.calibration_yaw_estimate_deg = 1.5;
+  status.calibration_frames_total = 405;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(2300);
+  for (std::uint64_t frame = 0; std::chrono::steady_clock::now() < end; ++frame) {
+    e.frame = frame;
+    to_message(e, 0, 0, lane);
+    bus.publish("CCDLANE_LANES", &lane);
+    if (frame % 10 == 0) bus.publish("CCDLANE_STATUS", &status);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(text.wait_exit(3000).has_value());
+  ASSERT_TRUE(json.wait_exit(3000).has_value());
+  const std::string out = test::read_file(dir.file("text"));
+  EXPECT_NE(out.find("| calibration calibrating 45%, yaw +0.25 pitch -0.50 deg"), std::string::npos) << out;
+  int statuses = 0;
+  for (const std::string& line : lines_of(test::read_file(dir.file("json")))) {
+    const Json j = Json::parse(line);
+    if (!j.contains("status")) continue;
+    ++statuses;
+    const Json& c = j["status"]["calibration"];
+    EXPECT_EQ(c["state"], "calibrating");
+    EXPECT_EQ(c["progress"], 0.45);
+    EXPECT_EQ(c["yaw_deg"], 0.25);
+    EXPECT_EQ(c["pitch_deg"], -0.5);
+    EXPECT_EQ(c["yaw_estimate_deg"], 1.5);
+    EXPECT_EQ(c["frames"], 405);
+  }
+  EXPECT_GE(statuses, 1);
 }
 
 TEST(MonitorCommandAlone, NothingOnTheBusIsExitOneWithOneLine) {

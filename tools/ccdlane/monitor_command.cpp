@@ -103,7 +103,38 @@ class Monitor {
     }
   }
 
-  void on_status(const status_t& m) { last_status_ = m; }
+  void on_status(const status_t& m) {
+    last_status_ = m;
+    if (args_.json && !done()) {
+      print_json_line(std::cout, status_json(m));
+      flush_checked(std::cout, "standard output");
+    }
+  }
+
+  // --json: a status message as {"status": {...}}, so that it cannot be taken for a lane
+  // message (those have no "status" key). The daemon's health is in the live line; here
+  // what a script watching the mount's calibration needs.
+  static Json status_json(const status_t& m) {
+    Json calibration;
+    calibration["state"] = calibration_state_name(m.calibration_state);
+    calibration["progress"] = m.calibration_progress;
+    calibration["yaw_deg"] = m.calibration_yaw_deg;
+    calibration["pitch_deg"] = m.calibration_pitch_deg;
+    calibration["yaw_estimate_deg"] = m.calibration_yaw_estimate_deg;
+    calibration["pitch_estimate_deg"] = m.calibration_pitch_estimate_deg;
+    calibration["yaw_sigma_deg"] = m.calibration_yaw_sigma_deg;
+    calibration["pitch_sigma_deg"] = m.calibration_pitch_sigma_deg;
+    calibration["frames"] = m.calibration_frames_total;
+    Json status;
+    status["utime"] = m.utime;
+    status["instance"] = m.instance;
+    status["camera"] = camera_state_name(m.camera_state);
+    status["gyro"] = gyro_state_name(m.gyro_state);
+    status["calibration"] = calibration;
+    Json j;
+    j["status"] = status;
+    return j;
+  }
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
   //  heading 0.07 deg, departure none | 30 msg/s | LDW available, warning none, DLC
@@ -150,6 +181,16 @@ class Monitor {
                     camera_state_name(s.camera_state), gyro_state_name(s.gyro_state), gyro_reconnects,
                     static_cast<double>(s.latency_p99_us) * 1e-3, static_cast<long long>(s.frames_dropped_total),
                     static_cast<long long>(s.allocations_since_ready));
+      // " | calibration calibrating 45%, yaw +0.00 pitch +0.00 deg": the mount correction in use.
+      if (s.calibration_state != status_t::CALIBRATION_OFF) {
+        const std::size_t used = std::strlen(text);
+        char progress[16] = "";
+        if (s.calibration_state == status_t::CALIBRATION_CALIBRATING)
+          std::snprintf(progress, sizeof progress, " %.0f%%", 100.0 * s.calibration_progress);
+        std::snprintf(text + used, sizeof text - used, " | calibration %s%s, yaw %+.2f pitch %+.2f deg",
+                      calibration_state_name(s.calibration_state), progress, s.calibration_yaw_deg,
+                      s.calibration_pitch_deg);
+      }
     }
     // Which daemon: two on one bus interleave their messages on the same channels.
     const std::string* instance = last_lane_ ? &last_lane_->instance : last_status_ ? &last_status_->instance : nullptr;
@@ -180,7 +221,9 @@ CommandAction setup_monitor(CLI::App& sub) {
   sub.add_option("--prefix", args->prefix, "channel prefix ([lcm] prefix of the daemon)")->capture_default_str();
   sub.add_option("--count", args->count, "stop after N lane messages")->check(positive_number());
   sub.add_option("--seconds", args->seconds, "stop after S seconds")->check(positive_number());
-  sub.add_flag("--json", args->json, "print each lane message as a JSON object, one per line (as ccdlane replay)");
+  sub.add_flag("--json", args->json,
+               "print each lane message as a JSON object, one per line (as ccdlane replay), and each status "
+               "message as {\"status\": {...}} with the online calibration");
   sub.footer(
       "Without --json: one line a second with the latest lane estimate and the daemon's status. "
       "Exit status 1 when no lane message arrived.");
