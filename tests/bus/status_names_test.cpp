@@ -32,5 +32,14 @@ TEST(StatusNames, GyroStates) {
   EXPECT_STREQ(to_string(GyroState::lost), "lost");
 }
 
+TEST(StatusNames, CalibrationStates) {
+  EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_OFF), "off");
+  EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_UNCALIBRATED), "uncalibrated");
+  EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_CALIBRATING), "calibrating");
+  EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_CALIBRATED), "calibrated");
+  EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_OUT_OF_RANGE), "out_of_range");
+  EXPECT_STREQ(calibration_state_name(5), "unknown");
+}
+
 }  // namespace
 }  // namespace ccdlane
