@@ -90,7 +90,7 @@ SourceCounters TestPatternSource::counters() const {
   return c;
 }
 
-LaneEstimate TestPatternProcessor::process(const ImageView& image, const FrameMeta& meta,
+LaneEstimate TestPatternProcessor::process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
                                            std::optional<Gx1Angles> attitude) {
   const std::int64_t work_us = work_us_.load(std::memory_order_relaxed);
   if (work_us > 0) {  // busy, like an estimator, rather than sleeping
@@ -99,7 +99,7 @@ LaneEstimate TestPatternProcessor::process(const ImageView& image, const FrameMe
     }
   }
   LaneEstimate e;
-  e.frame = meta.sequence;
+  e.frame = frame;
   e.t_ns = meta.frame_t_ns();
   if (!test_pattern_intact(image, meta.sequence)) {
     damaged_.fetch_add(1, std::memory_order_relaxed);
