@@ -371,11 +371,7 @@ std::optional<CaptureStatus> AravisCamera::wait_for_frame(const MutableImageView
     meta.gyro.reset();
   }
   arv_stream_push_buffer(stream_, buffer);  // back to the camera at once
-  if (status == CaptureStatus::frame)
-    ++counters_.frames;
-  else
-    ++counters_.errors;
-  return status;
+  return counted(status);
 }
 
 }  // namespace ccdlane

@@ -53,6 +53,15 @@ class StreamingCamera : public FrameSource {
   virtual std::optional<CaptureStatus> wait_for_frame(const MutableImageView& into, FrameMeta& meta,
                                                       std::int64_t now_ns, std::int64_t wake_ns) = 0;
 
+  // Counts a delivered frame as a frame or an error, as it is.
+  CaptureStatus counted(CaptureStatus status) {
+    if (status == CaptureStatus::frame)
+      ++counters_.frames;
+    else
+      ++counters_.errors;
+    return status;
+  }
+
   const char* kind_;
   std::string name_;
   CameraSettings settings_;

@@ -549,11 +549,7 @@ CaptureStatus V4l2Camera::dequeue(const MutableImageView& into, FrameMeta& meta)
       return status;  // this frame is good; recovery starts on the next call
     }
   }
-  if (status == CaptureStatus::frame)
-    ++counters_.frames;
-  else
-    ++counters_.errors;
-  return status;
+  return counted(status);
 }
 
 }  // namespace ccdlane

@@ -61,12 +61,7 @@ CaptureStatus TestPatternSource::capture(const MutableImageView& into, FrameMeta
   if (options_.rate_hz > 0.0) {
     const auto due =
         start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(next_) * 1e9 / options_.rate_hz));
-    const std::int64_t deadline = monotonic_ns() + static_cast<std::int64_t>(timeout_ms) * 1'000'000;
-    if (due > deadline) {
-      sleep_until(deadline);
-      return CaptureStatus::timeout;
-    }
-    sleep_until(due);
+    if (!sleep_until_due(due, timeout_ms)) return CaptureStatus::timeout;
   }
   render_test_pattern(into, next_);
   meta.sequence = next_;
