@@ -12,8 +12,11 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <set>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -78,6 +81,30 @@ class TableReader {
     if (!n) return;
     if (!n->is_string()) fail(n, key, std::string("must be a string, got ") + type_name(*n));
     out = *n->value<std::string>();
+  }
+
+  // A string naming one of a fixed set of values. The message lists them: two or three
+  // as "a", "b" or "c", more as one of "a", "b", "c", "d".
+  template <class E>
+  void choice(const std::string& key, E& out, std::initializer_list<std::pair<const char*, E>> options) {
+    const toml::node* n = take(key);
+    if (!n) return;
+    if (!n->is_string()) fail(n, key, std::string("must be a string, got ") + type_name(*n));
+    const std::string value = *n->value<std::string>();
+    for (const auto& [name, e] : options) {
+      if (value == name) {
+        out = e;
+        return;
+      }
+    }
+    std::string list = options.size() > 3 ? "one of " : "";
+    std::size_t i = 0;
+    for (const auto& option : options) {
+      if (i > 0) list += (i + 1 == options.size() && options.size() <= 3) ? " or " : ", ";
+      list += std::string("\"") + option.first + "\"";
+      ++i;
+    }
+    fail(n, key, "must be " + list + ", got \"" + value + "\"");
   }
 
   // A [mean, sigma] pair with sigma > 0.
@@ -201,14 +228,7 @@ void read_attitude(TableReader& r, Config& c) {
 }
 
 void read_solver(TableReader& r, Config& c) {
-  std::string mode = "reprojection";
-  r.string("mode", mode);
-  if (mode == "reprojection")
-    c.solver.mode = SolverMode::reprojection;
-  else if (mode == "paper")
-    c.solver.mode = SolverMode::paper;
-  else
-    r.fail(r.node("mode"), "mode", "must be \"reprojection\" or \"paper\", got \"" + mode + "\"");
+  r.choice("mode", c.solver.mode, {{"reprojection", SolverMode::reprojection}, {"paper", SolverMode::paper}});
 
   if (const toml::node* n = r.take("free")) {
     const toml::array* a = n->as_array();
@@ -226,14 +246,8 @@ void read_solver(TableReader& r, Config& c) {
     if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
     c.solver.free = set;
   }
-  std::string line_model = "straight";
-  r.string("line_model", line_model);
-  if (line_model == "straight")
-    c.solver.line_model = LineModel::per_line;
-  else if (line_model == "curved")
-    c.solver.line_model = LineModel::shared_curvature;
-  else
-    r.fail(r.node("line_model"), "line_model", "must be \"straight\" or \"curved\", got \"" + line_model + "\"");
+  r.choice("line_model", c.solver.line_model,
+           {{"straight", LineModel::per_line}, {"curved", LineModel::shared_curvature}});
   if (c.solver.line_model == LineModel::shared_curvature && c.solver.free.has(FreeParam::c))
     r.fail(r.node("line_model"), "line_model",
            "\"curved\" solves one curvature shared by all lines: leave c out of free (c frees one per line)");
@@ -273,33 +287,18 @@ void read_gyro(TableReader& r, Config& c) {
 }
 
 void read_source(TableReader& r, Config& c) {
-  std::string kind = "synth";
-  r.string("kind", kind);
-  if (kind == "synth")
-    c.source.kind = SourceKind::synth;
-  else if (kind == "frames")
-    c.source.kind = SourceKind::frames;
-  else if (kind == "v4l2")
-    c.source.kind = SourceKind::v4l2;
-  else if (kind == "aravis")
-    c.source.kind = SourceKind::aravis;
-  else
-    r.fail(r.node("kind"), "kind", "must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"" + kind + "\"");
+  r.choice("kind", c.source.kind,
+           {{"synth", SourceKind::synth},
+            {"frames", SourceKind::frames},
+            {"v4l2", SourceKind::v4l2},
+            {"aravis", SourceKind::aravis}});
   r.string("device", c.source.device);
   r.string("camera", c.source.camera);
   r.string("path", c.source.path);
   r.number("rate_hz", c.source.rate_hz);
   r.boolean("loop", c.source.loop);
-  std::string pixels = "auto";
-  r.string("pixel_format", pixels);
-  if (pixels == "auto")
-    c.source.pixel_format = SourcePixels::automatic;
-  else if (pixels == "grey")
-    c.source.pixel_format = SourcePixels::grey;
-  else if (pixels == "colour")
-    c.source.pixel_format = SourcePixels::colour;
-  else
-    r.fail(r.node("pixel_format"), "pixel_format", "must be \"auto\", \"grey\" or \"colour\", got \"" + pixels + "\"");
+  r.choice("pixel_format", c.source.pixel_format,
+           {{"auto", SourcePixels::automatic}, {"grey", SourcePixels::grey}, {"colour", SourcePixels::colour}});
   r.reject_unknown();
   require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
@@ -371,16 +370,7 @@ void read_synth(TableReader& r, Config& c) {
   r.number("lane_width_mm", s.lane_width_mm);
   r.number("line_width_mm", s.line_width_mm);
   r.number("edge_line_width_mm", s.edge_line_width_mm);
-  std::string dashed = "inner";
-  r.string("dashed", dashed);
-  if (dashed == "inner")
-    s.dashed = DashedLines::inner;
-  else if (dashed == "all")
-    s.dashed = DashedLines::all;
-  else if (dashed == "none")
-    s.dashed = DashedLines::none;
-  else
-    r.fail(r.node("dashed"), "dashed", "must be \"inner\", \"all\" or \"none\", got \"" + dashed + "\"");
+  r.choice("dashed", s.dashed, {{"inner", DashedLines::inner}, {"all", DashedLines::all}, {"none", DashedLines::none}});
   r.number("dash_length_mm", s.dash_length_mm);
   r.number("dash_gap_mm", s.dash_gap_mm);
   r.number("curvature_per_mm", s.curvature_per_mm);
@@ -408,14 +398,7 @@ void read_synth(TableReader& r, Config& c) {
   r.boolean("colour", s.colour);
   r.boolean("yellow_left_edge", s.yellow_left_edge);
   r.number("yellow_paint_grey", s.yellow_paint_grey);
-  std::string surface = "asphalt";
-  r.string("surface", surface);
-  if (surface == "asphalt")
-    s.surface = RoadSurface::asphalt;
-  else if (surface == "concrete")
-    s.surface = RoadSurface::concrete;
-  else
-    r.fail(r.node("surface"), "surface", "must be \"asphalt\" or \"concrete\", got \"" + surface + "\"");
+  r.choice("surface", s.surface, {{"asphalt", RoadSurface::asphalt}, {"concrete", RoadSurface::concrete}});
   r.number("concrete_grey", s.concrete_grey);
   r.boolean("hard_shadows", s.hard_shadows);
   r.boolean("barrier", s.barrier);

@@ -50,12 +50,7 @@ CaptureStatus SynthSource::capture(const MutableImageView& into, FrameMeta& meta
   if (options_.rate_hz > 0.0) {
     const auto due =
         start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(next_) * 1e9 / options_.rate_hz));
-    const std::int64_t deadline = monotonic_ns() + static_cast<std::int64_t>(timeout_ms) * 1'000'000;
-    if (due > deadline) {
-      sleep_until(deadline);
-      return CaptureStatus::timeout;
-    }
-    sleep_until(due);
+    if (!sleep_until_due(due, timeout_ms)) return CaptureStatus::timeout;
   }
   const std::size_t k = static_cast<std::size_t>(next_ % static_cast<std::uint64_t>(count_));
   const std::uint8_t* src = pixels_.data() + frame_bytes_ * k;

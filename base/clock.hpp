@@ -21,6 +21,19 @@ inline void sleep_until(std::int64_t t_ns) {
   }
 }
 
+// A paced source's wait: sleeps until `due_ns` when that comes within `timeout_ms` and
+// says true; otherwise sleeps out the whole timeout (a caller's timeout is a promise to
+// wait that long) and says false.
+inline bool sleep_until_due(std::int64_t due_ns, int timeout_ms) {
+  const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
+  if (due_ns > deadline) {
+    sleep_until(deadline);
+    return false;
+  }
+  sleep_until(due_ns);
+  return true;
+}
+
 inline std::int64_t realtime_us() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);

@@ -3,6 +3,7 @@
 // readings. An interface so that the pipeline's tests can run a frame checker instead.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "app/config.hpp"
@@ -19,12 +20,14 @@ class FrameProcessor {
  public:
   virtual ~FrameProcessor() = default;
 
-  // One frame, one estimate, numbered and timed by the frame (meta.sequence,
-  // meta.frame_t_ns()); ok = false with a reason when the frame gives none. Runs on the
+  // One frame, one estimate, numbered `frame` (the pipeline's own count for the run: the
+  // source's id may wrap or restart) and timed by the frame (meta.frame_t_ns()); ok =
+  // false with a reason when the frame gives none. Runs on the
   // real-time path: no allocation, no exceptions; every workspace was sized when the
   // processor was built. `attitude` is the gyro reading at the frame's time (the frame's
   // own recorded reading, else the live gyro's), if there is one.
-  virtual LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) = 0;
+  virtual LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
+                               std::optional<Gx1Angles> attitude) = 0;
 };
 
 // The lane estimator as the daemon's processor. Gyro roll/pitch become priors inside the
@@ -39,10 +42,11 @@ class EstimatorProcessor final : public FrameProcessor {
   // the processor). Before the pipeline starts.
   void attach(OnlineCalibration& calibration) { calibration_ = &calibration; }
 
-  LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) override {
+  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
+                       std::optional<Gx1Angles> attitude) override {
     VehicleInputs vehicle;
     if (calibration_) calibration_->before_frame(estimator_, vehicle);
-    const LaneEstimate& e = estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude, vehicle);
+    const LaneEstimate& e = estimator_.estimate(image, frame, meta.frame_t_ns(), attitude, vehicle);
     if (calibration_) calibration_->after_frame(e, vehicle);
     return e;
   }

@@ -271,12 +271,11 @@ void Pipeline::process_one(std::uint32_t index) {
     if (!attitude) no_attitude_.fetch_add(1, std::memory_order_relaxed);
   }
   const ImageView image = pool_.view(static_cast<int>(index));
-  LaneEstimate estimate = processor_.process(image, slot.meta, attitude);
-  estimate.roll_unobservable = options_.roll_needs_gyro && !attitude;
   // The source's id may wrap (a 16-bit block id) or restart with the camera: messages go
   // out under the run's own count, with the source's id beside it.
-  estimate.frame = slot.frame;
+  LaneEstimate estimate = processor_.process(image, slot.frame, slot.meta, attitude);
   estimate.source_frame = slot.meta.sequence;
+  estimate.roll_unobservable = options_.roll_needs_gyro && !attitude;
   if (sink_.publishes_frames()) {
     // Only processed frames go out, in processing order (after any drop), keyed as the
     // lane message is: the log holds the very frame stream the estimator's tracking saw.

@@ -7,8 +7,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "drivers/camera/capture_states.hpp"
-
 namespace ccdlane {
 namespace {
 
@@ -79,12 +77,7 @@ std::uint64_t frames_between(std::uint64_t last, std::uint64_t id) {
 }  // namespace
 
 AravisCamera::AravisCamera(std::string id, CameraSettings settings)
-    : id_(std::move(id)), settings_(std::move(settings)) {
-  format_ = settings_.format == PixelFormat::mono16     ? PixelFormat::mono16
-            : settings_.colour == ColourCapture::colour ? PixelFormat::rgb8
-                                                        : PixelFormat::mono8;
-  backoff_.configure(settings_.reopen_min_ms, settings_.reopen_max_ms);
-}
+    : StreamingCamera("aravis", std::move(id), std::move(settings)) {}
 
 AravisCamera::~AravisCamera() { release_camera(true); }
 
@@ -96,8 +89,8 @@ std::string AravisCamera::open() {
   close();
   problem_.clear();
   if (settings_.buffer_count < 2 || settings_.buffer_count > 64)
-    return "aravis:" + id_ + ": buffer count " + std::to_string(settings_.buffer_count) + " is not in 2..64";
-  if (id_.rfind("Fake", 0) == 0) arv_enable_interface("Fake");
+    return "aravis:" + name_ + ": buffer count " + std::to_string(settings_.buffer_count) + " is not in 2..64";
+  if (name_.rfind("Fake", 0) == 0) arv_enable_interface("Fake");
   if (!bring_up()) {
     state_ = DeviceState::closed;
     return problem_.str();
@@ -109,7 +102,7 @@ std::string AravisCamera::open() {
                           : arv_camera_is_uv_device(camera_) ? "USB3 Vision"
                                                              : "Aravis";
   char text[256];
-  std::snprintf(text, sizeof text, "aravis:%s (%s %s, serial %s, %s", id_.c_str(), vendor ? vendor : "?",
+  std::snprintf(text, sizeof text, "aravis:%s (%s %s, serial %s, %s", name_.c_str(), vendor ? vendor : "?",
                 model ? model : "?", serial ? serial : "?", transport);
   description_ = text;
   if (packet_size_ > 0) description_ += ", packets of " + std::to_string(packet_size_) + " B";
@@ -130,9 +123,9 @@ bool AravisCamera::bring_up() {
   notes_.clear();
   control_lost_ = false;
   GError* error = nullptr;
-  camera_ = arv_camera_new(id_.c_str(), &error);
+  camera_ = arv_camera_new(name_.c_str(), &error);
   if (camera_ == nullptr) {
-    problem_.set("aravis:%s: cannot open: %s", id_.c_str(), error ? error->message : "no such camera");
+    problem_.set("aravis:%s: cannot open: %s", name_.c_str(), error ? error->message : "no such camera");
     g_clear_error(&error);
     return false;
   }
@@ -152,12 +145,12 @@ bool AravisCamera::set_feature(const char* name, const char* value) {
   std::snprintf(assignment, sizeof assignment, "%s=%s", name, value);
   GError* error = nullptr;
   if (!arv_camera_is_feature_available(camera_, name, nullptr)) {
-    problem_.set("aravis:%s: the camera has no feature %s", id_.c_str(), name);
+    problem_.set("aravis:%s: the camera has no feature %s", name_.c_str(), name);
     return false;
   }
   arv_device_set_features_from_string(arv_camera_get_device(camera_), assignment, &error);
   if (error) {
-    problem_.set("aravis:%s: setting %s: %s", id_.c_str(), assignment, error->message);
+    problem_.set("aravis:%s: setting %s: %s", name_.c_str(), assignment, error->message);
     g_clear_error(&error);
     return false;
   }
@@ -168,7 +161,7 @@ bool AravisCamera::configure() {
   GError* error = nullptr;
   auto failed = [&](const char* what) {
     if (!error) return false;
-    problem_.set("aravis:%s: %s: %s", id_.c_str(), what, error->message);
+    problem_.set("aravis:%s: %s: %s", name_.c_str(), what, error->message);
     g_clear_error(&error);
     return true;
   };
@@ -205,7 +198,7 @@ bool AravisCamera::configure() {
     char offered[200] = "";
     for (guint i = 0, at = 0; i < n_available && at + 8 < sizeof offered; ++i)
       at += static_cast<guint>(std::snprintf(offered + at, sizeof offered - at, "%s%s", i ? ", " : "", available[i]));
-    problem_.set("aravis:%s: no %s pixel format (the camera offers: %s)", id_.c_str(), wanted,
+    problem_.set("aravis:%s: no %s pixel format (the camera offers: %s)", name_.c_str(), wanted,
                  n_available ? offered : "nothing");
     g_free(available);
     return false;
@@ -225,7 +218,7 @@ bool AravisCamera::configure() {
   arv_camera_get_region(camera_, &x, &y, &w, &h, &error);
   if (failed("reading Width/Height")) return false;
   if (w != settings_.width || h != settings_.height) {
-    problem_.set("aravis:%s: asked for %dx%d, the camera gives %dx%d", id_.c_str(), settings_.width, settings_.height,
+    problem_.set("aravis:%s: asked for %dx%d, the camera gives %dx%d", name_.c_str(), settings_.width, settings_.height,
                  w, h);
     return false;
   }
@@ -241,8 +234,8 @@ bool AravisCamera::configure() {
     fps_obtained_ = arv_camera_get_frame_rate(camera_, &error);
     if (failed("reading AcquisitionFrameRate")) return false;
     if (std::abs(fps_obtained_ - settings_.fps) > 0.01 * settings_.fps) {
-      problem_.set("aravis:%s: asked for %.4g fps, the camera gives %.4g fps (range %.4g..%.4g at %dx%d)", id_.c_str(),
-                   settings_.fps, fps_obtained_, lo, hi, w, h);
+      problem_.set("aravis:%s: asked for %.4g fps, the camera gives %.4g fps (range %.4g..%.4g at %dx%d)",
+                   name_.c_str(), settings_.fps, fps_obtained_, lo, hi, w, h);
       return false;
     }
   } else {
@@ -282,7 +275,7 @@ bool AravisCamera::start_stream() {
   GError* error = nullptr;
   stream_ = arv_camera_create_stream(camera_, nullptr, nullptr, &error);
   if (stream_ == nullptr) {
-    problem_.set("aravis:%s: cannot create the stream: %s", id_.c_str(), error ? error->message : "?");
+    problem_.set("aravis:%s: cannot create the stream: %s", name_.c_str(), error ? error->message : "?");
     g_clear_error(&error);
     return false;
   }
@@ -291,7 +284,7 @@ bool AravisCamera::start_stream() {
   for (int i = 0; i < settings_.buffer_count; ++i) arv_stream_push_buffer(stream_, arv_buffer_new_allocate(payload_));
   arv_camera_start_acquisition(camera_, &error);
   if (error) {
-    problem_.set("aravis:%s: AcquisitionStart: %s", id_.c_str(), error->message);
+    problem_.set("aravis:%s: AcquisitionStart: %s", name_.c_str(), error->message);
     g_clear_error(&error);
     return false;
   }
@@ -313,92 +306,72 @@ void AravisCamera::release_camera(bool camera_reachable) {
 }
 
 void AravisCamera::lose_camera(const char* why) {
-  problem_.set("aravis:%s: %s; reopening", id_.c_str(), why);
+  problem_.set("aravis:%s: %s; reopening", name_.c_str(), why);
   release_camera(false);
   state_ = DeviceState::recovering;
   backoff_.start(monotonic_ns());
 }
 
 std::string AravisCamera::set_control(const std::string& name, const std::string& value) {
-  if (camera_ == nullptr) return "aravis:" + id_ + ": not open";
+  if (camera_ == nullptr) return "aravis:" + name_ + ": not open";
   if (!set_feature(name.c_str(), value.c_str())) return problem_.str();
   settings_.controls.emplace_back(name, value);
   return "";
 }
 
-CaptureStatus AravisCamera::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
-  if (!capture_buffer_fits(into, width_, height_, format_, "aravis", id_.c_str(), problem_, counters_))
-    return CaptureStatus::error;
-  const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
-  const std::int64_t stall_ns = std::int64_t{settings_.effective_stall_timeout_ms()} * 1'000'000;
-  for (;;) {
-    if (const auto settled = settle_capture_state(state_, backoff_, deadline, "aravis", id_.c_str(), problem_,
-                                                  counters_, [this] { return bring_up(); }))
-      return *settled;
-    const std::int64_t now = monotonic_ns();
-    if (control_lost_.load(std::memory_order_acquire)) {
-      lose_camera("control lost (no heartbeat answer)");
-      continue;
-    }
-    if (now - last_frame_ns_ > stall_ns) {
-      char why[64];
-      std::snprintf(why, sizeof why, "no frame for %d ms", settings_.effective_stall_timeout_ms());
-      lose_camera(why);
-      continue;
-    }
-    const std::int64_t wake = std::min(deadline, last_frame_ns_ + stall_ns + 1'000'000);
-    ArvBuffer* buffer =
-        arv_stream_timeout_pop_buffer(stream_, static_cast<guint64>(std::max<std::int64_t>(0, (wake - now) / 1000)));
-    if (buffer == nullptr) {
-      if (monotonic_ns() >= deadline) {
-        ++counters_.timeouts;
-        return CaptureStatus::timeout;
-      }
-      continue;
-    }
-    const std::int64_t popped = monotonic_ns();
-    last_frame_ns_ = popped;
-    const std::uint64_t id = arv_buffer_get_frame_id(buffer);
-    if (have_frame_id_) counters_.dropped += frames_between(last_frame_id_, id);
-    have_frame_id_ = true;
-    last_frame_id_ = id;
+void AravisCamera::on_stall() {
+  char why[64];
+  std::snprintf(why, sizeof why, "no frame for %d ms", settings_.effective_stall_timeout_ms());
+  lose_camera(why);
+}
 
-    CaptureStatus status = CaptureStatus::frame;
-    const ArvBufferStatus buffer_status = arv_buffer_get_status(buffer);
-    std::size_t size = 0;
-    const void* data = buffer_status == ARV_BUFFER_STATUS_SUCCESS ? arv_buffer_get_image_data(buffer, &size) : nullptr;
-    if (buffer_status != ARV_BUFFER_STATUS_SUCCESS) {
-      problem_.set("aravis:%s: frame %llu: %s", id_.c_str(), static_cast<unsigned long long>(id),
-                   status_name(buffer_status));
-      status = CaptureStatus::error;
-    } else if (arv_buffer_get_image_width(buffer) != width_ || arv_buffer_get_image_height(buffer) != height_ ||
-               arv_buffer_get_image_pixel_format(buffer) != arv_format_) {
-      problem_.set("aravis:%s: frame %llu is %dx%d format 0x%08x, expected %dx%d 0x%08x", id_.c_str(),
-                   static_cast<unsigned long long>(id), arv_buffer_get_image_width(buffer),
-                   arv_buffer_get_image_height(buffer), arv_buffer_get_image_pixel_format(buffer), width_, height_,
-                   arv_format_);
-      status = CaptureStatus::error;
-    } else if (!convert_frame(static_cast<const std::uint8_t*>(data),
-                              std::ptrdiff_t{width_} * wire_bytes_per_pixel(wire_), size, wire_, into)) {
-      problem_.set("aravis:%s: frame %llu is short: %zu bytes", id_.c_str(), static_cast<unsigned long long>(id), size);
-      status = CaptureStatus::error;
-    } else {
-      meta.sequence = id;
-      // Aravis stamps a frame with the wall clock when its first packet arrives (its
-      // "system timestamp"); we map that onto CLOCK_MONOTONIC with the offset between the
-      // two clocks read now. Device timestamps are on the camera's own clock, not ours.
-      const std::int64_t system_ns = static_cast<std::int64_t>(arv_buffer_get_system_timestamp(buffer));
-      meta.t_ns = system_ns > 0 ? system_ns - (clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC)) : popped;
-      if (meta.t_ns > popped) meta.t_ns = popped;  // a wall-clock step must not put it in the future
-      meta.gyro.reset();
-    }
-    arv_stream_push_buffer(stream_, buffer);  // back to the camera at once
-    if (status == CaptureStatus::frame)
-      ++counters_.frames;
-    else
-      ++counters_.errors;
-    return status;
+std::optional<CaptureStatus> AravisCamera::wait_for_frame(const MutableImageView& into, FrameMeta& meta,
+                                                          std::int64_t now, std::int64_t wake) {
+  if (control_lost_.load(std::memory_order_acquire)) {
+    lose_camera("control lost (no heartbeat answer)");
+    return std::nullopt;
   }
+  ArvBuffer* buffer =
+      arv_stream_timeout_pop_buffer(stream_, static_cast<guint64>(std::max<std::int64_t>(0, (wake - now) / 1000)));
+  if (buffer == nullptr) return std::nullopt;
+  const std::int64_t popped = monotonic_ns();
+  last_frame_ns_ = popped;
+  const std::uint64_t id = arv_buffer_get_frame_id(buffer);
+  if (have_frame_id_) counters_.dropped += frames_between(last_frame_id_, id);
+  have_frame_id_ = true;
+  last_frame_id_ = id;
+
+  CaptureStatus status = CaptureStatus::frame;
+  const ArvBufferStatus buffer_status = arv_buffer_get_status(buffer);
+  std::size_t size = 0;
+  const void* data = buffer_status == ARV_BUFFER_STATUS_SUCCESS ? arv_buffer_get_image_data(buffer, &size) : nullptr;
+  if (buffer_status != ARV_BUFFER_STATUS_SUCCESS) {
+    problem_.set("aravis:%s: frame %llu: %s", name_.c_str(), static_cast<unsigned long long>(id),
+                 status_name(buffer_status));
+    status = CaptureStatus::error;
+  } else if (arv_buffer_get_image_width(buffer) != width_ || arv_buffer_get_image_height(buffer) != height_ ||
+             arv_buffer_get_image_pixel_format(buffer) != arv_format_) {
+    problem_.set("aravis:%s: frame %llu is %dx%d format 0x%08x, expected %dx%d 0x%08x", name_.c_str(),
+                 static_cast<unsigned long long>(id), arv_buffer_get_image_width(buffer),
+                 arv_buffer_get_image_height(buffer), arv_buffer_get_image_pixel_format(buffer), width_, height_,
+                 arv_format_);
+    status = CaptureStatus::error;
+  } else if (!convert_frame(static_cast<const std::uint8_t*>(data),
+                            std::ptrdiff_t{width_} * wire_bytes_per_pixel(wire_), size, wire_, into)) {
+    problem_.set("aravis:%s: frame %llu is short: %zu bytes", name_.c_str(), static_cast<unsigned long long>(id), size);
+    status = CaptureStatus::error;
+  } else {
+    meta.sequence = id;
+    // Aravis stamps a frame with the wall clock when its first packet arrives (its
+    // "system timestamp"); we map that onto CLOCK_MONOTONIC with the offset between the
+    // two clocks read now. Device timestamps are on the camera's own clock, not ours.
+    const std::int64_t system_ns = static_cast<std::int64_t>(arv_buffer_get_system_timestamp(buffer));
+    meta.t_ns = system_ns > 0 ? system_ns - (clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC)) : popped;
+    if (meta.t_ns > popped) meta.t_ns = popped;  // a wall-clock step must not put it in the future
+    meta.gyro.reset();
+  }
+  arv_stream_push_buffer(stream_, buffer);  // back to the camera at once
+  return counted(status);
 }
 
 }  // namespace ccdlane

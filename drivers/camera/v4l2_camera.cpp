@@ -12,8 +12,6 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "drivers/camera/capture_states.hpp"
-
 namespace ccdlane {
 namespace {
 
@@ -92,13 +90,7 @@ std::int64_t timeval_ns(const timeval& tv) {
 }  // namespace
 
 V4l2Camera::V4l2Camera(std::string device_path, CameraSettings settings)
-    : path_(std::move(device_path)),
-      settings_(std::move(settings)),
-      format_(settings_.format == PixelFormat::mono16     ? PixelFormat::mono16
-              : settings_.colour == ColourCapture::colour ? PixelFormat::rgb8
-                                                          : PixelFormat::mono8) {
-  backoff_.configure(settings_.reopen_min_ms, settings_.reopen_max_ms);
-}
+    : StreamingCamera("v4l2", std::move(device_path), std::move(settings)) {}
 
 V4l2Camera::~V4l2Camera() { release_device(); }
 
@@ -106,7 +98,7 @@ std::string V4l2Camera::open() {
   close();
   problem_.clear();
   if (settings_.buffer_count < 2 || settings_.buffer_count > kMaxBuffers)
-    return "v4l2:" + path_ + ": buffer count " + std::to_string(settings_.buffer_count) + " is not in 2.." +
+    return "v4l2:" + name_ + ": buffer count " + std::to_string(settings_.buffer_count) + " is not in 2.." +
            std::to_string(kMaxBuffers);
   if (!bring_up()) {
     state_ = DeviceState::closed;
@@ -117,7 +109,7 @@ std::string V4l2Camera::open() {
     std::snprintf(rate, sizeof rate, "%.3g fps", fps_obtained_);
   else
     std::snprintf(rate, sizeof rate, "rate set by device");
-  description_ = "v4l2:" + path_ + " (" + driver_ + ", " + card_ + ") " + std::to_string(width_) + "x" +
+  description_ = "v4l2:" + name_ + " (" + driver_ + ", " + card_ + ") " + std::to_string(width_) + "x" +
                  std::to_string(height_) + " " + fourcc_text(fourcc_).text + " " + rate + ", " +
                  std::to_string(buffer_count_) + " buffers";
   if (!notes_.empty()) description_ += std::string("; ") + notes_.c_str();
@@ -132,9 +124,9 @@ void V4l2Camera::close() {
 bool V4l2Camera::bring_up() {
   state_ = DeviceState::opening;
   notes_.clear();
-  const int r = device_.open(path_.c_str());
+  const int r = device_.open(name_.c_str());
   if (r < 0) {
-    problem_.set("v4l2:%s: cannot open: %s (%s)", path_.c_str(), errno_name(r), std::strerror(-r));
+    problem_.set("v4l2:%s: cannot open: %s (%s)", name_.c_str(), errno_name(r), std::strerror(-r));
     return false;
   }
   if (!check_capabilities()) return release_device(), false;
@@ -149,19 +141,19 @@ bool V4l2Camera::check_capabilities() {
   v4l2_capability cap{};
   const int r = device_.ioctl(VIDIOC_QUERYCAP, &cap);
   if (r < 0) {
-    problem_.set("v4l2:%s: not a V4L2 device (VIDIOC_QUERYCAP: %s)", path_.c_str(), errno_name(r));
+    problem_.set("v4l2:%s: not a V4L2 device (VIDIOC_QUERYCAP: %s)", name_.c_str(), errno_name(r));
     return false;
   }
   std::snprintf(card_, sizeof card_, "%s", reinterpret_cast<const char*>(cap.card));
   std::snprintf(driver_, sizeof driver_, "%s", reinterpret_cast<const char*>(cap.driver));
   const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
   if (!(caps & V4L2_CAP_VIDEO_CAPTURE)) {
-    problem_.set("v4l2:%s: %s is not a single-planar video capture device%s", path_.c_str(), card_,
+    problem_.set("v4l2:%s: %s is not a single-planar video capture device%s", name_.c_str(), card_,
                  (caps & V4L2_CAP_VIDEO_CAPTURE_MPLANE) ? " (multi-planar only: not supported)" : "");
     return false;
   }
   if (!(caps & V4L2_CAP_STREAMING)) {
-    problem_.set("v4l2:%s: %s cannot stream (no V4L2_CAP_STREAMING; read() devices are not supported)", path_.c_str(),
+    problem_.set("v4l2:%s: %s cannot stream (no V4L2_CAP_STREAMING; read() devices are not supported)", name_.c_str(),
                  card_);
     return false;
   }
@@ -203,7 +195,7 @@ bool V4l2Camera::negotiate_format() {
                              : "GREY or colour (RGB3, BGR3, YUYV, UYVY or 8-bit Bayer)";
   }
   if (!chosen) {
-    problem_.set("v4l2:%s: %s offers no %s format (it offers: %s)", path_.c_str(), card_, wanted,
+    problem_.set("v4l2:%s: %s offers no %s format (it offers: %s)", name_.c_str(), card_, wanted,
                  n_offered ? offered_text : "nothing");
     return false;
   }
@@ -219,20 +211,20 @@ bool V4l2Camera::negotiate_format() {
   fmt.fmt.pix.field = V4L2_FIELD_NONE;
   const int r = device_.ioctl(VIDIOC_S_FMT, &fmt);
   if (r < 0) {
-    problem_.set("v4l2:%s: VIDIOC_S_FMT %dx%d %s failed: %s", path_.c_str(), settings_.width, settings_.height,
+    problem_.set("v4l2:%s: VIDIOC_S_FMT %dx%d %s failed: %s", name_.c_str(), settings_.width, settings_.height,
                  fourcc_text(chosen->fourcc).text, errno_name(r));
     return false;
   }
   // S_FMT adjusts rather than fails: compare what we got with what we asked.
   if (fmt.fmt.pix.pixelformat != chosen->fourcc || static_cast<int>(fmt.fmt.pix.width) != settings_.width ||
       static_cast<int>(fmt.fmt.pix.height) != settings_.height) {
-    problem_.set("v4l2:%s: asked for %dx%d %s, %s offers %ux%u %s instead (formats: %s)", path_.c_str(),
+    problem_.set("v4l2:%s: asked for %dx%d %s, %s offers %ux%u %s instead (formats: %s)", name_.c_str(),
                  settings_.width, settings_.height, fourcc_text(chosen->fourcc).text, card_, fmt.fmt.pix.width,
                  fmt.fmt.pix.height, fourcc_text(fmt.fmt.pix.pixelformat).text, offered_text);
     return false;
   }
   if (fmt.fmt.pix.field != V4L2_FIELD_NONE && fmt.fmt.pix.field != V4L2_FIELD_ANY) {
-    problem_.set("v4l2:%s: %s delivers interlaced frames (field %u): not supported", path_.c_str(), card_,
+    problem_.set("v4l2:%s: %s delivers interlaced frames (field %u): not supported", name_.c_str(), card_,
                  fmt.fmt.pix.field);
     return false;
   }
@@ -248,7 +240,7 @@ bool V4l2Camera::negotiate_format() {
   size_image_ = fmt.fmt.pix.sizeimage;
   if (bytes_per_line_ < min_line ||
       size_image_ < static_cast<std::size_t>(bytes_per_line_ * (height_ - 1) + min_line)) {
-    problem_.set("v4l2:%s: device reports %td bytes per line and %zu per image for %dx%d %s: too small", path_.c_str(),
+    problem_.set("v4l2:%s: device reports %td bytes per line and %zu per image for %dx%d %s: too small", name_.c_str(),
                  bytes_per_line_, size_image_, width_, height_, fourcc_text(fourcc_).text);
     return false;
   }
@@ -268,14 +260,14 @@ bool V4l2Camera::set_frame_rate() {
     parm.parm.capture.timeperframe.denominator = static_cast<std::uint32_t>(std::lround(settings_.fps * 1000));
     const int r = device_.ioctl(VIDIOC_S_PARM, &parm);
     if (r < 0) {
-      problem_.set("v4l2:%s: VIDIOC_S_PARM %.3g fps failed: %s", path_.c_str(), settings_.fps, errno_name(r));
+      problem_.set("v4l2:%s: VIDIOC_S_PARM %.3g fps failed: %s", name_.c_str(), settings_.fps, errno_name(r));
       return false;
     }
   }
   const auto& tpf = parm.parm.capture.timeperframe;
   if (tpf.numerator > 0 && tpf.denominator > 0) fps_obtained_ = double(tpf.denominator) / tpf.numerator;
   if (settings_.fps > 0 && std::abs(fps_obtained_ - settings_.fps) > 0.01 * settings_.fps) {
-    problem_.set("v4l2:%s: asked for %.3g fps, %s gives %.3g fps", path_.c_str(), settings_.fps, card_, fps_obtained_);
+    problem_.set("v4l2:%s: asked for %.3g fps, %s gives %.3g fps", name_.c_str(), settings_.fps, card_, fps_obtained_);
     return false;
   }
   return true;
@@ -305,12 +297,12 @@ bool V4l2Camera::find_control(std::uint32_t id, const char* name, v4l2_queryctrl
 int V4l2Camera::write_control(const v4l2_queryctrl& ctrl, double value, const char* what) {
   const char* name = reinterpret_cast<const char*>(ctrl.name);
   if (ctrl.flags & (V4L2_CTRL_FLAG_READ_ONLY | V4L2_CTRL_FLAG_GRABBED)) {
-    problem_.set("v4l2:%s: control \"%s\" (%s) is read-only now", path_.c_str(), name, what);
+    problem_.set("v4l2:%s: control \"%s\" (%s) is read-only now", name_.c_str(), name, what);
     return -EACCES;
   }
   const double v = std::round(value);
   if (v < ctrl.minimum || v > ctrl.maximum) {
-    problem_.set("v4l2:%s: %s %g is outside \"%s\" range %d..%d", path_.c_str(), what, value, name, ctrl.minimum,
+    problem_.set("v4l2:%s: %s %g is outside \"%s\" range %d..%d", name_.c_str(), what, value, name, ctrl.minimum,
                  ctrl.maximum);
     return -ERANGE;
   }
@@ -318,7 +310,7 @@ int V4l2Camera::write_control(const v4l2_queryctrl& ctrl, double value, const ch
   c.id = ctrl.id;
   c.value = static_cast<std::int32_t>(v);
   const int r = device_.ioctl(VIDIOC_S_CTRL, &c);
-  if (r < 0) problem_.set("v4l2:%s: setting \"%s\" to %d failed: %s", path_.c_str(), name, c.value, errno_name(r));
+  if (r < 0) problem_.set("v4l2:%s: setting \"%s\" to %d failed: %s", name_.c_str(), name, c.value, errno_name(r));
   return r < 0 ? r : 0;
 }
 
@@ -347,11 +339,11 @@ bool V4l2Camera::apply_controls() {
     char* end = nullptr;
     const double value = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0') {
-      problem_.set("v4l2:%s: control \"%s\": value \"%s\" is not a number", path_.c_str(), name.c_str(), text.c_str());
+      problem_.set("v4l2:%s: control \"%s\": value \"%s\" is not a number", name_.c_str(), name.c_str(), text.c_str());
       return false;
     }
     if (!find_control(0, name.c_str(), q)) {
-      problem_.set("v4l2:%s: %s has no control \"%s\"", path_.c_str(), card_, name.c_str());
+      problem_.set("v4l2:%s: %s has no control \"%s\"", name_.c_str(), card_, name.c_str());
       return false;
     }
     if (write_control(q, value, name.c_str()) < 0) return false;
@@ -360,7 +352,7 @@ bool V4l2Camera::apply_controls() {
 }
 
 std::string V4l2Camera::set_control(const std::string& name, const std::string& value) {
-  if (!device_.is_open()) return "v4l2:" + path_ + ": not open";
+  if (!device_.is_open()) return "v4l2:" + name_ + ": not open";
   // Apply this one control alone, then remember it for the next bring-up.
   CameraSettings saved = settings_;
   settings_.exposure_us.reset();
@@ -380,12 +372,12 @@ bool V4l2Camera::map_buffers() {
   req.memory = V4L2_MEMORY_MMAP;
   int r = device_.ioctl(VIDIOC_REQBUFS, &req);
   if (r < 0) {
-    problem_.set("v4l2:%s: VIDIOC_REQBUFS (%d mmap buffers) failed: %s", path_.c_str(), settings_.buffer_count,
+    problem_.set("v4l2:%s: VIDIOC_REQBUFS (%d mmap buffers) failed: %s", name_.c_str(), settings_.buffer_count,
                  errno_name(r));
     return false;
   }
   if (req.count < 2 || req.count > kMaxBuffers) {
-    problem_.set("v4l2:%s: device granted %u buffers (need 2..%d)", path_.c_str(), req.count, kMaxBuffers);
+    problem_.set("v4l2:%s: device granted %u buffers (need 2..%d)", name_.c_str(), req.count, kMaxBuffers);
     buffer_count_ = 0;
     return false;
   }
@@ -397,16 +389,16 @@ bool V4l2Camera::map_buffers() {
     b.memory = V4L2_MEMORY_MMAP;
     r = device_.ioctl(VIDIOC_QUERYBUF, &b);
     if (r < 0) {
-      problem_.set("v4l2:%s: VIDIOC_QUERYBUF %d failed: %s", path_.c_str(), i, errno_name(r));
+      problem_.set("v4l2:%s: VIDIOC_QUERYBUF %d failed: %s", name_.c_str(), i, errno_name(r));
       return false;
     }
     if (b.length < size_image_) {
-      problem_.set("v4l2:%s: buffer %d holds %u bytes, an image needs %zu", path_.c_str(), i, b.length, size_image_);
+      problem_.set("v4l2:%s: buffer %d holds %u bytes, an image needs %zu", name_.c_str(), i, b.length, size_image_);
       return false;
     }
     void* p = mmap(nullptr, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, device_.fd(), b.m.offset);
     if (p == MAP_FAILED) {
-      problem_.set("v4l2:%s: mmap of buffer %d failed: %s", path_.c_str(), i, std::strerror(errno));
+      problem_.set("v4l2:%s: mmap of buffer %d failed: %s", name_.c_str(), i, std::strerror(errno));
       return false;
     }
     buffers_[static_cast<std::size_t>(i)] = {p, b.length};
@@ -422,14 +414,14 @@ bool V4l2Camera::start_stream() {
     b.memory = V4L2_MEMORY_MMAP;
     const int r = device_.ioctl(VIDIOC_QBUF, &b);
     if (r < 0) {
-      problem_.set("v4l2:%s: VIDIOC_QBUF %d failed: %s", path_.c_str(), i, errno_name(r));
+      problem_.set("v4l2:%s: VIDIOC_QBUF %d failed: %s", name_.c_str(), i, errno_name(r));
       return false;
     }
   }
   int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   const int r = device_.ioctl(VIDIOC_STREAMON, &type);
   if (r < 0) {
-    problem_.set("v4l2:%s: VIDIOC_STREAMON failed: %s", path_.c_str(), errno_name(r));
+    problem_.set("v4l2:%s: VIDIOC_STREAMON failed: %s", name_.c_str(), errno_name(r));
     return false;
   }
   streaming_ = true;
@@ -457,7 +449,7 @@ bool V4l2Camera::restart_stream() {
 }
 
 void V4l2Camera::lose_device(int neg_errno, const char* during) {
-  problem_.set("v4l2:%s: %s during %s: %s (%s); reopening", path_.c_str(),
+  problem_.set("v4l2:%s: %s during %s: %s (%s); reopening", name_.c_str(),
                device_gone(neg_errno) ? "device lost" : "stream failed", during, errno_name(neg_errno),
                std::strerror(-neg_errno));
   release_device();
@@ -486,39 +478,25 @@ void V4l2Camera::release_device() {
   device_.close();
 }
 
-CaptureStatus V4l2Camera::capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) {
-  if (!capture_buffer_fits(into, width_, height_, format_, "v4l2", path_.c_str(), problem_, counters_))
-    return CaptureStatus::error;
-  const std::int64_t deadline = monotonic_ns() + std::int64_t{timeout_ms > 0 ? timeout_ms : 0} * 1'000'000;
-  const std::int64_t stall_ns = std::int64_t{settings_.effective_stall_timeout_ms()} * 1'000'000;
-  for (;;) {
-    if (const auto settled = settle_capture_state(state_, backoff_, deadline, "v4l2", path_.c_str(), problem_,
-                                                  counters_, [this] { return bring_up(); }))
-      return *settled;
-    const std::int64_t now = monotonic_ns();
-    if (now - last_frame_ns_ > stall_ns) {
-      problem_.set("v4l2:%s: no frame for %d ms: stream restarted", path_.c_str(),
-                   settings_.effective_stall_timeout_ms());
-      restart_stream();
-      continue;
-    }
-    const std::int64_t wake = std::min(deadline, last_frame_ns_ + stall_ns + 1'000'000);
-    pollfd p{device_.fd(), POLLIN, 0};
-    const int wait_ms = static_cast<int>(std::max<std::int64_t>(0, (wake - now + 999'999) / 1'000'000));
-    const int r = ::poll(&p, 1, wait_ms);
-    if (r < 0 && errno != EINTR) {
-      lose_device(-errno, "poll");
-      continue;
-    }
-    if (r > 0) {
-      const CaptureStatus s = dequeue(into, meta);
-      if (s != CaptureStatus::timeout) return s;  // timeout here: nothing was ready after all
-    }
-    if (monotonic_ns() >= deadline) {
-      ++counters_.timeouts;
-      return CaptureStatus::timeout;
-    }
+void V4l2Camera::on_stall() {
+  problem_.set("v4l2:%s: no frame for %d ms: stream restarted", name_.c_str(), settings_.effective_stall_timeout_ms());
+  restart_stream();
+}
+
+std::optional<CaptureStatus> V4l2Camera::wait_for_frame(const MutableImageView& into, FrameMeta& meta, std::int64_t now,
+                                                        std::int64_t wake) {
+  pollfd p{device_.fd(), POLLIN, 0};
+  const int wait_ms = static_cast<int>(std::max<std::int64_t>(0, (wake - now + 999'999) / 1'000'000));
+  const int r = ::poll(&p, 1, wait_ms);
+  if (r < 0 && errno != EINTR) {
+    lose_device(-errno, "poll");
+    return std::nullopt;
   }
+  if (r > 0) {
+    const CaptureStatus s = dequeue(into, meta);
+    if (s != CaptureStatus::timeout) return s;  // timeout here: nothing was ready after all
+  }
+  return std::nullopt;
 }
 
 CaptureStatus V4l2Camera::dequeue(const MutableImageView& into, FrameMeta& meta) {
@@ -534,7 +512,7 @@ CaptureStatus V4l2Camera::dequeue(const MutableImageView& into, FrameMeta& meta)
   }
   const std::int64_t now = monotonic_ns();
   if (b.index >= static_cast<std::uint32_t>(buffer_count_)) {
-    problem_.set("v4l2:%s: device returned buffer %u of %d", path_.c_str(), b.index, buffer_count_);
+    problem_.set("v4l2:%s: device returned buffer %u of %d", name_.c_str(), b.index, buffer_count_);
     lose_device(-EPROTO, "VIDIOC_DQBUF");
     return CaptureStatus::recovering;
   }
@@ -550,10 +528,10 @@ CaptureStatus V4l2Camera::dequeue(const MutableImageView& into, FrameMeta& meta)
   const std::size_t used = b.bytesused ? std::min<std::size_t>(b.bytesused, m.length) : size_image_;
   CaptureStatus status = CaptureStatus::frame;
   if (b.flags & V4L2_BUF_FLAG_ERROR) {
-    problem_.set("v4l2:%s: frame %u flagged as damaged by the device", path_.c_str(), b.sequence);
+    problem_.set("v4l2:%s: frame %u flagged as damaged by the device", name_.c_str(), b.sequence);
     status = CaptureStatus::error;
   } else if (!convert_frame(static_cast<const std::uint8_t*>(m.start), bytes_per_line_, used, wire_, into)) {
-    problem_.set("v4l2:%s: frame %u is short: %zu bytes", path_.c_str(), b.sequence, used);
+    problem_.set("v4l2:%s: frame %u is short: %zu bytes", name_.c_str(), b.sequence, used);
     status = CaptureStatus::error;
   } else {
     meta.sequence = b.sequence;
@@ -571,11 +549,7 @@ CaptureStatus V4l2Camera::dequeue(const MutableImageView& into, FrameMeta& meta)
       return status;  // this frame is good; recovery starts on the next call
     }
   }
-  if (status == CaptureStatus::frame)
-    ++counters_.frames;
-  else
-    ++counters_.errors;
-  return status;
+  return counted(status);
 }
 
 }  // namespace ccdlane

@@ -5,19 +5,17 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
-#include "drivers/camera/camera_settings.hpp"
-#include "drivers/camera/pixel_conversion.hpp"
+#include "drivers/camera/streaming_camera.hpp"
 #include "drivers/camera/v4l2_device.hpp"
-#include "drivers/device_state.hpp"
-#include "drivers/frame_source.hpp"
 
 struct v4l2_queryctrl;
 
 namespace ccdlane {
 
-class V4l2Camera final : public FrameSource {
+class V4l2Camera final : public StreamingCamera {
  public:
   static constexpr int kMaxBuffers = 32;
 
@@ -27,23 +25,8 @@ class V4l2Camera final : public FrameSource {
   V4l2Camera& operator=(const V4l2Camera&) = delete;
 
   std::string open() override;
-  int width() const override { return width_; }
-  int height() const override { return height_; }
-  // What capture() delivers: settled by the first open() (rgb8 or mono8 for 8-bit
-  // capture as settings.colour and the device decide), kept across reopens.
-  PixelFormat format() const override { return format_; }
-  CaptureStatus capture(const MutableImageView& into, FrameMeta& meta, int timeout_ms) override;
   void close() override;
-  std::string describe() const override { return description_; }
-  std::string last_problem() const override { return problem_.str(); }
-  void copy_last_problem(char* out, std::size_t size) const override {
-    if (size > 0) std::snprintf(out, size, "%s", problem_.c_str());
-  }
-  SourceCounters counters() const override { return counters_; }
 
-  DeviceState state() const { return state_; }
-  int significant_bits() const { return significant_bits_; }
-  double frame_rate() const { return fps_obtained_; }  // 0 when the device sets its own
   // Sets a control by its V4L2 name ("Gain", "Exposure Time, Absolute"; case, spaces and
   // punctuation ignored, so v4l2-ctl's "exposure_time_absolute" works too) to a number.
   // "" or one line saying why not. Remembered and applied again after a reopen.
@@ -55,7 +38,10 @@ class V4l2Camera final : public FrameSource {
     std::size_t length = 0;
   };
 
-  bool bring_up();  // opening -> configuring -> streaming; false leaves the device released
+  bool bring_up() override;
+  void on_stall() override;
+  std::optional<CaptureStatus> wait_for_frame(const MutableImageView& into, FrameMeta& meta, std::int64_t now_ns,
+                                              std::int64_t wake_ns) override;
   bool check_capabilities();
   bool negotiate_format();
   bool set_frame_rate();
@@ -69,35 +55,18 @@ class V4l2Camera final : public FrameSource {
   int write_control(const v4l2_queryctrl& ctrl, double value, const char* what);
   CaptureStatus dequeue(const MutableImageView& into, FrameMeta& meta);
 
-  std::string path_;
-  CameraSettings settings_;
   V4l2Device device_;
-  DeviceState state_ = DeviceState::closed;
-  ReopenBackoff backoff_;
-  ProblemText problem_;
-  ProblemText notes_;  // what was not as asked but is not fatal (no exposure control, ...)
-  std::string description_;
-
   std::array<Mapped, kMaxBuffers> buffers_{};
   int buffer_count_ = 0;
   bool streaming_ = false;
-  int width_ = 0;
-  int height_ = 0;
-  PixelFormat format_;
-  bool format_locked_ = false;
   std::uint32_t fourcc_ = 0;
-  WirePixels wire_ = WirePixels::mono8;
-  int significant_bits_ = 8;
   std::ptrdiff_t bytes_per_line_ = 0;
   std::size_t size_image_ = 0;
-  double fps_obtained_ = 0;
   char card_[64] = {};
   char driver_[32] = {};
 
   bool have_sequence_ = false;
   std::uint32_t last_sequence_ = 0;
-  std::int64_t last_frame_ns_ = 0;
-  SourceCounters counters_;
 };
 
 }  // namespace ccdlane

@@ -79,12 +79,10 @@ CaptureStatus FrameDirectorySource::capture(const MutableImageView& into, FrameM
     next_due_ns_ = now;
   }
   if (now > next_due_ns_ + period_ns_) next_due_ns_ = now;  // fell behind: re-anchor, don't burst
-  if (next_due_ns_ - now > static_cast<std::int64_t>(timeout_ms) * 1'000'000) {
-    sleep_until(now + static_cast<std::int64_t>(timeout_ms) * 1'000'000);
+  if (!sleep_until_due(next_due_ns_, timeout_ms)) {
     ++counters_.timeouts;
     return CaptureStatus::timeout;
   }
-  sleep_until(next_due_ns_);
 
   const std::size_t i = next_++;
   meta.sequence = pass_ * dir.data_rows() + dir.row(i).index;

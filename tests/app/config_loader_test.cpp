@@ -371,4 +371,13 @@ TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
 }
 
 }  // namespace
+// Every named choice reads through one helper: four or more options are listed as "one of",
+// a value of the wrong type is a type error, not an unknown name.
+TEST(ConfigLoader, SourceKindIsOneOfFourAndATypeErrorIsSaidAsSuch) {
+  EXPECT_EQ(parse_config("[source]\nkind = \"frames\"\npath = \"/tmp\"\n", "f.toml").source.kind, SourceKind::frames);
+  EXPECT_EQ(error_of("[source]\nkind = \"usb\"\n"),
+            "test.toml:2: source.kind: must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"usb\"");
+  EXPECT_EQ(error_of("[source]\nkind = 3\n"), "test.toml:2: source.kind: must be a string, got an integer");
+}
+
 }  // namespace ccdlane

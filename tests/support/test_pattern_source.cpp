@@ -61,12 +61,7 @@ CaptureStatus TestPatternSource::capture(const MutableImageView& into, FrameMeta
   if (options_.rate_hz > 0.0) {
     const auto due =
         start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(next_) * 1e9 / options_.rate_hz));
-    const std::int64_t deadline = monotonic_ns() + static_cast<std::int64_t>(timeout_ms) * 1'000'000;
-    if (due > deadline) {
-      sleep_until(deadline);
-      return CaptureStatus::timeout;
-    }
-    sleep_until(due);
+    if (!sleep_until_due(due, timeout_ms)) return CaptureStatus::timeout;
   }
   render_test_pattern(into, next_);
   meta.sequence = next_;
@@ -90,7 +85,7 @@ SourceCounters TestPatternSource::counters() const {
   return c;
 }
 
-LaneEstimate TestPatternProcessor::process(const ImageView& image, const FrameMeta& meta,
+LaneEstimate TestPatternProcessor::process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
                                            std::optional<Gx1Angles> attitude) {
   const std::int64_t work_us = work_us_.load(std::memory_order_relaxed);
   if (work_us > 0) {  // busy, like an estimator, rather than sleeping
@@ -99,7 +94,7 @@ LaneEstimate TestPatternProcessor::process(const ImageView& image, const FrameMe
     }
   }
   LaneEstimate e;
-  e.frame = meta.sequence;
+  e.frame = frame;
   e.t_ns = meta.frame_t_ns();
   if (!test_pattern_intact(image, meta.sequence)) {
     damaged_.fetch_add(1, std::memory_order_relaxed);
