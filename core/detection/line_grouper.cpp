@@ -5,6 +5,7 @@
 #include "core/detection/line_grouper.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -23,13 +24,21 @@ double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 }  // namespace
 
 LineGrouper::LineGrouper(int max_marks)
-    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {}
+    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {
+  // A mark votes once per slope: a cell holds at most max_marks votes, and the search's
+  // 16-bit sums of three cells must not wrap.
+  assert(3 * max_marks <= 65535);
+}
 
 void LineGrouper::vote(const MarkCandidate& mark, int delta) {
+  // The y0 bin, as a real number, falls linearly with the slope bin: no division or
+  // floor per cell (truncation is the floor where the bin exists, u >= 0).
+  const double u0 = (mark.Y - curvature_ * mark.X * mark.X - kSlopeMin * mark.X - kY0MinMm) / kY0BinMm;
+  const double du = kSlopeStep * mark.X / kY0BinMm;
   for (int j = 0; j < kSlopeBins; ++j) {
-    const double y0 = mark.Y - curvature_ * mark.X * mark.X - (kSlopeMin + j * kSlopeStep) * mark.X;
-    const int i = static_cast<int>(std::floor((y0 - kY0MinMm) / kY0BinMm));
-    if (i < 0 || i >= kY0Bins) continue;
+    const double u = u0 - j * du;
+    if (!(u >= 0.0 && u < kY0Bins)) continue;
+    const int i = static_cast<int>(u);
     std::uint16_t& v = votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)];
     v = static_cast<std::uint16_t>(delta > 0 ? std::min(v + 1, 65535) : std::max(v - 1, 0));
   }
@@ -205,13 +214,21 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   curvature_ = shared_curvature();
   revote();
   for (int attempt = 0; attempt < 16 && n < kMaxFoundLines; ++attempt) {
+    // The first cell (in y0, then slope order) of the most votes over 3 bins of y0. Sums
+    // and row maxima are vector operations; a row is searched only when it beats the best.
     int best = 0, bi = -1, bj = -1;
     for (int i = 1; i + 1 < kY0Bins; ++i) {
       const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
-      for (int j = 0; j < kSlopeBins; ++j) {
-        const int s = row[j - kSlopeBins] + row[j] + row[j + kSlopeBins];  // 3 bins of y0
-        if (s > best) best = s, bi = i, bj = j;
-      }
+      std::array<std::uint16_t, kSlopeBins> sums;
+      for (int j = 0; j < kSlopeBins; ++j)
+        sums[static_cast<std::size_t>(j)] =
+            static_cast<std::uint16_t>(row[j - kSlopeBins] + row[j] + row[j + kSlopeBins]);
+      std::uint16_t row_best = 0;
+      for (std::uint16_t v : sums) row_best = std::max(row_best, v);
+      if (row_best <= best) continue;
+      best = row_best;
+      bi = i;
+      bj = static_cast<int>(std::find(sums.begin(), sums.end(), row_best) - sums.begin());
     }
     if (best < params.min_marks) break;
     const LinePrior model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
