@@ -300,6 +300,7 @@ void read_source(TableReader& r, Config& c) {
     c.source.pixel_format = SourcePixels::colour;
   else
     r.fail(r.node("pixel_format"), "pixel_format", "must be \"auto\", \"grey\" or \"colour\", got \"" + pixels + "\"");
+  r.string("device_format", c.source.device_format);
   r.reject_unknown();
   require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
