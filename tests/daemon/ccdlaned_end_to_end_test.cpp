@@ -1,10 +1,12 @@
 // ccdlaned end to end on a real multicast bus in a private network namespace: rendered
 // frames in, one lane message per frame out, the same estimates as `ccdlane replay`;
-// rendered colour roads from a GigE Vision camera in a Bayer format to ok lanes; the
+// rendered colour roads from a GigE Vision camera in a Bayer format and from a V4L2
+// camera in YUYV to ok lanes; the
 // gyro emulator hanging up mid-run without the lane messages stopping; and a GigE Vision
 // camera that stops sending (the simulator frozen) silencing the watchdog until the
 // driver has reconnected.
 #include <arv.h>
+#include <linux/videodev2.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -32,6 +34,8 @@
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/notify_socket.hpp"
 #include "tests/daemon/private_network.hpp"
+#include "tests/drivers/camera/fake_v4l2/fake_v4l2_device.hpp"
+#include "tests/drivers/camera/private_namespace.hpp"
 #include "tests/support/run_process.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 
@@ -310,6 +314,52 @@ TEST_F(CcdlanedEndToEnd, AStalledCameraSilencesTheWatchdogUntilItIsBack) {
 namespace ccdlane {
 namespace {
 
+// The default drive's road in colour, as `ccdlane synth` renders it with colour = true.
+std::vector<std::vector<std::uint8_t>> colour_road(const Config& c, int frames) {
+  std::vector<std::vector<std::uint8_t>> rgb;
+  SynthDrive drive(c.synth, c.nominal_pose());
+  RoadRenderer renderer(c.camera, c.synth);
+  for (int k = 0; k < frames; ++k) {
+    rgb.emplace_back(static_cast<std::size_t>(c.camera.Nu) * c.camera.Nv * 3);
+    renderer.render(
+        drive.frame(static_cast<std::uint64_t>(k) * 3),
+        MutableImageView{rgb.back().data(), c.camera.Nu, c.camera.Nv, c.camera.Nu * 3, PixelFormat::rgb8, 8});
+  }
+  return rgb;
+}
+
+// Runs ccdlaned on `source` (a [source] table's body) until `messages` lane messages have
+// come, then stops it; nearly all must be ok (the easy synthetic road: the frame-directory
+// test above has all but two frames ok), with the lane's true width. Returns the log.
+std::string expect_ok_lanes(lcm::LCM& bus, Received& got, const Config& c, const std::string& source) {
+  test::TempDir dir;
+  // No gyro: a roll prior makes the free set well-posed (as for the stalled camera above).
+  const std::string config = dir.write("daemon.toml", "[source]\n" + source + "[prior]\nphi_deg = [0.0, 1.0]\n");
+  test::ChildProcess daemon({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  const auto log = [&] { return test::read_file(dir.file("stderr")); };
+  constexpr std::size_t kMessages = 30;
+  const auto end = Clock::now() + std::chrono::seconds(30);
+  while (got.lanes.size() < kMessages && Clock::now() < end) bus.handleTimeout(100);
+  daemon.signal(SIGTERM);
+  const auto exit_status = daemon.wait_exit(5000);
+  while (bus.handleTimeout(100) > 0) {
+  }
+  EXPECT_TRUE(exit_status.has_value()) << log();
+  if (exit_status) {
+    EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << log();
+  }
+  EXPECT_GE(got.lanes.size(), kMessages) << log();
+  int ok = 0;
+  for (const lane_estimate_t& m : got.lanes) {
+    if (!m.ok) continue;
+    ++ok;
+    EXPECT_GE(m.num_lines, 2);
+    EXPECT_NEAR(m.lane_width_mm, c.synth.lane_width_mm, 0.05 * c.synth.lane_width_mm) << "frame " << m.frame;
+  }
+  EXPECT_GE(ok, static_cast<int>(got.lanes.size()) - 2) << log();
+  return log();
+}
+
 // Rendered colour frames of the default drive, served by Aravis' fake camera as BayerRG8
 // through its fill-pattern hook (its own pattern is a ramp, no road).
 struct BayerRoad {
@@ -345,21 +395,12 @@ struct BayerRoad {
 // messages. The road is the easy synthetic one (the frame-directory test above: all but
 // two frames ok), so nearly every message must be ok with the lane's true width.
 TEST_F(CcdlanedEndToEnd, BayerFramesFromAGigECameraGiveOkLanes) {
-  lcm::LCM& bus = *bus_;
   Config c = default_config();
   c.synth.colour = true;
   BayerRoad road;
   road.width = c.camera.Nu;
   road.height = c.camera.Nv;
-  {
-    SynthDrive drive(c.synth, c.nominal_pose());
-    RoadRenderer renderer(c.camera, c.synth);
-    for (std::uint64_t k = 0; k < 12; ++k) {
-      road.rgb.emplace_back(static_cast<std::size_t>(road.width) * road.height * 3);
-      renderer.render(drive.frame(k * 3), MutableImageView{road.rgb.back().data(), road.width, road.height,
-                                                           road.width * 3, PixelFormat::rgb8, 8});
-    }
-  }
+  road.rgb = colour_road(c, 12);
   ArvGvFakeCamera* camera = arv_gv_fake_camera_new("127.0.0.1", "CCDLANE01");
   ASSERT_NE(camera, nullptr);
   const std::unique_ptr<ArvGvFakeCamera, void (*)(ArvGvFakeCamera*)> owned(
@@ -367,34 +408,41 @@ TEST_F(CcdlanedEndToEnd, BayerFramesFromAGigECameraGiveOkLanes) {
   ASSERT_TRUE(arv_gv_fake_camera_is_running(camera)) << "the GigE Vision simulator did not start on 127.0.0.1";
   arv_fake_camera_set_fill_pattern(arv_gv_fake_camera_get_fake_camera(camera), &BayerRoad::fill, &road);
 
-  test::TempDir dir;
-  // No gyro: a roll prior makes the free set well-posed (as for the stalled camera above).
-  const std::string config = dir.write("daemon.toml",
-                                       "[source]\nkind = \"aravis\"\ncamera = \"127.0.0.1\"\nrate_hz = 20\n"
-                                       "pixel_format = \"colour\"\ndevice_format = \"BayerRG8\"\n"
-                                       "[prior]\nphi_deg = [0.0, 1.0]\n");
-  test::ChildProcess daemon({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
-  const auto log = [&] { return test::read_file(dir.file("stderr")); };
-  constexpr std::size_t kMessages = 30;
-  const auto end = Clock::now() + std::chrono::seconds(30);
-  while (got.lanes.size() < kMessages && Clock::now() < end) bus.handleTimeout(100);
-  daemon.signal(SIGTERM);
-  const auto exit_status = daemon.wait_exit(5000);
-  while (bus.handleTimeout(100) > 0) {
-  }
-  ASSERT_TRUE(exit_status.has_value()) << log();
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << log();
-  EXPECT_NE(log().find("BayerRG8"), std::string::npos) << "the camera was opened in Bayer: " << log();
+  const std::string log = expect_ok_lanes(*bus_, got, c,
+                                          "kind = \"aravis\"\ncamera = \"127.0.0.1\"\nrate_hz = 20\n"
+                                          "pixel_format = \"colour\"\ndevice_format = \"BayerRG8\"\n");
+  EXPECT_NE(log.find("BayerRG8"), std::string::npos) << "the camera was opened in Bayer: " << log;
   EXPECT_EQ(road.wrong_format.load(), 0) << "every frame asked of the camera was BayerRG8 at the road's size";
-  ASSERT_GE(got.lanes.size(), kMessages) << log();
-  int ok = 0;
-  for (const lane_estimate_t& m : got.lanes) {
-    if (!m.ok) continue;
-    ++ok;
-    EXPECT_GE(m.num_lines, 2);
-    EXPECT_NEAR(m.lane_width_mm, c.synth.lane_width_mm, 0.05 * c.synth.lane_width_mm) << "frame " << m.frame;
+}
+
+// The same road from a V4L2 camera in YUYV (BT.601 limited range, as the driver reads it):
+// the FUSE fake device, in a private mount namespace (root), serving the rendered frames.
+TEST_F(CcdlanedEndToEnd, YuyvFramesFromAV4l2CameraGiveOkLanes) {
+  if (const std::string why = test::enter_private_mount_namespace(); !why.empty()) GTEST_SKIP() << why;
+  Config c = default_config();
+  c.synth.colour = true;
+  test::FakeV4l2Options options{.formats = {V4L2_PIX_FMT_YUYV}, .sizes = {{c.camera.Nu, c.camera.Nv}}, .fps = 20.0};
+  for (const std::vector<std::uint8_t>& rgb : colour_road(c, 12)) {
+    std::vector<std::uint8_t> yuyv(rgb.size() / 3 * 2);
+    for (std::size_t p = 0; p + 1 < rgb.size() / 3; p += 2) {
+      const std::uint8_t* a = &rgb[3 * p];
+      const std::uint8_t* b = a + 3;
+      auto y = [](const std::uint8_t* q) {
+        return static_cast<std::uint8_t>(16 + ((66 * q[0] + 129 * q[1] + 25 * q[2] + 128) >> 8));
+      };
+      const int r = (a[0] + b[0] + 1) / 2, g = (a[1] + b[1] + 1) / 2, bl = (a[2] + b[2] + 1) / 2;
+      yuyv[2 * p] = y(a);
+      yuyv[2 * p + 1] = static_cast<std::uint8_t>(128 + ((-38 * r - 74 * g + 112 * bl + 128) >> 8));
+      yuyv[2 * p + 2] = y(b);
+      yuyv[2 * p + 3] = static_cast<std::uint8_t>(128 + ((112 * r - 94 * g - 18 * bl + 128) >> 8));
+    }
+    options.frames.push_back(std::move(yuyv));
   }
-  EXPECT_GE(ok, static_cast<int>(got.lanes.size()) - 2) << log();
+  test::TempDir dev;
+  test::FakeV4l2Device camera(dev.file("video0"), options);
+  const std::string log = expect_ok_lanes(
+      *bus_, got, c, "kind = \"v4l2\"\ndevice = \"" + camera.path() + "\"\nrate_hz = 20\npixel_format = \"colour\"\n");
+  EXPECT_NE(log.find("YUYV"), std::string::npos) << "the camera was opened in YUYV: " << log;
 }
 
 }  // namespace
