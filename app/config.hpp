@@ -58,6 +58,9 @@ struct SourceConfig {
   double rate_hz = 30.0;
   bool loop = false;
   SourcePixels pixel_format = SourcePixels::automatic;
+  // An Aravis camera's own name of the pixel format to use ("BayerRG8"), among those
+  // pixel_format allows; empty: the driver's preference (RGB8 before Bayer).
+  std::string device_format;
 
   bool operator==(const SourceConfig&) const = default;
 };

@@ -299,6 +299,7 @@ void read_source(TableReader& r, Config& c) {
   r.boolean("loop", c.source.loop);
   r.choice("pixel_format", c.source.pixel_format,
            {{"auto", SourcePixels::automatic}, {"grey", SourcePixels::grey}, {"colour", SourcePixels::colour}});
+  r.string("device_format", c.source.device_format);
   r.reject_unknown();
   require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",

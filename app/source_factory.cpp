@@ -41,6 +41,7 @@ CameraSettings camera_settings(const Config& c) {
     case SourcePixels::grey: s.colour = ColourCapture::grey; break;
     case SourcePixels::colour: s.colour = ColourCapture::colour; break;
   }
+  s.device_format = c.source.device_format;
   return s;
 }
 

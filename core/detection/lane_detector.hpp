@@ -31,7 +31,7 @@ class LaneDetector {
   int max_candidates() const { return static_cast<int>(marks_.size()); }
 
  private:
-  void plan_rows(const CameraPose& pose);
+  void plan_rows(const CameraPose& pose, double curvature_per_mm);
   bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
   void choose_picks();
 

@@ -5,6 +5,7 @@
 #include "core/detection/line_grouper.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -23,20 +24,28 @@ double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 }  // namespace
 
 LineGrouper::LineGrouper(int max_marks)
-    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {}
+    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {
+  // A mark votes once per slope: a cell holds at most max_marks votes, and the search's
+  // 16-bit sums of three cells must not wrap.
+  assert(3 * max_marks <= 65535);
+}
 
 void LineGrouper::vote(const MarkCandidate& mark, int delta) {
+  // The y0 bin, as a real number, falls linearly with the slope bin: no division or
+  // floor per cell (truncation is the floor where the bin exists, u >= 0).
+  const double u0 = (mark.Y - curvature_ * mark.X * mark.X - kSlopeMin * mark.X - kY0MinMm) / kY0BinMm;
+  const double du = kSlopeStep * mark.X / kY0BinMm;
   for (int j = 0; j < kSlopeBins; ++j) {
-    const double y0 = mark.Y - curvature_ * mark.X * mark.X - (kSlopeMin + j * kSlopeStep) * mark.X;
-    const int i = static_cast<int>(std::floor((y0 - kY0MinMm) / kY0BinMm));
-    if (i < 0 || i >= kY0Bins) continue;
+    const double u = u0 - j * du;
+    if (!(u >= 0.0 && u < kY0Bins)) continue;
+    const int i = static_cast<int>(u);
     std::uint16_t& v = votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)];
     v = static_cast<std::uint16_t>(delta > 0 ? std::min(v + 1, 65535) : std::max(v - 1, 0));
   }
 }
 
 bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
-                           const GroupingParams& params, DetectedLine& out) {
+                           const GroupingParams& params, DetectedLine& out, bool parallel) {
   const auto id = static_cast<std::int16_t>(line);
   auto pixel_tol = [&](double X) { return params.fit_tolerance_px * params.mm_per_px_per_mm * X; };
   auto release = [&] {
@@ -52,7 +61,9 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
     if ((m.line == -1 || m.line == id) && std::abs(m.Y - model.y_at(m.X)) <= gate(gate_base_mm, m.X))
       gated_[static_cast<std::size_t>(g++)] = static_cast<int>(i);
   }
-  if (g < params.min_marks) return release();
+  const int min_marks = parallel ? params.min_dash_marks : params.min_marks;
+  const double min_span_mm = parallel ? params.min_dash_span_mm : params.min_span_mm;
+  if (g < min_marks) return release();
 
   // 2. RANSAC among them: the model, or a straight line through two gated marks, that
   // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
@@ -67,12 +78,23 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
   };
   LinePrior best = model;
   int best_count = consensus(model);
+  if (parallel) {
+    // Slope and curvature are the road's: the consensus is over y0 alone, one hypothesis
+    // through each gated mark.
+    for (int k = 0; k < g; ++k) {
+      const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
+      LinePrior h = model;
+      h.y0_mm = a.Y - (model.m + model.c_per_mm * a.X) * a.X;
+      const int count = consensus(h);
+      if (count > best_count) best_count = count, best = h;
+    }
+  }
   std::uint32_t state = 2654435761u * static_cast<std::uint32_t>(line + 1);  // deterministic samples
   auto next = [&state, g] {
     state = state * 1664525u + 1013904223u;
     return static_cast<int>((state >> 8) % static_cast<std::uint32_t>(g));
   };
-  for (int it = 0; it < kRansacIterations; ++it) {
+  for (int it = 0; it < (parallel ? 0 : kRansacIterations); ++it) {
     // Straight lines through two marks (with the model's curvature) and, on a curving
     // road, parabolas through three.
     const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
@@ -125,12 +147,16 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
       first_row = std::min<int>(first_row, m.scan_row);
       last_row = std::max<int>(last_row, m.scan_row);
     }
-    if (n < params.min_marks || far - near < params.min_span_mm) return release();
+    if (n < min_marks || far - near < min_span_mm) return release();
     if (n < params.min_coverage * (last_row - first_row + 1)) return release();  // sparse: clutter, not paint
     // The curvature term only when the marks reach far enough to show it; otherwise the
     // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
     Eigen::Vector3d coef = Eigen::Vector3d::Zero();
-    if (n >= 15 && far - near >= 15000.0) {
+    if (parallel) {  // y - m x - c x^2 = y0
+      coef[1] = model.m * 1e3;
+      coef[2] = model.c_per_mm * 1e6;
+      coef[0] = (b[0] - A(0, 1) * coef[1] - A(0, 2) * coef[2]) / A(0, 0);
+    } else if (n >= 15 && far - near >= 15000.0) {
       coef = A.ldlt().solve(b);
     } else {
       coef[2] = model.c_per_mm * 1e6;
@@ -205,13 +231,21 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   curvature_ = shared_curvature();
   revote();
   for (int attempt = 0; attempt < 16 && n < kMaxFoundLines; ++attempt) {
+    // The first cell (in y0, then slope order) of the most votes over 3 bins of y0. Sums
+    // and row maxima are vector operations; a row is searched only when it beats the best.
     int best = 0, bi = -1, bj = -1;
     for (int i = 1; i + 1 < kY0Bins; ++i) {
       const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
-      for (int j = 0; j < kSlopeBins; ++j) {
-        const int s = row[j - kSlopeBins] + row[j] + row[j + kSlopeBins];  // 3 bins of y0
-        if (s > best) best = s, bi = i, bj = j;
-      }
+      std::array<std::uint16_t, kSlopeBins> sums;
+      for (int j = 0; j < kSlopeBins; ++j)
+        sums[static_cast<std::size_t>(j)] =
+            static_cast<std::uint16_t>(row[j - kSlopeBins] + row[j] + row[j + kSlopeBins]);
+      std::uint16_t row_best = 0;
+      for (std::uint16_t v : sums) row_best = std::max(row_best, v);
+      if (row_best <= best) continue;
+      best = row_best;
+      bi = i;
+      bj = static_cast<int>(std::find(sums.begin(), sums.end(), row_best) - sums.begin());
     }
     if (best < params.min_marks) break;
     const LinePrior model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
@@ -236,7 +270,67 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
         votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)] = 0;
   }
 
-  // 3. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
+  // 3. Single dashes: on a bend, with 3 m dashes and 9 m gaps, often one dash of a dashed
+  // line is in the searched range, too little to fit a line's slope. The lines of one road
+  // are parallel: such a line has the road's curvature and the slope the lines found give
+  // at its y0 (a pitch error tilts projected lines in proportion to their offset, so the
+  // slope is fitted as a linear function of y0 when two or more lines are known), and only
+  // its y0 is fitted. First where the previous frame's lines that were not found again
+  // were, then wherever free marks agree on one y0.
+  if (n > 0) {
+    double sw = 0, sy = 0, sm = 0, syy = 0, sym = 0;
+    for (int k = 0; k < n; ++k) {
+      const DetectedLine& l = lines[static_cast<std::size_t>(k)];
+      const double w = l.marks, y = l.fit.y_at(kReferenceMm);
+      sw += w, sy += w * y, sm += w * l.fit.m, syy += w * y * y, sym += w * y * l.fit.m;
+    }
+    const double var = syy / sw - (sy / sw) * (sy / sw);
+    const double slope_per_mm = n >= 2 && var > 1e6 ? (sym / sw - sy / sw * sm / sw) / var : 0.0;
+    auto road_line = [&](double y_ref_mm) {  // the road's line through y_ref_mm at the reference distance
+      const double m = sm / sw + slope_per_mm * (y_ref_mm - sy / sw);
+      return LinePrior{y_ref_mm - (m + curvature_ * kReferenceMm) * kReferenceMm, m, curvature_};
+    };
+    auto add_parallel = [&](double y_ref_mm, int prior_index) {
+      DetectedLine l;
+      if (fit_line(marks, road_line(y_ref_mm), 400.0, n, params, l, true) && separated(l)) {
+        l.prior_index = prior_index;
+        lines[static_cast<std::size_t>(n++)] = l;
+        return true;
+      }
+      for (MarkCandidate& m : marks)
+        if (m.line == n) m.line = -1;
+      return false;
+    };
+    for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
+      bool continued = false;
+      for (int j = 0; j < n; ++j)
+        continued = continued || lines[static_cast<std::size_t>(j)].prior_index == static_cast<int>(k);
+      if (!continued) add_parallel(priors[k].y_at(kReferenceMm), static_cast<int>(k));
+    }
+    std::array<std::uint16_t, kY0Bins> y_votes{};
+    for (const MarkCandidate& m : marks) {
+      if (m.line != -1) continue;
+      // The mark's y at the reference distance along the road's line through it (twice: the
+      // slope depends on where the line is).
+      double y = m.Y + (road_line(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+      y = m.Y + (road_line(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+      const double u = (y - kY0MinMm) / kY0BinMm;
+      if (u >= 0.0 && u < kY0Bins) ++y_votes[static_cast<std::size_t>(u)];
+    }
+    for (int attempt = 0; attempt < 8 && n < kMaxFoundLines; ++attempt) {
+      int best = 0, bi = -1;
+      for (int i = 1; i + 1 < kY0Bins; ++i) {
+        const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
+                      y_votes[static_cast<std::size_t>(i + 1)];
+        if (v > best) best = v, bi = i;
+      }
+      if (best < params.min_dash_marks) break;
+      add_parallel(kY0MinMm + (bi + 0.5) * kY0BinMm, -1);
+      for (int i = bi - 1; i <= bi + 1; ++i) y_votes[static_cast<std::size_t>(i)] = 0;
+    }
+  }
+
+  // 4. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
   std::array<int, kMaxFoundLines> order{};
   auto y_ref = [&](int k) { return lines[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm); };
   auto insertion_sort = [&order](int count, auto before) {

@@ -22,6 +22,11 @@ struct GroupingParams {
   double fit_tolerance_px = 2.0;
   double max_rms_px = 0.8;     // scatter about the final fit: paint is sharp, clutter is not
   double min_coverage = 0.12;  // marks per scan row over the rows a line spans (dashes ~0.25)
+  // A line parallel to the lines found (the road's slope and curvature at its y0), or
+  // continuing a previous frame's line, is found from less: one dash of a dashed line on
+  // a bend, whose others are in the gaps or beyond the range (3 m dashes, 9 m gaps).
+  int min_dash_marks = 5;
+  double min_dash_span_mm = 1000.0;
 };
 
 class LineGrouper {
@@ -44,8 +49,10 @@ class LineGrouper {
  private:
   // Gathers the free (or `line`-assigned) marks in the gate around `model`, finds their
   // consensus line (RANSAC), refits by least squares; assigns the marks to `line`.
+  // `parallel`: keep the model's slope and curvature (those of the road's other lines, or
+  // of the line's previous frame), fit y0 alone, and accept a single dash.
   bool fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
-                const GroupingParams& params, DetectedLine& out);
+                const GroupingParams& params, DetectedLine& out, bool parallel = false);
   void vote(const MarkCandidate& m, int delta);
 
   std::vector<std::uint16_t> votes_;  // kY0Bins x kSlopeBins

@@ -5,6 +5,7 @@
 #include "core/detection/mark_scanner.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "core/detection/paint_measure.hpp"
@@ -32,35 +33,40 @@ MarkScanner::MarkScanner(int max_width)
       prefix_(static_cast<std::size_t>(max_width) + 1),
       grad_(static_cast<std::size_t>(max_width)),
       rising_(static_cast<std::size_t>(max_width)),
-      falling_(static_cast<std::size_t>(max_width)) {}
+      falling_(static_cast<std::size_t>(max_width)) {
+  assert(max_width < (1 << 15) && "prefix sums of 16-bit pixels are 32-bit");
+}
 
 int MarkScanner::scan(const ImageView& image, const ScanRow& r, int scan_row_index, float min_contrast, float to_8bit,
                       MarkCandidate* out, int count, int capacity) {
   const int width = std::min(image.width, static_cast<int>(grad_.size()));
+  const int x_begin = std::clamp(r.x_begin, 0, width), x_end = std::clamp(r.x_end, x_begin, width);
   // Grey rows are their own measure and are scanned in place.
   if (image.format == PixelFormat::mono8)
-    return scan_row(image.row(r.y), width, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
+    return scan_row(image.row(r.y), x_begin, x_end, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
   if (image.format == PixelFormat::mono16)
-    return scan_row(reinterpret_cast<const std::uint16_t*>(image.row(r.y)), width, r, scan_row_index, min_contrast,
-                    to_8bit, out, count, capacity);
-  paint_measure_row(image, r.y, 0, width, measure_.data());
-  return scan_row(measure_.data(), width, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
+    return scan_row(reinterpret_cast<const std::uint16_t*>(image.row(r.y)), x_begin, x_end, r, scan_row_index,
+                    min_contrast, to_8bit, out, count, capacity);
+  paint_measure_row(image, r.y, x_begin, x_end, measure_.data());
+  return scan_row(measure_.data(), x_begin, x_end, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
 }
 
 template <typename Pixel>
-int MarkScanner::scan_row(const Pixel* row, int width, const ScanRow& r, int scan_row_index, float min_contrast,
-                          float to_8bit, MarkCandidate* out, int count, int capacity) {
-  std::int64_t* P = prefix_.data();
+int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const ScanRow& r, int scan_row_index,
+                          float min_contrast, float to_8bit, MarkCandidate* out, int count, int capacity) {
+  // Everything below is in the segment's own columns: row[0] is column x_begin.
+  const Pixel* const row = full_row + x_begin;
+  const int width = x_end - x_begin;
+  std::int32_t* const P = prefix_.data();
   P[0] = 0;
-  for (int x = 0; x < width; ++x) P[x + 1] = P[x] + row[x];
+  for (int x = 0; x < width; ++x) P[x + 1] = P[x] + static_cast<std::int32_t>(row[x]);
 
   // g[x]: sum of the h pixels right of the boundary x|x+1 minus the h pixels left of it.
   const int h = std::max(1, r.half_width);
   const int lo = h - 1, hi = width - 1 - h;  // boundaries with full boxes on both sides
   if (hi - lo < 3) return count;
-  std::int32_t* g = grad_.data();
-  for (int x = lo; x <= hi; ++x)
-    g[x] = static_cast<std::int32_t>((P[x + 1 + h] - P[x + 1]) - (P[x + 1] - P[x + 1 - h]));
+  std::int32_t* const g = grad_.data();
+  for (int x = lo; x <= hi; ++x) g[x] = P[x + 1 + h] + P[x + 1 - h] - 2 * P[x + 1];
 
   // An edge of contrast C gives a peak of C*h; half the minimum contrast finds the edges
   // of blurred or partly covered marks, the bar test below applies the full minimum.
@@ -68,12 +74,21 @@ int MarkScanner::scan_row(const Pixel* row, int width, const ScanRow& r, int sca
   int n_rising = 0, n_falling = 0;
   Edge* rising = rising_.data();
   Edge* falling = falling_.data();
-  for (int x = lo + 1; x < hi; ++x) {
-    const std::int32_t v = g[x];
-    if (v >= edge_threshold && v >= g[x - 1] && v > g[x + 1])
-      rising[n_rising++] = {static_cast<float>(x) + 0.5f + peak_offset(g[x - 1], v, g[x + 1]), v};
-    else if (v <= -edge_threshold && v <= g[x - 1] && v < g[x + 1])
-      falling[n_falling++] = {static_cast<float>(x) + 0.5f + peak_offset(-g[x - 1], -v, -g[x + 1]), -v};
+  // Most of a road row is flat: blocks without a derivative above the threshold are
+  // passed over by a test the compiler vectorises, the extrema searched in the others.
+  constexpr int kBlock = 32;
+  for (int block = lo + 1; block < hi; block += kBlock) {
+    const int block_end = std::min(block + kBlock, hi);
+    std::int32_t strongest = 0;
+    for (int x = block; x < block_end; ++x) strongest = std::max(strongest, std::abs(g[x]));
+    if (strongest < edge_threshold) continue;
+    for (int x = block; x < block_end; ++x) {
+      const std::int32_t v = g[x];
+      if (v >= edge_threshold && v >= g[x - 1] && v > g[x + 1])
+        rising[n_rising++] = {static_cast<float>(x) + 0.5f + peak_offset(g[x - 1], v, g[x + 1]), v};
+      else if (v <= -edge_threshold && v <= g[x - 1] && v < g[x + 1])
+        falling[n_falling++] = {static_cast<float>(x) + 0.5f + peak_offset(-g[x - 1], -v, -g[x + 1]), -v};
+    }
   }
 
   auto mean = [P, width](int a, int b) {  // mean of pixels a..b (clipped), NaN when empty
@@ -113,14 +128,15 @@ int MarkScanner::scan_row(const Pixel* row, int width, const ScanRow& r, int sca
     // derivative spreads a thin line's edges to the box's width.
     const float background = 0.5f * (left + right);
     std::int64_t peak = 0;
-    for (int x = std::max(ia, 0); x <= std::min(ib + 1, width - 1); ++x) peak = std::max<std::int64_t>(peak, row[x]);
+    for (int x = std::max(ia, 0); x <= std::min(ib + 1, width - 1); ++x)
+      peak = std::max<std::int64_t>(peak, static_cast<std::int64_t>(row[x]));
     const float area = static_cast<float>(P[std::min(ib + 2, width)] - P[std::max(ia, 0)]) -
                        background * static_cast<float>(std::min(ib + 2, width) - std::max(ia, 0));
     const float bar_width = area / (static_cast<float>(peak) - background);
     if (bar_width < r.min_width_px) continue;
     MarkCandidate& c = out[count++];
-    c.left_px = static_cast<double>(a) + 1.0;  // to 1-based
-    c.right_px = static_cast<double>(b) + 1.0;
+    c.left_px = static_cast<double>(a) + 1.0 + x_begin;  // to the picture's 1-based columns
+    c.right_px = static_cast<double>(b) + 1.0 + x_begin;
     c.py = r.y + 1.0;
     c.contrast = static_cast<double>((inside - std::max(left, right)) * to_8bit);
     c.line = -1;

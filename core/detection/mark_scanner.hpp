@@ -18,6 +18,11 @@ struct ScanRow {
   float min_width_px = 1;  // accepted bar widths
   float max_width_px = 4;
   int half_width = 1;  // of the box derivative (noise averaging at the mark's scale)
+  // The columns scanned, 0-based [x_begin, x_end) (clipped to the picture): where the
+  // road searched lies on this row. Pixels outside are never read, nor is their paint
+  // measure computed.
+  int x_begin = 0;
+  int x_end = 1 << 30;
 };
 
 class MarkScanner {
@@ -38,11 +43,11 @@ class MarkScanner {
     std::int32_t strength;
   };
   template <typename Pixel>
-  int scan_row(const Pixel* row, int width, const ScanRow& r, int scan_row, float min_contrast, float to_8bit,
-               MarkCandidate* out, int count, int capacity);
+  int scan_row(const Pixel* row, int x_begin, int x_end, const ScanRow& r, int scan_row, float min_contrast,
+               float to_8bit, MarkCandidate* out, int count, int capacity);
 
   std::vector<std::uint16_t> measure_;  // a colour row's paint measure
-  std::vector<std::int64_t> prefix_;    // prefix sums of the row
+  std::vector<std::int32_t> prefix_;    // prefix sums of the row (65535 x 2^15 pixels fit)
   std::vector<std::int32_t> grad_;      // box derivative
   std::vector<Edge> rising_, falling_;
 };

@@ -164,6 +164,8 @@ TEST(ConfigLoader, SourcePixelFormatAutoGreyOrColour) {
   EXPECT_EQ(parse_config("", "empty.toml").source.pixel_format, SourcePixels::automatic);
   EXPECT_EQ(parse_config("[source]\npixel_format = \"grey\"\n", "f.toml").source.pixel_format, SourcePixels::grey);
   EXPECT_EQ(parse_config("[source]\npixel_format = \"colour\"\n", "f.toml").source.pixel_format, SourcePixels::colour);
+  EXPECT_EQ(parse_config("", "empty.toml").source.device_format, "");
+  EXPECT_EQ(parse_config("[source]\ndevice_format = \"BayerGR8\"\n", "f.toml").source.device_format, "BayerGR8");
   EXPECT_EQ(error_of("[source]\npixel_format = \"bayer\"\n"),
             "test.toml:2: source.pixel_format: must be \"auto\", \"grey\" or \"colour\", got \"bayer\"");
 }

@@ -22,13 +22,34 @@ constexpr double kPickWorstPx = 0.8;
 // A detected line farther than this from every truth line (at the true pose) is not on
 // paint: a barrier foot (700 mm beyond the edge line) or a shadow border.
 constexpr double kOnPaintMm = 100.0;
-// Under hard shadows one kind of pick is off by more: where a shadow border runs along
-// the paint at a small angle, only the sunlit part of the mark stands out as a bar (the
-// shaded part is paint too, at the shaded road's contrast), and the bar's centre is off
-// by up to half the shaded part. Seen: 1.0 px on a near mark 16 px wide. Such picks must
-// still lie well on the paint; 2 px is an eighth of such a mark. Not derived from the
-// noise: it is the known limit of a detector that takes the brightest bar (see report).
-constexpr double kShadowPickWorstPx = 2.0;
+// Under hard shadows one kind of pick is off by more than the noise allows, and the bound
+// for it comes from geometry, not noise. Where a shadow border runs along the paint at a
+// small angle, a row crosses sunlit paint, then shaded paint, then shaded road: only the
+// sunlit part stands out as a bar against the sunlit road's contrast, and the pick is its
+// centre, off the mark's centre by half the shaded part. The noise cannot account for it
+// (sigma 1 level at contrasts of 25+ levels under the shade moves a box-derivative edge by
+// about 1.7 sigma / C, under 0.1 px). What limits it is what the row filter accepts: a
+// bar at least min_width_px wide (ScanRow, LaneDetector::plan_rows: half the narrowest
+// mark, less a pixel). So the shaded part of a mark whose sunlit part is still taken is
+// at most the mark's width w less that minimum, and the pick lies within
+//   (w - min_width_px) / 2
+// of the mark's centre, on the paint (perpendicular to the line: times its cosine), plus
+// the noise bound. Near marks 16 px wide allow about 5 px; far marks 3 px wide about 1 px.
+// Seen: 1.0 px. The test reports the largest error as a fraction of its pick's bound.
+double shadow_allowance_px(const Config& c, const SynthFrame& f, const Pick& p, int truth_line) {
+  const GroundProjector ground(c.camera, f.pose);
+  double X0 = 0, Y0 = 0, X1 = 0, Y1 = 0;
+  if (!ground.ground(p.px, p.py, X0, Y0) || !ground.ground(p.px + 1.0, p.py, X1, Y1)) return 0.0;
+  const double mm_per_px = std::hypot(X1 - X0, Y1 - Y0);
+  const bool edge = truth_line == 0 || truth_line == f.num_lines - 1;
+  const double width_px = (edge ? c.synth.edge_line_width_mm : c.synth.line_width_mm) / mm_per_px;
+  const double min_width_px = std::max(0.8, 0.5 * c.detection.min_mark_width_mm / mm_per_px - 1.0);
+  const CameraModel cam(c.camera, f.pose);
+  const auto above = test::truth_column(cam, f, truth_line, p.py - 1),
+             below = test::truth_column(cam, f, truth_line, p.py + 1);
+  const double slope = above && below ? 0.5 * (*below - *above) : 0.0;
+  return std::max(0.0, 0.5 * (width_px - min_width_px)) / std::sqrt(1.0 + slope * slope);
+}
 
 Config colour_highway() {
   Config c = default_config();
@@ -40,7 +61,7 @@ Config colour_highway() {
 // Every truth line visible between 5 and 40 m found once, in order, at its place, its
 // picks on the paint; returns the worst pick rms.
 double expect_every_line_and_nothing_else(const Config& c, std::uint64_t k, const char* scene,
-                                          double worst_px = kPickWorstPx) {
+                                          bool shadow_borders = false, double* worst_of_shadow_bound = nullptr) {
   test::RenderedRoad road(c, PixelFormat::rgb8);
   LaneDetector det(c.camera, c.detection);
   const SynthFrame f = road.render(k);
@@ -56,7 +77,22 @@ double expect_every_line_and_nothing_else(const Config& c, std::uint64_t k, cons
   const test::PickErrors e = test::pick_errors(r, f, CameraModel(c.camera, f.pose), truth);
   EXPECT_GT(e.n, 25 * f.num_lines) << scene << " frame " << k;
   EXPECT_LT(e.rms, kPickRmsPx) << scene << " frame " << k;
-  EXPECT_LT(e.worst, worst_px) << scene << " frame " << k;
+  if (!shadow_borders) {
+    EXPECT_LT(e.worst, kPickWorstPx) << scene << " frame " << k;
+    return e.rms;
+  }
+  const CameraModel cam(c.camera, f.pose);
+  for (const Pick& p : r.picks) {
+    const int t = truth[static_cast<std::size_t>(p.line)];
+    const auto want = test::truth_column(cam, f, t, p.py);
+    const auto above = test::truth_column(cam, f, t, p.py - 1), below = test::truth_column(cam, f, t, p.py + 1);
+    if (!want || !above || !below) continue;
+    const double slope = 0.5 * (*below - *above);
+    const double error = std::abs(p.px - *want) / std::sqrt(1.0 + slope * slope);
+    const double bound = kPickWorstPx + shadow_allowance_px(c, f, p, t);
+    EXPECT_LT(error, bound) << scene << " frame " << k << " pick at row " << p.py;
+    if (worst_of_shadow_bound) *worst_of_shadow_bound = std::max(*worst_of_shadow_bound, error / bound);
+  }
   return e.rms;
 }
 
@@ -82,9 +118,11 @@ TEST(LaneDetectorRealRoad, HardShadowsAcrossTheLane) {
   c.synth.hard_shadows = true;
   c.synth.shadow_depth = 0.55;
   double worst = 0;
+  double worst_of_bound = 0;
   for (std::uint64_t k : {0u, 9u, 23u, 38u, 61u})
-    worst = std::max(worst, expect_every_line_and_nothing_else(c, k, "shadows", kShadowPickWorstPx));
+    worst = std::max(worst, expect_every_line_and_nothing_else(c, k, "shadows", true, &worst_of_bound));
   RecordProperty("worst_pick_rms_px", std::to_string(worst));
+  RecordProperty("worst_pick_error_over_its_shadow_bound", std::to_string(worst_of_bound));
 }
 
 TEST(LaneDetectorRealRoad, BarrierWithABrightFootBesideTheRoad) {
@@ -111,7 +149,7 @@ TEST(LaneDetectorRealRoad, EverythingAtOnce) {
   c.synth.shadow_depth = 0.55;
   c.synth.lanes = 2;
   c.synth.ego_lane = 0;
-  for (std::uint64_t k : {4u, 33u}) expect_every_line_and_nothing_else(c, k, "all", kShadowPickWorstPx);
+  for (std::uint64_t k : {4u, 33u}) expect_every_line_and_nothing_else(c, k, "all", true);
 }
 
 }  // namespace

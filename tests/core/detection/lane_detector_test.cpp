@@ -196,10 +196,21 @@ TEST(LaneDetector, WrongSizedFramesGiveNothingAndDetectionAllocatesNothing) {
   EXPECT_EQ(det.detect(small, f.pose, {}).num_lines, 0);
   EXPECT_EQ(det.detect(ImageView{}, f.pose, {}).num_lines, 0);
   const LinePrior priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
+  // Colour too (the paint measure per scanned segment), on a dashed bend (single dashes
+  // taken as parallels of the road's lines).
+  Config bend = highway();
+  bend.synth.colour = true;
+  bend.synth.curvature_per_mm = 1.0 / (2.0 * 300e3);
+  test::RenderedRoad colour(bend, PixelFormat::rgb8);
+  const SynthFrame fc = colour.render(2);
+  LaneDetector det_colour(bend.camera, bend.detection);
+  const LinePrior bend_priors[] = {{fc.y0_mm[1], 0, fc.c_per_mm}, {fc.y0_mm[2], 0, fc.c_per_mm}};
   test::AllocationScope scope;
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(det.detect(road.view, f.pose, priors).num_lines, 4);
     EXPECT_EQ(det.detect(road.view, f.pose, {}).num_lines, 4);
+    EXPECT_GE(det_colour.detect(colour.view, fc.pose, bend_priors).num_lines, 3);
+    EXPECT_GE(det_colour.detect(colour.view, fc.pose, {}).num_lines, 3);
   }
   EXPECT_EQ(scope.count(), 0u);
 }

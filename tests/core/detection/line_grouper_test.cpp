@@ -84,6 +84,40 @@ TEST(LineGrouper, CurvedLinesFitTheirCurvature) {
   EXPECT_NEAR(lines[1].fit.y0_mm, -1900, 30);
 }
 
+// One 3 m dash of a dashed line on a bend, its others in the gaps or beyond the range:
+// too short for a line of its own slope (min_span_mm), found as the parallel of the
+// road's other lines, with its y0 alone fitted. One dash of clutter elsewhere (a mark
+// every row, but off the road's direction) is not.
+TEST(LineGrouper, ASingleDashParallelToTheRoadsLinesIsALine) {
+  Scene s;
+  const double c = 1.0 / (2.0 * 400e3);  // R 400 m
+  s.line(5400, 0.01, c);
+  s.line(-1800, 0.01, c);
+  std::normal_distribution<double> n(0.0, 0.3);
+  for (int row = 40; row < 48; ++row) {  // the dash: 8 rows, X from 14.4 to 16.1 m
+    const double X = 5000.0 + 35000.0 * row / 149.0;
+    MarkCandidate mk;
+    mk.X = X;
+    mk.Y = 1800 + 0.01 * X + c * X * X + X / 630.0 * n(s.rng);
+    mk.scan_row = static_cast<std::int16_t>(row);
+    s.marks.push_back(mk);
+  }
+  for (int row = 60; row < 68; ++row) {  // across the road's direction: a slope of 0.3
+    const double X = 5000.0 + 35000.0 * row / 149.0;
+    MarkCandidate mk;
+    mk.X = X;
+    mk.Y = -9000 + 0.3 * (X - 20000.0);
+    mk.scan_row = static_cast<std::int16_t>(row);
+    s.marks.push_back(mk);
+  }
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines), 3);
+  EXPECT_NEAR(lines[1].fit.y_at(15000), 1800 + 0.01 * 15000 + c * 15000 * 15000, 30.0);
+  EXPECT_EQ(lines[1].marks, 8);
+  EXPECT_NEAR(lines[1].fit.m, 0.01, 0.002);  // the road's, not fitted to the dash
+  EXPECT_NEAR(lines[1].fit.c_per_mm, c, 2e-8);
+}
+
 TEST(LineGrouper, ContinuesThePreviousFramesLines) {
   Scene s;
   s.line(1650, 0.0, 0.0);

@@ -183,6 +183,11 @@ struct FakeV4l2Device::Impl {
 
   void fill(std::uint32_t index, std::uint32_t seq) {
     std::uint8_t* b = data.data() + index * buffer_len;
+    if (!options.frames.empty()) {
+      const std::vector<std::uint8_t>& frame = options.frames[seq % options.frames.size()];
+      std::memcpy(b, frame.data(), std::min<std::size_t>(frame.size(), pix.sizeimage));
+      return;
+    }
     const int w = static_cast<int>(pix.width), h = static_cast<int>(pix.height);
     for (int y = 0; y < h; ++y) {
       std::uint8_t* row = b + y * static_cast<std::ptrdiff_t>(pix.bytesperline);

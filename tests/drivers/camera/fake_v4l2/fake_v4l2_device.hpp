@@ -21,6 +21,9 @@ struct FakeV4l2Options {
   bool controls = true;            // exposure (auto, absolute) and gain
   int max_buffers = 16;
   std::string card = "ccdlane fake camera";
+  // Pictures to serve instead of the numbered pattern, in turn, each exactly one frame of
+  // the first offered format at the first size (e.g. rendered roads as YUYV).
+  std::vector<std::vector<std::uint8_t>> frames{};
 };
 
 // The value of pixel (x, y) of frame `sequence`: 8-bit for GREY and the Y of YUYV,
