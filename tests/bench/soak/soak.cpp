@@ -119,8 +119,8 @@ int run(const SoakArgs& a) {
   std::printf("# ccdlane_soak: %s --config %s (pid %d), %.0f s, report every %.0f s\n", a.daemon.c_str(),
               config.c_str(), static_cast<int>(pid), a.duration_s, a.interval_s);
   std::printf("# p99_us: of every lane message's latency_us in the interval; worst_1s_p99_us: of the status\n");
-  std::printf("%8s %9s %10s %9s %9s %8s %8s %10s %10s %12s %8s\n", "min", "rss_kB", "processed", "dropped", "not_ok",
-              "ok_msgs", "lost_msg", "p99_us", "max_us", "worst1s_p99", "allocs");
+  std::printf("%8s %9s %10s %9s %9s %9s %8s %10s %10s %12s %8s\n", "min", "rss_kB", "processed", "dropped", "not_ok",
+              "lane_msgs", "ok_msgs", "p99_us", "max_us", "worst1s_p99", "allocs");
   std::fflush(stdout);
 
   const auto start = Clock::now();
@@ -146,11 +146,13 @@ int run(const SoakArgs& a) {
     const std::int64_t max_us = listener.latencies_us_.empty()
                                     ? 0
                                     : *std::max_element(listener.latencies_us_.begin(), listener.latencies_us_.end());
-    std::printf("%8.1f %9ld %10lld %9lld %9lld %8lld %8lld %10lld %10lld %12lld %8lld\n",
+    // processed, dropped, not_ok: from the daemon's last status in the interval (sent once
+    // a second); lane_msgs, ok_msgs, p99_us, max_us: of the lane messages received in it.
+    std::printf("%8.1f %9ld %10lld %9lld %9lld %9lld %8lld %10lld %10lld %12lld %8lld\n",
                 std::chrono::duration<double>(Clock::now() - start).count() / 60.0, rss_kb(pid),
-                processed - last_processed, dropped - last_dropped, not_ok - last_not_ok, listener.ok_,
-                (processed - last_processed) - n, static_cast<long long>(p99(listener.latencies_us_)),
-                static_cast<long long>(max_us), static_cast<long long>(listener.worst_status_p99_us_),
+                processed - last_processed, dropped - last_dropped, not_ok - last_not_ok, n, listener.ok_,
+                static_cast<long long>(p99(listener.latencies_us_)), static_cast<long long>(max_us),
+                static_cast<long long>(listener.worst_status_p99_us_),
                 static_cast<long long>(s.allocations_since_ready));
     std::fflush(stdout);
     if (!listener.have_status_) ++failures;
