@@ -38,7 +38,8 @@ NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint6
   NoiseTally tally;
   constexpr int kLevels = 5;
   for (int k = 0; k < frames; ++k) {
-    const NoiseTexture texture = test::kNoiseTextures[static_cast<std::size_t>(k) % std::size(test::kNoiseTextures)];
+    const test::NoiseTexture texture =
+        test::kNoiseTextures[static_cast<std::size_t>(k) % std::size(test::kNoiseTextures)];
     const double level = static_cast<double>((k / 5) % kLevels) / (kLevels - 1);
     const ImageView& image = noise.render(texture, level);
     // Half the frames with the gyro's reading, half without (a recording without one).
