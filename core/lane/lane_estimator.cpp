@@ -313,8 +313,8 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
   return estimate_;
 }
 
-SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int left, int right,
-                                                   double lane_width_mm) const {
+SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
+                                                   double heading_deg) const {
   const std::span<const Pick> picks(picks_.data(), static_cast<std::size_t>(num_picks_));
   for (const int line : {left, right}) {
     if (const SupportProblem p = check_line_support(line_support(picks, r.points_mm, line), config_.detection);
@@ -329,7 +329,8 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
   // span several lanes); the attitude against the priors this solve had (the gyro's).
   SolverPriors priors = solve_priors_;
   priors.lane_width_mm = config_.priors.lane_width_mm;
-  return check_priors(priors, r.pose, lane_width_mm);
+  if (const SupportProblem p = check_priors(priors, r.pose, lane_width_mm); p != SupportProblem::none) return p;
+  return check_heading(heading_deg);
 }
 
 void LaneEstimator::fill_estimate(const SolveResult& r) {
@@ -400,7 +401,7 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
   // lane is one only with the support a real one gives (lane_support.hpp).
   support_ = lane_support_problem(r, order[static_cast<std::size_t>(m.left)], order[static_cast<std::size_t>(m.right)],
-                                  m.lane_width_mm);
+                                  m.lane_width_mm, m.heading_deg);
   if (support_ != SupportProblem::none) {
     e.ok = false;
     e.reason = EstimateFailure::no_lane;

@@ -91,7 +91,8 @@ class LaneEstimator {
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   bool drop_outliers(const SolveResult& result);
   void fill_estimate(const SolveResult& result);
-  SupportProblem lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const;
+  SupportProblem lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
+                                      double heading_deg) const;
   void miss();
 
   LaneEstimatorOptions config_;

@@ -22,6 +22,7 @@ const char* to_string(SupportProblem p) {
     case SupportProblem::out_of_range: return "out_of_range";
     case SupportProblem::not_paint: return "not_paint";
     case SupportProblem::disagrees_with_prior: return "disagrees_with_prior";
+    case SupportProblem::heading_off_lane: return "heading_off_lane";
   }
   return "?";
 }
@@ -77,6 +78,10 @@ SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, 
                   agrees(priors.phi_deg, rad_to_deg(pose.attitude.phi)) && agrees(priors.H_mm, pose.H_mm) &&
                   agrees(priors.f_mm, pose.f_mm) && agrees(priors.lane_width_mm, lane_width_mm);
   return ok ? SupportProblem::none : SupportProblem::disagrees_with_prior;
+}
+
+SupportProblem check_heading(double heading_deg) {
+  return std::abs(heading_deg) <= kMaxLaneHeadingDeg ? SupportProblem::none : SupportProblem::heading_off_lane;
 }
 
 }  // namespace ccdlane

@@ -32,6 +32,11 @@ constexpr double kPaintWidthSlopeTolerance = 0.75;
 // prior describes (chi-square, 1 degree of freedom: p = 6e-5 for a real lane).
 constexpr double kPriorAgreementSigmas = 4.0;
 
+// The lane a vehicle is in runs within this of its heading (a lane change at motorway
+// speed takes a few degrees; the test drives reach 3.4). Lines that cross the vehicle's
+// path more steeply are another road's, or noise.
+constexpr double kMaxLaneHeadingDeg = 10.0;
+
 // What the marks of one solved line cover.
 struct LineSupport {
   int marks = 0;
@@ -49,6 +54,7 @@ enum class SupportProblem : std::uint8_t {
   out_of_range,          // marks solved far outside the searched range
   not_paint,             // the marks do not narrow with distance as paint does
   disagrees_with_prior,  // the solve is more than kPriorAgreementSigmas from a prior
+  heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
 };
 const char* to_string(SupportProblem p);
 
@@ -62,5 +68,8 @@ SupportProblem check_paint_width(double slope);
 // The solved pose and own lane width against the priors of the solve (angles in degrees,
 // lengths in mm; a prior left empty is not checked).
 SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm);
+
+// The vehicle's heading relative to the lane (LaneMetrics::heading_deg).
+SupportProblem check_heading(double heading_deg);
 
 }  // namespace ccdlane

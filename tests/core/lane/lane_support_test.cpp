@@ -83,5 +83,13 @@ TEST(LaneSupport, TheSolveMustAgreeWithItsPriors) {
   EXPECT_EQ(check_priors(SolverPriors{}, pose, 99999.0), SupportProblem::none);
 }
 
+TEST(LaneSupport, TheLaneRunsAlongTheVehiclesHeading) {
+  EXPECT_EQ(check_heading(0.0), SupportProblem::none);
+  EXPECT_EQ(check_heading(-0.99 * kMaxLaneHeadingDeg), SupportProblem::none);
+  EXPECT_EQ(check_heading(1.01 * kMaxLaneHeadingDeg), SupportProblem::heading_off_lane);
+  EXPECT_EQ(check_heading(-1.01 * kMaxLaneHeadingDeg), SupportProblem::heading_off_lane);
+  EXPECT_EQ(check_heading(std::nan("")), SupportProblem::heading_off_lane);
+}
+
 }  // namespace
 }  // namespace ccdlane
