@@ -330,6 +330,9 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
   SolverPriors priors = solve_priors_;
   priors.lane_width_mm = config_.priors.lane_width_mm;
   if (const SupportProblem p = check_priors(priors, r.pose, lane_width_mm); p != SupportProblem::none) return p;
+  if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, config_.nominal_pose.attitude);
+      p != SupportProblem::none)
+    return p;
   return check_heading(heading_deg);
 }
 

@@ -23,6 +23,7 @@ const char* to_string(SupportProblem p) {
     case SupportProblem::not_paint: return "not_paint";
     case SupportProblem::disagrees_with_prior: return "disagrees_with_prior";
     case SupportProblem::heading_off_lane: return "heading_off_lane";
+    case SupportProblem::attitude_off_mount: return "attitude_off_mount";
   }
   return "?";
 }
@@ -78,6 +79,15 @@ SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, 
                   agrees(priors.phi_deg, rad_to_deg(pose.attitude.phi)) && agrees(priors.H_mm, pose.H_mm) &&
                   agrees(priors.f_mm, pose.f_mm) && agrees(priors.lane_width_mm, lane_width_mm);
   return ok ? SupportProblem::none : SupportProblem::disagrees_with_prior;
+}
+
+SupportProblem check_body_motion(const SolverPriors& priors, const Attitude& solved, const Attitude& mount) {
+  const auto near_mount = [](const std::optional<Prior>& prior, double solved_rad, double mount_rad) {
+    return prior || std::abs(rad_to_deg(solved_rad - mount_rad)) <= kMaxBodyMotionDeg;
+  };
+  return near_mount(priors.theta_deg, solved.theta, mount.theta) && near_mount(priors.phi_deg, solved.phi, mount.phi)
+             ? SupportProblem::none
+             : SupportProblem::attitude_off_mount;
 }
 
 SupportProblem check_heading(double heading_deg) {

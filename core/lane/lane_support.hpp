@@ -37,6 +37,11 @@ constexpr double kPriorAgreementSigmas = 4.0;
 // path more steeply are another road's, or noise.
 constexpr double kMaxLaneHeadingDeg = 10.0;
 
+// Pitch and roll without a prior (no gyro) stay within this of the mounting: a body
+// pitches and rolls a few degrees when braking and cornering. A solve that tilts the
+// camera farther has fitted lines to something else.
+constexpr double kMaxBodyMotionDeg = 5.0;
+
 // What the marks of one solved line cover.
 struct LineSupport {
   int marks = 0;
@@ -55,6 +60,7 @@ enum class SupportProblem : std::uint8_t {
   not_paint,             // the marks do not narrow with distance as paint does
   disagrees_with_prior,  // the solve is more than kPriorAgreementSigmas from a prior
   heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
+  attitude_off_mount,    // pitch or roll without a prior more than kMaxBodyMotionDeg off the mounting
 };
 const char* to_string(SupportProblem p);
 
@@ -68,6 +74,9 @@ SupportProblem check_paint_width(double slope);
 // The solved pose and own lane width against the priors of the solve (angles in degrees,
 // lengths in mm; a prior left empty is not checked).
 SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm);
+
+// The solved pitch and roll that have no prior in `priors` against the mounting's.
+SupportProblem check_body_motion(const SolverPriors& priors, const Attitude& solved, const Attitude& mount);
 
 // The vehicle's heading relative to the lane (LaneMetrics::heading_deg).
 SupportProblem check_heading(double heading_deg);

@@ -28,7 +28,7 @@ struct NoiseTally {
 
 // `frames` noise frames cycling through every texture and strength, one estimator over
 // the whole sequence (its tracker and lane filter carry over, as in a drive).
-NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint64_t seed) {
+NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint64_t seed, bool with_gyro = true) {
   test::NoiseFrames noise(c.camera.Nu, c.camera.Nv, format, seed);
   LaneEstimator est(c.estimator_options());
   const Attitude nominal = c.nominal_pose().attitude;
@@ -43,7 +43,7 @@ NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint6
     const double level = static_cast<double>((k / 5) % kLevels) / (kLevels - 1);
     const ImageView& image = noise.render(texture, level);
     // Half the frames with the gyro's reading, half without (a recording without one).
-    const std::optional<Gx1Angles> g = (k / 50) % 2 == 0 ? std::optional<Gx1Angles>(gyro) : std::nullopt;
+    const std::optional<Gx1Angles> g = with_gyro && (k / 50) % 2 == 0 ? std::optional<Gx1Angles>(gyro) : std::nullopt;
     const LaneEstimate& e = est.estimate(image, static_cast<std::uint64_t>(k), k * 33'333'333LL, g, vehicle);
     ++tally.frames;
     if (e.ok && tally.ok++ == 0)
@@ -72,18 +72,34 @@ TEST(LaneEstimatorNoise, NoLaneInColourNoise) {
   EXPECT_EQ(t.warnings, 0);
 }
 
+// Without a gyro but with a lane-width prior the roll is observable and every solve is
+// full rank: only the support checks stand between noise and a lane.
+TEST(LaneEstimatorNoise, NoLaneInNoiseWithALaneWidthPriorAndNoGyro) {
+  Config c = default_config();
+  c.prior.lane_width_mm = Prior{3600.0, 300.0};
+  const NoiseTally t = run_noise(c, PixelFormat::mono8, frame_count() / 4, 41, false);
+  EXPECT_EQ(t.ok, 0) << t.ok << " of " << t.frames << " noise frames ok; the first: " << t.first_ok;
+  EXPECT_EQ(t.departures, 0);
+  EXPECT_EQ(t.warnings, 0);
+}
+
 // The same test must see a lane where there is one: the noise runs above are not passing
 // merely because nothing ever is ok. A real drive with the same camera and options.
 TEST(LaneEstimatorNoise, TheSameEstimatorFindsTheLaneOnARoad) {
   Config c = default_config();
   test::RenderedRoad d(c);
   LaneEstimator est(c.estimator_options());
-  int ok = 0;
+  Config width_prior = c;  // and as the no-gyro noise run has it
+  width_prior.prior.lane_width_mm = Prior{3600.0, 300.0};
+  LaneEstimator no_gyro(width_prior.estimator_options());
+  int ok = 0, ok_without_gyro = 0;
   for (std::uint64_t k = 0; k < 20; ++k) {
     const SynthFrame f = d.render(k);
     ok += est.estimate(d.view, k, f.t_ns, f.gyro).ok;
+    ok_without_gyro += no_gyro.estimate(d.view, k, f.t_ns, std::nullopt).ok;
   }
   EXPECT_EQ(ok, 20);
+  EXPECT_EQ(ok_without_gyro, 20);
 }
 
 }  // namespace

@@ -83,6 +83,23 @@ TEST(LaneSupport, TheSolveMustAgreeWithItsPriors) {
   EXPECT_EQ(check_priors(SolverPriors{}, pose, 99999.0), SupportProblem::none);
 }
 
+TEST(LaneSupport, PitchAndRollWithoutAPriorStayNearTheMounting) {
+  Attitude mount;
+  mount.theta = deg_to_rad(3.0);
+  Attitude solved = mount;
+  solved.phi = deg_to_rad(0.99 * kMaxBodyMotionDeg);
+  EXPECT_EQ(check_body_motion(SolverPriors{}, solved, mount), SupportProblem::none);
+  solved.phi = deg_to_rad(-1.01 * kMaxBodyMotionDeg);
+  EXPECT_EQ(check_body_motion(SolverPriors{}, solved, mount), SupportProblem::attitude_off_mount);
+  solved.phi = 0.0;
+  solved.theta = deg_to_rad(3.0 + 1.01 * kMaxBodyMotionDeg);
+  EXPECT_EQ(check_body_motion(SolverPriors{}, solved, mount), SupportProblem::attitude_off_mount);
+  // With a prior (the gyro's), the prior's own check decides, not the mounting.
+  SolverPriors gyro;
+  gyro.theta_deg = Prior{9.0, 0.5};
+  EXPECT_EQ(check_body_motion(gyro, solved, mount), SupportProblem::none);
+}
+
 TEST(LaneSupport, TheLaneRunsAlongTheVehiclesHeading) {
   EXPECT_EQ(check_heading(0.0), SupportProblem::none);
   EXPECT_EQ(check_heading(-0.99 * kMaxLaneHeadingDeg), SupportProblem::none);
