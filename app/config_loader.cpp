@@ -310,6 +310,7 @@ void read_lcm(TableReader& r, Config& c) {
   r.string("url", c.lcm.url);
   r.string("prefix", c.lcm.prefix);
   r.boolean("publish_frames", c.lcm.publish_frames);
+  r.string("instance", c.lcm.instance);
   r.reject_unknown();
   const std::string_view url = c.lcm.url;
   const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") || url.starts_with("tcpq://") ||
@@ -322,6 +323,13 @@ void read_lcm(TableReader& r, Config& c) {
     return std::isalnum(ch) || ch == '_' || ch == '-' || ch == '.' || ch == '/';
   });
   require(plain, r, "prefix", "may hold only letters, digits and _ - . /");
+  // A name for logs and monitors: short, printable, no quoting needed anywhere.
+  require(c.lcm.instance.size() <= kMaxInstanceChars, r, "instance",
+          "must be at most " + std::to_string(kMaxInstanceChars) + " characters");
+  const bool name = std::all_of(c.lcm.instance.begin(), c.lcm.instance.end(), [](unsigned char ch) {
+    return std::isalnum(ch) || ch == '_' || ch == '-' || ch == '.' || ch == ':' || ch == '/' || ch == '@';
+  });
+  require(name, r, "instance", "may hold only letters, digits and _ - . : / @ (\"\" = host:pid)");
 }
 
 void read_realtime(TableReader& r, Config& c) {

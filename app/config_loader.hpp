@@ -21,6 +21,7 @@ class ConfigError : public std::runtime_error {
 // are allocated from [camera] Nu x Nv), and the size of the file itself.
 inline constexpr int kMaxImageSide = 8192;
 inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;
+inline constexpr std::size_t kMaxInstanceChars = 64;  // [lcm] instance
 
 // Parses TOML text; `source_name` names it in error messages.
 Config parse_config(std::string_view toml_text, const std::string& source_name);

@@ -39,8 +39,11 @@ std::string Gx1AttitudeProvider::open() {
   }
   session_ = std::make_unique<gx1::Gx1Session>(
       path, options_, [this](LogLevel level, const char* category, const char* line) { note(level, category, line); });
+  session_->set_cancelled(open_cancelled_);
   if (const int rc = session_->open(); rc < 0) {
-    const std::string why = rc == -ETIMEDOUT ? "the sensor did not answer" : std::strerror(-rc);
+    const std::string why = rc == -ECANCELED   ? "start-up interrupted"
+                            : rc == -ETIMEDOUT ? "the sensor did not answer"
+                                               : std::strerror(-rc);
     const std::string line = "gyro.device: \"" + device_ + "\": " + path + ": " + why;
     if (emulator_) {
       session_.reset();
@@ -63,6 +66,9 @@ std::string Gx1AttitudeProvider::open() {
 
 void Gx1AttitudeProvider::run(const std::atomic<bool>& stop) {
   if (!session_) return;
+  // A reconfiguration (a retry, a recovery) waits for the sensor in steps: a stop
+  // request abandons it instead of waiting out the handshake's seconds.
+  session_->set_cancelled([&stop] { return stop.load(std::memory_order_acquire); });
   if (absent_.load(std::memory_order_acquire)) retry_until_found(stop);
   while (!stop.load(std::memory_order_acquire)) session_->poll_once(100);
 }

@@ -37,6 +37,10 @@ class Gx1AttitudeProvider final : public AttitudeProvider {
   // recorder that can wait for a sample after a frame rather than take the last one held.
   std::optional<std::int64_t> newest_sample_ns() const override;
 
+  // Asked while open() waits for a sensor that does not answer: true gives up the
+  // handshake, so that a stop request during start-up does not wait seconds for it.
+  void set_open_cancelled(std::function<bool()> cancelled) { open_cancelled_ = std::move(cancelled); }
+
   // The emulator, when emulated (for fault injection in tests); else null.
   gx1::Gx1Emulator* emulator() { return emulator_.get(); }
 
@@ -51,6 +55,7 @@ class Gx1AttitudeProvider final : public AttitudeProvider {
   gx1::SessionOptions options_;
   std::unique_ptr<gx1::Gx1Emulator> emulator_;
   std::unique_ptr<gx1::Gx1Session> session_;
+  std::function<bool()> open_cancelled_;
   std::atomic<bool> opened_{false};
   std::atomic<bool> absent_{false};    // open() failed: the gyro thread keeps trying the device
   std::atomic<bool> retrying_{false};  // failed retries are not logged, only kept as the problem

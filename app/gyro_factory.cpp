@@ -29,14 +29,19 @@ gx1::AttitudeScript follow_synth_drive(const Config& config) {
 
 }  // namespace
 
-std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config, const LogSink& log) {
+std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config, const LogSink& log,
+                                                         std::function<bool()> open_cancelled) {
   if (config.gyro.device.empty()) return nullptr;
+  std::unique_ptr<Gx1AttitudeProvider> provider;
   if (config.gyro.device == "emulated") {
     gx1::EmulatorOptions o;
     o.attitude = follow_synth_drive(config);
-    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log);
+    provider = std::make_unique<Gx1AttitudeProvider>(std::move(o), log);
+  } else {
+    provider = std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log);
   }
-  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log);
+  provider->set_open_cancelled(std::move(open_cancelled));
+  return provider;
 }
 
 }  // namespace ccdlane

@@ -23,6 +23,9 @@ struct LcmConfig {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string prefix = "CCDLANE_";
   bool publish_frames = false;  // raw frames on <prefix>FRAMES too, for lcm-logger (large: ~0.5 MB each)
+  // The sender's name in every message (status_t.instance, lane_estimate_t.instance);
+  // "" = "host:pid", which tells apart any two daemons but changes at every restart.
+  std::string instance;
 
   bool operator==(const LcmConfig&) const = default;
 };

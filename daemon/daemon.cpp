@@ -154,11 +154,17 @@ int run_daemon(const Config& config) {
       return fail("camera", why.c_str());
     }
     source_open = true;
-    gyro = make_attitude_provider(config);
+    // A sensor that does not answer takes seconds of handshakes: SIGTERM ends them.
+    gyro = make_attitude_provider(config, {}, [&signals] { return signals.terminate_pending(); });
     if (gyro) {
       // An absent gyro degrades the estimate, it does not stop the lanes: a gyro lost
       // mid-run is handled so too, and a daemon that exits here is restart-looped.
       if (std::string why = gyro->open(); !why.empty()) {
+        if (signals.terminate_pending() && signals.wait(0) == SignalWaiter::Event::terminate) {
+          log_line(LogLevel::info, "stop", "SIG%s during start-up: stopping", sigabbrev_np(signals.last_signal()));
+          source->close();
+          return 0;
+        }
         if (gyro->state() != GyroState::lost) return fail("gyro", why.c_str());
         log_line(LogLevel::warning, "gyro", "absent: %s; running without it and retrying the device", why.c_str());
       }
@@ -168,7 +174,7 @@ int run_daemon(const Config& config) {
     calibration = std::make_unique<OnlineCalibration>(config);
     if (calibration->enabled()) processor->attach(*calibration);
     publisher = std::make_unique<LcmPublisher>(config.lcm);
-    publisher->set_instance(instance_name());
+    publisher->set_instance(config.lcm.instance.empty() ? instance_name() : config.lcm.instance);
     publisher->watch_for_other_instances();
     // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
     if (config.lcm.publish_frames) publisher->enable_frames(source->width(), source->height(), source->format());

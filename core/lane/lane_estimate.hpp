@@ -20,7 +20,8 @@ enum class EstimateFailure : std::uint8_t {
   none,
   no_frame,        // the frame could not be read (replay) or was damaged
   too_few_marks,   // detection found fewer picks than the problem needs
-  no_lane,         // no line on one side of the vehicle: no lane to be in
+  no_lane,         // no line on one side of the vehicle, or lines without a real lane's support
+                   // (lane_support.hpp): no lane to be in
   solver_failed,   // the solver stopped without converging or rejected its input
   rank_deficient,  // the picks do not determine the free parameters
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/lane/lane_metrics.hpp"
+#include "core/lane/lane_support.hpp"
 #include "core/ldw/lane_measurement.hpp"
 
 namespace ccdlane {
@@ -115,6 +116,7 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
     req.priors.theta_deg = gyro_prior(p.theta_deg, a.theta, config_.gyro_sigma_deg);
     req.priors.phi_deg = gyro_prior(p.phi_deg, a.phi, config_.gyro_sigma_deg);
   }
+  solve_priors_ = req.priors;
   req.initial_pose = initial;
   req.picks = std::span<const Pick>(picks_.data(), static_cast<std::size_t>(num_picks_));
   req.num_lines = num_lines_;
@@ -174,6 +176,7 @@ bool LaneEstimator::drop_outliers(const SolveResult& result) {
     if (k < 0) continue;
     initial_lines_[static_cast<std::size_t>(k)] = result.lines[static_cast<std::size_t>(j)];
     prior_index_[static_cast<std::size_t>(k)] = prior_index_[static_cast<std::size_t>(j)];
+    detection_line_[static_cast<std::size_t>(k)] = detection_line_[static_cast<std::size_t>(j)];
   }
   num_lines_ = lines;
   num_picks_ = kept;
@@ -200,6 +203,7 @@ const LaneEstimate& LaneEstimator::estimate(const ImageView& image, std::uint64_
   estimate_.t_ns = t_ns;
   solution_ = nullptr;
   own_left_ = own_right_ = -1;
+  support_ = SupportProblem::none;
   estimate_lane(image, gyro);
   run_ldw(t_ns, vehicle);
   return estimate_;
@@ -271,6 +275,7 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
       initial_lines_[static_cast<std::size_t>(j)] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0,
                                                      free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
       prior_index_[static_cast<std::size_t>(j)] = d.lines[static_cast<std::size_t>(j)].prior_index;
+      detection_line_[static_cast<std::size_t>(j)] = j;
     }
   };
   auto fail = [this](EstimateFailure why) -> const LaneEstimate& {
@@ -313,6 +318,29 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
   }
   fill_estimate(*r);
   return estimate_;
+}
+
+SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
+                                                   double heading_deg) const {
+  const std::span<const Pick> picks(picks_.data(), static_cast<std::size_t>(num_picks_));
+  for (const int line : {left, right}) {
+    if (const SupportProblem p = check_line_support(line_support(picks, r.points_mm, line), config_.detection);
+        p != SupportProblem::none)
+      return p;
+    if (const SupportProblem p =
+            check_paint_width(paint_width_slope(detection_->marks, detection_line_[static_cast<std::size_t>(line)]));
+        p != SupportProblem::none)
+      return p;
+  }
+  // The own lane's width against the configured lane width (the solve's own prior may
+  // span several lanes); the attitude against the priors this solve had (the gyro's).
+  SolverPriors priors = solve_priors_;
+  priors.lane_width_mm = config_.priors.lane_width_mm;
+  if (const SupportProblem p = check_priors(priors, r.pose, lane_width_mm); p != SupportProblem::none) return p;
+  if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, config_.nominal_pose.attitude);
+      p != SupportProblem::none)
+    return p;
+  return check_heading(heading_deg);
 }
 
 void LaneEstimator::fill_estimate(const SolveResult& r) {
@@ -376,6 +404,15 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   if (m.left >= 0) own_left_ = order[static_cast<std::size_t>(m.left)];
   if (m.right >= 0) own_right_ = order[static_cast<std::size_t>(m.right)];
   if (!m.has_lane) {
+    e.ok = false;
+    e.reason = EstimateFailure::no_lane;
+    return;
+  }
+  // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
+  // lane is one only with the support a real one gives (lane_support.hpp).
+  support_ = lane_support_problem(r, order[static_cast<std::size_t>(m.left)], order[static_cast<std::size_t>(m.right)],
+                                  m.lane_width_mm, m.heading_deg);
+  if (support_ != SupportProblem::none) {
     e.ok = false;
     e.reason = EstimateFailure::no_lane;
     return;

@@ -14,6 +14,7 @@
 #include "core/detection/lane_detector.hpp"
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/lane/lane_estimate.hpp"
+#include "core/lane/lane_support.hpp"
 #include "core/lane/lane_tracker.hpp"
 #include "core/ldw/ldw_monitor.hpp"
 #include "core/solver/lane_solver.hpp"
@@ -84,6 +85,9 @@ class LaneEstimator {
   const SolveResult* solution() const { return solution_; }  // null when no solve ran
   const CameraPose& detection_pose() const { return detection_pose_; }
   const ldw::LdwMonitor& ldw_monitor() const { return ldw_; }
+  // Why the last estimate()'s lines were not taken for a lane (reason no_lane) although
+  // a line lay on each side the right distance apart; none otherwise.
+  SupportProblem support_problem() const { return support_; }
 
  private:
   const LaneEstimate& estimate_lane(const ImageView& image, const std::optional<Gx1Angles>& gyro);
@@ -93,6 +97,8 @@ class LaneEstimator {
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   bool drop_outliers(const SolveResult& result);
   void fill_estimate(const SolveResult& result);
+  SupportProblem lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
+                                      double heading_deg) const;
   void miss();
 
   LaneEstimatorOptions config_;
@@ -108,12 +114,15 @@ class LaneEstimator {
   int num_picks_ = 0;
   int num_lines_ = 0;
   std::array<LaneLine, kMaxLaneLines> initial_lines_{};
-  std::array<int, kMaxLaneLines> prior_index_{};  // per solver line: detection's prior_index
-  std::vector<double> residual_px_;               // per pick, of the last solve
+  std::array<int, kMaxLaneLines> prior_index_{};     // per solver line: detection's prior_index
+  std::array<int, kMaxLaneLines> detection_line_{};  // per solver line: its line in detection()
+  std::vector<double> residual_px_;                  // per pick, of the last solve
   std::vector<double> scratch_;
   CameraPose last_pose_;
   bool have_last_ = false;
-  int misses_ = 0;  // frames in a row without an estimate
+  int misses_ = 0;             // frames in a row without an estimate
+  SolverPriors solve_priors_;  // of the last solve
+  SupportProblem support_ = SupportProblem::none;
   // The own lane's lines of the last fill_estimate, as indices into the solve's lines
   // (-1: none): the lane filter's measurement.
   int own_left_ = -1, own_right_ = -1;

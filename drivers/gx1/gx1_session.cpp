@@ -78,9 +78,10 @@ int Gx1Session::configure() {
   int rc = -ETIMEDOUT;
   for (int attempt = 0; attempt < options_.configure_attempts; ++attempt) {
     rc = handshake();
-    if (rc == 0 || SerialPort::is_hangup_error(-rc)) break;
+    if (rc == 0 || rc == -ECANCELED || SerialPort::is_hangup_error(-rc)) break;
     bump(shared_.configure_failures);
   }
+  if (rc == -ECANCELED) return rc;  // stopping: not the sensor's failure
   if (rc < 0) {
     log_to(log_, LogLevel::warning, "gyro",
            "gx1 %s: no usable answer to the firmware/serial requests after %d attempts: %s", device().c_str(),
@@ -138,7 +139,8 @@ int Gx1Session::drain() {
     const std::int64_t now = monotonic_ns();
     const std::int64_t end = std::min(quiet_end, hard_end);
     if (now >= end) return 0;
-    const int wait_ms = static_cast<int>((end - now + kNsPerMs - 1) / kNsPerMs);
+    if (cancelled()) return -ECANCELED;
+    const int wait_ms = std::min(static_cast<int>((end - now + kNsPerMs - 1) / kNsPerMs), kCancelPollMs);
     const ReadResult r = port_.read_some(read_buf_, wait_ms);
     if (r.status == ReadStatus::hangup || r.status == ReadStatus::error) return -r.error;
     if (r.status == ReadStatus::data) {
@@ -154,7 +156,9 @@ int Gx1Session::await_reply(std::uint8_t header, Reply& out) {
   for (;;) {
     const std::int64_t now = monotonic_ns();
     if (now >= deadline) return -ETIMEDOUT;
-    const ReadResult r = port_.read_some(read_buf_, static_cast<int>((deadline - now + kNsPerMs - 1) / kNsPerMs));
+    if (cancelled()) return -ECANCELED;
+    const ReadResult r = port_.read_some(
+        read_buf_, std::min(static_cast<int>((deadline - now + kNsPerMs - 1) / kNsPerMs), kCancelPollMs));
     if (r.status == ReadStatus::hangup || r.status == ReadStatus::error) return -r.error;
     if (r.status != ReadStatus::data) continue;
     parse(std::span<const std::uint8_t>(read_buf_.data(), r.bytes), [&](const ParsedReply& p) {

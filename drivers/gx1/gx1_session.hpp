@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 
@@ -71,6 +72,13 @@ class Gx1Session {
   // Stops continuous mode (best effort) and closes.
   void close();
 
+  // Asked at least every kCancelPollMs while open(), or a reconfiguration in poll_once(),
+  // waits for a sensor that does not answer: true abandons the handshake (-ECANCELED),
+  // so that stopping never waits out configure_attempts x drain_max_ms. Set before the
+  // call that may block, from the thread that makes it.
+  void set_cancelled(std::function<bool()> cancelled) { cancelled_ = std::move(cancelled); }
+  static constexpr int kCancelPollMs = 50;
+
   // Any thread. closed: never opened, closed, or the first open failed; recovering: the
   // device went away or stopped answering and is being reopened with backoff.
   DeviceState state() const { return state_.load(std::memory_order_acquire); }
@@ -98,8 +106,11 @@ class Gx1Session {
   template <typename OnReply>
   void parse(std::span<const std::uint8_t> bytes, OnReply on_reply);
 
+  bool cancelled() const { return cancelled_ && cancelled_(); }
+
   SessionOptions options_;
   LogSink log_;
+  std::function<bool()> cancelled_;
   SerialPort port_;
   ReplyParser parser_;
   AttitudeHistory history_;

@@ -242,6 +242,15 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
   EXPECT_EQ(error_of("[daemon]\npool = 3\n"), "test.toml:2: daemon.pool: unknown key");
   EXPECT_EQ(error_of("[realtime]\ngyro_priority = -1\n"),
             "test.toml:2: realtime.gyro_priority: must be a SCHED_FIFO priority 0..99");
+  EXPECT_EQ(d.lcm.instance, "") << "default: the daemon names itself host:pid";
+  EXPECT_EQ(parse_config("[lcm]\ninstance = \"car-7/front:cam@2\"\n", "i.toml").lcm.instance, "car-7/front:cam@2");
+  EXPECT_EQ(parse_config("[lcm]\ninstance = \"" + std::string(64, 'i') + "\"\n", "i.toml").lcm.instance.size(), 64u);
+  EXPECT_EQ(error_of("[lcm]\ninstance = \"" + std::string(65, 'i') + "\"\n"),
+            "test.toml:2: lcm.instance: must be at most 64 characters");
+  for (const char* bad : {"car 7", "car\\\"7", "car\\n7", "caf\u00e9", "a,b"})
+    EXPECT_EQ(error_of(std::string("[lcm]\ninstance = \"") + bad + "\"\n"),
+              "test.toml:2: lcm.instance: may hold only letters, digits and _ - . : / @ (\"\" = host:pid)")
+        << bad;
   EXPECT_EQ(error_of("[lcm]\nprefix = \"CCD LANE\"\n"),
             "test.toml:2: lcm.prefix: may hold only letters, digits and _ - . /");
   EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),

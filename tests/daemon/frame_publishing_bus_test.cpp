@@ -67,7 +67,7 @@ class FramePublisherBus : public ::testing::Test {
 };
 
 TEST_F(FramePublisherBus, PublishingAFrameUsesNoOperatorNew) {
-  LcmPublisher publisher(LcmConfig{kUrl, "CCDLANE_", true});
+  LcmPublisher publisher(LcmConfig{kUrl, "CCDLANE_", true, ""});
   publisher.enable_frames(800, 600, PixelFormat::mono8);
   std::vector<std::uint8_t> pixels(800 * 600, 7);
   const ImageView image{pixels.data(), 800, 600, 800, PixelFormat::mono8, 8};
@@ -89,7 +89,7 @@ TEST_F(FramePublisherBus, WhatLcmLoggerRecordsReplaysToTheSameEstimates) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // subscribed by then
   ASSERT_FALSE(logger.wait_exit(0).has_value()) << test::read_file(dir.file("logger.err"));
 
-  LcmPublisher publisher(LcmConfig{kUrl, "CCDLANE_", true});
+  LcmPublisher publisher(LcmConfig{kUrl, "CCDLANE_", true, ""});
   publisher.enable_frames(config.camera.Nu, config.camera.Nv, PixelFormat::mono8);
   LaneEstimator estimator(config.estimator_options());
   SynthFrames synth(config);

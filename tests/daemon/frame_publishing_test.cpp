@@ -18,7 +18,7 @@ void on_frame(const lcm::ReceiveBuffer*, const std::string&, const frame_t* m, s
   got->push_back(*m);
 }
 
-LcmConfig memq(const char* prefix = "CCDLANE_") { return LcmConfig{"memq://", prefix, true}; }
+LcmConfig memq(const char* prefix = "CCDLANE_") { return LcmConfig{"memq://", prefix, true, ""}; }
 
 TEST(FramePublishing, OffUntilEnabledThenEachFrameGoesOutWithItsRecordAndPixels) {
   LcmPublisher publisher(memq("CAR7_"));

@@ -111,6 +111,25 @@ TEST(CalibrateCameraCommand, WithoutOutTheTableGoesToStandardOutput) {
   EXPECT_NEAR(parsed.f_mm, scene.camera.truth.f_mm, 0.02 * scene.camera.truth.f_mm);
 }
 
+// --out on a full device, and into a file the disk has no room for (a file size limit
+// of 0: every write to a regular file fails): exit 1 with the reason, and no file, whole
+// or partial, left behind.
+TEST(CalibrateCameraCommand, AnOutThatCannotBeWrittenIsExitOneAndLeavesNoFile) {
+  const RenderedPictures scene(22, 4);
+  auto full = run_process(scene.command({"--out", "/dev/full"}));
+  EXPECT_EQ(full.exit_status, 1) << full.err;
+  EXPECT_NE(full.err.find("/dev/full: cannot write: No space left on device"), std::string::npos) << full.err;
+
+  const std::string out = scene.dir.file("calibrated.toml");
+  std::vector<std::string> argv{"/bin/sh", "-c", "ulimit -f 0; trap '' XFSZ; exec \"$@\"", "sh"};
+  for (const std::string& a : scene.command({"--out", out})) argv.push_back(a);
+  const auto limited = run_process(argv);
+  EXPECT_EQ(limited.exit_status, 1) << limited.err;
+  EXPECT_NE(limited.err.find(out + ".tmp: cannot write: File too large"), std::string::npos) << limited.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
+}
+
 TEST(CalibrateCameraCommand, TwoUsablePicturesAreTooFew) {
   RenderedPictures scene(23, 2);
   const std::string out = scene.dir.file("calibrated.toml");

@@ -63,6 +63,28 @@ TEST(CalibrateMount, RecoversTheMountOfASynthesisedDriveWithin3Sigma) {
   EXPECT_NEAR(got.H_mm, 1540.0, 3 * sigma_of(tables, "H_mm"));
 }
 
+// --out on a full device, and into a file the disk has no room for (a file size limit
+// of 0): exit 1 with the reason, and no file, whole or partial, left behind.
+TEST(CalibrateMount, AnOutThatCannotBeWrittenIsExitOneAndLeavesNoFile) {
+  TempDir dir;
+  const std::string truth = dir.write("truth.toml", config_text(1.5, 3.0, 0.5, 1540.0, 0.0));
+  const std::string nominal = dir.write("nominal.toml", config_text(0.0, 5.0, 0.0, 1400.0, 0.0));
+  const std::string frames = dir.path() + "/drive";
+  ASSERT_EQ(run_process({CCDLANE_TOOL, "synth", truth, "--out", frames, "--frames", "120"}).exit_status, 0);
+
+  const auto full = run_process({CCDLANE_TOOL, "calibrate", "mount", nominal, frames, "--out", "/dev/full"});
+  EXPECT_EQ(full.exit_status, 1) << full.err;
+  EXPECT_NE(full.err.find("/dev/full: cannot write: No space left on device"), std::string::npos) << full.err;
+
+  const std::string out = dir.path() + "/mount.toml";
+  const auto limited = run_process({"/bin/sh", "-c", "ulimit -f 0; trap '' XFSZ; exec \"$@\"", "sh", CCDLANE_TOOL,
+                                    "calibrate", "mount", nominal, frames, "--out", out});
+  EXPECT_EQ(limited.exit_status, 1) << limited.err;
+  EXPECT_NE(limited.err.find(out + ".tmp: cannot write: File too large"), std::string::npos) << limited.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
+}
+
 TEST(CalibrateMount, RefusesADriveOnABendAndWritesNothing) {
   TempDir dir;
   const std::string truth = dir.write("truth.toml", config_text(1.5, 3.0, 0.5, 1540.0, 1.0 / (2 * 400e3)));

@@ -148,6 +148,16 @@ TEST(Gx1Commands, KeepsGoingWhenTheDeviceIsUnpluggedAndFaulty) {
   EXPECT_EQ(emu.stop(), 0);
 }
 
+// Its samples into a full device: exit 1 with the reason, not a silent exit 0.
+TEST(Gx1Commands, OutputOnAFullDeviceExitsOne) {
+  EmulatorProcess emu({});
+  ASSERT_FALSE(emu.path().empty());
+  const test::ProcessResult r = test::run_process(
+      {"/bin/sh", "-c", "exec \"$@\" >/dev/full", "sh", CCDLANE_TOOL, "gx1", emu.path(), "--count", "3", "--json"});
+  EXPECT_EQ(r.exit_status, 1) << r.err;
+  EXPECT_NE(r.err.find("standard output: cannot write: No space left on device"), std::string::npos) << r.err;
+}
+
 TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
   test::TempDir dir;
   const test::ProcessResult missing = test::run_process({CCDLANE_TOOL, "gx1", dir.file("nothing"), "--count", "1"});

@@ -101,6 +101,14 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
   }
 }
 
+// --json into a full device: exit 1 with the reason, not a silent exit 0.
+TEST_F(MonitorCommand, JsonOnAFullDeviceExitsOne) {
+  const auto r = test::run_process({"/bin/sh", "-c", "exec \"$@\" >/dev/full", "sh", kTool, "monitor", "--lcm", kUrl,
+                                    "--count", "5", "--json", "--seconds", "20"});
+  EXPECT_EQ(r.exit_status, 1) << r.err;
+  EXPECT_NE(r.err.find("standard output: cannot write: No space left on device"), std::string::npos) << r.err;
+}
+
 TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
   const auto r = test::run_process({kTool, "monitor", "--lcm", kUrl, "--seconds", "3.5"});
   ASSERT_EQ(r.exit_status, 0) << r.err;

@@ -302,5 +302,25 @@ TEST_F(Gx1SessionTest, ASilentDeviceFailsOpenWithinTheBound) {
   EXPECT_EQ(missing.open(), -ENOENT);
 }
 
+// A sensor that never answers, and a stop request while open() waits for it: the
+// handshake is abandoned (-ECANCELED, not the sensor's -ETIMEDOUT), the wait was asked
+// about (at least once per kCancelPollMs), and no configure failure is counted or logged.
+TEST_F(Gx1SessionTest, AStopRequestAbandonsTheHandshakeOfASilentDevice) {
+  EmulatorOptions o = test_emulator(link_, 100.0);
+  o.firmware = 0;
+  Gx1Emulator emu(o);
+  ASSERT_EQ(emu.start(), 0);
+  emu.stall(60000);   // answers nothing
+  SessionOptions so;  // the real timeouts: seconds of handshakes
+  Gx1Session session(link_, so, log_.sink());
+  int asked = 0;
+  session.set_cancelled([&asked] { return ++asked >= 3; });
+  EXPECT_EQ(session.open(), -ECANCELED);
+  EXPECT_EQ(asked, 3);
+  EXPECT_EQ(session.state(), DeviceState::closed);
+  EXPECT_EQ(session.counters().configure_failures, 0u);
+  for (const std::string& line : log_.lines) EXPECT_EQ(line.find("no usable answer"), std::string::npos) << line;
+}
+
 }  // namespace
 }  // namespace ccdlane::gx1

@@ -1,0 +1,97 @@
+// The support checks of a solved lane (lane_support.hpp).
+#include "core/lane/lane_support.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace ccdlane {
+namespace {
+
+bool agrees(const std::optional<Prior>& prior, double value) {
+  return !prior || !(std::abs(value - prior->mean) > kPriorAgreementSigmas * prior->sigma);
+}
+
+}  // namespace
+
+const char* to_string(SupportProblem p) {
+  switch (p) {
+    case SupportProblem::none: return "none";
+    case SupportProblem::too_few_marks: return "too_few_marks";
+    case SupportProblem::too_short: return "too_short";
+    case SupportProblem::out_of_range: return "out_of_range";
+    case SupportProblem::not_paint: return "not_paint";
+    case SupportProblem::disagrees_with_prior: return "disagrees_with_prior";
+    case SupportProblem::heading_off_lane: return "heading_off_lane";
+    case SupportProblem::attitude_off_mount: return "attitude_off_mount";
+  }
+  return "?";
+}
+
+LineSupport line_support(std::span<const Pick> picks, std::span<const Vec2> points_mm, int line) {
+  LineSupport s;
+  const std::size_t n = std::min(picks.size(), points_mm.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (picks[i].line != line) continue;
+    const double x = points_mm[i].x();
+    if (s.marks++ == 0) s.near_mm = s.far_mm = x;
+    s.near_mm = std::min(s.near_mm, x);
+    s.far_mm = std::max(s.far_mm, x);
+  }
+  return s;
+}
+
+SupportProblem check_line_support(const LineSupport& line, const DetectionConfig& detection) {
+  if (line.marks < detection.min_marks) return SupportProblem::too_few_marks;
+  const double searched_mm = detection.max_range_mm - detection.min_range_mm;
+  if (line.far_mm - line.near_mm < std::min(kMinLineSpanMm, 0.5 * searched_mm)) return SupportProblem::too_short;
+  if (line.near_mm < detection.min_range_mm / kRangeSlack || line.far_mm > detection.max_range_mm * kRangeSlack)
+    return SupportProblem::out_of_range;
+  return SupportProblem::none;
+}
+
+double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (const MarkCandidate& m : marks) {
+    if (m.line != detection_line || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
+    const double lx = std::log(m.X), ly = std::log(m.width_px());
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+    ++n;
+  }
+  if (n < 3) return std::nan("");
+  const double spread = n * sxx - sx * sx;
+  if (!(spread > 1e-9 * n * n)) return std::nan("");
+  return (n * sxy - sx * sy) / spread;
+}
+
+SupportProblem check_paint_width(double slope) {
+  return std::abs(slope - kPaintWidthSlope) <= kPaintWidthSlopeTolerance ? SupportProblem::none
+                                                                         : SupportProblem::not_paint;
+}
+
+SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm) {
+  const bool ok = agrees(priors.psi_deg, rad_to_deg(pose.attitude.psi)) &&
+                  agrees(priors.theta_deg, rad_to_deg(pose.attitude.theta)) &&
+                  agrees(priors.phi_deg, rad_to_deg(pose.attitude.phi)) && agrees(priors.H_mm, pose.H_mm) &&
+                  agrees(priors.f_mm, pose.f_mm) && agrees(priors.lane_width_mm, lane_width_mm);
+  return ok ? SupportProblem::none : SupportProblem::disagrees_with_prior;
+}
+
+SupportProblem check_body_motion(const SolverPriors& priors, const Attitude& solved, const Attitude& mount) {
+  const auto near_mount = [](const std::optional<Prior>& prior, double solved_rad, double mount_rad) {
+    return prior || std::abs(rad_to_deg(solved_rad - mount_rad)) <= kMaxBodyMotionDeg;
+  };
+  return near_mount(priors.theta_deg, solved.theta, mount.theta) && near_mount(priors.phi_deg, solved.phi, mount.phi)
+             ? SupportProblem::none
+             : SupportProblem::attitude_off_mount;
+}
+
+SupportProblem check_heading(double heading_deg) {
+  return std::abs(heading_deg) <= kMaxLaneHeadingDeg ? SupportProblem::none : SupportProblem::heading_off_lane;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,84 @@
+// Whether a solved lane has the support a real lane gives (no lane may be declared in
+// noise): each own line's marks over a stretch of road inside the searched range, and a
+// solve that agrees with its priors (the gyro's pitch and roll, a configured lane width).
+#pragma once
+
+#include <span>
+
+#include "core/detection/detection_config.hpp"
+#include "core/detection/lane_marks.hpp"
+#include "core/geometry/types.hpp"
+#include "core/solver/lane_solver.hpp"
+#include "core/solver/solver_options.hpp"
+
+namespace ccdlane {
+
+// A lane line's marks must cover this much road (mm, nearest to farthest) or, when the
+// searched range is short, half of it. A real line does: solid over the whole range,
+// dashed (3 m dashes, 9 m gaps) over several dashes; the shortest in the test pictures
+// and drives covers 12.7 m. Chance alignments of blobs and bars in noise cover metres.
+constexpr double kMinLineSpanMm = 8000.0;
+// Marks solved this much nearer than min_range_mm or farther than max_range_mm (as a
+// factor) lie where detection never looked: the pose that put them there is wrong.
+constexpr double kRangeSlack = 1.5;
+// Paint of one width on the road looks narrower with distance: its width in pixels goes
+// as distance^-1. Across a line's marks, log(width px) against log(distance) must slope
+// within kPaintWidthSlopeTolerance of -1 (blur and sampling flatten it at far range: the
+// test pictures and drives give -1.02 .. -0.38); a bar of constant pixel width, which
+// noise makes, slopes about 0.
+constexpr double kPaintWidthSlope = -1.0;
+constexpr double kPaintWidthSlopeTolerance = 0.75;
+// A solve farther than this many of a prior's sigmas from it did not find what the
+// prior describes (chi-square, 1 degree of freedom: p = 6e-5 for a real lane).
+constexpr double kPriorAgreementSigmas = 4.0;
+
+// The lane a vehicle is in runs within this of its heading (a lane change at motorway
+// speed takes a few degrees; the test drives reach 3.4). Lines that cross the vehicle's
+// path more steeply are another road's, or noise.
+constexpr double kMaxLaneHeadingDeg = 10.0;
+
+// Pitch and roll without a prior (no gyro) stay within this of the mounting: a body
+// pitches and rolls a few degrees when braking and cornering. A solve that tilts the
+// camera farther has fitted lines to something else.
+constexpr double kMaxBodyMotionDeg = 5.0;
+
+// What the marks of one solved line cover.
+struct LineSupport {
+  int marks = 0;
+  double near_mm = 0.0, far_mm = 0.0;  // nearest and farthest solved mark (road x)
+};
+
+// Line `line`'s picks among `picks`, with their solved mark positions `points_mm` (one per
+// pick, as SolveResult::points_mm).
+LineSupport line_support(std::span<const Pick> picks, std::span<const Vec2> points_mm, int line);
+
+enum class SupportProblem : std::uint8_t {
+  none,
+  too_few_marks,         // fewer than detection's min_marks
+  too_short,             // the marks cover less road than kMinLineSpanMm
+  out_of_range,          // marks solved far outside the searched range
+  not_paint,             // the marks do not narrow with distance as paint does
+  disagrees_with_prior,  // the solve is more than kPriorAgreementSigmas from a prior
+  heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
+  attitude_off_mount,    // pitch or roll without a prior more than kMaxBodyMotionDeg off the mounting
+};
+const char* to_string(SupportProblem p);
+
+SupportProblem check_line_support(const LineSupport& line, const DetectionConfig& detection);
+
+// The slope of log(width px) against log(road distance) over the mark candidates of
+// detection line `detection_line`; NaN with fewer than 3 or all at one distance.
+double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line);
+SupportProblem check_paint_width(double slope);
+
+// The solved pose and own lane width against the priors of the solve (angles in degrees,
+// lengths in mm; a prior left empty is not checked).
+SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm);
+
+// The solved pitch and roll that have no prior in `priors` against the mounting's.
+SupportProblem check_body_motion(const SolverPriors& priors, const Attitude& solved, const Attitude& mount);
+
+// The vehicle's heading relative to the lane (LaneMetrics::heading_deg).
+SupportProblem check_heading(double heading_deg);
+
+}  // namespace ccdlane

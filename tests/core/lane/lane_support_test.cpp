@@ -1,0 +1,112 @@
+// The support checks on values whose answer is known: marks of paint of one road width
+// (width px = k / distance) slope -1, bars of one pixel width slope 0; spans, ranges and
+// prior agreement at and either side of their limits.
+#include "core/lane/lane_support.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace ccdlane {
+namespace {
+
+MarkCandidate mark(int line, double X_mm, double width_px) {
+  MarkCandidate m;
+  m.line = static_cast<std::int16_t>(line);
+  m.X = X_mm;
+  m.left_px = 100.0;
+  m.right_px = 100.0 + width_px;
+  return m;
+}
+
+TEST(LaneSupport, PaintOfOneRoadWidthSlopesMinusOneAndBarsOfOnePixelWidthZero) {
+  std::vector<MarkCandidate> marks;
+  for (double x = 4000; x <= 30000; x += 2000) {
+    marks.push_back(mark(0, x, 130.0 * 1200.0 / x));  // paint: px = k / distance
+    marks.push_back(mark(1, x, 6.0));                 // a bar: the same pixels at every distance
+    marks.push_back(mark(-1, x, 50.0));               // ungrouped: ignored
+  }
+  EXPECT_NEAR(paint_width_slope(marks, 0), -1.0, 1e-12);
+  EXPECT_NEAR(paint_width_slope(marks, 1), 0.0, 1e-12);
+  EXPECT_EQ(check_paint_width(paint_width_slope(marks, 0)), SupportProblem::none);
+  EXPECT_EQ(check_paint_width(paint_width_slope(marks, 1)), SupportProblem::not_paint);
+  EXPECT_EQ(check_paint_width(-1.0 + kPaintWidthSlopeTolerance * 0.99), SupportProblem::none);
+  EXPECT_EQ(check_paint_width(-1.0 + kPaintWidthSlopeTolerance * 1.01), SupportProblem::not_paint);
+  EXPECT_EQ(check_paint_width(-1.0 - kPaintWidthSlopeTolerance * 1.01), SupportProblem::not_paint);
+  // Undetermined slopes are no support: too few marks, or all at one distance.
+  EXPECT_TRUE(std::isnan(paint_width_slope({marks.data(), 2}, 0)));
+  const std::vector<MarkCandidate> one_distance{mark(0, 9000, 5), mark(0, 9000, 6), mark(0, 9000, 7)};
+  EXPECT_TRUE(std::isnan(paint_width_slope(one_distance, 0)));
+  EXPECT_EQ(check_paint_width(std::nan("")), SupportProblem::not_paint);
+}
+
+TEST(LaneSupport, ALineNeedsMarksOverEnoughRoadInsideTheSearchedRange) {
+  const DetectionConfig d;  // 3..40 m searched, min_marks 8
+  std::vector<Pick> picks;
+  std::vector<Vec2> points;
+  for (int i = 0; i < 10; ++i) {
+    picks.push_back({0, 0.0, 0.0});
+    points.emplace_back(5000.0 + 1000.0 * i, 1800.0);  // 5..14 m: 9 m of road
+    picks.push_back({1, 0.0, 0.0});
+    points.emplace_back(5000.0 + 500.0 * i, -1800.0);  // 5..9.5 m: too short
+  }
+  const LineSupport s0 = line_support(picks, points, 0);
+  EXPECT_EQ(s0.marks, 10);
+  EXPECT_DOUBLE_EQ(s0.near_mm, 5000.0);
+  EXPECT_DOUBLE_EQ(s0.far_mm, 14000.0);
+  EXPECT_EQ(check_line_support(s0, d), SupportProblem::none);
+  EXPECT_EQ(check_line_support(line_support(picks, points, 1), d), SupportProblem::too_short);
+  EXPECT_EQ(check_line_support({7, 5000.0, 20000.0}, d), SupportProblem::too_few_marks);
+  EXPECT_EQ(check_line_support({8, 5000.0, 40000.0 * kRangeSlack * 1.01}, d), SupportProblem::out_of_range);
+  EXPECT_EQ(check_line_support({8, 3000.0 / kRangeSlack * 0.99, 20000.0}, d), SupportProblem::out_of_range);
+  // A short searched range asks for half of it.
+  DetectionConfig near = d;
+  near.max_range_mm = 12000.0;  // 9 m searched: 4.5 m of road suffice
+  EXPECT_EQ(check_line_support({8, 5000.0, 9600.0}, near), SupportProblem::none);
+  EXPECT_EQ(check_line_support({8, 5000.0, 9400.0}, near), SupportProblem::too_short);
+}
+
+TEST(LaneSupport, TheSolveMustAgreeWithItsPriors) {
+  SolverPriors priors;
+  priors.theta_deg = Prior{3.0, 0.5};
+  priors.lane_width_mm = Prior{3600.0, 300.0};
+  CameraPose pose;
+  pose.attitude.theta = deg_to_rad(3.0 + 0.99 * kPriorAgreementSigmas * 0.5);
+  EXPECT_EQ(check_priors(priors, pose, 3600.0), SupportProblem::none);
+  pose.attitude.theta = deg_to_rad(3.0 - 1.01 * kPriorAgreementSigmas * 0.5);
+  EXPECT_EQ(check_priors(priors, pose, 3600.0), SupportProblem::disagrees_with_prior);
+  pose.attitude.theta = deg_to_rad(3.0);
+  EXPECT_EQ(check_priors(priors, pose, 3600.0 + 1.01 * kPriorAgreementSigmas * 300.0),
+            SupportProblem::disagrees_with_prior);
+  // No prior, nothing to disagree with.
+  EXPECT_EQ(check_priors(SolverPriors{}, pose, 99999.0), SupportProblem::none);
+}
+
+TEST(LaneSupport, PitchAndRollWithoutAPriorStayNearTheMounting) {
+  Attitude mount;
+  mount.theta = deg_to_rad(3.0);
+  Attitude solved = mount;
+  solved.phi = deg_to_rad(0.99 * kMaxBodyMotionDeg);
+  EXPECT_EQ(check_body_motion(SolverPriors{}, solved, mount), SupportProblem::none);
+  solved.phi = deg_to_rad(-1.01 * kMaxBodyMotionDeg);
+  EXPECT_EQ(check_body_motion(SolverPriors{}, solved, mount), SupportProblem::attitude_off_mount);
+  solved.phi = 0.0;
+  solved.theta = deg_to_rad(3.0 + 1.01 * kMaxBodyMotionDeg);
+  EXPECT_EQ(check_body_motion(SolverPriors{}, solved, mount), SupportProblem::attitude_off_mount);
+  // With a prior (the gyro's), the prior's own check decides, not the mounting.
+  SolverPriors gyro;
+  gyro.theta_deg = Prior{9.0, 0.5};
+  EXPECT_EQ(check_body_motion(gyro, solved, mount), SupportProblem::none);
+}
+
+TEST(LaneSupport, TheLaneRunsAlongTheVehiclesHeading) {
+  EXPECT_EQ(check_heading(0.0), SupportProblem::none);
+  EXPECT_EQ(check_heading(-0.99 * kMaxLaneHeadingDeg), SupportProblem::none);
+  EXPECT_EQ(check_heading(1.01 * kMaxLaneHeadingDeg), SupportProblem::heading_off_lane);
+  EXPECT_EQ(check_heading(-1.01 * kMaxLaneHeadingDeg), SupportProblem::heading_off_lane);
+  EXPECT_EQ(check_heading(std::nan("")), SupportProblem::heading_off_lane);
+}
+
+}  // namespace
+}  // namespace ccdlane
