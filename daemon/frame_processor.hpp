@@ -22,8 +22,20 @@ class FrameProcessor {
   // meta.frame_t_ns()); ok = false with a reason when the frame gives none. Runs on the
   // real-time path: no allocation, no exceptions; every workspace was sized when the
   // processor was built. `attitude` is the gyro reading at the frame's time (the frame's
-  // own recorded reading, else the live gyro's), if there is one.
-  virtual LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) = 0;
+  // own recorded reading, else the live gyro's), if there is one; `vehicle` the
+  // vehicle's speed, yaw rate and indicator at it, and the devices' health.
+  virtual LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude,
+                               const VehicleInputs& vehicle) = 0;
+
+  // A frame the source could not deliver (ok = false, no_frame): the lane departure
+  // warning coasts through it. By default, only the failed estimate.
+  virtual LaneEstimate no_frame(const FrameMeta& meta, const VehicleInputs& /*vehicle*/) {
+    LaneEstimate e;
+    e.t_ns = meta.frame_t_ns();
+    e.ok = false;
+    e.reason = EstimateFailure::no_frame;
+    return e;
+  }
 };
 
 // The lane estimator as the daemon's processor. Gyro roll/pitch become priors inside the
@@ -34,8 +46,12 @@ class EstimatorProcessor final : public FrameProcessor {
   // source's frames are not the camera's Nu x Nv.
   EstimatorProcessor(const Config& config, const FrameSource& source);
 
-  LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude) override {
-    return estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude);
+  LaneEstimate process(const ImageView& image, const FrameMeta& meta, std::optional<Gx1Angles> attitude,
+                       const VehicleInputs& vehicle) override {
+    return estimator_.estimate(image, meta.sequence, meta.frame_t_ns(), attitude, vehicle);
+  }
+  LaneEstimate no_frame(const FrameMeta& meta, const VehicleInputs& vehicle) override {
+    return estimator_.no_frame(meta.sequence, meta.frame_t_ns(), vehicle);
   }
 
  private:

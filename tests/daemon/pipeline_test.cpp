@@ -294,7 +294,8 @@ TEST(Pipeline, FrameNumbersStayUniqueWhenTheCamerasIdWrapsOrRestarts) {
 // Accepts every frame it is given: whatever is not ok was found bad before processing.
 class AcceptingProcessor : public FrameProcessor {
  public:
-  LaneEstimate process(const ImageView&, const FrameMeta& meta, std::optional<Gx1Angles>) override {
+  LaneEstimate process(const ImageView&, const FrameMeta& meta, std::optional<Gx1Angles>,
+                       const VehicleInputs&) override {
     LaneEstimate e;
     e.frame = meta.sequence;
     e.t_ns = meta.frame_t_ns();
