@@ -118,6 +118,42 @@ TEST(RecordCommand, AFrameDirectoryBecomesALogOfTheSameFrames) {
   EXPECT_EQ(replay(kReferenceCamera, dir.file("road.lcmlog")), replay(kReferenceCamera, dir.file("road")));
 }
 
+// A frame directory with the vehicle's columns keeps them through `record`, into a log
+// (frame_t's speed and indicator) and into another directory (its columns), so both
+// replay with the speed and indicator the drive had.
+TEST(RecordCommand, TheVehicleColumnsOfAFrameDirectoryAreRecorded) {
+  test::TempDir dir;
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "4"}).exit_status, 0);
+  // Two columns appended to each row: speeds 70, 71, (none), 73; indicators in turn.
+  const char* indicators[] = {"none", "left", "right", "both"};
+  std::istringstream csv(test::read_file(dir.file("road/frames.csv")));
+  std::string rewritten, line;
+  std::getline(csv, line);
+  rewritten = line + ",speed_kmh,turn_indicator\n";
+  for (int k = 0; std::getline(csv, line); ++k)
+    rewritten += line + "," + (k == 2 ? "" : std::to_string(70 + k)) + "," + indicators[k] + "\n";
+  dir.write("road/frames.csv", rewritten);
+
+  ASSERT_EQ(
+      test::run_process({kTool, "record", "frames:" + dir.file("road"), "--out", dir.file("road.lcmlog")}).exit_status,
+      0);
+  ASSERT_EQ(test::run_process({kTool, "record", "frames:" + dir.file("road"), "--out", dir.file("copy")}).exit_status,
+            0);
+  const std::vector<FrameRecord> records = records_of(dir.file("road.lcmlog"));
+  FrameDirectory copy(dir.file("copy"));
+  ASSERT_EQ(records.size(), 4u);
+  ASSERT_EQ(copy.size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::optional<double> speed = k == 2 ? std::nullopt : std::optional<double>(70.0 + static_cast<double>(k));
+    const auto indicator = static_cast<TurnIndicator>(k);
+    EXPECT_EQ(records[k].speed_kmh, speed) << "frame " << k;
+    EXPECT_EQ(records[k].indicator, indicator) << "frame " << k;
+    EXPECT_EQ(copy.row(k).speed_kmh, speed) << "frame " << k;
+    EXPECT_EQ(copy.row(k).indicator, indicator) << "frame " << k;
+  }
+}
+
 TEST(RecordCommand, SecondsCountFrameTime) {
   test::TempDir dir;
   const auto r = test::run_process({kTool, "record", "synth", "--out", dir.file("half.lcmlog"), "--seconds", "0.5"});

@@ -105,7 +105,9 @@ class LiveGyro {
 // Where frames go, and when to stop: --count frames, --seconds of frame time, or a signal.
 class Recording {
  public:
-  Recording(const RecordArgs& a, const Config& config, bool gyro, std::optional<int> default_count)
+  // `vehicle`: the frames come with vehicle values (speed, indicator) to keep.
+  Recording(const RecordArgs& a, const Config& config, bool gyro, std::optional<int> default_count,
+            bool vehicle = false)
       : count_(a.count     ? a.count
                : a.seconds ? std::nullopt
                            : default_count),
@@ -114,7 +116,7 @@ class Recording {
       if (is_log_path(a.out))
         log_.emplace(a.out, channel_name(config.lcm.prefix, Channel::frames));
       else
-        directory_.emplace(a.out, FrameDirectoryLayout{gyro, {}});
+        directory_.emplace(a.out, FrameDirectoryLayout{gyro, {}, vehicle});
     } catch (const std::runtime_error& e) {  // FrameLogError, FrameDirectoryError
       throw UsageError(e.what());
     }
@@ -136,7 +138,7 @@ class Recording {
       if (log_)
         log_->write(image, record);
       else
-        directory_->write(image, record.t_ns, record.gyro);
+        directory_->write(image, record.t_ns, record.gyro, {}, FrameVehicle{record.speed_kmh, record.indicator});
     } catch (const std::runtime_error& failure) {  // FrameLogError, FrameDirectoryError: a full disk
       keep_written(failure.what());
     }
@@ -222,7 +224,7 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
   const ImageBuffer buffer(header->width, header->height, header->format(),
                            header->format() == PixelFormat::mono16 ? header->significant_bits() : 8);
   const MutableImageView& image = buffer.view();
-  Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()));
+  Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()), dir->has_vehicle_columns());
   const std::int64_t start = realtime_us();
   for (std::size_t i = 0; i < dir->size(); ++i) {
     const FrameRow& row = dir->row(i);
@@ -231,7 +233,10 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
       std::cerr << "ccdlane record: " << dir->error() << " (skipped)\n";
       continue;
     }
-    out.write(image, {row.index, row.t_ns, out.utime_of(row.t_ns, start), row.gyro});
+    FrameRecord record{row.index, row.t_ns, out.utime_of(row.t_ns, start), row.gyro};
+    record.speed_kmh = row.speed_kmh;  // the vehicle as recorded, so the copy replays alike
+    record.indicator = row.indicator;
+    out.write(image, record);
   }
   out.finish("frames:" + path);
 }
