@@ -31,12 +31,16 @@ gx1::AttitudeScript follow_synth_drive(const Config& config) {
 
 std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config, const LogSink& log) {
   if (config.gyro.device.empty()) return nullptr;
+  // 0x31: the angles and the angular rate, whose yaw rate drives the lane filter between
+  // frames when no vehicle_state_t yaw rate arrives (23 bytes a reply: 160 Hz at 38400 baud).
+  gx1::SessionOptions session;
+  session.stream_command = gx1::cmd::stab_euler_vectors;
   if (config.gyro.device == "emulated") {
     gx1::EmulatorOptions o;
     o.attitude = follow_synth_drive(config);
-    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log);
+    return std::make_unique<Gx1AttitudeProvider>(std::move(o), log, session);
   }
-  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log);
+  return std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log, session);
 }
 
 }  // namespace ccdlane

@@ -288,7 +288,10 @@ void Pipeline::process_one(std::uint32_t index) {
     attitude = gyro_->attitude_at(slot.meta.t_ns);
     if (!attitude) no_attitude_.fetch_add(1, std::memory_order_relaxed);
   }
-  const VehicleInputs vehicle = vehicle_inputs_for(slot.meta, true);
+  VehicleInputs vehicle = vehicle_inputs_for(slot.meta, true);
+  // The live gyro's yaw rate when the vehicle gives none (and the frame is live: a
+  // recording's frames are not turned by this gyro).
+  if (!vehicle.yaw_rate_radps && !slot.meta.gyro && gyro_) vehicle.yaw_rate_radps = gyro_->yaw_rate_at(slot.meta.t_ns);
   const ImageView image = pool_.view(static_cast<int>(index));
   LaneEstimate estimate = processor_.process(image, slot.meta, attitude, vehicle);
   estimate.roll_unobservable = options_.roll_needs_gyro && !attitude;
