@@ -289,6 +289,9 @@ void Pipeline::process_one(std::uint32_t index) {
     if (!attitude) no_attitude_.fetch_add(1, std::memory_order_relaxed);
   }
   VehicleInputs vehicle = vehicle_inputs_for(slot.meta, true);
+  // A configured gyro that gave this frame no reading is at fault for it: what the frame's
+  // record shows (frame_t has_gyro), so that replay judges the frame alike.
+  vehicle.gyro_ok = !gyro_ || attitude.has_value();
   // The live gyro's yaw rate when the vehicle gives none (and the frame is live: a
   // recording's frames are not turned by this gyro).
   if (!vehicle.yaw_rate_radps && !slot.meta.gyro && gyro_) vehicle.yaw_rate_radps = gyro_->yaw_rate_at(slot.meta.t_ns);
