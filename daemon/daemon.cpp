@@ -30,9 +30,6 @@ namespace ccdlane {
 namespace {
 
 constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
-// A vehicle state older than this is none: a gateway that stopped must not leave its
-// last indicator (or speed) in force. Gateways publish at 10 Hz or faster.
-constexpr std::int64_t kVehicleStateMaxAgeNs = 500'000'000;
 
 // Everything the status thread reads once a second, gathered without allocating.
 class StatusTicker {

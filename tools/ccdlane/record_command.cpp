@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include <lcm/lcm-cpp.hpp>
+
 #include "app/config_loader.hpp"
 #include "app/gx1_attitude_provider.hpp"
 #include "app/gyro_factory.hpp"
@@ -20,6 +22,7 @@
 #include "base/image_buffer.hpp"
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
+#include "bus/vehicle_state_listener.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "drivers/camera/camera_factory.hpp"
@@ -39,6 +42,34 @@ struct RecordArgs {
   std::optional<double> seconds;
   std::optional<int> count;
   double fps = 30.0;
+  bool vehicle_state = false;  // --vehicle-state
+};
+
+// `--vehicle-state`: the CAN gateway's vehicle_state_t on the [lcm] bus, taken between
+// frames on the recording thread (the only one handling this bus), so that a recording
+// of a live camera carries each frame's speed, yaw rate and indicator as ccdlaned would
+// have used them.
+class VehicleBus {
+ public:
+  explicit VehicleBus(const Config& config) : lcm_(config.lcm.url) {
+    if (!lcm_.good())
+      throw std::runtime_error("record: --vehicle-state: cannot open the bus \"" + config.lcm.url + "\"");
+    listener_ = std::make_unique<VehicleStateListener>(lcm_.getUnderlyingLCM(),
+                                                       channel_name(config.lcm.prefix, Channel::vehicle));
+  }
+  // The state at now: what arrived is taken first; stale or none gives no values.
+  void fill(FrameRecord& record) {
+    while (lcm_.handleTimeout(0) > 0) {
+    }
+    const VehicleInputs in = vehicle_inputs(listener_->latest(), monotonic_ns(), kVehicleStateMaxAgeNs);
+    if (in.speed_mps) record.speed_kmh = *in.speed_mps * 3.6;
+    record.yaw_rate_radps = in.yaw_rate_radps;
+    record.indicator = in.indicator;
+  }
+
+ private:
+  lcm::LCM lcm_;
+  std::unique_ptr<VehicleStateListener> listener_;
 };
 
 bool is_log_path(const std::string& out) {
@@ -258,7 +289,9 @@ void record_camera(const RecordArgs& a, const Config& config) {
   if (const std::string error = camera->open(); !error.empty()) throw std::runtime_error(error);
   try {
     FramePool pool({.count = 1, .width = camera->width(), .height = camera->height(), .format = camera->format()});
-    Recording out(a, config, gyro != nullptr, std::nullopt);
+    std::unique_ptr<VehicleBus> vehicle;
+    if (a.vehicle_state) vehicle = std::make_unique<VehicleBus>(config);
+    Recording out(a, config, gyro != nullptr, std::nullopt, vehicle != nullptr);
     const int i = pool.borrow();
     const std::int64_t wall_start = monotonic_ns();
     while (out.wants_more()) {
@@ -267,7 +300,9 @@ void record_camera(const RecordArgs& a, const Config& config) {
       if (camera->capture(pool.view(i), meta, 200) != CaptureStatus::frame) continue;
       if (!out.wants(meta.t_ns)) break;
       const std::int64_t utime = realtime_us_of_monotonic(meta.t_ns);
-      out.write(pool.view(i), {meta.sequence, meta.t_ns, utime, gyro ? gyro->at(meta.t_ns) : std::nullopt});
+      FrameRecord record{meta.sequence, meta.t_ns, utime, gyro ? gyro->at(meta.t_ns) : std::nullopt};
+      if (vehicle) vehicle->fill(record);
+      out.write(pool.view(i), record);
     }
     out.finish(camera->describe());
     const SourceCounters c = camera->counters();
@@ -299,6 +334,9 @@ CommandAction setup_record(CLI::App& sub) {
   sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
   sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")
       ->check(CLI::Range(0.0, 10000.0));
+  sub.add_flag("--vehicle-state", a->vehicle_state,
+               "cameras: record each frame's speed, yaw rate and turn indicator from ccdlane.vehicle_state_t on the "
+               "[lcm] bus (<[lcm] prefix>VEHICLE, as a CAN gateway publishes it for ccdlaned)");
   sub.footer(
       "Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "
       "[camera] Nu x Nv, with the [gyro] device's reading interpolated at each frame's time. synth records "
