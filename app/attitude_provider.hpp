@@ -39,6 +39,10 @@ class AttitudeProvider {
   // nullopt when no reading is close enough in time. Called by the processing thread
   // while run() goes on: thread-safe, no allocation, no blocking on the reader.
   virtual std::optional<Gx1Angles> attitude_at(std::int64_t t_ns) const = 0;
+  // The vehicle's yaw rate at t_ns from the gyro's angular rate, rad/s, positive turning
+  // left (counter-clockwise seen from above); nullopt when the sensor reports no rate or
+  // no reading is close enough in time. Same threading and allocation rules as attitude_at.
+  virtual std::optional<double> yaw_rate_at(std::int64_t /*t_ns*/) const { return std::nullopt; }
   // When the newest reading was taken (the frames' clock), nullopt before the first.
   virtual std::optional<std::int64_t> newest_sample_ns() const = 0;
 

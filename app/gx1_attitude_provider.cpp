@@ -120,6 +120,15 @@ std::optional<Gx1Angles> Gx1AttitudeProvider::attitude_at(std::int64_t t_ns) con
   return q.angles;
 }
 
+std::optional<double> Gx1AttitudeProvider::yaw_rate_at(std::int64_t t_ns) const {
+  if (!session_) return std::nullopt;
+  const gx1::AttitudeQuery q = session_->attitude_at(t_ns);
+  if (q.status != gx1::AttitudeStatus::ok || !q.has_rate) return std::nullopt;
+  // The sensor's yaw turns about its Earth frame's down axis (docs/gx1.md section 8): the
+  // vehicle's yaw rate about up is its negative, whatever the camera's mounting yaw.
+  return -gx1::yaw_angle_rate_radps(q.angles, q.rate_radps);
+}
+
 std::optional<std::int64_t> Gx1AttitudeProvider::newest_sample_ns() const {
   if (!session_) return std::nullopt;
   const std::uint64_t n = session_->history().count();

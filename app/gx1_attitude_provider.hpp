@@ -28,6 +28,8 @@ class Gx1AttitudeProvider final : public AttitudeProvider {
   void run(const std::atomic<bool>& stop) override;
   void close() override;
   std::optional<Gx1Angles> attitude_at(std::int64_t t_ns) const override;
+  // From the 0x31 stream's rate vector (the daemon's default stream); none from 0x0E.
+  std::optional<double> yaw_rate_at(std::int64_t t_ns) const override;
   GyroState state() const override;
   void last_problem(char* out, std::size_t size) const override;
   GyroCounters counters() const override;

@@ -32,13 +32,17 @@ gx1::AttitudeScript follow_synth_drive(const Config& config) {
 std::unique_ptr<AttitudeProvider> make_attitude_provider(const Config& config, const LogSink& log,
                                                          std::function<bool()> open_cancelled) {
   if (config.gyro.device.empty()) return nullptr;
+  // 0x31: the angles and the angular rate, whose yaw rate drives the lane filter between
+  // frames when no vehicle_state_t yaw rate arrives (23 bytes a reply: 160 Hz at 38400 baud).
+  gx1::SessionOptions session;
+  session.stream_command = gx1::cmd::stab_euler_vectors;
   std::unique_ptr<Gx1AttitudeProvider> provider;
   if (config.gyro.device == "emulated") {
     gx1::EmulatorOptions o;
     o.attitude = follow_synth_drive(config);
-    provider = std::make_unique<Gx1AttitudeProvider>(std::move(o), log);
+    provider = std::make_unique<Gx1AttitudeProvider>(std::move(o), log, session);
   } else {
-    provider = std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log);
+    provider = std::make_unique<Gx1AttitudeProvider>(config.gyro.device, log, session);
   }
   provider->set_open_cancelled(std::move(open_cancelled));
   return provider;

@@ -2,6 +2,7 @@
 // have a fixed size; status messages are bounded by kStatusTextMax per string.
 #include "bus/lcm_publisher.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "bus/channels.hpp"
@@ -78,16 +79,20 @@ void LcmPublisher::on_status(const lcm_recv_buf_t* rbuf, const char*, void* self
   if (p.received_.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) return;
   if (p.received_.instance == p.instance_ || p.other_seen_) return;
   p.other_seen_ = true;
-  p.other_new_ = true;
+  // A copy, not received_: the next status decoded overwrites that while another thread reads.
+  std::snprintf(p.other_instance_, sizeof p.other_instance_, "%s", p.received_.instance.c_str());
+  p.other_new_.store(true, std::memory_order_release);
+}
+
+const char* LcmPublisher::take_other_instance() {
+  return other_new_.exchange(false, std::memory_order_acq_rel) ? other_instance_ : nullptr;
 }
 
 const char* LcmPublisher::poll_bus() {
   if (!watching_) return nullptr;
   while (lcm_->handleTimeout(0) > 0) {
   }
-  if (!other_new_) return nullptr;
-  other_new_ = false;
-  return received_.instance.c_str();
+  return take_other_instance();
 }
 
 }  // namespace ccdlane

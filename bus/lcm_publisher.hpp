@@ -2,6 +2,7 @@
 // message: one reused message object and encode buffers sized at construction.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -63,10 +64,14 @@ class LcmPublisher : public LaneSink {
   void set_instance(const std::string& instance);
   const std::string& instance() const { return instance_; }
   // Listens on the status channel for status messages of other instances. Allocates the
-  // receive message once; poll_bus() then allocates nothing for status-sized texts.
+  // receive message once; handling the bus then allocates nothing for status-sized texts.
   void watch_for_other_instances();
-  // Handles what arrived since the last call, without waiting. Returns the instance of
-  // another publisher seen on the status channel, the first time one is seen; else null.
+  // The instance of another publisher seen on the status channel, the first time one is
+  // seen (once); else null. Any thread: the bus may be handled on another (ccdlaned's
+  // bus thread, which calls lcm_handle on bus() for every subscriber).
+  const char* take_other_instance();
+  // For a single-threaded owner: handles what arrived, without waiting, then
+  // take_other_instance(). Never while another thread handles bus().
   const char* poll_bus();
   lcm::LCM& bus() { return *lcm_; }
 
@@ -77,8 +82,11 @@ class LcmPublisher : public LaneSink {
 
   std::string url_;
   std::string instance_;
-  status_t received_{};  // the last status seen on the bus, decoded in place
-  bool watching_ = false, other_seen_ = false, other_new_ = false;
+  status_t received_{};                         // the last status seen on the bus, decoded in place
+  bool watching_ = false, other_seen_ = false;  // the handling thread's
+  // Written once by the handling thread before other_new_ is released.
+  char other_instance_[kStatusTextMax + 1] = {};
+  std::atomic<bool> other_new_{false};
   std::unique_ptr<lcm::LCM> lcm_;
   std::string lanes_channel_, status_channel_, frames_channel_;
   lane_estimate_t lane_message_{};

@@ -62,6 +62,10 @@ class VehicleStateListener {
   std::atomic<std::uint64_t> received_{0}, rejected_{0};
 };
 
+// How old a vehicle state may be and still count (gateways publish at 10 Hz or faster):
+// older, the gateway has stopped, and its last indicator (or speed) must not hold.
+inline constexpr std::int64_t kVehicleStateMaxAgeNs = 500'000'000;
+
 // A frame's vehicle inputs from the latest state: empty (the estimator then uses
 // [vehicle] speed_kmh, no yaw rate, no indicator) when there is none or it is older than
 // max_age_ns at now_ns (the gateway stopped: its last indicator must not hold forever).

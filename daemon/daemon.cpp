@@ -12,8 +12,11 @@
 #include "app/source_factory.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
+#include "bus/channels.hpp"
 #include "bus/lcm_publisher.hpp"
+#include "bus/vehicle_state_listener.hpp"
 #include "daemon/allocation_counter.hpp"
+#include "daemon/bus_thread.hpp"
 #include "daemon/frame_processor.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/online_calibration.hpp"
@@ -44,7 +47,7 @@ class StatusTicker {
         start_ns_(start_ns) {}
 
   void tick() {
-    if (const char* other = publisher_.poll_bus())
+    if (const char* other = publisher_.take_other_instance())
       log_line(LogLevel::warning, "lcm",
                "another publisher on %s: instance \"%s\" (we are \"%s\"); its messages interleave with ours on %s "
                "(said once)",
@@ -135,6 +138,7 @@ int run_daemon(const Config& config) {
   std::unique_ptr<EstimatorProcessor> processor;
   std::unique_ptr<OnlineCalibration> calibration;
   std::unique_ptr<LcmPublisher> publisher;
+  std::unique_ptr<VehicleStateListener> vehicle;
   bool source_open = false, gyro_open = false;
   // A start that fails half-way leaves no stream running and no device open.
   const auto fail = [&](const char* category, const char* why) {
@@ -176,6 +180,8 @@ int run_daemon(const Config& config) {
     publisher = std::make_unique<LcmPublisher>(config.lcm);
     publisher->set_instance(config.lcm.instance.empty() ? instance_name() : config.lcm.instance);
     publisher->watch_for_other_instances();
+    vehicle = std::make_unique<VehicleStateListener>(publisher->bus().getUnderlyingLCM(),
+                                                     channel_name(config.lcm.prefix, Channel::vehicle));
     // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
     if (config.lcm.publish_frames) publisher->enable_frames(source->width(), source->height(), source->format());
   } catch (const std::exception& e) {
@@ -183,19 +189,25 @@ int run_daemon(const Config& config) {
   }
 
   Pipeline pipeline(*source, gyro.get(), *processor, *publisher, realtime, pipeline_options(config));
+  pipeline.set_vehicle_state(vehicle.get(), kVehicleStateMaxAgeNs);
+  // The one thread that handles the bus: vehicle states as they come, other instances.
+  BusThread bus(publisher->bus().getUnderlyingLCM());
   ServiceHeartbeat heartbeat(notifier);
   StatusTicker status(pipeline, gyro.get(), *calibration, *publisher, notifier, source->describe(), start_ns);
   const FramePoolLayout& pool = pipeline.pool().layout();
   log_line(LogLevel::info, "start",
-           "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, bus %s, instance %s",
+           "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, vehicle state from %s, bus %s, "
+           "instance %s",
            source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pool.count, pool.width, pool.height,
-           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(), publisher->url().c_str(),
+           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(),
+           channel_name(config.lcm.prefix, Channel::vehicle).c_str(), publisher->url().c_str(),
            publisher->instance().c_str());
   if (notifier.watchdog_interval_us() > 0)
     log_line(LogLevel::info, "systemd", "watchdog every %.3f s, pinged while frames flow",
              static_cast<double>(notifier.watchdog_interval_us()) * 1e-6);
 
   pipeline.start();
+  bus.start();
   realtime.lock_memory();
   char rt[160];
   realtime.describe(rt, sizeof rt);
@@ -233,6 +245,7 @@ int run_daemon(const Config& config) {
 
   notifier.stopping();
   pipeline.stop();  // threads joined: the capture wait is bounded, queued frames are left
+  bus.stop();
   source->close();  // streams off, device closed
   if (gyro) gyro->close();
   calibration->stop();  // the processing thread has ended: the last estimate is saved

@@ -25,9 +25,21 @@ class FrameProcessor {
   // false with a reason when the frame gives none. Runs on the
   // real-time path: no allocation, no exceptions; every workspace was sized when the
   // processor was built. `attitude` is the gyro reading at the frame's time (the frame's
-  // own recorded reading, else the live gyro's), if there is one.
+  // own recorded reading, else the live gyro's), if there is one; `vehicle` the
+  // vehicle's speed, yaw rate and indicator at it, and the devices' health.
   virtual LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                               std::optional<Gx1Angles> attitude) = 0;
+                               std::optional<Gx1Angles> attitude, const VehicleInputs& vehicle) = 0;
+
+  // A frame the source could not deliver (ok = false, no_frame): the lane departure
+  // warning coasts through it. By default, only the failed estimate.
+  virtual LaneEstimate no_frame(std::uint64_t frame, const FrameMeta& meta, const VehicleInputs& /*vehicle*/) {
+    LaneEstimate e;
+    e.frame = frame;
+    e.t_ns = meta.frame_t_ns();
+    e.ok = false;
+    e.reason = EstimateFailure::no_frame;
+    return e;
+  }
 };
 
 // The lane estimator as the daemon's processor. Gyro roll/pitch become priors inside the
@@ -43,12 +55,17 @@ class EstimatorProcessor final : public FrameProcessor {
   void attach(OnlineCalibration& calibration) { calibration_ = &calibration; }
 
   LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                       std::optional<Gx1Angles> attitude) override {
-    VehicleInputs vehicle;
+                       std::optional<Gx1Angles> attitude, const VehicleInputs& inputs) override {
+    VehicleInputs vehicle = inputs;
     if (calibration_) calibration_->before_frame(estimator_, vehicle);
     const LaneEstimate& e = estimator_.estimate(image, frame, meta.frame_t_ns(), attitude, vehicle);
     if (calibration_) calibration_->after_frame(e, vehicle);
     return e;
+  }
+  LaneEstimate no_frame(std::uint64_t frame, const FrameMeta& meta, const VehicleInputs& inputs) override {
+    VehicleInputs vehicle = inputs;
+    if (calibration_) calibration_->before_frame(estimator_, vehicle);
+    return estimator_.no_frame(frame, meta.frame_t_ns(), vehicle);
   }
 
  private:

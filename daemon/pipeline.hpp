@@ -16,6 +16,7 @@
 #include "app/config.hpp"
 #include "base/spsc_ring.hpp"
 #include "bus/lane_sink.hpp"
+#include "bus/vehicle_state_listener.hpp"
 #include "daemon/doorbell.hpp"
 #include "daemon/frame_processor.hpp"
 #include "daemon/latency_window.hpp"
@@ -54,6 +55,15 @@ class Pipeline {
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
+  // Where frames that carry no recorded vehicle values (live cameras) take their speed,
+  // yaw rate and indicator: the bus's latest vehicle state (a CAN gateway's
+  // vehicle_state_t), none when it is older than max_age_ns. Without one, or stale:
+  // [vehicle] speed_kmh, no indicator. Call before start(); `listener` must outlive stop().
+  void set_vehicle_state(const VehicleStateListener* listener, std::int64_t max_age_ns) {
+    vehicle_state_ = listener;
+    vehicle_state_max_age_ns_ = max_age_ns;
+  }
+
   // Creates the threads; each applies its real-time settings, then waits for run().
   void start();
   // Lets the threads go (call after RealtimeSetup::lock_memory, so that locking cannot
@@ -90,6 +100,8 @@ class Pipeline {
   void processing_loop();
   void gyro_loop();
   void process_one(std::uint32_t index);
+  // The frame's vehicle inputs: its recorded ones, else the bus's; the devices' health.
+  VehicleInputs vehicle_inputs_for(const FrameMeta& meta, bool frame_ok) const;
   // Sends one estimate (every frame's, bad ones included) and counts it.
   void publish(LaneEstimate& estimate, std::int64_t received_ns);
   // Hands the filled buffer to processing and takes a free one; false when stopping.
@@ -104,6 +116,8 @@ class Pipeline {
 
   FrameSource& source_;
   AttitudeProvider* gyro_;
+  const VehicleStateListener* vehicle_state_ = nullptr;
+  std::int64_t vehicle_state_max_age_ns_ = 0;
   FrameProcessor& processor_;
   LaneSink& sink_;
   RealtimeSetup& realtime_;

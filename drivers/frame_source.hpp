@@ -10,6 +10,7 @@
 
 #include "base/gx1_angles.hpp"
 #include "base/image_view.hpp"
+#include "base/turn_indicator.hpp"
 
 namespace ccdlane {
 
@@ -30,6 +31,11 @@ struct FrameMeta {
   // so that a frame keeps its identity however fast it is played. t_ns stays the capture
   // time on this machine's clock, which a live gyro and the latencies are measured on.
   std::optional<std::int64_t> recorded_t_ns;
+  // The vehicle at the frame as recorded (frames.csv's speed_kmh and turn_indicator
+  // columns), so that a recording plays with the inputs it was made with; empty when the
+  // recording has no such value (live sources: the daemon takes the bus's vehicle state).
+  std::optional<double> speed_kmh;
+  std::optional<TurnIndicator> indicator;
 
   // The timestamp a frame goes out under (lane estimates, frame_t): as recorded, else t_ns.
   std::int64_t frame_t_ns() const { return recorded_t_ns.value_or(t_ns); }

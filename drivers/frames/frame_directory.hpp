@@ -29,6 +29,7 @@ class FrameDirectory {
   const std::string& file_path(std::size_t i) const { return paths_[i]; }
   std::size_t data_rows() const { return csv_.data_rows; }  // including malformed ones
   bool has_gyro_columns() const { return csv_.has_gyro_columns; }
+  bool has_vehicle_columns() const { return csv_.has_vehicle_columns; }
 
   // One message per skipped row of frames.csv ("DIR/frames.csv:7: t_ns: not an integer").
   const std::vector<std::string>& issues() const { return csv_.issues; }

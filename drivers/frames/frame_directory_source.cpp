@@ -89,6 +89,8 @@ CaptureStatus FrameDirectorySource::capture(const MutableImageView& into, FrameM
   meta.t_ns = monotonic_ns();
   meta.recorded_t_ns = dir.row(i).t_ns + static_cast<std::int64_t>(pass_) * pass_span_ns_;
   meta.gyro = dir.row(i).gyro;
+  meta.speed_kmh = dir.row(i).speed_kmh;
+  meta.indicator = dir.has_vehicle_columns() ? std::optional<TurnIndicator>(dir.row(i).indicator) : std::nullopt;
   // When this frame's successor is due (after the last row, the wrap adds one period).
   if (next_ < dir.size())
     next_due_ns_ +=

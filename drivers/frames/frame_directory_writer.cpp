@@ -52,6 +52,7 @@ FrameDirectoryWriter::FrameDirectoryWriter(std::string dir, FrameDirectoryLayout
   std::string header = "file,t_ns";
   if (layout_.gyro) header += ",roll_deg,pitch_deg,yaw_deg";
   for (const std::string& c : layout_.truth_columns) header += "," + c;
+  if (layout_.vehicle) header += ",speed_kmh,turn_indicator";
   csv_ << header << '\n';
   csv_.flush();
   csv_bytes_ = csv_.tellp();
@@ -70,7 +71,7 @@ void FrameDirectoryWriter::abandon() noexcept {
 }
 
 void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, const std::optional<Gx1Angles>& gyro,
-                                 std::span<const double> truth) {
+                                 std::span<const double> truth, const FrameVehicle& vehicle) {
   if (finished_) throw std::logic_error("FrameDirectoryWriter::write after finish");
   if (truth.size() != layout_.truth_columns.size())
     throw std::logic_error("FrameDirectoryWriter::write: truth values do not match the truth columns");
@@ -100,6 +101,12 @@ void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, cons
   for (const double v : truth) {
     row += ',';
     append_number(row, v);
+  }
+  if (layout_.vehicle) {
+    row += ',';
+    append_number(row, vehicle.speed_kmh.value_or(std::numeric_limits<double>::quiet_NaN()));
+    row += ',';
+    row += to_string(vehicle.indicator);
   }
   csv_ << row << '\n';
   csv_.flush();

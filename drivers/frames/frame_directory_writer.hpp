@@ -11,6 +11,7 @@
 
 #include "base/gx1_angles.hpp"
 #include "base/image_view.hpp"
+#include "base/turn_indicator.hpp"
 #include "drivers/frames/frame_directory_error.hpp"
 
 namespace ccdlane {
@@ -18,6 +19,13 @@ namespace ccdlane {
 struct FrameDirectoryLayout {
   bool gyro = false;                       // write roll_deg,pitch_deg,yaw_deg columns
   std::vector<std::string> truth_columns;  // each must start with "truth_"
+  bool vehicle = false;                    // write speed_kmh,turn_indicator columns
+};
+
+// The vehicle at a frame, as frames.csv's speed_kmh and turn_indicator columns hold it.
+struct FrameVehicle {
+  std::optional<double> speed_kmh;  // empty: an empty cell (replay then uses [vehicle] speed_kmh)
+  TurnIndicator indicator = TurnIndicator::none;
 };
 
 // Each image is written under a temporary name and renamed into place, so an image file
@@ -36,9 +44,10 @@ class FrameDirectoryWriter {
   FrameDirectoryWriter& operator=(const FrameDirectoryWriter&) = delete;
 
   // Writes frame number frames_written() as "%06d.pgm". `gyro` empty = no reading for
-  // this frame (empty cells); `truth` has one value per truth column (NaN = empty cell).
+  // this frame (empty cells); `truth` has one value per truth column (NaN = empty cell);
+  // `vehicle` goes to the vehicle columns when the layout has them.
   void write(const ImageView& image, std::int64_t t_ns, const std::optional<Gx1Angles>& gyro = std::nullopt,
-             std::span<const double> truth = {});
+             std::span<const double> truth = {}, const FrameVehicle& vehicle = {});
 
   // Puts frames.csv in place. After this the destructor leaves everything where it is.
   void finish();

@@ -2,6 +2,7 @@
 #include "drivers/gx1/attitude_history.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace ccdlane::gx1 {
 namespace {
@@ -51,6 +52,10 @@ void AttitudeHistory::push(const Gx1Sample& sample) {
   s.roll.store(sample.angles.roll_deg, release);
   s.pitch.store(sample.angles.pitch_deg, release);
   s.yaw.store(sample.angles.yaw_deg, release);
+  s.has_rate.store(sample.has_rate, release);
+  s.rate_x.store(sample.rate_radps[0], release);
+  s.rate_y.store(sample.rate_radps[1], release);
+  s.rate_z.store(sample.rate_radps[2], release);
   count_.store(n + 1, release);
   sequence_.store(seq + 2, release);
 }
@@ -60,7 +65,9 @@ Gx1Sample AttitudeHistory::load(std::uint64_t index) const {
   const Slot& s = slots_[index % kCapacity];
   return {s.t_ns.load(acquire),
           static_cast<std::uint16_t>(s.ticks.load(acquire)),
-          {s.roll.load(acquire), s.pitch.load(acquire), s.yaw.load(acquire)}};
+          {s.roll.load(acquire), s.pitch.load(acquire), s.yaw.load(acquire)},
+          s.has_rate.load(acquire),
+          {s.rate_x.load(acquire), s.rate_y.load(acquire), s.rate_z.load(acquire)}};
 }
 
 // Runs `read` until it ran while no write was in progress and none started meanwhile.
@@ -99,7 +106,10 @@ AttitudeQuery AttitudeHistory::attitude_at(std::int64_t t_ns, std::int64_t max_a
       return q;
     }
     if (t_ns >= t_of(n - 1)) {
-      q.angles = load(n - 1).angles;
+      const Gx1Sample newest = load(n - 1);
+      q.angles = newest.angles;
+      q.has_rate = newest.has_rate;
+      q.rate_radps = newest.rate_radps;
       q.gap_ns = t_ns - t_of(n - 1);
     } else {
       // First sample after t: t_of(hi - 1) <= t < t_of(hi).
@@ -115,11 +125,20 @@ AttitudeQuery AttitudeHistory::attitude_at(std::int64_t t_ns, std::int64_t max_a
       const std::int64_t span = b.t_ns - a.t_ns;
       const double fraction = span > 0 ? static_cast<double>(t_ns - a.t_ns) / static_cast<double>(span) : 0.0;
       q.angles = interpolate_angles(a.angles, b.angles, fraction);
+      q.has_rate = a.has_rate && b.has_rate;
+      for (std::size_t i = 0; i < 3; ++i)
+        q.rate_radps[i] = a.rate_radps[i] + fraction * (b.rate_radps[i] - a.rate_radps[i]);
       q.gap_ns = t_ns == a.t_ns ? 0 : span;
     }
     q.status = q.gap_ns > max_age_ns ? AttitudeStatus::stale : AttitudeStatus::ok;
     return q;
   });
+}
+
+double yaw_angle_rate_radps(const Gx1Angles& angles, const std::array<double, 3>& body_rate_radps) {
+  constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+  const double roll = angles.roll_deg * kRadPerDeg, pitch = angles.pitch_deg * kRadPerDeg;
+  return (body_rate_radps[1] * std::sin(roll) + body_rate_radps[2] * std::cos(roll)) / std::cos(pitch);
 }
 
 }  // namespace ccdlane::gx1

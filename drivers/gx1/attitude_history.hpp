@@ -18,6 +18,10 @@ struct Gx1Sample {
   std::int64_t t_ns = 0;
   std::uint16_t ticks = 0;
   Gx1Angles angles;
+  // The angular rate about the sensor's x, y, z axes, rad/s (the 0x31 reply's
+  // drift-compensated rate vector, scaled by the unit's gyro gain); a 0x0E stream has none.
+  bool has_rate = false;
+  std::array<double, 3> rate_radps{};
 };
 
 enum class AttitudeStatus : std::uint8_t {
@@ -35,7 +39,16 @@ struct AttitudeQuery {
   // t - t_newest (the newest is held, never extrapolated); between two samples, the
   // time between them (0 on an exact hit). Stale when it exceeds the allowed age.
   std::int64_t gap_ns = 0;
+  // The angular rate (sensor axes, rad/s) at t, interpolated like the angles, when the
+  // samples around t (or the newest) carry one.
+  bool has_rate = false;
+  std::array<double, 3> rate_radps{};
 };
+
+// The rate of the sensor's yaw angle (about the Earth's down axis, rad/s, + clockwise seen
+// from above) from its body rates and its roll and pitch: the 3-2-1 Euler kinematics,
+// psi' = (q sin(roll) + r cos(roll)) / cos(pitch).
+double yaw_angle_rate_radps(const Gx1Angles& angles, const std::array<double, 3>& body_rate_radps);
 
 // Angles interpolated linearly along the shorter arc, so yaw going from +179 to -179
 // degrees passes through 180, not 0 (roll too; pitch never wraps).
@@ -64,6 +77,8 @@ class AttitudeHistory {
     std::atomic<std::int64_t> t_ns{0};
     std::atomic<std::uint32_t> ticks{0};
     std::atomic<double> roll{0.0}, pitch{0.0}, yaw{0.0};
+    std::atomic<bool> has_rate{false};
+    std::atomic<double> rate_x{0.0}, rate_y{0.0}, rate_z{0.0};
   };
   Gx1Sample load(std::uint64_t index) const;
   std::int64_t t_of(std::uint64_t index) const {

@@ -235,7 +235,7 @@ void Gx1Emulator::execute(std::int64_t now) {
       const std::uint16_t address = static_cast<std::uint16_t>((command_[1] << 8) | command_[2]);
       std::uint16_t value = 0;
       switch (address) {  // the factory values of docs/gx1.md sections 5 and 6
-        case kEepromGyroGainScale: value = 8500; break;
+        case kEepromGyroGainScale: value = options_.gyro_gain_scale; break;
         case kEepromAccelGainScale: value = 7000; break;
         case kEepromMagGainScale: value = 2000; break;
         case 238:
@@ -263,18 +263,27 @@ Reply Gx1Emulator::measurement(std::uint8_t command, std::int64_t now) const {
   const std::uint16_t ticks = ticks_at(now);
   switch (command) {
     case cmd::stab_euler_vectors: {
-      // Level: the accelerometers read -1 G on z (as V3); rates by finite difference.
+      // Level: the accelerometers read -1 G on z (as V3). The rates are the body rates a
+      // gyro triad measures: the script's Euler angle rates (by finite difference) through
+      // the 3-2-1 kinematics, so that a turn at a pitch or roll reads as the sensor would.
       const Gx1Angles later = options_.attitude(t_s + 1e-3);
       const GainScales gains;
-      const double rate_counts = 32768000.0 / gains.gyro * (std::numbers::pi / 180.0) / 1e-3;
+      constexpr double kRad = std::numbers::pi / 180.0;
+      const double roll_rate = wrap180(later.roll_deg - a.roll_deg) * kRad / 1e-3;
+      const double pitch_rate = wrap180(later.pitch_deg - a.pitch_deg) * kRad / 1e-3;
+      const double yaw_rate = wrap180(later.yaw_deg - a.yaw_deg) * kRad / 1e-3;
+      const double sr = std::sin(a.roll_deg * kRad), cr = std::cos(a.roll_deg * kRad);
+      const double sp = std::sin(a.pitch_deg * kRad), cp = std::cos(a.pitch_deg * kRad);
+      const double body[3] = {roll_rate - yaw_rate * sp, pitch_rate * cr + yaw_rate * cp * sr,
+                              -pitch_rate * sr + yaw_rate * cp * cr};
+      const double counts_per_radps = 32768000.0 / options_.gyro_gain_scale;
       EulerVectorsReply r;
       r.roll = counts_from_degrees(a.roll_deg);
       r.pitch = counts_from_degrees(a.pitch_deg);
       r.yaw = counts_from_degrees(a.yaw_deg);
       r.accel = {0, 0, rounded_counts(-32768000.0 / gains.accel)};
-      r.rate = {rounded_counts(wrap180(later.roll_deg - a.roll_deg) * rate_counts),
-                rounded_counts(wrap180(later.pitch_deg - a.pitch_deg) * rate_counts),
-                rounded_counts(wrap180(later.yaw_deg - a.yaw_deg) * rate_counts)};
+      r.rate = {rounded_counts(body[0] * counts_per_radps), rounded_counts(body[1] * counts_per_radps),
+                rounded_counts(body[2] * counts_per_radps)};
       r.ticks = ticks;
       return r;
     }

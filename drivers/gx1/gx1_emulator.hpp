@@ -42,6 +42,8 @@ struct EmulatorOptions {
   std::uint8_t left_streaming = 0;  // a stream left running by a previous user (0: quiet)
   std::uint16_t firmware = 3102;
   std::uint16_t serial_number = 1234;
+  // This unit's GyroGainScale (EEPROM 130), by which its 0x31 rate vector is scaled.
+  std::uint16_t gyro_gain_scale = 8500;
   double tick_seconds = kFactoryTickSeconds;
   AttitudeScript attitude = circling_attitude;
   PeriodicFaults faults;

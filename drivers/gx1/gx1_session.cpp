@@ -125,6 +125,27 @@ int Gx1Session::handshake() {
   if (const int rc = send(encode_poll(cmd::serial_number)); rc < 0) return rc;
   if (const int rc = await_reply(cmd::serial_number, reply); rc < 0) return rc;
   serial_number_.store(std::get_if<SerialNumberReply>(&reply)->number, std::memory_order_relaxed);
+  if (options_.stream_command == cmd::stab_euler_vectors) return read_gyro_gain();
+  return 0;
+}
+
+// The rate vector's scale is the unit's own (docs/gx1.md section 5): read from EEPROM,
+// with the published default when the sensor does not answer (rates then within the
+// units' spread of that default, the angles unaffected).
+int Gx1Session::read_gyro_gain() {
+  Reply reply;
+  parser_.expect({cmd::read_eeprom});
+  if (const int rc = send(encode_eeprom_read(kEepromGyroGainScale)); rc < 0) return rc;
+  const int rc = await_reply(cmd::read_eeprom, reply);
+  if (rc < 0 && rc != -ETIMEDOUT) return rc;
+  const std::uint16_t value = rc == 0 ? std::get_if<EepromReply>(&reply)->value : 0;
+  if (value == 0) {
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: no gyro gain in EEPROM %u (%s); rates scaled by the default %.0f",
+           device().c_str(), kEepromGyroGainScale, rc == 0 ? "it reads 0" : "no answer", GainScales{}.gyro);
+    gyro_gain_scale_.store(GainScales{}.gyro, std::memory_order_relaxed);
+  } else {
+    gyro_gain_scale_.store(value, std::memory_order_relaxed);
+  }
   return 0;
 }
 
@@ -233,6 +254,9 @@ int Gx1Session::ingest(std::span<const std::uint8_t> bytes, std::int64_t t_read_
                v && options_.stream_command == cmd::stab_euler_vectors) {
       s.ticks = v->ticks;
       s.angles = {degrees_from_counts(v->roll), degrees_from_counts(v->pitch), degrees_from_counts(v->yaw)};
+      const double gain = gyro_gain_scale_.load(std::memory_order_relaxed);
+      s.has_rate = true;
+      for (std::size_t i = 0; i < 3; ++i) s.rate_radps[i] = rate_rad_s_from_counts(v->rate[i], gain);
     } else if (const auto* a = std::get_if<ContinuousAck>(&p.reply); a && a->streamed() == options_.stream_command) {
       bump(shared_.acks);
       return;

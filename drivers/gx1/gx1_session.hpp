@@ -86,6 +86,9 @@ class Gx1Session {
   const AttitudeHistory& history() const { return history_; }
   std::uint16_t firmware() const { return firmware_.load(std::memory_order_relaxed); }
   std::uint16_t serial_number() const { return serial_number_.load(std::memory_order_relaxed); }
+  // The scale of the 0x31 rate vector: EEPROM's GyroGainScale, read at bring-up when
+  // streaming 0x31 (else the published default).
+  double gyro_gain_scale() const { return gyro_gain_scale_.load(std::memory_order_relaxed); }
   SessionCounters counters() const;
   const std::string& device() const { return port_.path(); }
   const SessionOptions& options() const { return options_; }
@@ -94,6 +97,7 @@ class Gx1Session {
   int configure_opened(int open_result, const char* failure);
   int configure();
   int handshake();
+  int read_gyro_gain();
   int drain();
   int await_reply(std::uint8_t header, Reply& out);
   int send(const Frame& frame);
@@ -118,6 +122,7 @@ class Gx1Session {
   std::atomic<DeviceState> state_{DeviceState::closed};
   std::atomic<std::uint16_t> firmware_{0};
   std::atomic<std::uint16_t> serial_number_{0};
+  std::atomic<double> gyro_gain_scale_{GainScales{}.gyro};
   std::int64_t last_sample_ns_ = 0;
   std::int64_t poll_sent_ns_ = 0;
   bool poll_outstanding_ = false;

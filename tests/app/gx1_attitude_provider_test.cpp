@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
@@ -83,6 +84,39 @@ TEST(Gx1AttitudeProvider, EmulatedStreamsTheScriptedAttitudeAtAFramesTime) {
   EXPECT_NE(provider.describe().find("3dm-gx1:emulated"), std::string::npos) << provider.describe();
   EXPECT_TRUE(session_line) << "the session's events reach the sink";
   EXPECT_TRUE(emulator_line) << "the emulator's lines reach the sink, marked as its own";
+}
+
+// Streaming 0x31, the provider gives the vehicle's yaw rate (+ left) from the sensor's
+// rates: the scripted heading turning clockwise at 15 degrees/s is -15 degrees/s. A 0x0E
+// stream has no rate to give.
+TEST(Gx1AttitudeProvider, TheYawRateOfA0x31StreamIsTheVehiclesTurnToTheLeft) {
+  for (const std::uint8_t stream : {gx1::cmd::stab_euler_vectors, gx1::cmd::stab_euler}) {
+    gx1::EmulatorOptions emulator;
+    emulator.attitude = [](double t_s) { return Gx1Angles{1.5, -3.0, std::remainder(100.0 + 15.0 * t_s, 360.0)}; };
+    gx1::SessionOptions options;
+    options.stream_command = stream;
+    Gx1AttitudeProvider provider(std::move(emulator), {}, options);
+    EXPECT_FALSE(provider.yaw_rate_at(monotonic_ns())) << "nothing before open";
+    ASSERT_EQ(provider.open(), "");
+    std::atomic<bool> stop{false};
+    std::thread gyro([&] { provider.run(stop); });
+    std::optional<std::int64_t> newest;
+    for (const std::int64_t give_up = monotonic_ns() + 5'000'000'000;
+         monotonic_ns() < give_up && !(newest = provider.newest_sample_ns());)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    const std::optional<double> rate = newest ? provider.yaw_rate_at(*newest) : std::nullopt;
+    stop.store(true);
+    gyro.join();
+    provider.close();
+    ASSERT_TRUE(newest) << "no sample within 5 s";
+    if (stream == gx1::cmd::stab_euler) {
+      EXPECT_FALSE(rate) << "0x0E carries no rate";
+      continue;
+    }
+    ASSERT_TRUE(rate);
+    // Counts of 1 / 3855 rad/s (the default gain 8500): two of them make the yaw rate.
+    EXPECT_NEAR(*rate, -15.0 * std::numbers::pi / 180.0, 2.0 * 8500.0 / 32768000.0 / std::cos(0.06));
+  }
 }
 
 TEST(Gx1AttitudeProvider, AMissingDeviceNamesTheKeyAndThePath) {

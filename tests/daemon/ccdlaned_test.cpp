@@ -22,6 +22,7 @@
 
 #include <ccdlane/lane_estimate_t.hpp>
 #include <ccdlane/status_t.hpp>
+#include <ccdlane/vehicle_state_t.hpp>
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
@@ -519,6 +520,55 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
   EXPECT_EQ(count_of(log_b, "another publisher on CCDLANE_STATUS: instance \"" + name_a + "\""), 1) << log_b;
   EXPECT_EQ(count_of(log_a, "another publisher"), 1) << log_a;
   EXPECT_EQ(count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
+}
+
+// A CAN gateway's vehicle_state_t reaches the daemon's lane departure warning: while it
+// publishes, each lane message says the speed and indicator it sent; once it has been
+// silent longer than the maximum age (0.5 s), the configured speed and no indicator.
+// Taking the messages allocates nothing once the daemon is ready.
+TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config = dir.write("ccdlane.toml", config_text(test::kBusUrl, 30, "[vehicle]\nspeed_kmh = 90.0\n"));
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  vehicle_state_t state{};
+  state.speed_mps = 12.5;
+  state.turn_indicator = vehicle_state_t::TURN_INDICATOR_LEFT;
+  const auto gateway_lanes = [&] {
+    return std::count_if(got.lanes.begin(), got.lanes.end(), [](const lane_estimate_t& m) {
+      return m.speed_mps == 12.5 && m.turn_indicator == vehicle_state_t::TURN_INDICATOR_LEFT;
+    });
+  };
+  // The gateway at 20 Hz until 30 lane messages were made with its state.
+  for (const auto end = Clock::now() + std::chrono::seconds(20); gateway_lanes() < 30 && Clock::now() < end;) {
+    bus.publish("CCDLANE_VEHICLE", &state);
+    bus.handleTimeout(50);
+  }
+  ASSERT_GE(gateway_lanes(), 30) << test::read_file(dir.file("stderr"));
+  // Silent: after the maximum age has passed, the frames go back to the configuration.
+  const auto silent_from = Clock::now();
+  while (Clock::now() - silent_from < std::chrono::milliseconds(1500)) bus.handleTimeout(100);
+  const std::size_t first_after = got.lanes.size();
+  for (const auto end = Clock::now() + std::chrono::seconds(10);
+       got.lanes.size() < first_after + 20 && Clock::now() < end;)
+    bus.handleTimeout(100);
+  child.signal(SIGTERM);
+  const auto exit_status = child.wait_exit(2000);
+  while (bus.handleTimeout(100) > 0) {
+  }
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  ASSERT_GE(got.lanes.size(), first_after + 20);
+  for (std::size_t i = first_after; i < got.lanes.size(); ++i) {
+    EXPECT_DOUBLE_EQ(got.lanes[i].speed_mps, 90.0 / 3.6) << "frame " << got.lanes[i].frame;
+    EXPECT_EQ(got.lanes[i].turn_indicator, vehicle_state_t::TURN_INDICATOR_NONE) << "frame " << got.lanes[i].frame;
+  }
+  const std::string log = test::read_file(dir.file("stderr"));
+  EXPECT_NE(log.find("vehicle state from CCDLANE_VEHICLE"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << "taking vehicle states allocates nothing: " << log;
 }
 
 }  // namespace

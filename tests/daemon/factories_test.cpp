@@ -48,7 +48,7 @@ TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   EXPECT_GT(m.frame_t_ns(), 0);
 
   // And the estimator finds the lane it shows.
-  const LaneEstimate e = processor.process(va, 0, m0, m0.gyro);
+  const LaneEstimate e = processor.process(va, 0, m0, m0.gyro, {});
   EXPECT_TRUE(e.ok);
 }
 

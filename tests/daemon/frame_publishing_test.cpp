@@ -3,10 +3,12 @@
 // numbers and times of their lane messages; failures are counted, never silent.
 #include <vector>
 
+#include <ccdlane/vehicle_state_t.hpp>
 #include <gtest/gtest.h>
 
 #include "bus/frame_message.hpp"
 #include "bus/lcm_publisher.hpp"
+#include "bus/vehicle_state_listener.hpp"
 #include "daemon/pipeline.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
 #include "tests/support/test_pattern_source.hpp"
@@ -109,6 +111,46 @@ TEST(FramePublishing, InThePipelineTheFramesSentAreTheFramesProcessedAfterDrops)
     ASSERT_EQ(frame_image(got[i], image), "");
     EXPECT_TRUE(test_pattern_intact(image, static_cast<std::uint64_t>(lanes[i].frame)))
         << "the pixels of the frame processed, not a later one's";
+  }
+}
+
+// The frames on the bus carry the vehicle inputs the frame was processed with (the bus's
+// vehicle state), so that replaying a log of them gives the daemon's warnings.
+TEST(FramePublishing, TheFramesCarryTheVehicleStateTheyWereProcessedWith) {
+  constexpr std::uint64_t kFrames = 5;
+  TestPatternSource source(test::small_frames(kFrames, 0));
+  ASSERT_EQ(source.open(), "");
+  LcmPublisher publisher(memq());
+  publisher.enable_frames(source.width(), source.height(), source.format());
+  std::vector<frame_t> got;
+  publisher.bus().subscribeFunction("CCDLANE_FRAMES", &on_frame, &got);
+  VehicleStateListener vehicle(publisher.bus().getUnderlyingLCM(), "CCDLANE_VEHICLE");
+  vehicle_state_t state{};
+  state.speed_mps = 25.0;
+  state.has_yaw_rate = true;
+  state.yaw_rate_radps = -0.02;
+  state.turn_indicator = vehicle_state_t::TURN_INDICATOR_LEFT;
+  publisher.bus().publish("CCDLANE_VEHICLE", &state);
+  ASSERT_GT(publisher.bus().handleTimeout(1000), 0);
+  ASSERT_EQ(vehicle.received(), 1u);
+
+  TestPatternProcessor processor;
+  RealtimeConfig realtime_config;
+  RealtimeSetup realtime{realtime_config};
+  Pipeline pipeline(source, nullptr, processor, publisher, realtime, PipelineOptions{});
+  pipeline.set_vehicle_state(&vehicle, 3'600'000'000'000);  // never stale within the test
+  pipeline.start();
+  pipeline.run();
+  ASSERT_TRUE(test::eventually([&] { return pipeline.finished(); }, std::chrono::seconds(60)));
+  pipeline.stop();
+  while (publisher.bus().handleTimeout(0) > 0) {
+  }
+  ASSERT_FALSE(got.empty());
+  for (const frame_t& f : got) {
+    const FrameRecord r = frame_record(f);
+    EXPECT_EQ(r.speed_kmh, 25.0 * 3.6) << "frame " << f.sequence;
+    EXPECT_EQ(r.yaw_rate_radps, -0.02) << "frame " << f.sequence;
+    EXPECT_EQ(r.indicator, TurnIndicator::left) << "frame " << f.sequence;
   }
 }
 

@@ -140,9 +140,13 @@ class FakeGyro : public AttitudeProvider {
     if (!has_readings_) return std::nullopt;
     return Gx1Angles{1.25, -0.5, 90.0};
   }
+  std::optional<double> yaw_rate_at(std::int64_t) const override {
+    return has_readings_ ? std::optional<double>(kYawRateRadps) : std::nullopt;
+  }
   std::optional<std::int64_t> newest_sample_ns() const override {
     return has_readings_ ? std::optional<std::int64_t>(monotonic_ns()) : std::nullopt;
   }
+  static constexpr double kYawRateRadps = 0.03;
   GyroState state() const override { return has_readings_ ? GyroState::ok : GyroState::stale; }
   void last_problem(char* out, std::size_t size) const override { std::snprintf(out, size, "%s", ""); }
   GyroCounters counters() const override { return {}; }

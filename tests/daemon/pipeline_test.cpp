@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <ccdlane/lane_estimate_t.hpp>
+#include <ccdlane/vehicle_state_t.hpp>
 #include <gtest/gtest.h>
 
 #include "base/clock.hpp"
@@ -181,6 +182,118 @@ TEST(Pipeline, TheGyroAttitudeReachesTheProcessorOrIsCountedMissing) {
   }
 }
 
+// What the processor was given for the vehicle, per frame (read after the pipeline stopped).
+class VehicleInputsProcessor : public TestPatternProcessor {
+ public:
+  explicit VehicleInputsProcessor(std::size_t capacity) { given_.reserve(capacity); }
+  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
+                       std::optional<Gx1Angles> attitude, const VehicleInputs& vehicle) override {
+    if (given_.size() < given_.capacity()) given_.push_back(vehicle);
+    return TestPatternProcessor::process(image, frame, meta, attitude, vehicle);
+  }
+  const std::vector<VehicleInputs>& given() const { return given_; }
+
+ private:
+  std::vector<VehicleInputs> given_;
+};
+
+// Without a vehicle yaw rate the live gyro's drives the lane filter; a gyro without
+// readings is a gyro fault for the warning's availability; the vehicle's own yaw rate,
+// when the bus has one, wins over the gyro's.
+TEST(Pipeline, TheProcessorGetsTheGyroYawRateAndHealthUnlessTheVehicleGivesItsOwn) {
+  for (const bool has_readings : {true, false}) {
+    constexpr std::uint64_t kFrames = 10;
+    RecordingSink sink(kFrames);
+    LockstepSource source(small_frames(kFrames, 0), sink);
+    ASSERT_EQ(source.open(), "");
+    VehicleInputsProcessor processor(kFrames);
+    FakeGyro gyro(has_readings);
+    Rig rig;
+    Pipeline pipeline(source, &gyro, processor, sink, rig.realtime, PipelineOptions{});
+    ASSERT_TRUE(run_to_end(pipeline, 10s, [&] { return gyro.running(); }).has_value());
+    ASSERT_EQ(processor.given().size(), kFrames);
+    for (const VehicleInputs& v : processor.given()) {
+      EXPECT_EQ(v.yaw_rate_radps, has_readings ? std::optional<double>(FakeGyro::kYawRateRadps) : std::nullopt);
+      EXPECT_EQ(v.gyro_ok, has_readings);
+      EXPECT_TRUE(v.camera_ok);
+      EXPECT_FALSE(v.speed_mps) << "no vehicle state: the configured speed applies";
+    }
+  }
+
+  constexpr std::uint64_t kFrames = 10;
+  lcm_t* lcm = lcm_create("memq://");
+  ASSERT_NE(lcm, nullptr);
+  {
+    VehicleStateListener vehicle(lcm, "CCDLANE_VEHICLE");
+    vehicle_state_t m{};
+    m.speed_mps = 30.0;
+    m.has_yaw_rate = true;
+    m.yaw_rate_radps = -0.01;
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    ASSERT_EQ(lcm_publish(lcm, "CCDLANE_VEHICLE", bytes.data(), static_cast<unsigned>(bytes.size())), 0);
+    ASSERT_GT(lcm_handle_timeout(lcm, 1000), 0);
+    RecordingSink sink(kFrames);
+    LockstepSource source(small_frames(kFrames, 0), sink);
+    ASSERT_EQ(source.open(), "");
+    VehicleInputsProcessor processor(kFrames);
+    FakeGyro gyro(true);
+    Rig rig;
+    Pipeline pipeline(source, &gyro, processor, sink, rig.realtime, PipelineOptions{});
+    pipeline.set_vehicle_state(&vehicle, 3'600'000'000'000);
+    ASSERT_TRUE(run_to_end(pipeline, 10s, [&] { return gyro.running(); }).has_value());
+    ASSERT_EQ(processor.given().size(), kFrames);
+    for (const VehicleInputs& v : processor.given()) {
+      EXPECT_EQ(v.yaw_rate_radps, -0.01);
+      EXPECT_EQ(v.speed_mps, 30.0);
+    }
+  }
+  lcm_destroy(lcm);
+}
+
+// A played recording's own vehicle columns are its inputs, whatever the bus says now
+// (the drive it was recorded on, not this one).
+TEST(Pipeline, ARecordingsVehicleColumnsWinOverTheBus) {
+  test::TempDir dir;
+  const std::string path = dir.file("frames");
+  {
+    std::vector<std::uint8_t> px(64 * 48);
+    FrameDirectoryWriter w(path, {true, {}, true});
+    for (int i = 0; i < 4; ++i) {
+      MutableImageView view{px.data(), 64, 48, 64, PixelFormat::mono8, 8};
+      render_test_pattern(view, static_cast<std::uint64_t>(i));
+      w.write(view, i * 5'000'000LL, Gx1Angles{0.0, 0.0, 0.0}, {}, FrameVehicle{88.0, TurnIndicator::left});
+    }
+    w.finish();
+  }
+  lcm_t* lcm = lcm_create("memq://");
+  ASSERT_NE(lcm, nullptr);
+  {
+    VehicleStateListener vehicle(lcm, "CCDLANE_VEHICLE");
+    vehicle_state_t m{};
+    m.speed_mps = 5.0;
+    m.turn_indicator = vehicle_state_t::TURN_INDICATOR_RIGHT;
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    ASSERT_EQ(lcm_publish(lcm, "CCDLANE_VEHICLE", bytes.data(), static_cast<unsigned>(bytes.size())), 0);
+    ASSERT_GT(lcm_handle_timeout(lcm, 1000), 0);
+    FrameDirectorySource source({path, 200.0, false, 64, 48});
+    ASSERT_EQ(source.open(), "");
+    VehicleInputsProcessor processor(4);
+    RecordingSink sink(4);
+    Rig rig;
+    Pipeline pipeline(source, nullptr, processor, sink, rig.realtime, PipelineOptions{});
+    pipeline.set_vehicle_state(&vehicle, 3'600'000'000'000);
+    ASSERT_TRUE(run_to_end(pipeline).has_value());
+    ASSERT_FALSE(processor.given().empty());
+    for (const VehicleInputs& v : processor.given()) {
+      EXPECT_EQ(v.speed_mps, 88.0 / 3.6);
+      EXPECT_EQ(v.indicator, TurnIndicator::left);
+    }
+  }
+  lcm_destroy(lcm);
+}
+
 TEST(Pipeline, AStalledCameraIsReportedWithItsProblem) {
   RecordingSink sink(1000);
   StallingSource source(small_frames(0, 500), /*frames=*/20);
@@ -294,8 +407,8 @@ TEST(Pipeline, FrameNumbersStayUniqueWhenTheCamerasIdWrapsOrRestarts) {
 // Accepts every frame it is given: whatever is not ok was found bad before processing.
 class AcceptingProcessor : public FrameProcessor {
  public:
-  LaneEstimate process(const ImageView&, std::uint64_t frame, const FrameMeta& meta,
-                       std::optional<Gx1Angles>) override {
+  LaneEstimate process(const ImageView&, std::uint64_t frame, const FrameMeta& meta, std::optional<Gx1Angles>,
+                       const VehicleInputs&) override {
     LaneEstimate e;
     e.frame = frame;
     e.t_ns = meta.frame_t_ns();

@@ -55,8 +55,8 @@ bool is_fake_camera_frame(const ImageView& image, std::uint64_t id) {
 class FakeCameraFrameChecker : public FrameProcessor {
  public:
   explicit FakeCameraFrameChecker(std::int64_t work_us) : work_us_(work_us) {}
-  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                       std::optional<Gx1Angles>) override {
+  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta, std::optional<Gx1Angles>,
+                       const VehicleInputs&) override {
     const std::int64_t until = monotonic_ns() + work_us_ * 1000;
     LaneEstimate e;
     e.frame = frame;

@@ -86,7 +86,7 @@ SourceCounters TestPatternSource::counters() const {
 }
 
 LaneEstimate TestPatternProcessor::process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                                           std::optional<Gx1Angles> attitude) {
+                                           std::optional<Gx1Angles> attitude, const VehicleInputs&) {
   const std::int64_t work_us = work_us_.load(std::memory_order_relaxed);
   if (work_us > 0) {  // busy, like an estimator, rather than sleeping
     const std::int64_t until = monotonic_ns() + work_us * 1000;

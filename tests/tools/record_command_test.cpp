@@ -15,12 +15,15 @@
 #include <thread>
 #include <vector>
 
+#include <ccdlane/vehicle_state_t.hpp>
 #include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
 
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "tests/daemon/child_process.hpp"
+#include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -116,6 +119,90 @@ TEST(RecordCommand, AFrameDirectoryBecomesALogOfTheSameFrames) {
     EXPECT_EQ(records[k].gyro->pitch_deg, d.row(k).gyro->pitch_deg);
   }
   EXPECT_EQ(replay(kReferenceCamera, dir.file("road.lcmlog")), replay(kReferenceCamera, dir.file("road")));
+}
+
+// A frame directory with the vehicle's columns keeps them through `record`, into a log
+// (frame_t's speed and indicator) and into another directory (its columns), so both
+// replay with the speed and indicator the drive had.
+TEST(RecordCommand, TheVehicleColumnsOfAFrameDirectoryAreRecorded) {
+  test::TempDir dir;
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "4"}).exit_status, 0);
+  // Two columns appended to each row: speeds 70, 71, (none), 73; indicators in turn.
+  const char* indicators[] = {"none", "left", "right", "both"};
+  std::istringstream csv(test::read_file(dir.file("road/frames.csv")));
+  std::string rewritten, line;
+  std::getline(csv, line);
+  rewritten = line + ",speed_kmh,turn_indicator\n";
+  for (int k = 0; std::getline(csv, line); ++k)
+    rewritten += line + "," + (k == 2 ? "" : std::to_string(70 + k)) + "," + indicators[k] + "\n";
+  dir.write("road/frames.csv", rewritten);
+
+  ASSERT_EQ(
+      test::run_process({kTool, "record", "frames:" + dir.file("road"), "--out", dir.file("road.lcmlog")}).exit_status,
+      0);
+  ASSERT_EQ(test::run_process({kTool, "record", "frames:" + dir.file("road"), "--out", dir.file("copy")}).exit_status,
+            0);
+  const std::vector<FrameRecord> records = records_of(dir.file("road.lcmlog"));
+  FrameDirectory copy(dir.file("copy"));
+  ASSERT_EQ(records.size(), 4u);
+  ASSERT_EQ(copy.size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::optional<double> speed = k == 2 ? std::nullopt : std::optional<double>(70.0 + static_cast<double>(k));
+    const auto indicator = static_cast<TurnIndicator>(k);
+    EXPECT_EQ(records[k].speed_kmh, speed) << "frame " << k;
+    EXPECT_EQ(records[k].indicator, indicator) << "frame " << k;
+    EXPECT_EQ(copy.row(k).speed_kmh, speed) << "frame " << k;
+    EXPECT_EQ(copy.row(k).indicator, indicator) << "frame " << k;
+  }
+}
+
+// `record --vehicle-state` from a camera (Aravis' fake) while a gateway publishes
+// vehicle_state_t on a real bus (udpm in a private network namespace): the frames record
+// its speed, yaw rate and indicator, into the log and into a directory's columns.
+TEST(RecordCommand, ACameraRecordingTakesTheGatewaysVehicleStateFromTheBus) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  test::TempDir dir;
+  const std::string config = dir.write("c.toml", "[lcm]\nurl = \"" + test::kBusUrl + "\"\n");
+  vehicle_state_t state{};
+  state.speed_mps = 15.0;
+  state.has_yaw_rate = true;
+  state.yaw_rate_radps = 0.05;
+  state.turn_indicator = vehicle_state_t::TURN_INDICATOR_RIGHT;
+  for (const std::string out : {"drive.lcmlog", "drive"}) {
+    test::ChildProcess recorder({kTool, "record", "aravis:Fake_1", "--config", config, "--out", dir.file(out),
+                                 "--count", "30", "--vehicle-state"},
+                                {{}, "", dir.file(out + ".err"), {}});
+    std::optional<int> status;
+    for (const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+         !(status = recorder.wait_exit(0)) && std::chrono::steady_clock::now() < end;) {
+      bus.publish("CCDLANE_VEHICLE", &state);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (!status) status = recorder.wait_exit(5000);
+    ASSERT_TRUE(status.has_value()) << "record did not end";
+    ASSERT_EQ(WEXITSTATUS(*status), 0) << test::read_file(dir.file(out + ".err"));
+  }
+  // The gateway's first message may come after the first frames: those have none.
+  const std::vector<FrameRecord> records = records_of(dir.file("drive.lcmlog"));
+  ASSERT_EQ(records.size(), 30u);
+  EXPECT_TRUE(records.back().speed_kmh) << "the last frames were taken with the gateway publishing";
+  for (const FrameRecord& r : records) {
+    if (!r.speed_kmh) continue;
+    EXPECT_DOUBLE_EQ(*r.speed_kmh, 54.0);
+    EXPECT_EQ(r.yaw_rate_radps, 0.05);
+    EXPECT_EQ(r.indicator, TurnIndicator::right);
+  }
+  FrameDirectory d(dir.file("drive"));
+  ASSERT_EQ(d.size(), 30u);
+  EXPECT_TRUE(d.row(d.size() - 1).speed_kmh);
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.row(k).speed_kmh) {
+      EXPECT_DOUBLE_EQ(*d.row(k).speed_kmh, 54.0);
+      EXPECT_EQ(d.row(k).indicator, TurnIndicator::right);
+    }
 }
 
 TEST(RecordCommand, SecondsCountFrameTime) {

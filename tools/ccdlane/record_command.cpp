@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include <lcm/lcm-cpp.hpp>
+
 #include "app/config_loader.hpp"
 #include "app/gx1_attitude_provider.hpp"
 #include "app/gyro_factory.hpp"
@@ -20,6 +22,7 @@
 #include "base/image_buffer.hpp"
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
+#include "bus/vehicle_state_listener.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 #include "drivers/camera/camera_factory.hpp"
@@ -39,6 +42,34 @@ struct RecordArgs {
   std::optional<double> seconds;
   std::optional<int> count;
   double fps = 30.0;
+  bool vehicle_state = false;  // --vehicle-state
+};
+
+// `--vehicle-state`: the CAN gateway's vehicle_state_t on the [lcm] bus, taken between
+// frames on the recording thread (the only one handling this bus), so that a recording
+// of a live camera carries each frame's speed, yaw rate and indicator as ccdlaned would
+// have used them.
+class VehicleBus {
+ public:
+  explicit VehicleBus(const Config& config) : lcm_(config.lcm.url) {
+    if (!lcm_.good())
+      throw std::runtime_error("record: --vehicle-state: cannot open the bus \"" + config.lcm.url + "\"");
+    listener_ = std::make_unique<VehicleStateListener>(lcm_.getUnderlyingLCM(),
+                                                       channel_name(config.lcm.prefix, Channel::vehicle));
+  }
+  // The state at now: what arrived is taken first; stale or none gives no values.
+  void fill(FrameRecord& record) {
+    while (lcm_.handleTimeout(0) > 0) {
+    }
+    const VehicleInputs in = vehicle_inputs(listener_->latest(), monotonic_ns(), kVehicleStateMaxAgeNs);
+    if (in.speed_mps) record.speed_kmh = *in.speed_mps * 3.6;
+    record.yaw_rate_radps = in.yaw_rate_radps;
+    record.indicator = in.indicator;
+  }
+
+ private:
+  lcm::LCM lcm_;
+  std::unique_ptr<VehicleStateListener> listener_;
 };
 
 bool is_log_path(const std::string& out) {
@@ -105,7 +136,9 @@ class LiveGyro {
 // Where frames go, and when to stop: --count frames, --seconds of frame time, or a signal.
 class Recording {
  public:
-  Recording(const RecordArgs& a, const Config& config, bool gyro, std::optional<int> default_count)
+  // `vehicle`: the frames come with vehicle values (speed, indicator) to keep.
+  Recording(const RecordArgs& a, const Config& config, bool gyro, std::optional<int> default_count,
+            bool vehicle = false)
       : count_(a.count     ? a.count
                : a.seconds ? std::nullopt
                            : default_count),
@@ -114,7 +147,7 @@ class Recording {
       if (is_log_path(a.out))
         log_.emplace(a.out, channel_name(config.lcm.prefix, Channel::frames));
       else
-        directory_.emplace(a.out, FrameDirectoryLayout{gyro, {}});
+        directory_.emplace(a.out, FrameDirectoryLayout{gyro, {}, vehicle});
     } catch (const std::runtime_error& e) {  // FrameLogError, FrameDirectoryError
       throw UsageError(e.what());
     }
@@ -136,7 +169,7 @@ class Recording {
       if (log_)
         log_->write(image, record);
       else
-        directory_->write(image, record.t_ns, record.gyro);
+        directory_->write(image, record.t_ns, record.gyro, {}, FrameVehicle{record.speed_kmh, record.indicator});
     } catch (const std::runtime_error& failure) {  // FrameLogError, FrameDirectoryError: a full disk
       keep_written(failure.what());
     }
@@ -222,7 +255,7 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
   const ImageBuffer buffer(header->width, header->height, header->format(),
                            header->format() == PixelFormat::mono16 ? header->significant_bits() : 8);
   const MutableImageView& image = buffer.view();
-  Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()));
+  Recording out(a, config, dir->has_gyro_columns(), static_cast<int>(dir->size()), dir->has_vehicle_columns());
   const std::int64_t start = realtime_us();
   for (std::size_t i = 0; i < dir->size(); ++i) {
     const FrameRow& row = dir->row(i);
@@ -231,7 +264,10 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
       std::cerr << "ccdlane record: " << dir->error() << " (skipped)\n";
       continue;
     }
-    out.write(image, {row.index, row.t_ns, out.utime_of(row.t_ns, start), row.gyro});
+    FrameRecord record{row.index, row.t_ns, out.utime_of(row.t_ns, start), row.gyro};
+    record.speed_kmh = row.speed_kmh;  // the vehicle as recorded, so the copy replays alike
+    record.indicator = row.indicator;
+    out.write(image, record);
   }
   out.finish("frames:" + path);
 }
@@ -253,7 +289,9 @@ void record_camera(const RecordArgs& a, const Config& config) {
   if (const std::string error = camera->open(); !error.empty()) throw std::runtime_error(error);
   try {
     FramePool pool({.count = 1, .width = camera->width(), .height = camera->height(), .format = camera->format()});
-    Recording out(a, config, gyro != nullptr, std::nullopt);
+    std::unique_ptr<VehicleBus> vehicle;
+    if (a.vehicle_state) vehicle = std::make_unique<VehicleBus>(config);
+    Recording out(a, config, gyro != nullptr, std::nullopt, vehicle != nullptr);
     const int i = pool.borrow();
     const std::int64_t wall_start = monotonic_ns();
     while (out.wants_more()) {
@@ -262,7 +300,9 @@ void record_camera(const RecordArgs& a, const Config& config) {
       if (camera->capture(pool.view(i), meta, 200) != CaptureStatus::frame) continue;
       if (!out.wants(meta.t_ns)) break;
       const std::int64_t utime = realtime_us_of_monotonic(meta.t_ns);
-      out.write(pool.view(i), {meta.sequence, meta.t_ns, utime, gyro ? gyro->at(meta.t_ns) : std::nullopt});
+      FrameRecord record{meta.sequence, meta.t_ns, utime, gyro ? gyro->at(meta.t_ns) : std::nullopt};
+      if (vehicle) vehicle->fill(record);
+      out.write(pool.view(i), record);
     }
     out.finish(camera->describe());
     const SourceCounters c = camera->counters();
@@ -294,6 +334,9 @@ CommandAction setup_record(CLI::App& sub) {
   sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
   sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")
       ->check(CLI::Range(0.0, 10000.0));
+  sub.add_flag("--vehicle-state", a->vehicle_state,
+               "cameras: record each frame's speed, yaw rate and turn indicator from ccdlane.vehicle_state_t on the "
+               "[lcm] bus (<[lcm] prefix>VEHICLE, as a CAN gateway publishes it for ccdlaned)");
   sub.footer(
       "Cameras record until --count, --seconds or Ctrl-C (SIGINT/SIGTERM finish the files cleanly), at "
       "[camera] Nu x Nv, with the [gyro] device's reading interpolated at each frame's time. synth records "

@@ -178,6 +178,7 @@ CommandAction setup_replay(CLI::App& sub) {
         VehicleInputs vehicle;  // without the columns: [vehicle] speed_kmh, no indicator
         if (row.speed_kmh) vehicle.speed_mps = *row.speed_kmh / 3.6;
         vehicle.indicator = row.indicator;
+        vehicle.gyro_ok = row.gyro || config.gyro.device.empty();  // as ccdlaned playing the directory
         replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro, vehicle);
       }
     } else {
@@ -200,6 +201,8 @@ CommandAction setup_replay(CLI::App& sub) {
         if (r.speed_kmh) vehicle.speed_mps = *r.speed_kmh / 3.6;
         vehicle.yaw_rate_radps = r.yaw_rate_radps;
         vehicle.indicator = r.indicator;
+        // As the daemon judged it: a configured gyro that gave the frame no reading failed.
+        vehicle.gyro_ok = r.gyro || config.gyro.device.empty();
         replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro, vehicle);
       }
       if (frames == 0 && log->lost_events() == 0)

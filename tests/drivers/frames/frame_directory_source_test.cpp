@@ -76,6 +76,45 @@ TEST(FrameDirectorySource, DeliversEveryFrameThenEndsAndReportsDamage) {
   EXPECT_NE(src.describe().find("frames:" + rec.path + " 16x8 mono8"), std::string::npos) << src.describe();
 }
 
+// What the writer records of the vehicle (speed, indicator; an unknown speed as an empty
+// cell) the source gives back with each frame, so a recording replays with its inputs.
+TEST(FrameDirectorySource, GivesBackTheVehicleColumnsTheWriterRecorded) {
+  test::TempDir tmp;
+  const std::string path = tmp.file("rec");
+  const std::vector<FrameVehicle> written = {{72.5, TurnIndicator::none},
+                                             {80.25, TurnIndicator::left},
+                                             {std::nullopt, TurnIndicator::right},
+                                             {0.0, TurnIndicator::both}};
+  {
+    std::vector<std::uint8_t> px(16 * 8, 9);
+    FrameDirectoryWriter w(path, {false, {}, true});
+    for (std::size_t i = 0; i < written.size(); ++i)
+      w.write(ImageView{px.data(), 16, 8, 16, PixelFormat::mono8, 8}, static_cast<std::int64_t>(i) * 1'000'000,
+              std::nullopt, {}, written[i]);
+    w.finish();
+  }
+  FrameDirectorySource src({path, 10'000.0, false, 16, 8});
+  ASSERT_EQ(src.open(), "");
+  Buffer b;
+  for (const FrameVehicle& v : written) {
+    FrameMeta meta;
+    ASSERT_EQ(src.capture(b.view, meta, 1000), CaptureStatus::frame);
+    EXPECT_EQ(meta.speed_kmh, v.speed_kmh) << "frame " << meta.sequence;
+    EXPECT_EQ(meta.indicator, v.indicator) << "frame " << meta.sequence;
+  }
+}
+
+TEST(FrameDirectorySource, ARecordingWithoutVehicleColumnsGivesNoVehicleValues) {
+  Recording rec(2, 1'000'000);
+  FrameDirectorySource src({rec.path, 10'000.0, false, 16, 8});
+  ASSERT_EQ(src.open(), "");
+  Buffer b;
+  FrameMeta meta;
+  ASSERT_EQ(src.capture(b.view, meta, 1000), CaptureStatus::frame);
+  EXPECT_FALSE(meta.speed_kmh);
+  EXPECT_FALSE(meta.indicator) << "the live bus's indicator, not a recorded none, applies";
+}
+
 TEST(FrameDirectorySource, LoopsWithIncreasingSequenceNumbersAndFrameTimes) {
   Recording rec(3, 1'000'000);
   FrameDirectorySource src({rec.path, 10'000.0, true, 0, 0});

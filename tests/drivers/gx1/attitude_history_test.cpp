@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -40,6 +41,47 @@ TEST(AttitudeHistory, ExactHitAndLinearInterpolation) {
   EXPECT_DOUBLE_EQ(q.angles.roll_deg, 10.5);
   EXPECT_DOUBLE_EQ(q.angles.pitch_deg, -4.25);
   EXPECT_DOUBLE_EQ(q.angles.yaw_deg, 32.5);
+}
+
+Gx1Sample with_rate(Gx1Sample s, double x, double y, double z) {
+  s.has_rate = true;
+  s.rate_radps = {x, y, z};
+  return s;
+}
+
+TEST(AttitudeHistory, RatesAreKeptAndInterpolatedLikeTheAngles) {
+  AttitudeHistory h;
+  h.push(with_rate(at(1000 * kMs, 0.0, 0.0, 0.0), 0.1, -0.2, 0.3));
+  h.push(with_rate(at(1010 * kMs, 0.0, 0.0, 0.0), 0.3, -0.2, 0.5));
+  const AttitudeQuery q = h.attitude_at(1002500000, 100 * kMs);  // a quarter of the way
+  ASSERT_TRUE(q.has_rate);
+  EXPECT_DOUBLE_EQ(q.rate_radps[0], 0.15);
+  EXPECT_DOUBLE_EQ(q.rate_radps[1], -0.2);
+  EXPECT_DOUBLE_EQ(q.rate_radps[2], 0.35);
+  const AttitudeQuery after = h.attitude_at(1020 * kMs, 100 * kMs);  // the newest, held
+  ASSERT_TRUE(after.has_rate);
+  EXPECT_DOUBLE_EQ(after.rate_radps[2], 0.5);
+  h.push(at(1020 * kMs, 0.0, 0.0, 0.0));  // a sample without a rate (a 0x0E reply)
+  EXPECT_FALSE(h.attitude_at(1015 * kMs, 100 * kMs).has_rate) << "no rate made up from one side";
+  Gx1Sample s;
+  ASSERT_TRUE(h.sample(0, s));
+  EXPECT_TRUE(s.has_rate);
+  EXPECT_DOUBLE_EQ(s.rate_radps[0], 0.1);
+}
+
+TEST(AttitudeHistory, TheYawAngleRateFollowsTheEulerKinematics) {
+  // Level, the yaw angle turns at the z rate; rolled 90 degrees, at the y rate.
+  EXPECT_DOUBLE_EQ(yaw_angle_rate_radps({0.0, 0.0, 50.0}, {0.7, 0.0, 0.25}), 0.25);
+  EXPECT_NEAR(yaw_angle_rate_radps({90.0, 0.0, 50.0}, {0.0, 0.25, 0.9}), 0.25, 1e-12);
+  // Any attitude: body rates made from Euler angle rates by the 3-2-1 relations
+  // (p = roll' - yaw' sin(pitch), q = pitch' cos(roll) + yaw' cos(pitch) sin(roll),
+  // r = -pitch' sin(roll) + yaw' cos(pitch) cos(roll)) give back yaw'.
+  const double roll = 0.3, pitch = -0.5, roll_rate = 0.1, pitch_rate = -0.2, yaw_rate = 0.35;
+  const std::array<double, 3> body = {roll_rate - yaw_rate * std::sin(pitch),
+                                      pitch_rate * std::cos(roll) + yaw_rate * std::cos(pitch) * std::sin(roll),
+                                      -pitch_rate * std::sin(roll) + yaw_rate * std::cos(pitch) * std::cos(roll)};
+  const double deg = 180.0 / std::numbers::pi;
+  EXPECT_NEAR(yaw_angle_rate_radps({roll * deg, pitch * deg, 10.0}, body), yaw_rate, 1e-12);
 }
 
 TEST(AttitudeHistory, YawAndRollInterpolateAcrossTheWrap) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,32 @@ TEST_F(Gx1SessionTest, StreamOf0x31GivesTheSameAngles) {
   const auto samples = run(session, 500);
   ASSERT_GT(samples.size(), 20u);
   EXPECT_EQ(test::expect_exactly_the_intact_packets(as_received(samples), emu.sent()), samples.size());
+}
+
+// The 0x31 rate vector is scaled by the unit's own gain, read from its EEPROM at bring-up:
+// a gain other than the default (10000, not 8500) gives the scripted turn rate only when
+// it was read; 15 % off otherwise.
+TEST_F(Gx1SessionTest, StreamOf0x31CarriesTheAngularRateScaledByTheUnitsGain) {
+  EmulatorOptions o = test_emulator(link_, 100.0);
+  o.gyro_gain_scale = 10000;
+  constexpr double kYawDegPerS = 20.0;
+  o.attitude = [](double t_s) { return Gx1Angles{4.0, -3.0, std::remainder(30.0 + kYawDegPerS * t_s, 360.0)}; };
+  Gx1Emulator emu(o);
+  ASSERT_EQ(emu.start(), 0);
+  SessionOptions so = quick_session();
+  so.stream_command = cmd::stab_euler_vectors;
+  Gx1Session session(link_, so, log_.sink());
+  ASSERT_EQ(session.open(), 0);
+  EXPECT_EQ(session.gyro_gain_scale(), 10000.0);
+  const auto samples = run(session, 400);
+  ASSERT_GT(samples.size(), 10u);
+  // One count of each rate is 1 / (32768000 / 10000) rad/s: the yaw rate, from two of
+  // them, within 2 counts / cos(pitch).
+  const double tolerance = 2.0 * 10000.0 / 32768000.0 / std::cos(3.0 * std::numbers::pi / 180.0);
+  for (const Gx1Sample& s : samples) {
+    ASSERT_TRUE(s.has_rate);
+    EXPECT_NEAR(yaw_angle_rate_radps(s.angles, s.rate_radps), kYawDegPerS * std::numbers::pi / 180.0, tolerance);
+  }
 }
 
 TEST_F(Gx1SessionTest, StopsAndDrainsAStreamLeftRunning) {
