@@ -323,10 +323,22 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
 SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
                                                    double heading_deg) const {
   const std::span<const Pick> picks(picks_.data(), static_cast<std::size_t>(num_picks_));
-  for (const int line : {left, right}) {
-    if (const SupportProblem p = check_line_support(line_support(picks, r.points_mm, line), config_.detection);
-        p != SupportProblem::none)
-      return p;
+  const LineSupport support[2] = {line_support(picks, r.points_mm, left), line_support(picks, r.points_mm, right)};
+  const SupportProblem problem[2] = {check_line_support(support[0], config_.detection),
+                                     check_line_support(support[1], config_.detection)};
+  // Both lines need the support of paint along the road, except that one of them may be
+  // a single dash (detection takes one only as a parallel of the road's other lines, e.g.
+  // a dashed line on a bend) beside a fully supported one. Its few marks over a metre or
+  // two say nothing of how paint narrows with distance: the slope is checked on full lines.
+  const bool one_dash_beside_a_line = (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
+  for (int k = 0; k < 2; ++k) {
+    if (problem[k] != SupportProblem::none) {
+      if (!one_dash_beside_a_line ||
+          !check_dash_support(support[k], config_.detection, GroupingParams{}, lane_width_mm))
+        return problem[k];
+      continue;
+    }
+    const int line = k == 0 ? left : right;
     if (const SupportProblem p =
             check_paint_width(paint_width_slope(detection_->marks, detection_line_[static_cast<std::size_t>(line)]));
         p != SupportProblem::none)

@@ -50,6 +50,13 @@ SupportProblem check_line_support(const LineSupport& line, const DetectionConfig
   return SupportProblem::none;
 }
 
+bool check_dash_support(const LineSupport& line, const DetectionConfig& detection, const GroupingParams& grouping,
+                        double lane_width_mm) {
+  return lane_width_mm >= kMinDashLaneWidthMm && lane_width_mm <= kMaxDashLaneWidthMm &&
+         line.marks >= grouping.min_dash_marks && line.far_mm - line.near_mm >= grouping.min_dash_span_mm &&
+         line.near_mm >= detection.min_range_mm / kRangeSlack && line.far_mm <= detection.max_range_mm * kRangeSlack;
+}
+
 double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;

@@ -7,6 +7,7 @@
 
 #include "core/detection/detection_config.hpp"
 #include "core/detection/lane_marks.hpp"
+#include "core/detection/line_grouper.hpp"
 #include "core/geometry/types.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "core/solver/solver_options.hpp"
@@ -65,6 +66,19 @@ enum class SupportProblem : std::uint8_t {
 const char* to_string(SupportProblem p);
 
 SupportProblem check_line_support(const LineSupport& line, const DetectionConfig& detection);
+
+// Whether a line that fails check_line_support still has the support of one dash, as
+// detection accepts it beside the road's other lines: grouping.min_dash_marks marks over
+// grouping.min_dash_span_mm, inside the searched range, forming a lane of a lane's width
+// with the fully supported line (noise bars beside a line formed a 2.25 m "lane").
+bool check_dash_support(const LineSupport& line, const DetectionConfig& detection, const GroupingParams& grouping,
+                        double lane_width_mm);
+
+// A lane with one side a single dash must be this wide: narrower than lane_metrics'
+// kMinLaneWidthMm..kMaxLaneWidthMm, which admits any lane two full lines make; a dash has
+// too little support of its own to admit the unusual ones (work zones, merges).
+constexpr double kMinDashLaneWidthMm = 2500.0;
+constexpr double kMaxDashLaneWidthMm = 5000.0;
 
 // The slope of log(width px) against log(road distance) over the mark candidates of
 // detection line `detection_line`; NaN with fewer than 3 or all at one distance.

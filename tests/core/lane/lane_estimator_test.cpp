@@ -113,7 +113,7 @@ TEST(LaneEstimator, CurvedRoadsWithinTheSolversSigmasOfTheTruth) {
         const SynthFrame f = d.render(k);
         const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
         ASSERT_TRUE(e.ok) << "R " << radius_m << " dashed " << static_cast<int>(dashed) << " frame " << k << ": "
-                          << to_string(e.reason);
+                          << to_string(e.reason) << " (" << to_string(est.support_problem()) << ")";
         ASSERT_GE(e.num_lines, 3) << "R " << radius_m << " frame " << k;
         ASSERT_NE(est.solution(), nullptr);
         const double sigma_c = est.solution()->sigma.c_per_mm[0];

@@ -67,6 +67,22 @@ TEST(LaneSupport, ALineNeedsMarksOverEnoughRoadInsideTheSearchedRange) {
   EXPECT_EQ(check_line_support({8, 5000.0, 9400.0}, near), SupportProblem::too_short);
 }
 
+// One side of a lane may be a single dash (detection's min_dash_marks over
+// min_dash_span_mm) beside a full line, in a lane of a common lane's width.
+TEST(LaneSupport, ASingleDashNeedsItsMarksItsMetreTheRangeAndALanesWidth) {
+  const DetectionConfig d;
+  const GroupingParams g;  // 5 marks over 1 m
+  const double w = 3600.0;
+  EXPECT_TRUE(check_dash_support({5, 12000.0, 13000.0}, d, g, w));
+  EXPECT_FALSE(check_dash_support({4, 12000.0, 13000.0}, d, g, w));
+  EXPECT_FALSE(check_dash_support({5, 12000.0, 12990.0}, d, g, w));
+  EXPECT_FALSE(check_dash_support({5, 40000.0 * kRangeSlack, 40000.0 * kRangeSlack * 1.1}, d, g, w));
+  EXPECT_TRUE(check_dash_support({5, 12000.0, 13000.0}, d, g, kMinDashLaneWidthMm));
+  EXPECT_FALSE(check_dash_support({5, 12000.0, 13000.0}, d, g, kMinDashLaneWidthMm - 1.0));
+  EXPECT_TRUE(check_dash_support({5, 12000.0, 13000.0}, d, g, kMaxDashLaneWidthMm));
+  EXPECT_FALSE(check_dash_support({5, 12000.0, 13000.0}, d, g, kMaxDashLaneWidthMm + 1.0));
+}
+
 TEST(LaneSupport, TheSolveMustAgreeWithItsPriors) {
   SolverPriors priors;
   priors.theta_deg = Prior{3.0, 0.5};
