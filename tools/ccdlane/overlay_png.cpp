@@ -8,6 +8,7 @@
 
 #include "core/detection/paint_measure.hpp"
 #include "drivers/frames/png.hpp"
+#include "tools/ccdlane/road_line_picture.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -87,10 +88,7 @@ void Overlay::draw_picks(std::span<const Pick> picks) {
 void Overlay::draw_road_line(const CameraModel& camera, const LinePrior& road, double near_mm, double far_mm,
                              int line_index) {
   std::optional<Vec2> previous;
-  const int n = 60;
-  for (int i = 0; i <= n; ++i) {
-    const double X = near_mm + (far_mm - near_mm) * i / n;
-    const auto p = camera.pixel_from_point(Vec3(X, road.y_at(X), 0.0));
+  for (const std::optional<Vec2>& p : road_line_pixels(camera, road, near_mm, far_mm, 60)) {
     if (p && previous) line(previous->x() - 1, previous->y() - 1, p->x() - 1, p->y() - 1, colour(line_index));
     previous = p;
   }
