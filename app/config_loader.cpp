@@ -226,7 +226,9 @@ void read_solver(TableReader& r, Config& c) {
     if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
     c.solver.free = set;
   }
-  std::string line_model = "straight";
+  // "curved" by default; "c" in free asks for a curvature per line, which is the straight
+  // model's layout with c freed, so a table that frees c without naming a model keeps it.
+  std::string line_model = c.solver.free.has(FreeParam::c) ? "straight" : "curved";
   r.string("line_model", line_model);
   if (line_model == "straight")
     c.solver.line_model = LineModel::per_line;
