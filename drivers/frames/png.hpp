@@ -62,8 +62,9 @@ class PngReader {
 // a temporary name in the same directory and renamed into place, so a failure never
 // leaves a partial file. `zlib_level` 1 (the default, the fastest that compresses) takes
 // ~30 ms of one core for a 1280x720 colour road picture, 0 ~7 ms (stored, no
-// compression), 6 (zlib's usual trade-off) ~200 ms (tests/bench/frame_io_bench). Throws std::runtime_error naming the file and the reason. Allocates
-// (not for the per-frame path of the daemon).
+// compression), 6 (zlib's usual trade-off) ~200 ms (tests/bench/frame_io_bench).
+// Throws std::runtime_error naming the file and the reason. Allocates (not for the
+// per-frame path of the daemon).
 void write_png(const std::string& path, const ImageView& image, int zlib_level = 1);
 
 // A whole picture read into memory, for tools and tests (allocates): mono8 or rgb8 as
