@@ -153,6 +153,12 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   to_ldw_fields(e.ldw, out);
   out.roll_unobservable = e.roll_unobservable ? 1 : 0;
   out.source_frame = static_cast<std::int64_t>(e.source_frame);
+  // Lines were solved on ok frames and on those that failed only after the solve.
+  const bool solved = e.ok || e.reason == EstimateFailure::no_lane || e.reason == EstimateFailure::rank_deficient;
+  out.curvature_per_m = solved ? e.curvature_per_m : kNaN;
+  out.radius_of_curvature_m = !solved                    ? kNaN
+                              : e.curvature_per_m != 0.0 ? 1.0 / e.curvature_per_m
+                                                         : std::numeric_limits<double>::infinity();
 }
 
 LaneEstimate from_message(const lane_estimate_t& m) {
@@ -184,6 +190,7 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.ldw = from_ldw_fields(m);
   e.roll_unobservable = m.roll_unobservable != 0;
   e.source_frame = static_cast<std::uint64_t>(m.source_frame);
+  e.curvature_per_m = std::isfinite(m.curvature_per_m) ? m.curvature_per_m : 0.0;
   return e;
 }
 

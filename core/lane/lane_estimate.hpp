@@ -73,6 +73,9 @@ struct LaneEstimate {
   double lane_width_mm = 0.0;
   double lateral_offset_mm = 0.0;  // positive: vehicle left of the lane centre
   double heading_deg = 0.0;        // positive: vehicle turned left of the lane
+  // The lane's curvature at the vehicle from this frame's solve, 1/m, positive bending
+  // left (lane_metrics.hpp); its radius is 1 / curvature. Set whenever lines were solved.
+  double curvature_per_m = 0.0;
   Departure departure = Departure::none;
   double rms_px = 0.0;
   int iterations = 0;

@@ -413,6 +413,7 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   const LaneMetrics m = lane_metrics({e.lines.data(), static_cast<std::size_t>(n)}, e.psi_deg,
                                      rad_to_deg(config_.nominal_pose.attitude.psi), config_.detection.departure_mm);
   e.heading_deg = m.heading_deg;
+  e.curvature_per_m = m.curvature_per_m;
   if (m.left >= 0) own_left_ = order[static_cast<std::size_t>(m.left)];
   if (m.right >= 0) own_right_ = order[static_cast<std::size_t>(m.right)];
   if (!m.has_lane) {

@@ -17,12 +17,14 @@ LaneMetrics lane_metrics(std::span<const EstimatedLine> lines, double psi_deg, d
     if (y0 <= 0.0 && (out.right < 0 || y0 > lines[static_cast<std::size_t>(out.right)].y0_mm))
       out.right = static_cast<int>(j);
   }
-  double slope = 0.0;
+  double slope = 0.0, c = 0.0;
   int sides = 0;
   for (const int k : {out.left, out.right})
-    if (k >= 0) slope += lines[static_cast<std::size_t>(k)].m, ++sides;
-  if (sides > 0) slope /= sides;
+    if (k >= 0)
+      slope += lines[static_cast<std::size_t>(k)].m, c += lines[static_cast<std::size_t>(k)].c_per_mm, ++sides;
+  if (sides > 0) slope /= sides, c /= sides;
   out.heading_deg = psi_deg - mount_psi_deg - rad_to_deg(std::atan(slope));
+  out.curvature_per_m = 1000.0 * 2.0 * c / std::pow(1.0 + slope * slope, 1.5);
   if (out.left < 0 || out.right < 0) return out;
   const double yl = lines[static_cast<std::size_t>(out.left)].y0_mm,
                yr = lines[static_cast<std::size_t>(out.right)].y0_mm;

@@ -17,6 +17,7 @@ struct LaneMetrics {
   double lane_width_mm = 0.0;
   double lateral_offset_mm = 0.0;
   double heading_deg = 0.0;
+  double curvature_per_m = 0.0;  // the own lane's, at the vehicle; positive bending left
   Departure departure = Departure::none;
 };
 
@@ -26,6 +27,8 @@ struct LaneMetrics {
 //   lane_width = y0_left - y0_right, lateral_offset = -(y0_left + y0_right) / 2;
 //   heading = psi - mount_psi - atan(m), m the mean slope of the own lane's lines
 //     (0 when m is not estimated): positive when the vehicle points left of the lane;
+//   curvature = 2 c / (1 + m^2)^(3/2), per metre, c and m the means over the own lane's
+//     lines (whichever exist): the lines are parallel, so either one's is the lane's;
 //   departure: "left" when the own lane's left line is nearer than departure_mm to the
 //     vehicle's centre (the fixed frame's origin), "right" likewise, the nearer side
 //     when both are; "none" otherwise or without a lane.

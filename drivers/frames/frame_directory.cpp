@@ -23,8 +23,10 @@ FrameDirectory::FrameDirectory(std::string dir) : dir_(std::move(dir)) {
   if (in.bad()) throw FrameDirectoryError(csv_path_ + ": read error");
   csv_ = parse_frames_csv(text.str(), csv_path_);
   paths_.reserve(csv_.rows.size());
-  for (const FrameRow& r : csv_.rows)
+  for (const FrameRow& r : csv_.rows) {
     paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);
+    is_png_.push_back(has_png_extension(r.file));
+  }
 }
 
 int FrameDirectory::truth_column(std::string_view name) const {
@@ -47,8 +49,11 @@ std::optional<double> FrameDirectory::truth(std::size_t i, std::string_view name
 
 std::optional<PgmHeader> FrameDirectory::probe_first() {
   PgmHeader h;
-  for (const std::string& p : paths_)
-    if (reader_.probe(p.c_str(), h) == PgmFault::none) return h;
+  for (std::size_t i = 0; i < paths_.size(); ++i) {
+    last_png_ = is_png_[i];
+    if ((last_png_ ? png_reader_.probe(paths_[i].c_str(), h) : reader_.probe(paths_[i].c_str(), h)) == PgmFault::none)
+      return h;
+  }
   return std::nullopt;
 }
 

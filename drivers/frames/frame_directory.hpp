@@ -1,5 +1,6 @@
 // Reading a frame directory (docs/interfaces.md "Frame directories"): frames.csv indexed once,
-// then each frame decoded on demand into a caller's fixed buffer.
+// then each frame (PGM, PPM or PNG, told apart by the file's extension) decoded on demand
+// into a caller's fixed buffer.
 #pragma once
 
 #include <optional>
@@ -10,6 +11,7 @@
 
 #include "drivers/frames/frames_csv.hpp"
 #include "drivers/frames/pgm.hpp"
+#include "drivers/frames/png.hpp"
 
 namespace ccdlane {
 
@@ -44,9 +46,11 @@ class FrameDirectory {
   // Decodes row i into `into` (its width, height and format are what frames must be).
   // Allocation-free; on failure error() is "<file path>: <reason>".
   PgmFault read(std::size_t i, const MutableImageView& into, PgmHeader* header = nullptr) {
-    return reader_.read(paths_[i].c_str(), into, header);
+    last_png_ = is_png_[i];
+    return last_png_ ? png_reader_.read(paths_[i].c_str(), into, header)
+                     : reader_.read(paths_[i].c_str(), into, header);
   }
-  std::string_view error() const { return reader_.error(); }
+  std::string_view error() const { return last_png_ ? png_reader_.error() : reader_.error(); }
 
   // The header of the first frame whose header reads: the directory's frame size and
   // depth when the configuration does not fix them. Empty when no frame has one.
@@ -57,7 +61,10 @@ class FrameDirectory {
   std::string csv_path_;
   FramesCsv csv_;
   std::vector<std::string> paths_;
+  std::vector<bool> is_png_;  // by the file's extension: ".png" is PNG, anything else PGM or PPM
   PgmReader reader_;
+  PngReader png_reader_;
+  bool last_png_ = false;  // which reader's error() is the last one
 };
 
 }  // namespace ccdlane

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "drivers/frames/pgm.hpp"
+#include "drivers/frames/png.hpp"
 
 namespace ccdlane {
 namespace {
@@ -78,9 +79,13 @@ void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, cons
   if (!files_.empty() && t_ns < last_t_ns_)
     throw FrameDirectoryError(dir_ + ": frame " + std::to_string(files_.size()) + ": t_ns goes back in time");
   char name[32];
-  std::snprintf(name, sizeof name, "%06zu.%s", files_.size(), is_colour(image.format) ? "ppm" : "pgm");
+  const bool colour = is_colour(image.format);
+  std::snprintf(name, sizeof name, "%06zu.%s", files_.size(), colour ? "png" : "pgm");
   try {
-    write_pgm(dir_ + "/" + name, image);
+    if (colour)
+      write_png(dir_ + "/" + name, image);
+    else
+      write_pgm(dir_ + "/" + name, image);
   } catch (const std::runtime_error& e) {
     throw FrameDirectoryError(e.what());
   }

@@ -85,6 +85,7 @@ const char* to_string(PgmFault f) {
     case PgmFault::wrong_size: return "wrong size";
     case PgmFault::wrong_depth: return "wrong depth";
     case PgmFault::truncated: return "truncated";
+    case PgmFault::corrupt: return "corrupt";
   }
   return "?";
 }

@@ -17,7 +17,7 @@
 
 namespace ccdlane {
 
-// What the header of a PGM file says.
+// What the header of a frame file says (PGM, PPM; a PNG's is given in the same terms).
 struct PgmHeader {
   int width = 0;
   int height = 0;
@@ -35,7 +35,7 @@ struct PgmHeader {
   }
 };
 
-// Why a frame file could not be used.
+// Why a frame file (PGM, PPM or PNG) could not be used.
 enum class PgmFault : std::uint8_t {
   none,
   missing,      // no such file
@@ -44,6 +44,7 @@ enum class PgmFault : std::uint8_t {
   wrong_size,   // width x height differ from the frames expected
   wrong_depth,  // 8-bit file for 16-bit frames or the other way round
   truncated,    // fewer raster bytes than the header promises
+  corrupt,      // compressed frames (PNG): a checksum or the compressed data is wrong
 };
 const char* to_string(PgmFault f);
 

@@ -35,6 +35,7 @@ LaneEstimate sample_estimate() {
   e.lane_width_mm = 3601.0;
   e.lateral_offset_mm = -49.0;
   e.heading_deg = 0.07;
+  e.curvature_per_m = -1.0 / 800.0;  // bending right, R 800 m
   e.departure = Departure::right;
   e.rms_px = 0.5;
   e.iterations = 5;
@@ -104,6 +105,7 @@ void expect_equal(const LaneEstimate& a, const LaneEstimate& b) {
   expect_same(a.lane_width_mm, b.lane_width_mm, "width");
   expect_same(a.lateral_offset_mm, b.lateral_offset_mm, "offset");
   expect_same(a.heading_deg, b.heading_deg, "heading");
+  expect_same(a.curvature_per_m, b.curvature_per_m, "curvature");
   EXPECT_EQ(a.departure, b.departure);
   expect_same(a.rms_px, b.rms_px, "rms");
   EXPECT_EQ(a.iterations, b.iterations);
@@ -179,6 +181,24 @@ TEST(LaneMessage, LdwWithoutATrackSendsNaNDistances) {
   EXPECT_FALSE(back.ldw.tracked);
   EXPECT_EQ(back.ldw.reason, ldw::Availability::too_slow);
   EXPECT_FALSE(back.ldw.tlc_right_s);
+}
+
+TEST(LaneMessage, CurvatureAndRadiusOfTheLane) {
+  LaneEstimate e = sample_estimate();
+  lane_estimate_t m;
+  to_message(e, 1, 2, m);
+  EXPECT_EQ(m.curvature_per_m, -1.0 / 800.0);
+  EXPECT_DOUBLE_EQ(m.radius_of_curvature_m, -800.0);
+  e.curvature_per_m = 0.0;  // the straight model
+  to_message(e, 1, 2, m);
+  EXPECT_EQ(m.curvature_per_m, 0.0);
+  EXPECT_TRUE(std::isinf(m.radius_of_curvature_m) && m.radius_of_curvature_m > 0);
+  e.ok = false;
+  e.reason = EstimateFailure::too_few_marks;  // nothing solved
+  to_message(e, 1, 2, m);
+  EXPECT_TRUE(std::isnan(m.curvature_per_m));
+  EXPECT_TRUE(std::isnan(m.radius_of_curvature_m));
+  EXPECT_EQ(from_message(through_bytes(m)).curvature_per_m, 0.0);
 }
 
 TEST(LaneMessage, NotOkKeepsItsReason) {

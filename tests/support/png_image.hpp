@@ -1,5 +1,5 @@
 // PNG pictures for tests: read a grey or RGB PNG into an owned image, write one out to
-// look at (overlays, the paint-measure picture). libpng; not for the per-frame path.
+// look at (overlays, the paint-measure picture). The frame driver's PNG codec underneath.
 #pragma once
 
 #include <cstdint>
@@ -23,7 +23,8 @@ struct PngImage {
   }
 };
 
-// 8-bit grey becomes mono8, 8-bit RGB becomes rgb8 (alpha dropped, palettes expanded).
+// 8-bit grey becomes mono8, 8-bit RGB becomes rgb8 (alpha dropped, palettes expanded;
+// 16-bit refused).
 // Throws std::runtime_error naming the file when it cannot be read.
 PngImage read_png(const std::string& path);
 

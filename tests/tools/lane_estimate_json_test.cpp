@@ -22,6 +22,7 @@ LaneEstimate sample() {
   e.lane_width_mm = 3601.0;
   e.lateral_offset_mm = 49.5;
   e.heading_deg = 0.07;
+  e.curvature_per_m = 0.002;  // bending left, R 500 m
   e.departure = Departure::left;
   e.rms_px = 0.5;
   e.iterations = 5;
@@ -34,7 +35,8 @@ TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
   EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
                       R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
                       R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
-                      R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"departure":"left",)"
+                      R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"curvature_per_m":0.002,)"
+                      R"("radius_of_curvature_m":500.0,"departure":"left",)"
                       R"("rms_px":0.5,"iterations":5,"latency_us":180,)"
                       R"("ldw":{"available":false,"reason":"no_lane","warning":"none","fired":"none","warnings":0,)"
                       R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
@@ -89,6 +91,10 @@ TEST(LaneEstimateJson, FailedFramesSayWhyAndHaveNullsForWhatTheyLack) {
   EXPECT_TRUE(j["lane_width_mm"].is_null());
   EXPECT_TRUE(j["lateral_offset_mm"].is_null());
   EXPECT_EQ(j["heading_deg"], 0.07);
+  EXPECT_EQ(j["curvature_per_m"], 0.002);
+  e.curvature_per_m = 0.0;  // straight: no radius
+  EXPECT_EQ(lane_estimate_json(e)["curvature_per_m"], 0.0);
+  EXPECT_TRUE(lane_estimate_json(e)["radius_of_curvature_m"].is_null());
 
   e.reason = EstimateFailure::solver_failed;
   j = lane_estimate_json(e);
@@ -96,6 +102,8 @@ TEST(LaneEstimateJson, FailedFramesSayWhyAndHaveNullsForWhatTheyLack) {
   EXPECT_TRUE(j["psi_deg"].is_null());
   EXPECT_TRUE(j["lines"].empty());
   EXPECT_TRUE(j["rms_px"].is_null());
+  EXPECT_TRUE(j["curvature_per_m"].is_null());
+  EXPECT_TRUE(j["radius_of_curvature_m"].is_null());
   EXPECT_EQ(j.begin().key(), "frame");
   EXPECT_EQ(std::next(j.begin(), 3).key(), "reason");  // right after ok
   for (EstimateFailure f : {EstimateFailure::no_frame, EstimateFailure::too_few_marks, EstimateFailure::rank_deficient})

@@ -75,11 +75,23 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
   }
   ASSERT_EQ(lines.size(), 20u);
   EXPECT_LE(statuses, 20) << "one a second, 20 lanes at 50 fps";
-  const std::vector<std::string> fields = {"frame",       "t_ns",          "ok",
-                                           "psi_deg",     "theta_deg",     "phi_deg",
-                                           "lines",       "lane_width_mm", "lateral_offset_mm",
-                                           "heading_deg", "departure",     "rms_px",
-                                           "iterations",  "latency_us",    "ldw"};
+  const std::vector<std::string> fields = {"frame",
+                                           "t_ns",
+                                           "ok",
+                                           "psi_deg",
+                                           "theta_deg",
+                                           "phi_deg",
+                                           "lines",
+                                           "lane_width_mm",
+                                           "lateral_offset_mm",
+                                           "heading_deg",
+                                           "curvature_per_m",
+                                           "radius_of_curvature_m",
+                                           "departure",
+                                           "rms_px",
+                                           "iterations",
+                                           "latency_us",
+                                           "ldw"};
   std::uint64_t previous = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const Json j = Json::parse(lines[i]);
@@ -120,6 +132,7 @@ TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
     EXPECT_EQ(line.rfind("frame ", 0), 0u) << line;
     EXPECT_NE(line.find(" ok | psi "), std::string::npos) << line;
     EXPECT_NE(line.find("departure none"), std::string::npos) << line;
+    EXPECT_NE(line.find(", radius "), std::string::npos) << line;
     EXPECT_NE(line.find(" | LDW "), std::string::npos) << line;
     saw_status = saw_status || line.find("| camera streaming, gyro none") != std::string::npos;
   }

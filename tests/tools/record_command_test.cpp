@@ -22,6 +22,7 @@
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
 #include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/png.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
@@ -203,6 +204,25 @@ TEST(RecordCommand, ACameraRecordingTakesTheGatewaysVehicleStateFromTheBus) {
       EXPECT_DOUBLE_EQ(*d.row(k).speed_kmh, 54.0);
       EXPECT_EQ(d.row(k).indicator, TurnIndicator::right);
     }
+}
+
+// Colour is kept: the real colour pictures recorded into a frame directory come out as
+// PNG frames with the same pixels.
+TEST(RecordCommand, ColourFramesAreRecordedAsPngWithTheirPixels) {
+  test::TempDir dir;
+  const std::string real = CCDLANE_TEST_DATA_DIR "/real/udacity-p1-colour";
+  const auto r = test::run_process({kTool, "record", "frames:" + real, "--out", dir.file("copy")});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  EXPECT_NE(r.err.find("6 frames of 960x540 colour"), std::string::npos) << r.err;
+  FrameDirectory from(real), to(dir.file("copy"));
+  ASSERT_EQ(to.size(), from.size());
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    EXPECT_EQ(std::filesystem::path(to.row(k).file).extension(), ".png");
+    EXPECT_EQ(to.row(k).t_ns, from.row(k).t_ns);
+    const OwnedPicture a = read_png_picture(from.file_path(k)), b = read_png_picture(to.file_path(k));
+    EXPECT_EQ(b.format, PixelFormat::rgb8);
+    EXPECT_TRUE(a.pixels == b.pixels) << k;
+  }
 }
 
 TEST(RecordCommand, SecondsCountFrameTime) {

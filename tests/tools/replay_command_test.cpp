@@ -4,6 +4,7 @@
 // overlays and the output file.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include "app/config_loader.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/png.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -271,6 +273,105 @@ TEST(ReplayCommand, OverlaysArePngPicturesOfEveryFrame) {
     EXPECT_EQ(be32(16), 800u);
     EXPECT_EQ(be32(20), 600u);
   }
+}
+
+// The paint pictures beside the overlays: whole PNGs, grey, bright on every painted line
+// of a rendered colour frame (the yellow edge line too) and dark on the asphalt between
+// (the truth columns say where the lines are); the overlay of a colour frame is in colour.
+TEST(ReplayCommand, OverlaysOfColourFramesComeWithThePaintMeasure) {
+  test::TempDir dir;
+  {
+    std::ifstream in(kReferenceCamera);
+    std::ofstream out(dir.file("colour.toml"));
+    out << in.rdbuf() << "\n[synth]\ncolour = true\nyellow_left_edge = true\n";
+  }
+  const std::string config = dir.file("colour.toml"), road = dir.file("road"), png = dir.file("png");
+  ASSERT_EQ(test::run_process({kTool, "synth", config, "--out", road, "--frames", "2"}).exit_status, 0);
+  const auto r = test::run_process({kTool, "replay", config, road, "--overlay", png});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const Config cfg = load_config_file(config);
+  FrameDirectory frames(road);
+  for (std::size_t i = 0; i < 2; ++i) {
+    char stem[16];
+    std::snprintf(stem, sizeof stem, "%06zu", i);
+    // Whole: every chunk's CRC and the end of the file are checked by the decoder.
+    const OwnedPicture overlay = read_png_picture(png + "/" + stem + ".png");
+    const OwnedPicture paint = read_png_picture(png + "/" + stem + "-paint.png");
+    EXPECT_FALSE(std::filesystem::exists(png + "/" + stem + "-paint.png.tmp"));
+    ASSERT_EQ(overlay.format, PixelFormat::rgb8);
+    ASSERT_EQ(paint.format, PixelFormat::mono8);
+    ASSERT_EQ(paint.width, 800);
+    ASSERT_EQ(paint.height, 600);
+    CameraPose pose = cfg.nominal_pose();
+    pose.attitude = {deg_to_rad(*frames.truth(i, "truth_psi_deg")), deg_to_rad(*frames.truth(i, "truth_theta_deg")),
+                     deg_to_rad(*frames.truth(i, "truth_phi_deg"))};
+    pose.H_mm = *frames.truth(i, "truth_H_mm");
+    const CameraModel cam(cfg.camera, pose);
+    const auto value = [&](const OwnedPicture& p, double x_mm, double y_mm) {
+      const Vec2 px = *cam.pixel_from_point(Vec3(x_mm, y_mm, 0));
+      return p.view().at(static_cast<int>(std::lround(px.x() - 1)), static_cast<int>(std::lround(px.y() - 1)));
+    };
+    std::vector<double> y0;
+    for (int j = 0; frames.truth(i, "truth_y0_" + std::to_string(j) + "_mm"); ++j)
+      y0.push_back(*frames.truth(i, "truth_y0_" + std::to_string(j) + "_mm"));
+    ASSERT_GE(y0.size(), 3u);
+    // The road between the lines, 6..25 m ahead: dark.
+    int road_max = 0;
+    for (std::size_t j = 0; j + 1 < y0.size(); ++j)
+      for (double x = 6000; x <= 25000; x += 1000)
+        road_max = std::max<int>(road_max, value(paint, x, 0.5 * (y0[j] + y0[j + 1])));
+    // Each line: bright where it is painted (a solid edge everywhere, a dashed line on its dashes).
+    for (std::size_t j = 0; j < y0.size(); ++j) {
+      int brightest = 0;
+      for (double x = 6000; x <= 25000; x += 250) brightest = std::max<int>(brightest, value(paint, x, y0[j]));
+      EXPECT_GT(brightest, road_max + 40) << "frame " << i << " line " << j << " (road up to " << road_max << ")";
+    }
+    // The overlay is the colour frame with the drawing on top: away from the marks and
+    // lines, its pixels are the frame's own.
+    const OwnedPicture frame = read_png_picture(frames.file_path(i));
+    ASSERT_EQ(frame.format, PixelFormat::rgb8);
+    std::size_t same = 0;
+    for (std::size_t k = 0; k < frame.pixels.size(); k += 3)
+      same += std::equal(frame.pixels.begin() + static_cast<std::ptrdiff_t>(k),
+                         frame.pixels.begin() + static_cast<std::ptrdiff_t>(k + 3),
+                         overlay.pixels.begin() + static_cast<std::ptrdiff_t>(k));
+    EXPECT_GT(same, 95 * frame.pixels.size() / 3 / 100) << "frame " << i;
+  }
+}
+
+// The real colour pictures replay as a frame directory of PNGs, as the grey ones do.
+TEST(ReplayCommand, RealColourDirectoryReplays) {
+  const std::string config = std::string(CCDLANE_SOURCE_DIR) + "/tests/tools/data/udacity-advanced.toml";
+  const std::string frames = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced-colour";
+  const auto r = test::run_process({kTool, "replay", config, frames});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), 2u);
+  for (const Json& e : out) {
+    EXPECT_TRUE(e["ok"].get<bool>()) << e.dump();
+    EXPECT_NEAR(e["lane_width_mm"].get<double>(), 3660.0, 0.05 * 3660.0) << e.dump();
+  }
+  EXPECT_NE(r.err.find("2 frames, 2 ok, 0 skipped"), std::string::npos) << r.err;
+}
+
+// A damaged PNG frame is named, counted and skipped like a damaged PGM.
+TEST(ReplayCommand, DamagedPngFramesAreCountedAndSkipped) {
+  test::TempDir dir;
+  const std::string road = dir.file("road");
+  const std::string real = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-advanced-colour";
+  std::filesystem::create_directories(road);
+  for (const char* name : {"000000.png", "000001.png", "frames.csv"})
+    std::filesystem::copy_file(real + "/" + name, road + "/" + name);
+  std::filesystem::resize_file(road + "/000001.png", std::filesystem::file_size(road + "/000001.png") / 2);
+  const std::string config = std::string(CCDLANE_SOURCE_DIR) + "/tests/tools/data/udacity-advanced.toml";
+  const auto r = test::run_process({kTool, "replay", config, road});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_TRUE(out[0]["ok"].get<bool>());
+  EXPECT_EQ(out[1]["reason"], "no_frame");
+  EXPECT_NE(r.err.find(road + "/000001.png: truncated: the file ends after "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2 frames, 1 ok, 1 skipped"), std::string::npos) << r.err;
 }
 
 // Where a solved road line y = y0 (m = c = 0 here) crosses pixel row `py`, by bisection.

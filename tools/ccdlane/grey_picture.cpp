@@ -1,8 +1,7 @@
-// Grey pictures from JPEG (libjpeg), PNG (libpng's simplified API) and PGM (the frame reader).
+// Grey pictures from JPEG (libjpeg), PNG and PGM (the frame readers).
 #include "tools/ccdlane/grey_picture.hpp"
 
 #include <jpeglib.h>
-#include <png.h>
 
 #include <csetjmp>
 #include <cstdio>
@@ -11,6 +10,7 @@
 #include <stdexcept>
 
 #include "drivers/frames/pgm.hpp"
+#include "drivers/frames/png.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -57,23 +57,17 @@ bool decode_jpeg(const std::vector<unsigned char>& bytes, GreyPicture& out, std:
   return true;
 }
 
-bool decode_png(const std::vector<unsigned char>& bytes, GreyPicture& out, std::string& why) {
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
-    why = image.message;
-    return false;
-  }
-  image.format = PNG_FORMAT_GRAY;
-  out.width = static_cast<int>(image.width);
-  out.height = static_cast<int>(image.height);
-  out.pixels.resize(PNG_IMAGE_SIZE(image));
-  if (!png_image_finish_read(&image, nullptr, out.pixels.data(), 0, nullptr)) {
-    why = image.message;
-    png_image_free(&image);
-    return false;
-  }
-  return true;
+// Through the frame driver's PNG codec; colour to grey by its luma, as detection sees it.
+void read_png_grey(const std::string& path, GreyPicture& out) {
+  const OwnedPicture picture = read_png_picture(path);
+  const ImageView view = picture.view();
+  out.width = picture.width;
+  out.height = picture.height;
+  out.pixels.resize(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height));
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      out.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(out.width) + static_cast<std::size_t>(x)] =
+          static_cast<std::uint8_t>(view.at(x, y));
 }
 
 void read_pgm(const std::string& path, GreyPicture& out) {
@@ -105,8 +99,8 @@ GreyPicture read_grey_picture(const std::string& path) {
   std::string why;
   if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
     if (!decode_jpeg(bytes, out, why)) throw std::runtime_error(path + ": bad JPEG: " + why);
-  } else if (bytes.size() >= 8 && png_sig_cmp(bytes.data(), 0, 8) == 0) {
-    if (!decode_png(bytes, out, why)) throw std::runtime_error(path + ": bad PNG: " + why);
+  } else if (bytes.size() >= 8 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N' && bytes[3] == 'G') {
+    read_png_grey(path, out);
   } else if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '5') {
     read_pgm(path, out);
   } else {

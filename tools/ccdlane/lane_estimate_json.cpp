@@ -63,6 +63,8 @@ Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
   j["lane_width_mm"] = e.ok ? json_number(e.lane_width_mm) : null;
   j["lateral_offset_mm"] = e.ok ? json_number(e.lateral_offset_mm) : null;
   j["heading_deg"] = solved ? json_number(e.heading_deg) : null;
+  j["curvature_per_m"] = solved ? json_number(e.curvature_per_m) : null;
+  j["radius_of_curvature_m"] = solved && e.curvature_per_m != 0.0 ? json_number(1.0 / e.curvature_per_m) : null;
   j["departure"] = to_string(e.departure);
   j["rms_px"] = solved ? json_number(e.rms_px) : null;
   j["iterations"] = e.iterations;

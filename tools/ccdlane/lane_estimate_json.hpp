@@ -9,7 +9,9 @@ namespace ccdlane::cli {
 
 // {"frame", "t_ns", "ok", ["reason",] "psi_deg", "theta_deg", "phi_deg", "lines": [{"id",
 // "y0_mm", "m", "c_per_mm", "marks", "confidence"}], "lane_width_mm",
-// "lateral_offset_mm", "heading_deg", "departure", "rms_px", "iterations", "latency_us"}.
+// "lateral_offset_mm", "heading_deg", "curvature_per_m", "radius_of_curvature_m",
+// "departure", "rms_px", "iterations", "latency_us"}. The radius is null on a straight
+// lane (curvature exactly 0, as the straight line model always gives).
 // "reason" is present only when ok is false. Values a failed frame does not have are
 // null: the attitude and lines when nothing was solved, the lane quantities when there
 // is no lane. With `sigmas`, a "sigma" object adds the solver's standard deviations

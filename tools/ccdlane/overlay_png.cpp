@@ -1,13 +1,14 @@
-// Overlay drawing (plain DDA lines and crosses on an RGB buffer) and PNG output via libpng.
+// Overlay drawing (plain DDA lines and crosses on an RGB buffer) and PNG output through the
+// frame driver's codec.
 #include "tools/ccdlane/overlay_png.hpp"
 
-#include <png.h>
-
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <stdexcept>
+
+#include "core/detection/paint_measure.hpp"
+#include "drivers/frames/png.hpp"
+#include "tools/ccdlane/road_line_picture.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -23,31 +24,23 @@ const std::array<std::uint8_t, 3>& colour(int line) {
   return kLineColours[static_cast<std::size_t>(line) % (sizeof kLineColours / sizeof kLineColours[0])];
 }
 
-// libpng reports errors by longjmp: this frame holds nothing with a destructor and
-// changes nothing after setjmp, so the jump is safe.
-bool encode_rgb_png(std::FILE* f, const std::uint8_t* rgb, int width, int height) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  if (!png) return false;
-  png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, info ? &info : nullptr);
-    return false;
-  }
-  png_init_io(png, f);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < height; ++y)
-    png_write_row(png, const_cast<png_bytep>(rgb + static_cast<std::size_t>(y) * static_cast<std::size_t>(width) * 3));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
 }  // namespace
 
 Overlay::Overlay(const ImageView& frame)
     : width_(frame.width), height_(frame.height), rgb_(static_cast<std::size_t>(frame.width) * frame.height * 3) {
+  if (is_colour(frame.format)) {
+    const bool bgr = frame.format == PixelFormat::bgr8;
+    for (int y = 0; y < height_; ++y) {
+      const std::uint8_t* in = frame.row(y);
+      std::uint8_t* out = &rgb_[static_cast<std::size_t>(y) * width_ * 3];
+      for (int x = 0; x < width_; ++x, in += 3, out += 3) {
+        out[0] = in[bgr ? 2 : 0];
+        out[1] = in[1];
+        out[2] = in[bgr ? 0 : 2];
+      }
+    }
+    return;
+  }
   const int shift = frame.format == PixelFormat::mono16 ? std::max(0, frame.significant_bits - 8) : 0;
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x) {
@@ -95,29 +88,25 @@ void Overlay::draw_picks(std::span<const Pick> picks) {
 void Overlay::draw_road_line(const CameraModel& camera, const LinePrior& road, double near_mm, double far_mm,
                              int line_index) {
   std::optional<Vec2> previous;
-  const int n = 60;
-  for (int i = 0; i <= n; ++i) {
-    const double X = near_mm + (far_mm - near_mm) * i / n;
-    const auto p = camera.pixel_from_point(Vec3(X, road.y_at(X), 0.0));
+  for (const std::optional<Vec2>& p : road_line_pixels(camera, road, near_mm, far_mm, 60)) {
     if (p && previous) line(previous->x() - 1, previous->y() - 1, p->x() - 1, p->y() - 1, colour(line_index));
     previous = p;
   }
 }
 
 void Overlay::write_png(const std::string& path) const {
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
-  errno = 0;
-  const bool encoded = encode_rgb_png(f, rgb_.data(), width_, height_) && std::fflush(f) == 0;
-  int error = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!closed && !error) error = errno;
-  if (!encoded || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    if (!error) error = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write the PNG: " + (error ? std::strerror(error) : "encoding failed"));
-  }
+  const ImageView view{rgb_.data(), width_, height_, static_cast<std::ptrdiff_t>(width_) * 3, PixelFormat::rgb8, 8};
+  ccdlane::write_png(path, view, 3);
+}
+
+void write_paint_measure_png(const std::string& path, const ImageView& frame, int first_row, int last_row) {
+  std::vector<std::uint8_t> grey(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height));
+  const MutableImageView out{grey.data(), frame.width, frame.height, frame.width, PixelFormat::mono8, 8};
+  render_paint_measure(frame, out);
+  for (int y = 0; y < frame.height; ++y)
+    if (y < first_row || y > last_row)
+      for (int x = 0; x < frame.width; ++x) out.row(y)[x] = static_cast<std::uint8_t>(out.row(y)[x] / 4);
+  ccdlane::write_png(path, out, 3);
 }
 
 }  // namespace ccdlane::cli

@@ -1,5 +1,6 @@
 // Overlay pictures for looking at what detection and the solver did on a frame: the frame
-// in grey, every candidate mark, the picks coloured by line, and the fitted lines.
+// (in colour when it is), every candidate mark, the picks coloured by line, and the fitted
+// lines; and the lane-paint measure detection scanned, as a picture of its own.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +17,8 @@ namespace ccdlane::cli {
 // An RGB picture being drawn on.
 class Overlay {
  public:
-  explicit Overlay(const ImageView& frame);  // grey frame (16-bit scaled down) as background
+  // The frame as background: colour frames as they are, grey ones grey (16-bit scaled down).
+  explicit Overlay(const ImageView& frame);
 
   // Candidate marks: small ticks, grey for ungrouped ones, the line's colour otherwise.
   void draw_marks(std::span<const MarkCandidate> marks);
@@ -25,7 +27,7 @@ class Overlay {
   // A road line y = y0 + m x + c x^2 from near_mm to far_mm, projected through `camera`.
   void draw_road_line(const CameraModel& camera, const LinePrior& line, double near_mm, double far_mm, int colour);
 
-  // Writes a PNG (libpng). Throws std::runtime_error naming the file on failure; the file
+  // Writes a PNG (drivers/frames/png.hpp). Throws std::runtime_error naming the file on failure; the file
   // is written under a temporary name and renamed, so it is whole or absent.
   void write_png(const std::string& path) const;
 
@@ -40,5 +42,11 @@ class Overlay {
   int width_, height_;
   std::vector<std::uint8_t> rgb_;
 };
+
+// The lane-paint measure of `frame` (core/detection/paint_measure.hpp) as an 8-bit grey
+// PNG: bright where detection sees paint. Rows outside [first_row, last_row] (0-based, the
+// band detection searched) are drawn at a quarter of their brightness. Whole or absent,
+// as Overlay::write_png.
+void write_paint_measure_png(const std::string& path, const ImageView& frame, int first_row, int last_row);
 
 }  // namespace ccdlane::cli

@@ -190,8 +190,11 @@ class Recording {
     }
     const double span = static_cast<double>(last_t_ns_ - first_t_ns_) * 1e-9;
     std::fprintf(stderr, "ccdlane record: %zu frames of %dx%d %s (%.3f s) from %s, %zu with a gyro reading, to %s\n",
-                 written_, width_, height_, format_ == PixelFormat::mono16 ? "mono16" : "mono8", span, from.c_str(),
-                 with_gyro_, log_ ? log_->path().c_str() : directory_->path().c_str());
+                 written_, width_, height_,
+                 format_ == PixelFormat::mono16 ? "mono16"
+                 : is_colour(format_)           ? "colour"
+                                                : "mono8",
+                 span, from.c_str(), with_gyro_, log_ ? log_->path().c_str() : directory_->path().c_str());
   }
 
   // A recording that cannot go on keeps the frames it has: a long drive must not lose

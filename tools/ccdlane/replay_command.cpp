@@ -1,6 +1,8 @@
 // `ccdlane replay`: the full per-frame pipeline over a recorded frame directory or an LCM
 // log of frames, as fast as the machine allows, one JSON object per frame.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -54,17 +56,33 @@ void draw_overlay(const std::string& path, const ImageView& frame, const LaneEst
   o.write_png(path);
 }
 
+// The rows detection searched: between the road at max_range and at min_range straight
+// ahead at the detection pose, less [detection] roi_top_px and hood_px (0-based).
+std::pair<int, int> searched_rows(const ImageView& frame, const LaneEstimator& estimator, const Config& config) {
+  const CameraModel camera(config.camera, estimator.detection_pose());
+  const auto far = camera.pixel_from_point(Vec3(config.detection.max_range_mm, 0.0, 0.0));
+  const auto near = camera.pixel_from_point(Vec3(config.detection.min_range_mm, 0.0, 0.0));
+  int first = far ? static_cast<int>(std::floor(far->y() - 1.0)) : 0;
+  int last = near ? static_cast<int>(std::ceil(near->y() - 1.0)) : frame.height - 1;
+  first = std::max(first, config.detection.roi_top_px);
+  last = std::min(last, frame.height - 1 - config.detection.hood_px);
+  return {first, last};
+}
+
 }  // namespace
 
 CommandAction setup_replay(CLI::App& sub) {
   auto a = std::make_shared<ReplayArgs>();
   sub.add_option("config", a->config, "configuration file (TOML)")->required();
   sub.add_option("input", a->input,
-                 "frame directory (frames.csv + PGM frames), or an LCM log of ccdlane.frame_t on <[lcm] prefix>FRAMES "
+                 "frame directory (frames.csv + PGM, PPM or PNG frames), or an LCM log of ccdlane.frame_t on <[lcm] "
+                 "prefix>FRAMES "
                  "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames)")
       ->required();
   sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
-  sub.add_option("--overlay", a->overlay, "write a PNG per frame with the marks, picks and fitted lines here");
+  sub.add_option("--overlay", a->overlay,
+                 "write here, per frame, a PNG with the marks, picks and fitted lines (NNNNNN.png) and one of the "
+                 "lane-paint measure detection scanned (NNNNNN-paint.png)");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.footer(
       "Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
@@ -154,10 +172,13 @@ CommandAction setup_replay(CLI::App& sub) {
       print_json_line(out, lane_estimate_json(e, a->sigmas));
       check_written(out, out_name);
       if (!a->overlay.empty()) {
-        char name[32];
+        char name[32], paint[32];
         std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
+        std::snprintf(paint, sizeof paint, "/%06llu-paint.png", static_cast<unsigned long long>(index));
         try {
           draw_overlay(a->overlay + name, *image, estimator, config);
+          const auto [first, last] = searched_rows(*image, estimator, config);
+          write_paint_measure_png(a->overlay + paint, *image, first, last);
         } catch (const std::runtime_error& failure) {
           // Each PNG is whole or absent (temporary name, then rename): say what is there.
           throw std::runtime_error(std::string(failure.what()) + "; " + std::to_string(overlays) +

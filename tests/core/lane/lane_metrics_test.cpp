@@ -2,6 +2,7 @@
 // defines them, including the cases without a lane.
 #include "core/lane/lane_metrics.hpp"
 
+#include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -35,6 +36,18 @@ TEST(LaneMetrics, HeadingIsYawLessMountLessTheLanesSlope) {
   EXPECT_NEAR(lane_metrics(lines({1800, -1800}), 1.5, 0.5, 900).heading_deg, 1.0, 1e-12);
   // A lane running off to the right (m < 0) means the vehicle points left of it.
   EXPECT_NEAR(lane_metrics(lines({1800, -1800}, -0.01), 0.0, 0.0, 900).heading_deg, rad_to_deg(std::atan(0.01)), 1e-12);
+}
+
+TEST(LaneMetrics, CurvatureIsTheOwnLanesTwoCPerMetre) {
+  auto l = lines({5400, 1800, -1800});
+  for (auto& line : l) line.c_per_mm = 2.5e-7;  // R = 1 / (2 c) = 2000 m
+  l[0].c_per_mm = 9e-6;                         // not the own lane's: no say
+  EXPECT_NEAR(lane_metrics(l, 0, 0, 900).curvature_per_m, 1.0 / 2000.0, 1e-15);
+  // With a slope, the curvature of y = y0 + m x + c x^2 at x = 0: 2 c / (1 + m^2)^(3/2).
+  auto s = lines({1800, -1800}, 0.2);
+  for (auto& line : s) line.c_per_mm = -2.5e-7;
+  EXPECT_NEAR(lane_metrics(s, 0, 0, 900).curvature_per_m, -5e-4 / std::pow(1.04, 1.5), 1e-15);
+  EXPECT_EQ(lane_metrics(lines({1800, -1800}), 0, 0, 900).curvature_per_m, 0.0);  // straight
 }
 
 TEST(LaneMetrics, DepartureWhenALineIsNearerThanTheThreshold) {

@@ -48,6 +48,59 @@ TEST(FrameDirectory, ReadsTheRealUdacityFrames) {
   }
 }
 
+TEST(FrameDirectory, ReadsTheRealColourFramesAsRgb) {
+  FrameDirectory dir(std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-p1-colour");
+  ASSERT_EQ(dir.size(), 6u);
+  const auto h = dir.probe_first();
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->width, 960);
+  EXPECT_EQ(h->height, 540);
+  EXPECT_EQ(h->format(), PixelFormat::rgb8);
+  Frame f(960, 540, PixelFormat::rgb8);
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    ASSERT_EQ(dir.read(i, f.view), PgmFault::none) << dir.error();
+    // In colour: some pixels far from grey (the yellow line, the sky).
+    int coloured = 0;
+    for (std::size_t k = 0; k < f.bytes.size(); k += 3) coloured += std::abs(f.bytes[k] - f.bytes[k + 2]) > 60;
+    EXPECT_GT(coloured, 1000);
+  }
+}
+
+TEST(FrameDirectory, ColourFramesAreWrittenAsPngAndDamageIsCounted) {
+  test::TempDir tmp;
+  const std::string path = tmp.file("colour");
+  Frame f(24, 10, PixelFormat::rgb8);
+  {
+    FrameDirectoryWriter w(path, {});
+    for (int i = 0; i < 4; ++i) {
+      for (std::size_t k = 0; k < f.bytes.size(); ++k) f.bytes[k] = static_cast<std::uint8_t>(k * 3 + i);
+      w.write(f.view, i * 10);
+    }
+    w.finish();
+  }
+  std::ifstream csv(path + "/frames.csv");
+  std::string header, first;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  EXPECT_EQ(first, "000000.png,0");
+  // Damage: 1 cut short, 2 not a PNG at all.
+  std::filesystem::resize_file(path + "/000001.png", std::filesystem::file_size(path + "/000001.png") / 2);
+  std::ofstream(path + "/000002.png", std::ios::trunc) << "P6\n24 10\n255\n";
+  FrameDirectory dir(path);
+  ASSERT_EQ(dir.size(), 4u);
+  EXPECT_EQ(dir.probe_first()->format(), PixelFormat::rgb8);
+  std::vector<PgmFault> faults;
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    faults.push_back(dir.read(i, f.view));
+    if (faults.back() == PgmFault::none) {
+      for (std::size_t k = 0; k < f.bytes.size(); ++k) ASSERT_EQ(f.bytes[k], static_cast<std::uint8_t>(k * 3 + i));
+    } else {
+      EXPECT_EQ(dir.error().substr(0, path.size()), path) << dir.error();
+    }
+  }
+  EXPECT_EQ(faults, (std::vector<PgmFault>{PgmFault::none, PgmFault::truncated, PgmFault::bad_header, PgmFault::none}));
+}
+
 TEST(FrameDirectory, WriterRoundTripsImagesGyroAndTruth) {
   test::TempDir tmp;
   const std::string path = tmp.file("rec");

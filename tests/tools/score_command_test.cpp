@@ -1,0 +1,165 @@
+// `ccdlane score` as a user runs it: a drive rendered by `ccdlane synth`, replayed, and
+// scored against lane masks rendered from the drive's truth (every pixel's ray cast to
+// the road through the camera model at the true pose, independent of the projection the
+// scorer uses): every lane found, no false line, nearly every point hit. Then masks that
+// disagree with what was reported: a lane shifted sideways is missed (and the line on
+// the real paint is false), a lane left out of the mask makes its reported line false.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app/config_loader.hpp"
+#include "core/geometry/camera_model.hpp"
+#include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/png.hpp"
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+using Json = nlohmann::json;
+const std::string kTool = CCDLANE_TOOL;
+const std::string kReferenceCamera = std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml";
+
+// How a mask departs from the truth.
+struct MaskEdit {
+  int shifted_line = -1;  // this line drawn 1 m to the left of where it is
+  int left_out = -1;      // this line not drawn
+};
+
+// Paint 200 mm wide on every true line from 5 m to 35 m ahead, line j at grey level
+// 10 (j + 1), as an annotator would mark a lane (continuous across dash gaps).
+void render_masks(const std::string& frames, const std::string& masks, const MaskEdit& edit) {
+  const Config config = load_config_file(kReferenceCamera);
+  FrameDirectory dir(frames);
+  std::filesystem::create_directories(masks);
+  const int W = config.camera.Nu, H = config.camera.Nv;
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    CameraPose pose = config.nominal_pose();
+    pose.attitude = {deg_to_rad(*dir.truth(i, "truth_psi_deg")), deg_to_rad(*dir.truth(i, "truth_theta_deg")),
+                     deg_to_rad(*dir.truth(i, "truth_phi_deg"))};
+    pose.H_mm = *dir.truth(i, "truth_H_mm");
+    const CameraModel camera(config.camera, pose);
+    const double c = *dir.truth(i, "truth_c_per_mm");
+    std::vector<double> y0;
+    for (int j = 0; dir.truth(i, "truth_y0_" + std::to_string(j) + "_mm"); ++j)
+      y0.push_back(*dir.truth(i, "truth_y0_" + std::to_string(j) + "_mm"));
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(W * H), 0);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const auto g = camera.ground_point_from_pixel(Vec2(x + 1, y + 1));
+        if (!g || g->x() < 5000.0 || g->x() > 35000.0) continue;
+        for (std::size_t j = 0; j < y0.size(); ++j) {
+          if (static_cast<int>(j) == edit.left_out) continue;
+          const double shift = static_cast<int>(j) == edit.shifted_line ? 1000.0 : 0.0;
+          if (std::abs(g->y() - (y0[j] + shift + c * g->x() * g->x())) <= 100.0)
+            mask[static_cast<std::size_t>(y * W + x)] = static_cast<std::uint8_t>(10 * (j + 1));
+        }
+      }
+    const std::string stem = std::filesystem::path(dir.row(i).file).stem().string();
+    write_png(masks + "/" + stem + ".png", ImageView{mask.data(), W, H, W, PixelFormat::mono8, 8});
+  }
+}
+
+class ScoreCommand : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir;
+    const auto synth = test::run_process(
+        {kTool, "synth", kReferenceCamera, "--out", dir_->file("road"), "--frames", "4", "--curvature", "2e-7"});
+    ASSERT_EQ(synth.exit_status, 0) << synth.err;
+    const auto replay =
+        test::run_process({kTool, "replay", kReferenceCamera, dir_->file("road"), "--out", dir_->file("r.jsonl")});
+    ASSERT_EQ(replay.exit_status, 0) << replay.err;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static Json score(const std::string& masks) {
+    const auto r = test::run_process(
+        {kTool, "score", kReferenceCamera, dir_->file("road"), dir_->file("r.jsonl"), masks, "--json"});
+    EXPECT_EQ(r.exit_status, 0) << r.err;
+    std::printf("%s", r.out.c_str());
+    return Json::parse(r.out);
+  }
+  static int lines_reported(int frame) {
+    std::ifstream in(dir_->file("r.jsonl"));
+    std::string line;
+    for (int k = 0; k <= frame; ++k) std::getline(in, line);
+    return static_cast<int>(Json::parse(line)["lines"].size());
+  }
+
+  static test::TempDir* dir_;
+};
+test::TempDir* ScoreCommand::dir_ = nullptr;
+
+TEST_F(ScoreCommand, MasksOfTheTruthAreAllFoundWithNoFalseLine) {
+  render_masks(dir_->file("road"), dir_->file("truth"), {});
+  const Json s = score(dir_->file("truth"));
+  ASSERT_EQ(s["frames"].size(), 4u);
+  for (const Json& f : s["frames"]) {
+    // Every line the drive has in view was reported, and lies on its lane.
+    EXPECT_EQ(f["found"], f["lanes"]) << f.dump();
+    EXPECT_EQ(f["reported_lines"], f["lanes"]) << f.dump();
+    EXPECT_EQ(f["false_lines"], 0) << f.dump();
+    EXPECT_GE(f["accuracy"].get<double>(), 0.98) << f.dump();
+    EXPECT_EQ(f["reported_lines"].get<int>(), lines_reported(f["frame"].get<int>()));
+  }
+  EXPECT_GE(s["total"]["lanes"].get<int>(), 4 * 3);
+  EXPECT_EQ(s["threshold_px"].get<double>(), 20.0 * 800 / 1280);
+  // The text form says the same.
+  const auto text = test::run_process(
+      {kTool, "score", kReferenceCamera, dir_->file("road"), dir_->file("r.jsonl"), dir_->file("truth")});
+  EXPECT_NE(text.out.find("total: 4 frames scored (0 without a mask), threshold 12.5 px: lanes " +
+                          std::to_string(s["total"]["found"].get<int>()) + "/" +
+                          std::to_string(s["total"]["lanes"].get<int>()) + " found, 0 false lines"),
+            std::string::npos)
+      << text.out;
+}
+
+TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {
+  render_masks(dir_->file("road"), dir_->file("shifted"), {.shifted_line = 1});
+  const Json s = score(dir_->file("shifted"));
+  for (const Json& f : s["frames"]) {
+    EXPECT_EQ(f["found"].get<int>(), f["lanes"].get<int>() - 1) << f.dump();
+    EXPECT_EQ(f["false_lines"], 1) << f.dump();
+  }
+}
+
+TEST_F(ScoreCommand, ALineOnNoAnnotatedLaneIsFalse) {
+  render_masks(dir_->file("road"), dir_->file("fewer"), {.left_out = 0});
+  const Json s = score(dir_->file("fewer"));
+  for (const Json& f : s["frames"]) {
+    EXPECT_EQ(f["found"], f["lanes"]) << f.dump();
+    EXPECT_EQ(f["reported_lines"].get<int>(), f["lanes"].get<int>() + 1) << f.dump();
+    EXPECT_EQ(f["false_lines"], 1) << f.dump();
+  }
+}
+
+TEST_F(ScoreCommand, FramesWithoutAMaskAreNotScoredAndBadMasksAreRefused) {
+  render_masks(dir_->file("road"), dir_->file("some"), {});
+  std::filesystem::remove(dir_->file("some/000001.png"));
+  const Json s = score(dir_->file("some"));
+  EXPECT_EQ(s["frames"].size(), 3u);
+  EXPECT_EQ(s["total"]["frames_without_mask"], 1);
+  // A colour picture is not a mask.
+  std::filesystem::create_directories(dir_->file("colour"));
+  std::vector<std::uint8_t> rgb(800 * 600 * 3, 7);
+  write_png(dir_->file("colour/000000.png"), ImageView{rgb.data(), 800, 600, 2400, PixelFormat::rgb8, 8});
+  const auto r = test::run_process(
+      {kTool, "score", kReferenceCamera, dir_->file("road"), dir_->file("r.jsonl"), dir_->file("colour")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("a lane mask is an 8-bit grey PNG"), std::string::npos) << r.err;
+  const auto none = test::run_process(
+      {kTool, "score", kReferenceCamera, dir_->file("road"), dir_->file("r.jsonl"), dir_->file("road")});
+  EXPECT_EQ(none.exit_status, 2);
+  EXPECT_NE(none.err.find("no mask for any frame"), std::string::npos) << none.err;
+}
+
+}  // namespace
+}  // namespace ccdlane

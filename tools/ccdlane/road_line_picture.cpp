@@ -1,0 +1,40 @@
+// Road lines projected into the picture through the camera model.
+#include "tools/ccdlane/road_line_picture.hpp"
+
+namespace ccdlane::cli {
+namespace {
+
+std::optional<Vec2> pixel_at(const CameraModel& camera, const LinePrior& line, double x_mm) {
+  return camera.pixel_from_point(Vec3(x_mm, line.y_at(x_mm), 0.0));
+}
+
+}  // namespace
+
+std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, const LinePrior& line, double near_mm,
+                                                  double far_mm, int samples) {
+  std::vector<std::optional<Vec2>> out;
+  out.reserve(static_cast<std::size_t>(samples) + 1);
+  for (int i = 0; i <= samples; ++i) out.push_back(pixel_at(camera, line, near_mm + (far_mm - near_mm) * i / samples));
+  return out;
+}
+
+std::optional<double> road_line_column_at_row(const CameraModel& camera, const LinePrior& line, double row_px,
+                                              double near_mm, double far_mm) {
+  const auto near = pixel_at(camera, line, near_mm), far = pixel_at(camera, line, far_mm);
+  if (!near || !far) return std::nullopt;
+  const double near_side = near->y() - row_px;
+  if (near_side * (far->y() - row_px) > 0.0) return std::nullopt;
+  double lo = near_mm, hi = far_mm;
+  // 60 halvings bring even a 300 m span below a micrometre.
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const auto p = pixel_at(camera, line, mid);
+    if (!p) return std::nullopt;
+    ((p->y() - row_px) * near_side > 0.0 ? lo : hi) = mid;
+  }
+  const auto p = pixel_at(camera, line, 0.5 * (lo + hi));
+  if (!p) return std::nullopt;
+  return p->x();
+}
+
+}  // namespace ccdlane::cli
