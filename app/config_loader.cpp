@@ -246,9 +246,6 @@ void read_solver(TableReader& r, Config& c) {
     if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
     c.solver.free = set;
   }
-  // "curved" by default; "c" in free asks for a curvature per line, which is the straight
-  // model's layout with c freed, so a table that frees c without naming a model keeps it.
-  if (c.solver.free.has(FreeParam::c)) c.solver.line_model = LineModel::per_line;
   r.choice("line_model", c.solver.line_model,
            {{"straight", LineModel::per_line}, {"curved", LineModel::shared_curvature}});
   if (c.solver.line_model == LineModel::shared_curvature && c.solver.free.has(FreeParam::c))

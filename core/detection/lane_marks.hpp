@@ -39,8 +39,9 @@ struct DetectedLine {
   int num_picks = 0;
   double near_mm = 0.0;  // the road distances it was seen over
   double far_mm = 0.0;
-  double rms_mm = 0.0;   // lateral scatter of its marks about the fit
-  int prior_index = -1;  // the prior line it continues, -1 = newly found
+  double rms_mm = 0.0;    // lateral scatter of its marks about the fit
+  int prior_index = -1;   // the prior line it continues, -1 = newly found
+  bool parallel = false;  // fitted as a parallel of the road's other lines (y0 alone)
 };
 
 // Counts of what the row filter found and why candidates were dropped.

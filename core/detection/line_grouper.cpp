@@ -294,6 +294,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
       DetectedLine l;
       if (fit_line(marks, road_line(y_ref_mm), 400.0, n, params, l, true) && separated(l)) {
         l.prior_index = prior_index;
+        l.parallel = true;
         lines[static_cast<std::size_t>(n++)] = l;
         return true;
       }

@@ -309,7 +309,9 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
     r = &solve(r->pose, gyro);
   }
   if (r->status == SolveStatus::too_few_picks) return fail(EstimateFailure::too_few_marks);
-  if (!r->converged) return fail(EstimateFailure::solver_failed);
+  // Parameters the picks do not determine leave the cost flat along them, so the solve may
+  // wander there without converging: the reason is then that, not the solver.
+  if (!r->converged) return fail(r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed);
   if (r->rank_deficient) {
     fill_estimate(*r);  // what was determined is still shown
     estimate_.ok = false;
@@ -324,13 +326,27 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
                                                    double heading_deg) const {
   const std::span<const Pick> picks(picks_.data(), static_cast<std::size_t>(num_picks_));
   const LineSupport support[2] = {line_support(picks, r.points_mm, left), line_support(picks, r.points_mm, right)};
-  const SupportProblem problem[2] = {check_line_support(support[0], config_.detection),
-                                     check_line_support(support[1], config_.detection)};
+  // A line fitted as a parallel of the others took its direction from them: its marks
+  // only say where it is, so it has at most a dash's support, whatever their number
+  // (marks of noise lie along any curve parallel to a line of bars).
+  const auto full_support = [&](int line) {
+    const SupportProblem p = check_line_support(line_support(picks, r.points_mm, line), config_.detection);
+    return p == SupportProblem::none &&
+                   detection_->lines[static_cast<std::size_t>(detection_line_[static_cast<std::size_t>(line)])].parallel
+               ? SupportProblem::too_few_marks
+               : p;
+  };
+  const SupportProblem problem[2] = {full_support(left), full_support(right)};
   // Both lines need the support of paint along the road, except that one of them may be
   // a single dash (detection takes one only as a parallel of the road's other lines, e.g.
-  // a dashed line on a bend) beside a fully supported one. Its few marks over a metre or
-  // two say nothing of how paint narrows with distance: the slope is checked on full lines.
-  const bool one_dash_beside_a_line = (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
+  // a dashed line on a bend) beside a fully supported one, on a road that two fully
+  // supported lines establish (one line of bars in noise and a dash beside it made a
+  // lane). Its few marks over a metre or two say nothing of how paint narrows with
+  // distance: the slope is checked on full lines.
+  int full_lines = 0;
+  for (int j = 0; j < r.num_lines; ++j) full_lines += full_support(j) == SupportProblem::none;
+  const bool one_dash_beside_a_line =
+      full_lines >= 2 && (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
   for (int k = 0; k < 2; ++k) {
     if (problem[k] != SupportProblem::none) {
       if (!one_dash_beside_a_line ||

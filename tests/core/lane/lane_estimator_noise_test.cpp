@@ -49,7 +49,8 @@ NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint6
     if (e.ok && tally.ok++ == 0)
       tally.first_ok = "frame " + std::to_string(k) + " (" + test::to_string(texture) + ", level " +
                        std::to_string(level) + "): " + std::to_string(e.num_lines) + " lines, width " +
-                       std::to_string(e.lane_width_mm) + " mm, rms " + std::to_string(e.rms_px) + " px";
+                       std::to_string(e.lane_width_mm) + " mm, rms " + std::to_string(e.rms_px) + " px, curvature " +
+                       std::to_string(e.curvature_per_m) + " /m, heading " + std::to_string(e.heading_deg) + " deg";
     tally.departures += e.departure != Departure::none;
     tally.warnings += e.ldw.fired != ldw::Side::none;
   }
