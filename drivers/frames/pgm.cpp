@@ -138,30 +138,11 @@ PgmFault parse_pgm_header(std::string_view bytes, PgmHeader& header, std::string
   return PgmFault::none;
 }
 
-PgmFault PgmReader::fail(PgmFault fault, const char* path, const char* format, ...) {
-  int n = std::snprintf(message_.data(), message_.size(), "%s: ", path);
-  if (n < 0) n = 0;
-  std::size_t used = std::min(static_cast<std::size_t>(n), message_.size() - 1);
-  va_list args;
-  va_start(args, format);
-  const int m = std::vsnprintf(message_.data() + used, message_.size() - used, format, args);
-  va_end(args);
-  if (m > 0) used = std::min(used + static_cast<std::size_t>(m), message_.size() - 1);
-  length_ = used;
-  return fault;
-}
-
 PgmFault PgmReader::open_and_parse(const char* path, int& fd_out, PgmHeader& header, long long& file_size) {
   fd_out = -1;
-  UniqueFd fd(::open(path, O_RDONLY | O_CLOEXEC));
-  if (fd.get() < 0) {
-    const int e = errno;
-    if (e == ENOENT) return fail(PgmFault::missing, path, "missing (no such file)");
-    return fail(PgmFault::unreadable, path, "cannot open: %s", std::strerror(e));
-  }
+  UniqueFd fd;
   struct stat st {};
-  if (::fstat(fd.get(), &st) != 0) return fail(PgmFault::unreadable, path, "cannot stat: %s", std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) return fail(PgmFault::unreadable, path, "not a regular file");
+  if (const PgmFault f = open_regular(path, fd, st); f != PgmFault::none) return f;
   file_size = st.st_size;
   std::uint8_t head[kMaxHeaderBytes];
   const long long got = read_fully(fd.get(), head, sizeof head, 0);
@@ -184,7 +165,7 @@ PgmFault PgmReader::probe(const char* path, PgmHeader& header) {
   const PgmFault f = open_and_parse(path, raw, header, size);
   UniqueFd fd(raw);
   if (f != PgmFault::none) return f;
-  length_ = 0;
+  clear_problem();
   return PgmFault::none;
 }
 
@@ -236,7 +217,7 @@ PgmFault PgmReader::read(const char* path, const MutableImageView& into, PgmHead
     }
   }
   if (header_out) *header_out = h;
-  length_ = 0;
+  clear_problem();
   return PgmFault::none;
 }
 

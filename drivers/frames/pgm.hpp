@@ -14,6 +14,8 @@
 #include <string_view>
 
 #include "base/image_view.hpp"
+#include "drivers/frames/frame_file_problem.hpp"
+#include "drivers/frames/pgm_fault.hpp"
 
 namespace ccdlane {
 
@@ -35,26 +37,13 @@ struct PgmHeader {
   }
 };
 
-// Why a frame file (PGM, PPM or PNG) could not be used.
-enum class PgmFault : std::uint8_t {
-  none,
-  missing,      // no such file
-  unreadable,   // exists but cannot be opened or read (permissions, I/O error)
-  bad_header,   // not a binary PGM, or an impossible width, height or maxval
-  wrong_size,   // width x height differ from the frames expected
-  wrong_depth,  // 8-bit file for 16-bit frames or the other way round
-  truncated,    // fewer raster bytes than the header promises
-  corrupt,      // compressed frames (PNG): a checksum or the compressed data is wrong
-};
-const char* to_string(PgmFault f);
-
 // Parses a P5 or P6 header at the start of `bytes` (comments allowed between fields). Returns
 // the fault and, when none, fills `header`. `why` (may be null) receives a short reason.
 PgmFault parse_pgm_header(std::string_view bytes, PgmHeader& header, std::string_view* why = nullptr);
 
 // Decodes PGM files into caller-provided buffers. Owns only a fixed message buffer: a
 // read opens the file, reads straight into the destination rows, and allocates nothing.
-class PgmReader {
+class PgmReader : public FrameFileProblem {
  public:
   // Decodes `path` into `into` (whose width, height and format are what the frames must
   // be). On success the header read is returned through `header` (if not null). 16-bit
@@ -64,15 +53,10 @@ class PgmReader {
   // Reads only the header (to learn a directory's frame size and depth).
   PgmFault probe(const char* path, PgmHeader& header);
 
-  // "<path>: <reason>" of the last fault, valid until the next call.
-  std::string_view error() const { return {message_.data(), length_}; }
+  // error(): "<path>: <reason>" of the last fault (FrameFileProblem).
 
  private:
-  PgmFault fail(PgmFault fault, const char* path, const char* format, ...) __attribute__((format(printf, 4, 5)));
   PgmFault open_and_parse(const char* path, int& fd, PgmHeader& header, long long& file_size);
-
-  std::array<char, 512> message_{};
-  std::size_t length_ = 0;
 };
 
 // Writes `image` as a binary PGM: 8-bit (maxval 255) or 16-bit big-endian (maxval

@@ -248,30 +248,12 @@ PgmFault PngReader::read(const char* path, const MutableImageView& into, PgmHead
   return f;
 }
 
-PgmFault PngReader::fail(PgmFault fault, const char* path, const char* format, ...) {
-  int n = std::snprintf(message_.data(), message_.size(), "%s: ", path);
-  std::size_t used = std::min(static_cast<std::size_t>(std::max(n, 0)), message_.size() - 1);
-  va_list args;
-  va_start(args, format);
-  n = std::vsnprintf(message_.data() + used, message_.size() - used, format, args);
-  va_end(args);
-  if (n > 0) used = std::min(used + static_cast<std::size_t>(n), message_.size() - 1);
-  length_ = used;
-  return fault;
-}
-
 PgmFault PngReader::decode(const char* path, const MutableImageView* into, PgmHeader& header) {
   Decoder& d = *decoder_;
   d.reset();
-  UniqueFd fd(::open(path, O_RDONLY | O_CLOEXEC));
-  if (fd.get() < 0) {
-    const int e = errno;
-    if (e == ENOENT) return fail(PgmFault::missing, path, "missing (no such file)");
-    return fail(PgmFault::unreadable, path, "cannot open: %s", std::strerror(e));
-  }
+  UniqueFd fd;
   struct stat st {};
-  if (::fstat(fd.get(), &st) != 0) return fail(PgmFault::unreadable, path, "cannot stat: %s", std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) return fail(PgmFault::unreadable, path, "not a regular file");
+  if (const PgmFault f = open_regular(path, fd, st); f != PgmFault::none) return f;
   if (st.st_size == 0) return fail(PgmFault::truncated, path, "truncated: the file is empty");
   d.fd = fd.get();
   std::uint8_t signature[8];
@@ -290,7 +272,7 @@ PgmFault PngReader::decode(const char* path, const MutableImageView* into, PgmHe
   int bit_depth = 8;
   const Step step = run_libpng(d, into, header, bit_depth);
   switch (step) {
-    case Step::ok: length_ = 0; return PgmFault::none;
+    case Step::ok: clear_problem(); return PgmFault::none;
     case Step::sixteen_bit:
       return fail(PgmFault::wrong_depth, path,
                   "wrong depth: %d-bit PNG; only 8-bit PNG frames are read (16-bit frames are PGM)", bit_depth);

@@ -23,7 +23,7 @@ namespace ccdlane {
 // alpha) becomes mono8; RGB, RGB with alpha and palette pictures become rgb8. Alpha
 // (and a tRNS transparency) is dropped: a camera frame has no use for it. 16-bit PNGs
 // are refused (wrong_depth): 16-bit frames are written as PGM.
-class PngReader {
+class PngReader : public FrameFileProblem {
  public:
   PngReader();
   ~PngReader();
@@ -40,8 +40,7 @@ class PngReader {
   // Reads only the header (to learn a directory's frame size and format).
   PgmFault probe(const char* path, PgmHeader& header);
 
-  // "<path>: <reason>" of the last fault, valid until the next call.
-  std::string_view error() const { return {message_.data(), length_}; }
+  // error(): "<path>: <reason>" of the last fault (FrameFileProblem).
 
   // The most arena memory one decode needed so far (libpng's structures, zlib's window,
   // two rows), for sizing; a file needing more than the arena is refused as bad_header.
@@ -51,11 +50,8 @@ class PngReader {
 
  private:
   PgmFault decode(const char* path, const MutableImageView* into, PgmHeader& header);
-  PgmFault fail(PgmFault fault, const char* path, const char* format, ...) __attribute__((format(printf, 4, 5)));
 
   std::unique_ptr<Decoder> decoder_;
-  std::array<char, 512> message_{};
-  std::size_t length_ = 0;
 };
 
 // Writes `image` as a PNG: mono8 as 8-bit grey, rgb8 and bgr8 as 8-bit RGB. Written under

@@ -127,26 +127,11 @@ class Gateway {
   const VehicleStateListener& listener_;
 };
 
-Config drive_config(const ldw::ScenarioSpec& spec) {
-  Config c = test::small_reference_camera();
-  c.detection.max_picks = 160;
-  const VehicleScenario& d = spec.drive;
-  c.synth.lanes = d.lanes;
-  c.synth.ego_lane = d.ego_lane;
-  c.synth.lane_width_mm = d.lane_width_m * 1e3;
-  c.synth.line_width_mm = d.line_width_m * 1e3;
-  c.synth.rate_hz = d.rate_hz;
-  c.synth.seed = d.seed;
-  c.vehicle = spec.vehicle;
-  c.gyro.device = "emulated";  // the frames carry the gyro's roll: the filter does not track it
-  return c;
-}
-
 // The daemon's wiring on an in-process bus: the listener on the vehicle channel, the bus
 // thread handling it, the pipeline taking each frame's inputs from the listener.
 std::vector<Seen> run_drive(const ldw::ScenarioSpec& spec,
                             const std::function<void(const Gateway&, const VehicleFrame&)>& gateway) {
-  const Config c = drive_config(spec);
+  const Config c = test::scenario_config(spec);
   const VehicleDrive drive(spec.drive, spec.vehicle);
   lcm_t* lcm = lcm_create("memq://");
   EXPECT_NE(lcm, nullptr);

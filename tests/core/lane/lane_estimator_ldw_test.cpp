@@ -38,17 +38,8 @@ struct DriveRun {
 DriveRun run_rendered(
     const ldw::ScenarioSpec& spec,
     const std::function<bool(const VehicleFrame&)>& dropped = [](const VehicleFrame&) { return false; }) {
-  Config c = test::small_reference_camera();
-  c.detection.max_picks = 160;
+  const Config c = test::scenario_config(spec);
   const VehicleScenario& d = spec.drive;
-  c.synth.lanes = d.lanes;
-  c.synth.ego_lane = d.ego_lane;
-  c.synth.lane_width_mm = d.lane_width_m * 1e3;
-  c.synth.line_width_mm = d.line_width_m * 1e3;
-  c.synth.rate_hz = d.rate_hz;
-  c.synth.seed = d.seed;
-  c.vehicle = spec.vehicle;
-  c.gyro.device = "emulated";  // the frames carry the gyro's roll: the filter does not track it
   const VehicleDrive drive(d, spec.vehicle);
   RoadRenderer renderer(c.camera, c.synth);
   std::vector<std::uint8_t> px(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv));

@@ -1,10 +1,11 @@
 // Test fixtures around the synthetic road: a camera small enough for sanitizer builds,
-// and a drive whose frames are rendered into one buffer on demand.
+// an LDW scenario's configuration, and a drive whose frames are rendered into one buffer on demand.
 #pragma once
 
 #include <vector>
 
 #include "app/config.hpp"
+#include "core/ldw/scenarios.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 
@@ -21,6 +22,24 @@ inline Config small_reference_camera() {
   c.camera.cy = 150.5;
   c.camera.k_px2 = -8.3042e-7 * 4;
   c.attitude = {0.0, 3.0, 0.0};
+  return c;
+}
+
+// The rendered-drive configuration of an LDW scenario: its road and vehicle, seen by the
+// small camera, with the emulated gyro (the frames carry the gyro's roll: the lane
+// filter does not track it).
+inline Config scenario_config(const ldw::ScenarioSpec& spec) {
+  Config c = small_reference_camera();
+  c.detection.max_picks = 160;
+  const VehicleScenario& d = spec.drive;
+  c.synth.lanes = d.lanes;
+  c.synth.ego_lane = d.ego_lane;
+  c.synth.lane_width_mm = d.lane_width_m * 1e3;
+  c.synth.line_width_mm = d.line_width_m * 1e3;
+  c.synth.rate_hz = d.rate_hz;
+  c.synth.seed = d.seed;
+  c.vehicle = spec.vehicle;
+  c.gyro.device = "emulated";
   return c;
 }
 
