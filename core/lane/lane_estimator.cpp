@@ -105,8 +105,8 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
     // its own spread.
     double lo = initial_lines_[0].y0_mm, hi = lo;
     for (int j = 1; j < num_lines_; ++j) {
-      lo = std::min(lo, initial_lines_[static_cast<std::size_t>(j)].y0_mm);
-      hi = std::max(hi, initial_lines_[static_cast<std::size_t>(j)].y0_mm);
+      lo = std::min(lo, initial_lines_[j].y0_mm);
+      hi = std::max(hi, initial_lines_[j].y0_mm);
     }
     const double k = std::max(1.0, std::round((hi - lo) / p.lane_width_mm->mean));
     req.priors.lane_width_mm = Prior{k * p.lane_width_mm->mean, std::sqrt(k) * p.lane_width_mm->sigma};
@@ -129,12 +129,11 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
   for (int i = 0; i < num_picks_; ++i) {
     double d = 1e9;
     if (static_cast<std::size_t>(i) < r.points_mm.size()) {
-      const Vec2& xy = r.points_mm[static_cast<std::size_t>(i)];
+      const Vec2& xy = r.points_mm[i];
       if (const auto px = camera.pixel_from_point(Vec3(xy.x(), xy.y(), 0.0)))
-        d = std::hypot(px->x() - picks_[static_cast<std::size_t>(i)].px,
-                       px->y() - picks_[static_cast<std::size_t>(i)].py);
+        d = std::hypot(px->x() - picks_[i].px, px->y() - picks_[i].py);
     }
-    residual_px_[static_cast<std::size_t>(i)] = d;
+    residual_px_[i] = d;
   }
   return r;
 }
@@ -150,8 +149,8 @@ bool LaneEstimator::drop_outliers(const SolveResult& result) {
   std::array<double, kMaxLaneLines> sum2{};
   std::array<int, kMaxLaneLines> count{};
   for (int i = 0; i < num_picks_; ++i) {
-    const auto j = static_cast<std::size_t>(picks_[static_cast<std::size_t>(i)].line);
-    sum2[j] += residual_px_[static_cast<std::size_t>(i)] * residual_px_[static_cast<std::size_t>(i)];
+    const auto j = static_cast<std::size_t>(picks_[i].line);
+    sum2[j] += residual_px_[i] * residual_px_[i];
     ++count[j];
   }
   // Keep the lines that fit, renumbered in order; within them the picks that fit.
@@ -164,19 +163,19 @@ bool LaneEstimator::drop_outliers(const SolveResult& result) {
   }
   int kept = 0;
   for (int i = 0; i < num_picks_; ++i) {
-    Pick p = picks_[static_cast<std::size_t>(i)];
-    const int j = new_index[static_cast<std::size_t>(p.line)];
-    if (j < 0 || residual_px_[static_cast<std::size_t>(i)] > threshold) continue;
+    Pick p = picks_[i];
+    const int j = new_index[p.line];
+    if (j < 0 || residual_px_[i] > threshold) continue;
     p.line = j;
-    picks_[static_cast<std::size_t>(kept++)] = p;
+    picks_[kept++] = p;
   }
   if (kept == num_picks_) return false;
   for (int j = 0; j < num_lines_; ++j) {
-    const int k = new_index[static_cast<std::size_t>(j)];
+    const int k = new_index[j];
     if (k < 0) continue;
-    initial_lines_[static_cast<std::size_t>(k)] = result.lines[static_cast<std::size_t>(j)];
-    prior_index_[static_cast<std::size_t>(k)] = prior_index_[static_cast<std::size_t>(j)];
-    detection_line_[static_cast<std::size_t>(k)] = detection_line_[static_cast<std::size_t>(j)];
+    initial_lines_[k] = result.lines[j];
+    prior_index_[k] = prior_index_[j];
+    detection_line_[k] = detection_line_[j];
   }
   num_lines_ = lines;
   num_picks_ = kept;
@@ -266,16 +265,15 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
     num_lines_ = std::min(d.num_lines, kMaxLaneLines);
     num_picks_ = 0;
     for (const Pick& p : d.picks)
-      if (p.line < num_lines_ && num_picks_ < static_cast<int>(picks_.size()))
-        picks_[static_cast<std::size_t>(num_picks_++)] = p;
+      if (p.line < num_lines_ && num_picks_ < static_cast<int>(picks_.size())) picks_[num_picks_++] = p;
     const FreeSet& free = config_.solver.free;
     for (int j = 0; j < num_lines_; ++j) {
-      const LinePrior& fit = d.lines[static_cast<std::size_t>(j)].fit;
+      const LinePrior& fit = d.lines[j].fit;
       // Fixed slopes and curvatures stay at 0 (the road frame is aligned with the lane).
-      initial_lines_[static_cast<std::size_t>(j)] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0,
-                                                     free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
-      prior_index_[static_cast<std::size_t>(j)] = d.lines[static_cast<std::size_t>(j)].prior_index;
-      detection_line_[static_cast<std::size_t>(j)] = j;
+      initial_lines_[j] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0,
+                           free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
+      prior_index_[j] = d.lines[j].prior_index;
+      detection_line_[j] = j;
     }
   };
   auto fail = [this](EstimateFailure why) -> const LaneEstimate& {
@@ -294,10 +292,7 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
   if (!have_last_ && r->converged && !r->rank_deficient) {
     // Cold start: look again from where the first solve put the camera.
     std::array<LinePrior, kMaxLaneLines> solved{};
-    for (int j = 0; j < r->num_lines; ++j)
-      solved[static_cast<std::size_t>(j)] = {r->lines[static_cast<std::size_t>(j)].y0_mm,
-                                             r->lines[static_cast<std::size_t>(j)].m,
-                                             r->lines[static_cast<std::size_t>(j)].c_per_mm};
+    for (int j = 0; j < r->num_lines; ++j) solved[j] = {r->lines[j].y0_mm, r->lines[j].m, r->lines[j].c_per_mm};
     detection_pose_ = r->pose;
     take_detection(detector_.detect(image, detection_pose_, {solved.data(), static_cast<std::size_t>(r->num_lines)}));
     prior_index_.fill(-1);  // those priors were this frame's own, not a previous frame's lines
@@ -331,8 +326,7 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
   // (marks of noise lie along any curve parallel to a line of bars).
   const auto full_support = [&](int line) {
     const SupportProblem p = check_line_support(line_support(picks, r.points_mm, line), config_.detection);
-    return p == SupportProblem::none &&
-                   detection_->lines[static_cast<std::size_t>(detection_line_[static_cast<std::size_t>(line)])].parallel
+    return p == SupportProblem::none && detection_->lines[detection_line_[line]].parallel
                ? SupportProblem::too_few_marks
                : p;
   };
@@ -355,8 +349,7 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
       continue;
     }
     const int line = k == 0 ? left : right;
-    if (const SupportProblem p =
-            check_paint_width(paint_width_slope(detection_->marks, detection_line_[static_cast<std::size_t>(line)]));
+    if (const SupportProblem p = check_paint_width(paint_width_slope(detection_->marks, detection_line_[line]));
         p != SupportProblem::none)
       return p;
   }
@@ -386,32 +379,30 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   std::array<int, kMaxLaneLines> marks{};
   std::array<double, kMaxLaneLines> sum2{};
   for (int i = 0; i < num_picks_; ++i) {
-    const auto j = static_cast<std::size_t>(picks_[static_cast<std::size_t>(i)].line);
+    const auto j = static_cast<std::size_t>(picks_[i].line);
     ++marks[j];
-    sum2[j] += residual_px_[static_cast<std::size_t>(i)] * residual_px_[static_cast<std::size_t>(i)];
+    sum2[j] += residual_px_[i] * residual_px_[i];
   }
   const int n = std::min(r.num_lines, num_lines_);
   // Ids, then left to right: largest y0 first (insertion sort, n <= 4).
   std::array<LinePrior, kMaxLaneLines> solved{};
   for (int j = 0; j < n; ++j) {
-    const LaneLine& l = r.lines[static_cast<std::size_t>(j)];
-    solved[static_cast<std::size_t>(j)] = {l.y0_mm, l.m, l.c_per_mm};
+    const LaneLine& l = r.lines[j];
+    solved[j] = {l.y0_mm, l.m, l.c_per_mm};
   }
   std::array<int, kMaxLaneLines> ids{};
   tracker_.update({solved.data(), static_cast<std::size_t>(n)}, {prior_index_.data(), static_cast<std::size_t>(n)},
                   {ids.data(), static_cast<std::size_t>(n)});
   std::array<int, kMaxLaneLines> order{};
-  for (int j = 0; j < n; ++j) order[static_cast<std::size_t>(j)] = j;
+  for (int j = 0; j < n; ++j) order[j] = j;
   for (int i = 1; i < n; ++i)
-    for (int k = i; k > 0 && r.lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])].y0_mm >
-                                 r.lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k - 1)])].y0_mm;
-         --k)
-      std::swap(order[static_cast<std::size_t>(k)], order[static_cast<std::size_t>(k - 1)]);
+    for (int k = i; k > 0 && r.lines[order[k]].y0_mm > r.lines[order[k - 1]].y0_mm; --k)
+      std::swap(order[k], order[k - 1]);
   e.num_lines = n;
   for (int k = 0; k < n; ++k) {
-    const auto j = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
+    const auto j = static_cast<std::size_t>(order[k]);
     const LaneLine& l = r.lines[j];
-    EstimatedLine& out = e.lines[static_cast<std::size_t>(k)];
+    EstimatedLine& out = e.lines[k];
     out.id = ids[j];
     out.y0_mm = l.y0_mm;
     out.m = l.m;
@@ -430,8 +421,8 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
                                      rad_to_deg(config_.nominal_pose.attitude.psi), config_.detection.departure_mm);
   e.heading_deg = m.heading_deg;
   e.curvature_per_m = m.curvature_per_m;
-  if (m.left >= 0) own_left_ = order[static_cast<std::size_t>(m.left)];
-  if (m.right >= 0) own_right_ = order[static_cast<std::size_t>(m.right)];
+  if (m.left >= 0) own_left_ = order[m.left];
+  if (m.right >= 0) own_right_ = order[m.right];
   if (!m.has_lane) {
     e.ok = false;
     e.reason = EstimateFailure::no_lane;
@@ -439,8 +430,7 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   }
   // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
   // lane is one only with the support a real one gives (lane_support.hpp).
-  support_ = lane_support_problem(r, order[static_cast<std::size_t>(m.left)], order[static_cast<std::size_t>(m.right)],
-                                  m.lane_width_mm, m.heading_deg);
+  support_ = lane_support_problem(r, order[m.left], order[m.right], m.lane_width_mm, m.heading_deg);
   if (support_ != SupportProblem::none) {
     e.ok = false;
     e.reason = EstimateFailure::no_lane;
