@@ -18,6 +18,7 @@
 #include "base/log.hpp"
 #include "daemon/allocation_counter.hpp"
 #include "tests/daemon/child_process.hpp"
+#include "tests/support/log_capture.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -27,35 +28,8 @@ using calibration::OnlineMountState;
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 
-// Collects what is logged.
-class LogCapture {
- public:
-  LogCapture() {
-    EXPECT_EQ(pipe2(fds_, O_NONBLOCK), 0);
-    set_log_output(fds_[1], false);
-  }
-  ~LogCapture() {
-    set_log_output(STDERR_FILENO, false);
-    close(fds_[0]);
-    close(fds_[1]);
-  }
-  std::string text() {
-    char buf[4096];
-    ssize_t n;
-    while ((n = read(fds_[0], buf, sizeof buf)) > 0) all_.append(buf, static_cast<std::size_t>(n));
-    return all_;
-  }
-
- private:
-  int fds_[2] = {-1, -1};
-  std::string all_;
-};
-
-int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
+using test::count_of;
+using test::LogCapture;
 
 Config online_config(const std::string& state_file) {
   Config c = default_config();

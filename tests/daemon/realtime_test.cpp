@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "base/log.hpp"
+#include "tests/support/log_capture.hpp"
 
 namespace ccdlane {
 namespace {
@@ -51,38 +52,8 @@ const RealtimeSyscalls kFakeCalls{
     },
 };
 
-// Collects what the setup logs.
-class LogCapture {
- public:
-  LogCapture() {
-    EXPECT_EQ(pipe(fds_), 0);
-    set_log_output(fds_[1], false);
-  }
-  ~LogCapture() {
-    set_log_output(STDERR_FILENO, false);
-    close(fds_[0]);
-    close(fds_[1]);
-  }
-  std::string text() {
-    close(fds_[1]);
-    fds_[1] = open("/dev/null", O_WRONLY);
-    set_log_output(fds_[1], false);
-    std::string all;
-    char buf[4096];
-    ssize_t n;
-    while ((n = read(fds_[0], buf, sizeof buf)) > 0) all.append(buf, static_cast<std::size_t>(n));
-    return all;
-  }
-
- private:
-  int fds_[2] = {-1, -1};
-};
-
-int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
+using test::count_of;
+using test::LogCapture;
 
 TEST(RealtimeSetup, NothingAskedNothingDone) {
   g_fake = {};
