@@ -276,9 +276,6 @@ void Pipeline::process_one(std::uint32_t index) {
     // The lane departure warning coasts through it, and says the camera failed.
     LaneEstimate estimate = processor_.no_frame(slot.frame, slot.meta, vehicle_inputs_for(slot.meta, false));
     estimate.source_frame = slot.meta.sequence;
-    estimate.t_ns = slot.meta.frame_t_ns();
-    estimate.ok = false;
-    estimate.reason = EstimateFailure::no_frame;
     publish(estimate, slot.received_ns);
     return;
   }
