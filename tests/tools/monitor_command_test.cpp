@@ -139,21 +139,12 @@ TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
   EXPECT_TRUE(saw_status) << r.out;
 }
 
-// The gyro's reconnect count comes from the status message, and only when there is a gyro.
-TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
-  test::TempDir dir;
-  test::ChildProcess monitor({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
-                             test::ChildOptions{{}, dir.file("out"), dir.file("err"), {}});
-  lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
+// What a daemon publishes for 2.3 s: an ok lane message every 20 ms and `status` with
+// every tenth, for a monitor started to read 2.5 s.
+void publish_for_monitor(lcm::LCM& bus, const status_t& status) {
   LaneEstimate e;
   e.ok = true;
   lane_estimate_t lane;
-  status_t status{};
-  status.camera_state = status_t::CAMERA_STREAMING;
-  status.gyro_state = status_t::GYRO_OK;
-  status.gyro_reconnects_total = 3;
   const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(2300);
   for (std::uint64_t frame = 0; std::chrono::steady_clock::now() < end; ++frame) {
     e.frame = frame;
@@ -162,6 +153,21 @@ TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
     if (frame % 10 == 0) bus.publish("CCDLANE_STATUS", &status);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+}
+
+// The gyro's reconnect count comes from the status message, and only when there is a gyro.
+TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  test::TempDir dir;
+  test::ChildProcess monitor({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
+                             test::ChildOptions{{}, dir.file("out"), dir.file("err"), {}});
+  lcm::LCM bus(kUrl);
+  ASSERT_TRUE(bus.good());
+  status_t status{};
+  status.camera_state = status_t::CAMERA_STREAMING;
+  status.gyro_state = status_t::GYRO_OK;
+  status.gyro_reconnects_total = 3;
+  publish_for_monitor(bus, status);
   const auto exit_status = monitor.wait_exit(3000);
   ASSERT_TRUE(exit_status.has_value());
   EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
@@ -180,9 +186,6 @@ TEST(MonitorCommandAlone, TheCalibrationIsShownInTheLiveLineAndAsJson) {
                           test::ChildOptions{{}, dir.file("json"), dir.file("json.err"), {}});
   lcm::LCM bus(kUrl);
   ASSERT_TRUE(bus.good());
-  LaneEstimate e;
-  e.ok = true;
-  lane_estimate_t lane;
   status_t status{};
   status.camera_state = status_t::CAMERA_STREAMING;
   status.calibration_state = status_t::CALIBRATION_CALIBRATING;
@@ -191,14 +194,7 @@ TEST(MonitorCommandAlone, TheCalibrationIsShownInTheLiveLineAndAsJson) {
   status.calibration_pitch_deg = -0.5;
   status.calibration_yaw_estimate_deg = 1.5;
   status.calibration_frames_total = 405;
-  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(2300);
-  for (std::uint64_t frame = 0; std::chrono::steady_clock::now() < end; ++frame) {
-    e.frame = frame;
-    to_message(e, 0, 0, lane);
-    bus.publish("CCDLANE_LANES", &lane);
-    if (frame % 10 == 0) bus.publish("CCDLANE_STATUS", &status);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  publish_for_monitor(bus, status);
   ASSERT_TRUE(text.wait_exit(3000).has_value());
   ASSERT_TRUE(json.wait_exit(3000).has_value());
   const std::string out = test::read_file(dir.file("text"));
