@@ -297,7 +297,12 @@ void AravisCamera::release_camera(bool camera_reachable) {
   if (camera_ && stream_ && camera_reachable) arv_camera_stop_acquisition(camera_, nullptr);
   if (stream_) {
     arv_stream_set_emit_signals(stream_, FALSE);
-    g_clear_object(&stream_);  // joins the receive thread and frees the buffers it holds
+    // Join the receive thread here, from this thread. Once, after a stall under load, the
+    // finalizer's join failed with "Resource deadlock avoided" (as if run on the receive
+    // thread itself) and GLib aborted the daemon; stopping the thread first leaves the
+    // finalizer nothing to join.
+    arv_stream_stop_thread(stream_, TRUE);
+    g_clear_object(&stream_);  // frees the stream and what buffers remain
   }
   if (camera_) {
     g_signal_handlers_disconnect_by_data(arv_camera_get_device(camera_), this);
