@@ -246,6 +246,9 @@ void read_solver(TableReader& r, Config& c) {
     if (set == FreeSet{}) r.fail(n, "free", "must name at least one parameter (psi theta phi H f y0 m c)");
     c.solver.free = set;
   }
+  // "curved" is the default, but a free c asks for a curvature per line: the straight
+  // model's, so a free list naming c keeps meaning what it always did.
+  if (c.solver.free.has(FreeParam::c) && !r.node("line_model")) c.solver.line_model = LineModel::per_line;
   r.choice("line_model", c.solver.line_model,
            {{"straight", LineModel::per_line}, {"curved", LineModel::shared_curvature}});
   if (c.solver.line_model == LineModel::shared_curvature && c.solver.free.has(FreeParam::c))

@@ -203,6 +203,7 @@ const LaneEstimate& LaneEstimator::estimate(const ImageView& image, std::uint64_
   solution_ = nullptr;
   own_left_ = own_right_ = -1;
   support_ = SupportProblem::none;
+  speed_mps_ = vehicle.speed_mps.value_or(config_.ldw.vehicle.speed_kmh / 3.6);
   estimate_lane(image, gyro);
   run_ldw(t_ns, vehicle);
   return estimate_;
@@ -318,7 +319,7 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
 }
 
 SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
-                                                   double heading_deg) const {
+                                                   double heading_deg, double curvature_per_m) const {
   const std::span<const Pick> picks(picks_.data(), static_cast<std::size_t>(num_picks_));
   const LineSupport support[2] = {line_support(picks, r.points_mm, left), line_support(picks, r.points_mm, right)};
   // A line fitted as a parallel of the others took its direction from them: its marks
@@ -352,7 +353,18 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
     if (const SupportProblem p = check_paint_width(paint_width_slope(detection_->marks, detection_line_[line]));
         p != SupportProblem::none)
       return p;
+    if (const SupportProblem p =
+            check_paint_width_spread(paint_width_spread(detection_->marks, detection_line_[line]), config_.detection);
+        p != SupportProblem::none)
+      return p;
   }
+  const DetectedLine& detected_left = detection_->lines[detection_line_[left]];
+  const DetectedLine& detected_right = detection_->lines[detection_line_[right]];
+  if (const SupportProblem p =
+          check_clutter(lane_clutter(detection_->marks, detected_left.fit, detection_line_[left], detected_right.fit,
+                                     detection_line_[right], config_.detection.max_mark_width_mm));
+      p != SupportProblem::none)
+    return p;
   // The own lane's width against the configured lane width (the solve's own prior may
   // span several lanes); the attitude against the priors this solve had (the gyro's).
   SolverPriors priors = solve_priors_;
@@ -361,7 +373,8 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
   if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, config_.nominal_pose.attitude);
       p != SupportProblem::none)
     return p;
-  return check_heading(heading_deg);
+  if (const SupportProblem p = check_heading(heading_deg); p != SupportProblem::none) return p;
+  return check_motion(speed_mps_, heading_deg, curvature_per_m);
 }
 
 void LaneEstimator::fill_estimate(const SolveResult& r) {
@@ -430,7 +443,7 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   }
   // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
   // lane is one only with the support a real one gives (lane_support.hpp).
-  support_ = lane_support_problem(r, order[m.left], order[m.right], m.lane_width_mm, m.heading_deg);
+  support_ = lane_support_problem(r, order[m.left], order[m.right], m.lane_width_mm, m.heading_deg, m.curvature_per_m);
   if (support_ != SupportProblem::none) {
     e.ok = false;
     e.reason = EstimateFailure::no_lane;

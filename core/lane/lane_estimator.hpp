@@ -98,7 +98,7 @@ class LaneEstimator {
   bool drop_outliers(const SolveResult& result);
   void fill_estimate(const SolveResult& result);
   SupportProblem lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
-                                      double heading_deg) const;
+                                      double heading_deg, double curvature_per_m) const;
   void miss();
 
   LaneEstimatorOptions config_;
@@ -123,6 +123,7 @@ class LaneEstimator {
   int misses_ = 0;             // frames in a row without an estimate
   SolverPriors solve_priors_;  // of the last solve
   SupportProblem support_ = SupportProblem::none;
+  double speed_mps_ = 0.0;  // this frame's (the vehicle's input, else [vehicle] speed_kmh)
   // The own lane's lines of the last fill_estimate, as indices into the solve's lines
   // (-1: none): the lane filter's measurement.
   int own_left_ = -1, own_right_ = -1;

@@ -8,7 +8,10 @@
 
 namespace ccdlane {
 
-constexpr double kMinLaneWidthMm = 2000.0;  // narrower is not a traffic lane
+// The narrowest traffic lanes are 2.5 m (work-zone lanes, the narrowest national
+// standards; motorways have 3.5-3.75 m); a pair of lines closer than that, beside a car
+// about 1.8 m wide, is not a lane to drive in (noise made such pairs at 2.0-2.4 m).
+constexpr double kMinLaneWidthMm = 2500.0;
 constexpr double kMaxLaneWidthMm = 5500.0;  // wider: a line in between was missed
 
 struct LaneMetrics {

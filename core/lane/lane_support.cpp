@@ -24,6 +24,8 @@ const char* to_string(SupportProblem p) {
     case SupportProblem::disagrees_with_prior: return "disagrees_with_prior";
     case SupportProblem::heading_off_lane: return "heading_off_lane";
     case SupportProblem::attitude_off_mount: return "attitude_off_mount";
+    case SupportProblem::implausible_motion: return "implausible_motion";
+    case SupportProblem::cluttered_lane: return "cluttered_lane";
   }
   return "?";
 }
@@ -78,6 +80,52 @@ double paint_width_slope(std::span<const MarkCandidate> marks, int detection_lin
 SupportProblem check_paint_width(double slope) {
   return std::abs(slope - kPaintWidthSlope) <= kPaintWidthSlopeTolerance ? SupportProblem::none
                                                                          : SupportProblem::not_paint;
+}
+
+double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line) {
+  double s = 0, ss = 0;
+  int n = 0;
+  for (const MarkCandidate& m : marks) {
+    if (m.line != detection_line || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
+    const double v = std::log(m.width_px() * m.X);
+    s += v;
+    ss += v * v;
+    ++n;
+  }
+  if (n < 3) return std::nan("");
+  const double mean = s / n;
+  return std::sqrt(std::max(0.0, ss / n - mean * mean));
+}
+
+SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection) {
+  const double mix = std::log(detection.max_mark_width_mm / detection.min_mark_width_mm) / std::sqrt(12.0);
+  return spread < mix ? SupportProblem::none : SupportProblem::not_paint;
+}
+
+LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
+                         const LinePrior& right, int right_line, double margin_mm) {
+  LaneClutter c;
+  for (const MarkCandidate& m : marks) {
+    if (m.line == left_line || m.line == right_line) {
+      ++c.on_lines;
+      continue;
+    }
+    c.inside += m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm;
+  }
+  return c;
+}
+
+SupportProblem check_clutter(const LaneClutter& clutter) {
+  return clutter.inside > kMaxMarksInsidePerLineMark * clutter.on_lines ? SupportProblem::cluttered_lane
+                                                                        : SupportProblem::none;
+}
+
+SupportProblem check_motion(double speed_mps, double heading_deg, double curvature_per_m) {
+  const double lateral_speed = speed_mps * std::abs(std::sin(deg_to_rad(heading_deg)));
+  const double lateral_acceleration = speed_mps * speed_mps * std::abs(curvature_per_m);
+  return lateral_speed <= kMaxLateralSpeedMps && lateral_acceleration <= kMaxLateralAccelerationMps2
+             ? SupportProblem::none
+             : SupportProblem::implausible_motion;
 }
 
 SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm) {

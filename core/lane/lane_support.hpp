@@ -43,6 +43,22 @@ constexpr double kMaxLaneHeadingDeg = 10.0;
 // camera farther has fitted lines to something else.
 constexpr double kMaxBodyMotionDeg = 5.0;
 
+// The vehicle's motion the lane implies, at the speed driven (the vehicle's input, else
+// [vehicle] speed_kmh), must be a car's on a road:
+// * Lateral speed v sin(heading): lane changes reach 0.6-1.5 m/s at their peak (the
+//   synthetic ones 1.4 m/s), ISO 17361 tests departures up to 1 m/s; faster than this,
+//   the vehicle would cross a lane in under 2 s.
+constexpr double kMaxLateralSpeedMps = 2.0;
+// * Lateral acceleration v^2 * curvature: roads are designed for about 2 m/s^2 at
+//   their design speed (superelevation plus side friction, 0.2 g); this allows driving
+//   40 % above it. A bend sharper than this at the speed driven is not being followed.
+constexpr double kMaxLateralAccelerationMps2 = 4.0;
+
+// Inside the own lane, between its lines, lies asphalt or concrete: an arrow or a word
+// takes a few metres of it and gives fewer marks than the lines' own. More marks inside
+// than on the lines make the "lane" a field of bars.
+constexpr double kMaxMarksInsidePerLineMark = 1.0;
+
 // What the marks of one solved line cover.
 struct LineSupport {
   int marks = 0;
@@ -62,6 +78,8 @@ enum class SupportProblem : std::uint8_t {
   disagrees_with_prior,  // the solve is more than kPriorAgreementSigmas from a prior
   heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
   attitude_off_mount,    // pitch or roll without a prior more than kMaxBodyMotionDeg off the mounting
+  implausible_motion,    // a lateral speed or acceleration beyond kMaxLateralSpeedMps, kMaxLateralAccelerationMps2
+  cluttered_lane,        // more marks inside the lane than on its lines (kMaxMarksInsidePerLineMark)
 };
 const char* to_string(SupportProblem p);
 
@@ -84,6 +102,28 @@ constexpr double kMaxDashLaneWidthMm = 5000.0;
 // detection line `detection_line`; NaN with fewer than 3 or all at one distance.
 double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line);
 SupportProblem check_paint_width(double slope);
+
+// One line's paint has one width on the road: log(width px x distance) is the same for
+// every mark but for edge noise and blur (the test pictures and drives: standard
+// deviation 0.26 at most). Marks of bars of several widths spread as far as detection's
+// width gate lets them, which for widths uniform over [min, max] is ln(max / min) / sqrt(12)
+// (0.32 for 100-300 mm): a line spreading that much is a mix of bars, not one paint.
+double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line);  // NaN with < 3 marks
+SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection);
+
+// Marks no line took lying inside the lane bounded by detection lines `left` and `right`
+// (at least a paint width from each), against the marks the two lines took.
+struct LaneClutter {
+  int inside = 0;
+  int on_lines = 0;
+};
+LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
+                         const LinePrior& right, int right_line, double margin_mm);
+SupportProblem check_clutter(const LaneClutter& clutter);
+
+// The lateral speed and acceleration of a vehicle at `speed_mps` with this heading
+// (degrees) in a lane of this curvature (1/m).
+SupportProblem check_motion(double speed_mps, double heading_deg, double curvature_per_m);
 
 // The solved pose and own lane width against the priors of the solve (angles in degrees,
 // lengths in mm; a prior left empty is not checked).

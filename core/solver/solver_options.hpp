@@ -64,7 +64,7 @@ struct SolverPriors {
 struct SolverOptions {
   SolverMode mode = SolverMode::reprojection;
   FreeSet free = default_free();
-  LineModel line_model = LineModel::per_line;  // [solver] line_model = "straight"; see README "curved"
+  LineModel line_model = LineModel::shared_curvature;  // [solver] line_model = "curved" (README)
   double pixel_sigma = 0.5;
   int max_iterations = 50;
 

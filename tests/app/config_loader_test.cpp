@@ -149,10 +149,10 @@ TEST(ConfigLoader, EmptyFreeSetIsRejected) {
 }
 
 TEST(ConfigLoader, LineModelStraightOrCurved) {
-  // Straight by default, as default_config() has it (README: why not yet curved); freeing c
-  // keeps the per-line model.
-  EXPECT_EQ(parse_config("", "empty.toml").solver.line_model, LineModel::per_line);
-  EXPECT_EQ(default_config().solver.line_model, LineModel::per_line);
+  // Curved by default, as default_config() has it; freeing c (a curvature per line)
+  // means the straight model's per-line c, as it did before curved was the default.
+  EXPECT_EQ(parse_config("", "empty.toml").solver.line_model, LineModel::shared_curvature);
+  EXPECT_EQ(default_config().solver.line_model, LineModel::shared_curvature);
   EXPECT_EQ(parse_config("[solver]\nfree = [\"psi\", \"y0\", \"c\"]\n", "f.toml").solver.line_model,
             LineModel::per_line);
   EXPECT_EQ(parse_config("[solver]\nline_model = \"straight\"\n", "f.toml").solver.line_model, LineModel::per_line);

@@ -55,8 +55,8 @@ TEST(LaneMetrics, DepartureWhenALineIsNearerThanTheThreshold) {
   EXPECT_EQ(lane_metrics(lines({2800, -850}), 0, 0, 900).departure, Departure::right);
   EXPECT_EQ(lane_metrics(lines({2700, -900}), 0, 0, 900).departure, Departure::none);  // at, not nearer
   // A narrow lane with both lines near: the nearer side.
-  EXPECT_EQ(lane_metrics(lines({1000, -1000}), 0, 0, 1100).departure, Departure::left);
-  EXPECT_EQ(lane_metrics(lines({1050, -1000}), 0, 0, 1100).departure, Departure::right);
+  EXPECT_EQ(lane_metrics(lines({1250, -1250}), 0, 0, 1300).departure, Departure::left);
+  EXPECT_EQ(lane_metrics(lines({1300, -1250}), 0, 0, 1300).departure, Departure::right);
   // Straddling a line: it is the left line of the lane to its right.
   EXPECT_EQ(lane_metrics(lines({5000, 100, -3500}), 0, 0, 900).departure, Departure::left);
 }
@@ -67,6 +67,8 @@ TEST(LaneMetrics, NoLaneWithoutBothSidesOrWithAnImplausibleWidth) {
   EXPECT_FALSE(lane_metrics(lines({}), 0, 0, 900).has_lane);
   EXPECT_FALSE(lane_metrics(lines({5400, -1800}), 0, 0, 900).has_lane);  // 7.2 m: a line missed
   EXPECT_FALSE(lane_metrics(lines({900, -900}), 0, 0, 900).has_lane);    // 1.8 m: not a lane
+  EXPECT_FALSE(lane_metrics(lines({1200, -1200}), 0, 0, 900).has_lane);  // 2.4 m: nor this
+  EXPECT_TRUE(lane_metrics(lines({1250, -1250}), 0, 0, 900).has_lane);   // 2.5 m: the narrowest
   EXPECT_EQ(lane_metrics(lines({5400, -1800}), 0, 0, 900).departure, Departure::none);
 }
 

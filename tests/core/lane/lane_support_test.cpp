@@ -1,6 +1,7 @@
 // The support checks on values whose answer is known: marks of paint of one road width
 // (width px = k / distance) slope -1, bars of one pixel width slope 0; spans, ranges and
-// prior agreement at and either side of their limits.
+// prior agreement at and either side of their limits; paint width spread, clutter in the
+// lane and the motion a lane implies.
 #include "core/lane/lane_support.hpp"
 
 #include <cmath>
@@ -122,6 +123,74 @@ TEST(LaneSupport, TheLaneRunsAlongTheVehiclesHeading) {
   EXPECT_EQ(check_heading(1.01 * kMaxLaneHeadingDeg), SupportProblem::heading_off_lane);
   EXPECT_EQ(check_heading(-1.01 * kMaxLaneHeadingDeg), SupportProblem::heading_off_lane);
   EXPECT_EQ(check_heading(std::nan("")), SupportProblem::heading_off_lane);
+}
+
+// Paint of one road width gives log(width px x distance) one value; marks of bars of
+// widths spread over detection's gate spread as far as that gate allows.
+TEST(LaneSupport, PaintHasOneWidthOnTheRoadAMixOfBarsDoesNot) {
+  const DetectionConfig d;  // 100..300 mm: a uniform mix spreads ln 3 / sqrt 12 = 0.317
+  std::vector<MarkCandidate> marks;
+  for (int i = 0; i < 40; ++i) {
+    const double x = 5000.0 + 800.0 * i;
+    marks.push_back(mark(0, x, 150.0 * 1200.0 / x * (i % 2 ? 1.1 : 0.9)));  // 150 mm, +-10 % edge noise
+    const double bar_mm = 100.0 * std::pow(3.0, (i + 0.5) / 40.0);          // 100..300 mm, evenly in log
+    marks.push_back(mark(1, x, bar_mm * 1200.0 / x));
+    marks.push_back(mark(2, x, (i < 20 ? 110.0 : 280.0) * 1200.0 / x));  // a thin bar, then a wide one
+  }
+  EXPECT_NEAR(paint_width_spread(marks, 0), 0.1003, 1e-3);  // ln(1.1 / 0.9) / 2
+  EXPECT_NEAR(paint_width_spread(marks, 1), std::log(3.0) / std::sqrt(12.0), 2e-3);
+  EXPECT_EQ(check_paint_width_spread(paint_width_spread(marks, 0), d), SupportProblem::none);
+  EXPECT_NEAR(paint_width_spread(marks, 2), std::log(280.0 / 110.0) / 2.0, 1e-9);
+  EXPECT_EQ(check_paint_width_spread(paint_width_spread(marks, 2), d), SupportProblem::not_paint);
+  EXPECT_EQ(check_paint_width_spread(0.99 * paint_width_spread(marks, 1), d), SupportProblem::none);
+  EXPECT_EQ(check_paint_width_spread(1.01 * std::log(3.0) / std::sqrt(12.0), d), SupportProblem::not_paint);
+  EXPECT_TRUE(std::isnan(paint_width_spread({marks.data(), 4}, 0)));  // 2 marks of line 0
+  EXPECT_EQ(check_paint_width_spread(std::nan(""), d), SupportProblem::not_paint);
+}
+
+// Marks inside the lane (a paint width from either line) are counted against the lines'
+// own; the lines' marks and marks outside the lane are not clutter.
+TEST(LaneSupport, ALaneFullOfMarksIsNotARoad) {
+  const LinePrior left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
+  std::vector<MarkCandidate> marks;
+  const auto at = [](int line, double X, double Y) {
+    MarkCandidate m;
+    m.line = static_cast<std::int16_t>(line);
+    m.X = X;
+    m.Y = Y;
+    return m;
+  };
+  for (int i = 0; i < 10; ++i) {
+    marks.push_back(at(0, 5000.0 + 1000.0 * i, 1800.0));
+    marks.push_back(at(1, 5000.0 + 1000.0 * i, -1800.0));
+    marks.push_back(at(2, 5000.0 + 1000.0 * i, -5400.0));  // the next lane's line: outside
+    marks.push_back(at(-1, 5000.0 + 1000.0 * i, 3000.0));  // beside the road: outside
+  }
+  marks.push_back(at(-1, 8000.0, 1600.0));  // within the margin of the left line: not inside
+  for (int i = 0; i < 20; ++i) marks.push_back(at(-1, 6000.0 + 200.0 * i, 0.0));  // an arrow
+  LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.on_lines, 20);
+  EXPECT_EQ(c.inside, 20);
+  EXPECT_EQ(check_clutter(c), SupportProblem::none);  // as many as on the lines: still a road
+  marks.push_back(at(-1, 9000.0, 500.0));
+  c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.inside, 21);
+  EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
+}
+
+// A car's lateral speed and acceleration bound what heading and curvature a lane it
+// follows can have at the speed driven.
+TEST(LaneSupport, TheLanesHeadingAndBendMustBeDrivableAtTheSpeed) {
+  const double v = 25.0;  // 90 km/h
+  const double max_heading = rad_to_deg(std::asin(kMaxLateralSpeedMps / v));
+  EXPECT_EQ(check_motion(v, 0.99 * max_heading, 0.0), SupportProblem::none);
+  EXPECT_EQ(check_motion(v, -1.01 * max_heading, 0.0), SupportProblem::implausible_motion);
+  const double max_curvature = kMaxLateralAccelerationMps2 / (v * v);  // R 156 m at 90 km/h
+  EXPECT_EQ(check_motion(v, 0.0, -0.99 * max_curvature), SupportProblem::none);
+  EXPECT_EQ(check_motion(v, 0.0, 1.01 * max_curvature), SupportProblem::implausible_motion);
+  // Slowly, a town's tight corner and a steep heading are driven.
+  EXPECT_EQ(check_motion(5.0, 8.0, 1.0 / 15.0), SupportProblem::none);
+  EXPECT_EQ(check_motion(0.0, 9.9, 1.0), SupportProblem::none);
 }
 
 }  // namespace
