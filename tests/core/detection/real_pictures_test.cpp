@@ -203,6 +203,10 @@ TEST(RealPictures, UdacityP1SolidWhiteRight) {
                   {false, {{380, 168.1}, {350, 300.2}}}}});            // next lane's, dashed
 }
 
+// The white line's anchors are on its two dashes in view. Nearer, at row 493, there is no
+// paint: the bright flat blob there (columns 778-792, rows 491-496, 16 px by 6 rows) is a
+// raised pavement marker (Botts' dot) beside where a dash would be, no bar running towards
+// the vanishing point, and the row filter rightly does not take it for paint.
 TEST(RealPictures, UdacityP1SolidYellowCurve) {
   check_picture({"udacity-p1-colour",
                  "000002.png",
@@ -210,30 +214,6 @@ TEST(RealPictures, UdacityP1SolidYellowCurve) {
                  false,
                  {{true, {{520, 192.1}, {420, 331.2}, {345, 432.6}}},     // yellow, solid
                   {true, {{410, 639.0}, {400, 622.4}, {345, 532.0}}}}});  // white, dashed
-}
-
-// Stays disabled, for a physical reason, not a missing feature. The anchor at row 493 is
-// not a dash: it is a bright flat blob 16 px wide and 6 rows tall (columns 778-792, rows
-// 491-496, levels near 250) at the end of a faint worn streak. On this camera a 10 cm
-// round object 5 m ahead is 17 px wide and 4.5 rows tall (0.045 rows per mm along the
-// road there): a raised pavement marker (Botts' dot), which California sets along its
-// dashed lines. It is no bar running towards the vanishing point, so the row filter's
-// orientation check rightly does not take it for paint; curvature is not the cause (the
-// line's curvature moves it by under a pixel at 5 m). The reported line there is the far
-// dashes' line (rows 345-410) carried 5 m nearer, and passes 9.6 px = 55 mm on the road
-// left of the dot's centre. 55 mm is within where a marker is set beside a dash's centre,
-// and within what the unknown lens distortion of this camera moves that corner of the
-// picture against its centre (the udacity-advanced camera's k scaled to 960 px moves
-// row 493, column 787 by 5 % of its radius, about 19 px, the far dashes by 1-3 px; this
-// test's configuration has no distortion, tests/core/detection/data/udacity-p1.toml). A
-// 3 px bound at this anchor would need the camera's distortion, or dots taken as paint.
-TEST(RealPictures, DISABLED_UdacityP1SolidYellowCurveNearDash) {
-  check_picture(
-      {"udacity-p1-colour",
-       "000002.png",
-       kP1,
-       false,
-       {{true, {{520, 192.1}, {420, 331.2}, {345, 432.6}}}, {true, {{493, 786.8}, {410, 639.0}, {400, 622.4}}}}});
 }
 
 TEST(RealPictures, UdacityP1SolidYellowCurve2) {
