@@ -15,7 +15,9 @@ struct GroupingParams {
   int min_marks = 8;            // candidates a line needs
   double min_span_mm = 3000.0;  // and the road distance they must cover
   int max_lines = 4;
-  double min_separation_mm = 1500.0;  // two lines nearer than this (at 10 m) are one
+  // Two lines nearer than this (at 10 m) are one, or one of them is no lane line: no lane
+  // is narrower (kMinLaneWidthMm). Arrows and words sit 1.8 m from the lines beside them.
+  double min_separation_mm = 2500.0;
   // Lateral road distance one pixel spans, per mm of distance (about pitch_u / f): the
   // final fits keep marks within fit_tolerance_px of the line.
   double mm_per_px_per_mm = 1.0 / 600.0;

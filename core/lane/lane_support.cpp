@@ -2,7 +2,9 @@
 #include "core/lane/lane_support.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 namespace ccdlane {
@@ -102,30 +104,31 @@ SupportProblem check_paint_width_spread(double spread, const DetectionConfig& de
   return spread < mix ? SupportProblem::none : SupportProblem::not_paint;
 }
 
-LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
-                         const LinePrior& right, int right_line, double margin_mm) {
-  LaneClutter c;
-  for (const MarkCandidate& m : marks) {
-    if (m.line == left_line || m.line == right_line) {
-      ++c.on_lines;
-      continue;
-    }
-    c.inside += m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm;
-  }
-  return c;
-}
-
-SupportProblem check_clutter(const LaneClutter& clutter) {
-  return clutter.inside > kMaxMarksInsidePerLineMark * clutter.on_lines ? SupportProblem::cluttered_lane
-                                                                        : SupportProblem::none;
-}
-
 SupportProblem check_motion(double speed_mps, double heading_deg, double curvature_per_m) {
   const double lateral_speed = speed_mps * std::abs(std::sin(deg_to_rad(heading_deg)));
   const double lateral_acceleration = speed_mps * speed_mps * std::abs(curvature_per_m);
   return lateral_speed <= kMaxLateralSpeedMps && lateral_acceleration <= kMaxLateralAccelerationMps2
              ? SupportProblem::none
              : SupportProblem::implausible_motion;
+}
+
+LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
+                         const LinePrior& right, int right_line, double margin_mm) {
+  std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
+  for (const MarkCandidate& m : marks) {
+    if (!(m.X >= 0.0)) continue;
+    const std::uint64_t bin = std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
+    if (m.line == left_line || m.line == right_line)
+      on_lines |= bin;
+    else if (m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm)
+      inside |= bin;
+  }
+  return {std::popcount(inside), std::popcount(on_lines)};
+}
+
+SupportProblem check_clutter(const LaneClutter& clutter) {
+  return clutter.inside_bins > kMaxClutterPerLineLength * clutter.line_bins ? SupportProblem::cluttered_lane
+                                                                            : SupportProblem::none;
 }
 
 SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm) {

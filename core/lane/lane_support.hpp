@@ -54,10 +54,15 @@ constexpr double kMaxLateralSpeedMps = 2.0;
 //   40 % above it. A bend sharper than this at the speed driven is not being followed.
 constexpr double kMaxLateralAccelerationMps2 = 4.0;
 
-// Inside the own lane, between its lines, lies asphalt or concrete: an arrow or a word
-// takes a few metres of it and gives fewer marks than the lines' own. More marks inside
-// than on the lines make the "lane" a field of bars.
-constexpr double kMaxMarksInsidePerLineMark = 1.0;
+// Inside the own lane, between its lines, lies asphalt or concrete: an arrow (5 m) and a
+// word (2.5 m letters) take a few metres of its length, where near rows give them as
+// many marks as the lines have. So the clutter is measured in road length, in bins of
+// kClutterBinMm of distance ahead: bins with marks inside the lane against bins with
+// marks of its lines. Inside marks along more than half the length the lines are seen
+// make the "lane" a field of bars (noise fills 6-10 bins of 2 m, the rendered arrows and
+// words of tests/core/lane at most 6 while the lines fill 9-17).
+constexpr double kClutterBinMm = 2000.0;
+constexpr double kMaxClutterPerLineLength = 0.5;
 
 // What the marks of one solved line cover.
 struct LineSupport {
@@ -79,7 +84,7 @@ enum class SupportProblem : std::uint8_t {
   heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
   attitude_off_mount,    // pitch or roll without a prior more than kMaxBodyMotionDeg off the mounting
   implausible_motion,    // a lateral speed or acceleration beyond kMaxLateralSpeedMps, kMaxLateralAccelerationMps2
-  cluttered_lane,        // more marks inside the lane than on its lines (kMaxMarksInsidePerLineMark)
+  cluttered_lane,        // marks inside the lane along more of it than kMaxClutterPerLineLength of its lines' length
 };
 const char* to_string(SupportProblem p);
 
@@ -112,10 +117,11 @@ double paint_width_spread(std::span<const MarkCandidate> marks, int detection_li
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection);
 
 // Marks no line took lying inside the lane bounded by detection lines `left` and `right`
-// (at least a paint width from each), against the marks the two lines took.
+// (at least `margin_mm` from each), against the marks the two lines took: how many bins
+// of kClutterBinMm of road distance hold each (distances beyond 64 bins share the last).
 struct LaneClutter {
-  int inside = 0;
-  int on_lines = 0;
+  int inside_bins = 0;
+  int line_bins = 0;
 };
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
                          const LinePrior& right, int right_line, double margin_mm);

@@ -121,6 +121,88 @@ bool RoadRenderer::paint_at(double X, double Y) const {
   return false;
 }
 
+namespace {
+
+// Road markings in one lane's frame: u along the road from the marking's near end, v
+// across from the lane's centre (+ left), mm. Rectangles [u0, u1] x [v0, v1].
+struct Box {
+  double u0, u1, v0, v1;
+};
+constexpr double kMarkingPeriodMm = 50000.0;
+constexpr double kWordStartMm = 25000.0;
+constexpr double kArrowLengthMm = 5000.0, kArrowShaftMm = 3500.0, kArrowShaftHalfMm = 125.0, kArrowHeadHalfMm = 450.0;
+constexpr double kLetterMm = 2500.0, kLetterWidthMm = 600.0, kStrokeMm = 150.0, kLetterGapMm = 200.0;
+
+// The capitals of STOP as strokes in a letter's box (a along the road, 0 near; b across
+// from its left side), in units of the letter's length and width.
+struct Stroke {
+  double a0, a1, b0, b1;
+};
+constexpr double kT = kStrokeMm / kLetterMm, kW = kStrokeMm / kLetterWidthMm;
+constexpr Stroke kS[] = {
+    {1 - kT, 1, 0, 1}, {0.5 - kT / 2, 0.5 + kT / 2, 0, 1}, {0, kT, 0, 1}, {0.5, 1, 0, kW}, {0, 0.5, 1 - kW, 1}};
+constexpr Stroke kTee[] = {{1 - kT, 1, 0, 1}, {0, 1, 0.5 - kW / 2, 0.5 + kW / 2}};
+constexpr Stroke kO[] = {{1 - kT, 1, 0, 1}, {0, kT, 0, 1}, {0, 1, 0, kW}, {0, 1, 1 - kW, 1}};
+constexpr Stroke kP[] = {{0, 1, 0, kW}, {1 - kT, 1, 0, 1}, {0.5 - kT / 2, 0.5 + kT / 2, 0, 1}, {0.5, 1, 1 - kW, 1}};
+struct Letter {
+  const Stroke* strokes;
+  int count;
+};
+constexpr Letter kStop[] = {{kS, 5}, {kTee, 2}, {kO, 4}, {kP, 4}};
+
+bool in_letter(const Letter& l, double a, double b) {
+  for (int i = 0; i < l.count; ++i)
+    if (a >= l.strokes[i].a0 && a <= l.strokes[i].a1 && b >= l.strokes[i].b0 && b <= l.strokes[i].b1) return true;
+  return false;
+}
+
+// Whether (u, v) is paint; `reach` widens every shape (a footprint's test for edges).
+bool marking_paint(double u, double v, double reach) {
+  if (u < kArrowLengthMm + reach) {
+    if (u < -reach) return false;
+    if (u < kArrowShaftMm) return std::abs(v) <= kArrowShaftHalfMm + reach;
+    return std::abs(v) <= kArrowHeadHalfMm * (kArrowLengthMm - u) / (kArrowLengthMm - kArrowShaftMm) + reach;
+  }
+  const double a = u - kWordStartMm;
+  if (a < -reach || a > kLetterMm + reach) return false;
+  const double word_half = 0.5 * (4 * kLetterWidthMm + 3 * kLetterGapMm);
+  const double b = word_half - v;  // from the word's left side
+  if (b < -reach || b > 2 * word_half + reach) return false;
+  if (reach > 0.0) return true;  // near the word: look closer
+  const int i = static_cast<int>(b / (kLetterWidthMm + kLetterGapMm));
+  const double in_box = b - i * (kLetterWidthMm + kLetterGapMm);
+  if (i < 0 || i > 3 || in_box > kLetterWidthMm) return false;
+  return in_letter(kStop[i], a / kLetterMm, in_box / kLetterWidthMm);
+}
+
+}  // namespace
+
+bool RoadRenderer::marking_at(double X, double Y, double reach) const {
+  const double bend = c_ * X * X;
+  for (int j = 0; j + 1 < num_lines_; ++j) {
+    const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + bend;
+    if (std::abs(Y - centre) > kArrowHeadHalfMm + 2.0 * kLetterWidthMm + 2.0 * kLetterGapMm + reach) continue;
+    const double u = wrap(X + odometer_ + 7000.0 * j, kMarkingPeriodMm);
+    if (marking_paint(u, Y - centre, reach) || marking_paint(u - kMarkingPeriodMm, Y - centre, reach)) return true;
+  }
+  return false;
+}
+
+double RoadRenderer::marking_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
+                                      double fpY) const {
+  if (!marking_at(X, Y, fpX + fpY)) return 0.0;
+  const int n = scene_.supersample;
+  int hits = 0, samples = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double sx = 0.0, sy = 0.0;
+      if (!v.ground(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5, sx, sy)) continue;
+      ++samples;
+      hits += marking_at(sx, sy, 0.0);
+    }
+  return samples ? static_cast<double>(hits) / samples : 0.0;
+}
+
 double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
                                     double fpY, int& line) const {
   // Only pixels whose footprint straddles a mark's side or a dash's end are
@@ -282,6 +364,9 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
         int line = 0;
         const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY, line);
         if (cover > 0.0) value = value + cover * (lines_[line].paint - value);
+        if (scene_.road_markings)
+          if (const double m = marking_coverage(v, px, py, X, Y, fpX, fpY); m > 0.0)
+            value = value + m * (tinted(scene_.paint_grey, kNeutral) - value);
         if (scene_.shadow_depth > 0.0) value = shadow_at(X, Y, sh_c, sh_s, shadow_offset) * value;
         if (X > kHazeStartMm) value = value + std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze - value);
       }

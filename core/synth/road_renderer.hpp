@@ -45,6 +45,11 @@ class RoadRenderer {
   double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY,
                         int& line) const;
   bool paint_at(double X, double Y) const;
+  // [synth] road_markings: how much of the pixel around (X, Y) (footprint fpX, fpY) is
+  // an arrow's or a letter's paint, and whether the point (X, Y) is.
+  double marking_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
+                          double fpY) const;
+  bool marking_at(double X, double Y, double reach) const;
   Rgb sky(double qx, double qy, double qz) const;
   bool barrier_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
   double shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const;

@@ -64,6 +64,10 @@ struct SynthConfig {
                                  //   darkening by shadow_depth, instead of soft bands
   bool barrier = false;          // a concrete barrier beside the left shoulder whose foot
                                  //   is bright (sunlit), a bar of light off the road plane
+  bool road_markings = false;    // in the middle of every lane, every 50 m: a straight-ahead
+                                 //   arrow (5 m, shaft 0.25 m wide) and 25 m on the word STOP
+                                 //   (letters 2.5 m long, strokes 0.15 m): white paint of a
+                                 //   lane mark's width running along the road
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

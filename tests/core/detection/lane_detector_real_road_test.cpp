@@ -142,6 +142,18 @@ TEST(LaneDetectorRealRoad, BarrierWithABrightFootBesideTheRoad) {
   }
 }
 
+// Arrows (shaft 0.25 m, 5 m long) and the word STOP (strokes 0.15 m along 2.5 m) in the
+// middle of every lane: paint of a mark's width running along the road, a dash's length,
+// 1.8 m from the lines either side. No lane is that narrow (lane_metrics.hpp), so no line
+// is taken there (GroupingParams::min_separation_mm); the frames put the word or the
+// arrow of the own lane near (3-10 m), mid-range and far.
+TEST(LaneDetectorRealRoad, ArrowsAndWordsInTheLanes) {
+  Config c = colour_highway();
+  c.synth.road_markings = true;
+  c.synth.dashed = DashedLines::none;
+  for (std::uint64_t k : {0u, 5u, 14u, 20u, 27u, 41u, 52u}) expect_every_line_and_nothing_else(c, k, "markings");
+}
+
 TEST(LaneDetectorRealRoad, EverythingAtOnce) {
   Config c = colour_highway();
   c.synth.yellow_left_edge = c.synth.hard_shadows = c.synth.barrier = true;

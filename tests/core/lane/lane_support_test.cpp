@@ -148,9 +148,11 @@ TEST(LaneSupport, PaintHasOneWidthOnTheRoadAMixOfBarsDoesNot) {
   EXPECT_EQ(check_paint_width_spread(std::nan(""), d), SupportProblem::not_paint);
 }
 
-// Marks inside the lane (a paint width from either line) are counted against the lines'
-// own; the lines' marks and marks outside the lane are not clutter.
-TEST(LaneSupport, ALaneFullOfMarksIsNotARoad) {
+// Marks inside the lane (a margin from either line) are measured in road length against
+// the length its lines are seen over; the lines' marks and marks outside the lane are not
+// clutter. An arrow's many marks near the vehicle take few metres; bars spread along the
+// lane take many.
+TEST(LaneSupport, ALaneFullOfMarksAlongItsLengthIsNotARoad) {
   const LinePrior left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
   std::vector<MarkCandidate> marks;
   const auto at = [](int line, double X, double Y) {
@@ -160,21 +162,25 @@ TEST(LaneSupport, ALaneFullOfMarksIsNotARoad) {
     m.Y = Y;
     return m;
   };
-  for (int i = 0; i < 10; ++i) {
-    marks.push_back(at(0, 5000.0 + 1000.0 * i, 1800.0));
-    marks.push_back(at(1, 5000.0 + 1000.0 * i, -1800.0));
-    marks.push_back(at(2, 5000.0 + 1000.0 * i, -5400.0));  // the next lane's line: outside
-    marks.push_back(at(-1, 5000.0 + 1000.0 * i, 3000.0));  // beside the road: outside
+  for (double x = 4000.0; x < 40000.0; x += 500.0) {  // two solid lines over 4..40 m: 18 bins
+    marks.push_back(at(0, x, 1800.0));
+    marks.push_back(at(1, x, -1800.0));
+    marks.push_back(at(2, x, -5400.0));  // the next lane's line: outside
+    marks.push_back(at(-1, x, 3000.0));  // beside the road: outside
   }
   marks.push_back(at(-1, 8000.0, 1600.0));  // within the margin of the left line: not inside
-  for (int i = 0; i < 20; ++i) marks.push_back(at(-1, 6000.0 + 200.0 * i, 0.0));  // an arrow
+  for (double x = 6100.0; x < 11000.0; x += 50.0) marks.push_back(at(-1, x, 0.0));  // an arrow, 5 m: 3 bins
   LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
-  EXPECT_EQ(c.on_lines, 20);
-  EXPECT_EQ(c.inside, 20);
-  EXPECT_EQ(check_clutter(c), SupportProblem::none);  // as many as on the lines: still a road
-  marks.push_back(at(-1, 9000.0, 500.0));
+  EXPECT_EQ(c.line_bins, 18);
+  EXPECT_EQ(c.inside_bins, 3);
+  EXPECT_EQ(check_clutter(c), SupportProblem::none);
+  for (double x = 14000.0; x < 26000.0; x += 2000.0) marks.push_back(at(-1, x + 500.0, -700.0));  // 6 bars more
   c = lane_clutter(marks, left, 0, right, 1, 300.0);
-  EXPECT_EQ(c.inside, 21);
+  EXPECT_EQ(c.inside_bins, 9);
+  EXPECT_EQ(check_clutter(c), SupportProblem::none);  // half the lines' length: still a road
+  marks.push_back(at(-1, 30500.0, 900.0));
+  c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.inside_bins, 10);
   EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
 }
 
