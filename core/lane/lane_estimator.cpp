@@ -203,7 +203,7 @@ const LaneEstimate& LaneEstimator::estimate(const ImageView& image, std::uint64_
   solution_ = nullptr;
   own_left_ = own_right_ = -1;
   support_ = SupportProblem::none;
-  speed_mps_ = vehicle.speed_mps.value_or(config_.ldw.vehicle.speed_kmh / 3.6);
+  speed_mps_ = config_.ldw.vehicle.speed_mps(vehicle.speed_mps);
   estimate_lane(image, gyro);
   run_ldw(t_ns, vehicle);
   return estimate_;
@@ -321,25 +321,28 @@ const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const s
 SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int left, int right, double lane_width_mm,
                                                    double heading_deg, double curvature_per_m) const {
   const std::span<const Pick> picks(picks_.data(), static_cast<std::size_t>(num_picks_));
-  const LineSupport support[2] = {line_support(picks, r.points_mm, left), line_support(picks, r.points_mm, right)};
-  // A line fitted as a parallel of the others took its direction from them: its marks
-  // only say where it is, so it has at most a dash's support, whatever their number
-  // (marks of noise lie along any curve parallel to a line of bars).
-  const auto full_support = [&](int line) {
-    const SupportProblem p = check_line_support(line_support(picks, r.points_mm, line), config_.detection);
-    return p == SupportProblem::none && detection_->lines[detection_line_[line]].parallel
-               ? SupportProblem::too_few_marks
-               : p;
-  };
-  const SupportProblem problem[2] = {full_support(left), full_support(right)};
+  // Each solved line's support, once. A line fitted as a parallel of the others took its
+  // direction from them: its marks only say where it is, so it has at most a dash's
+  // support, whatever their number (marks of noise lie along any curve parallel to a
+  // line of bars).
+  std::array<LineSupport, kMaxLaneLines> each{};
+  std::array<SupportProblem, kMaxLaneLines> full{};
+  int full_lines = 0;
+  for (int j = 0; j < r.num_lines; ++j) {
+    each[j] = line_support(picks, r.points_mm, j);
+    const SupportProblem p = check_line_support(each[j], config_.detection);
+    full[j] =
+        p == SupportProblem::none && detection_->lines[detection_line_[j]].parallel ? SupportProblem::too_few_marks : p;
+    full_lines += full[j] == SupportProblem::none;
+  }
+  const LineSupport support[2] = {each[left], each[right]};
+  const SupportProblem problem[2] = {full[left], full[right]};
   // Both lines need the support of paint along the road, except that one of them may be
   // a single dash (detection takes one only as a parallel of the road's other lines, e.g.
   // a dashed line on a bend) beside a fully supported one, on a road that two fully
   // supported lines establish (one line of bars in noise and a dash beside it made a
   // lane). Its few marks over a metre or two say nothing of how paint narrows with
   // distance: the slope is checked on full lines.
-  int full_lines = 0;
-  for (int j = 0; j < r.num_lines; ++j) full_lines += full_support(j) == SupportProblem::none;
   const bool one_dash_beside_a_line =
       full_lines >= 2 && (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
   for (int k = 0; k < 2; ++k) {

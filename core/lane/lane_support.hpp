@@ -9,6 +9,7 @@
 #include "core/detection/lane_marks.hpp"
 #include "core/detection/line_grouper.hpp"
 #include "core/geometry/types.hpp"
+#include "core/lane/lane_metrics.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "core/solver/solver_options.hpp"
 
@@ -97,10 +98,10 @@ SupportProblem check_line_support(const LineSupport& line, const DetectionConfig
 bool check_dash_support(const LineSupport& line, const DetectionConfig& detection, const GroupingParams& grouping,
                         double lane_width_mm);
 
-// A lane with one side a single dash must be this wide: narrower than lane_metrics'
-// kMinLaneWidthMm..kMaxLaneWidthMm, which admits any lane two full lines make; a dash has
-// too little support of its own to admit the unusual ones (work zones, merges).
-constexpr double kMinDashLaneWidthMm = 2500.0;
+// A lane with one side a single dash must be this wide: narrower at the top than
+// lane_metrics' kMinLaneWidthMm..kMaxLaneWidthMm, which admits any lane two full lines
+// make; a dash has too little support of its own to admit the unusual ones (merges).
+constexpr double kMinDashLaneWidthMm = kMinLaneWidthMm;
 constexpr double kMaxDashLaneWidthMm = 5000.0;
 
 // The slope of log(width px) against log(road distance) over the mark candidates of

@@ -15,7 +15,7 @@ void LdwMonitor::reset() {
 }
 
 const LdwResult& LdwMonitor::step(const LdwFrameInput& in) {
-  const double speed = in.speed_mps.value_or(config_.vehicle.speed_kmh / 3.6);
+  const double speed = config_.vehicle.speed_mps(in.speed_mps);
   const double dt = last_t_s_ ? std::max(0.0, in.t_s - *last_t_s_) : 0.0;
   last_t_s_ = in.t_s;
   const LaneState& lane = filter_.step(dt, {speed, in.yaw_rate_radps}, in.measurement);

@@ -2,6 +2,8 @@
 // distance to line crossing (DLC) of each front wheel, from the filtered lane state.
 #pragma once
 
+#include <optional>
+
 namespace ccdlane::ldw {
 
 // The [vehicle] table. Keep exactly these key names: scenario files and other programs
@@ -11,6 +13,9 @@ struct VehicleConfig {
   double width_mm = 1800.0;                      // between the outer edges of the front wheels
   double front_axle_behind_camera_mm = -1000.0;  // negative: the axle is ahead of the camera
   double camera_left_of_centre_mm = 0.0;         // negative: right of the vehicle's centre line
+
+  // The speed driven: the vehicle's input when there is one, else speed_kmh.
+  double speed_mps(const std::optional<double>& input_mps) const { return input_mps.value_or(speed_kmh / 3.6); }
 
   bool operator==(const VehicleConfig&) const = default;
 };

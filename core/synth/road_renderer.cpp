@@ -124,14 +124,13 @@ bool RoadRenderer::paint_at(double X, double Y) const {
 namespace {
 
 // Road markings in one lane's frame: u along the road from the marking's near end, v
-// across from the lane's centre (+ left), mm. Rectangles [u0, u1] x [v0, v1].
-struct Box {
-  double u0, u1, v0, v1;
-};
+// across from the lane's centre (+ left), mm.
 constexpr double kMarkingPeriodMm = 50000.0;
 constexpr double kWordStartMm = 25000.0;
+constexpr double kLaneStaggerMm = 7000.0;  // each lane's markings this much further on than its left neighbour's
 constexpr double kArrowLengthMm = 5000.0, kArrowShaftMm = 3500.0, kArrowShaftHalfMm = 125.0, kArrowHeadHalfMm = 450.0;
 constexpr double kLetterMm = 2500.0, kLetterWidthMm = 600.0, kStrokeMm = 150.0, kLetterGapMm = 200.0;
+constexpr double kWordHalfMm = 0.5 * (4 * kLetterWidthMm + 3 * kLetterGapMm);  // STOP, across the lane
 
 // The capitals of STOP as strokes in a letter's box (a along the road, 0 near; b across
 // from its left side), in units of the letter's length and width.
@@ -165,9 +164,8 @@ bool marking_paint(double u, double v, double reach) {
   }
   const double a = u - kWordStartMm;
   if (a < -reach || a > kLetterMm + reach) return false;
-  const double word_half = 0.5 * (4 * kLetterWidthMm + 3 * kLetterGapMm);
-  const double b = word_half - v;  // from the word's left side
-  if (b < -reach || b > 2 * word_half + reach) return false;
+  const double b = kWordHalfMm - v;  // from the word's left side
+  if (b < -reach || b > 2 * kWordHalfMm + reach) return false;
   if (reach > 0.0) return true;  // near the word: look closer
   const int i = static_cast<int>(b / (kLetterWidthMm + kLetterGapMm));
   const double in_box = b - i * (kLetterWidthMm + kLetterGapMm);
@@ -177,12 +175,26 @@ bool marking_paint(double u, double v, double reach) {
 
 }  // namespace
 
+template <typename Inside>
+double RoadRenderer::supersampled(const GroundProjector& v, double px, double py, Inside inside) const {
+  const int n = scene_.supersample;
+  int hits = 0, samples = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double sx = 0.0, sy = 0.0;
+      if (!v.ground(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5, sx, sy)) continue;
+      ++samples;
+      hits += inside(sx, sy);
+    }
+  return samples ? static_cast<double>(hits) / samples : 0.0;
+}
+
 bool RoadRenderer::marking_at(double X, double Y, double reach) const {
   const double bend = c_ * X * X;
   for (int j = 0; j + 1 < num_lines_; ++j) {
     const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + bend;
-    if (std::abs(Y - centre) > kArrowHeadHalfMm + 2.0 * kLetterWidthMm + 2.0 * kLetterGapMm + reach) continue;
-    const double u = wrap(X + odometer_ + 7000.0 * j, kMarkingPeriodMm);
+    if (std::abs(Y - centre) > std::max(kArrowHeadHalfMm, kWordHalfMm) + reach) continue;
+    const double u = wrap(X + odometer_ + kLaneStaggerMm * j, kMarkingPeriodMm);
     if (marking_paint(u, Y - centre, reach) || marking_paint(u - kMarkingPeriodMm, Y - centre, reach)) return true;
   }
   return false;
@@ -191,16 +203,7 @@ bool RoadRenderer::marking_at(double X, double Y, double reach) const {
 double RoadRenderer::marking_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
                                       double fpY) const {
   if (!marking_at(X, Y, fpX + fpY)) return 0.0;
-  const int n = scene_.supersample;
-  int hits = 0, samples = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      double sx = 0.0, sy = 0.0;
-      if (!v.ground(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5, sx, sy)) continue;
-      ++samples;
-      hits += marking_at(sx, sy, 0.0);
-    }
-  return samples ? static_cast<double>(hits) / samples : 0.0;
+  return supersampled(v, px, py, [this](double sx, double sy) { return marking_at(sx, sy, 0.0); });
 }
 
 double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
@@ -231,17 +234,7 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
       inside = inside || s < scene_.dash_length_mm;
   }
   if (!edge) return inside ? 1.0 : 0.0;
-  const int n = scene_.supersample;
-  int hits = 0, samples = 0;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      double sx = 0.0, sy = 0.0;
-      if (!v.ground(px + (j + 0.5) / n - 0.5, py + (i + 0.5) / n - 0.5, sx, sy)) continue;
-      ++samples;
-      hits += paint_at(sx, sy);
-    }
-  }
-  return samples ? static_cast<double>(hits) / samples : 0.0;
+  return supersampled(v, px, py, [this](double sx, double sy) { return paint_at(sx, sy); });
 }
 
 Rgb RoadRenderer::tinted(double grey, const Rgb& tint) const {

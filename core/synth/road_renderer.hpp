@@ -50,6 +50,10 @@ class RoadRenderer {
   double marking_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
                           double fpY) const;
   bool marking_at(double X, double Y, double reach) const;
+  // The share of n x n sub-samples of pixel (px, py) on the road for which inside(X, Y)
+  // holds (n = [synth] supersample).
+  template <typename Inside>
+  double supersampled(const GroundProjector& v, double px, double py, Inside inside) const;
   Rgb sky(double qx, double qy, double qz) const;
   bool barrier_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
   double shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const;
