@@ -12,6 +12,8 @@ const char* to_string(Departure d) {
   return "none";
 }
 
+const char* to_string(EstimatorState s) { return s == EstimatorState::tracking ? "tracking" : "searching"; }
+
 const char* to_string(EstimateFailure f) {
   switch (f) {
     case EstimateFailure::none: return "none";

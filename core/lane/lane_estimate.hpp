@@ -27,6 +27,12 @@ enum class EstimateFailure : std::uint8_t {
 };
 const char* to_string(EstimateFailure f);
 
+// Where the estimator stands: searching (no previous frame to go on: the pose comes from
+// the picture's vanishing point, else the mount) or tracking (the previous frame's pose
+// and lines carried over).
+enum class EstimatorState : std::uint8_t { searching, tracking };
+const char* to_string(EstimatorState s);  // "searching", "tracking"
+
 struct EstimatedLine {
   int id = 0;  // stable while the line stays in view
   double y0_mm = 0.0;
@@ -66,6 +72,7 @@ struct LaneEstimate {
   std::int64_t t_ns = 0;    // the frame's timestamp
   bool ok = false;
   EstimateFailure reason = EstimateFailure::none;
+  EstimatorState state = EstimatorState::searching;
   double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0;
   double sigma_psi_deg = kUndetermined, sigma_theta_deg = kUndetermined, sigma_phi_deg = kUndetermined;
   int num_lines = 0;  // ordered left to right as seen from the vehicle (largest y0 first)

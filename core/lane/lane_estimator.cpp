@@ -45,6 +45,8 @@ std::string observability_problem(const LaneEstimatorOptions& options, bool roll
 LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
     : config_(config),
       configured_attitude_(config.nominal_pose.attitude),
+      corrected_attitude_(config.nominal_pose.attitude),
+      vp_finder_(config.camera, config.detection),
       detector_(config.camera, config.detection),
       solver_(config.camera, config.detection.max_picks, kMaxLaneLines),
       picks_(static_cast<std::size_t>(config.detection.max_picks)),
@@ -56,13 +58,61 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
 }
 
 void LaneEstimator::reset() {
+  config_.nominal_pose.attitude = corrected_attitude_;
+  acquisition_ = MountAcquisition{};
   reset_lines();
   ldw_.reset();
 }
 
 void LaneEstimator::set_mount_correction(double psi_deg, double theta_deg) {
-  config_.nominal_pose.attitude.psi = configured_attitude_.psi + deg_to_rad(psi_deg);
-  config_.nominal_pose.attitude.theta = configured_attitude_.theta + deg_to_rad(theta_deg);
+  corrected_attitude_.psi = configured_attitude_.psi + deg_to_rad(psi_deg);
+  corrected_attitude_.theta = configured_attitude_.theta + deg_to_rad(theta_deg);
+  if (!acquisition_.adopted) config_.nominal_pose.attitude = corrected_attitude_;
+}
+
+Attitude LaneEstimator::mount_for(const Attitude& solved) const {
+  // At the start of a run a mount that is clearly off (more than kMountTrustDeg in yaw or
+  // pitch from the configured one) is replaced by the picture's: the first frame's solve,
+  // then the mean of the first second's (acquire_mount).
+  if (acquisition_.done || acquisition_.adopted) return config_.nominal_pose.attitude;
+  const Attitude& mount = corrected_attitude_;
+  if (std::abs(rad_to_deg(solved.psi - mount.psi)) <= kMountTrustDeg &&
+      std::abs(rad_to_deg(solved.theta - mount.theta)) <= kMountTrustDeg)
+    return mount;
+  Attitude a = mount;
+  a.psi = solved.psi;
+  a.theta = solved.theta;
+  return a;
+}
+
+void LaneEstimator::adopt_mount(const Attitude& solved) {
+  const Attitude a = mount_for(solved);
+  if (acquisition_.done || acquisition_.adopted ||
+      (a.psi == corrected_attitude_.psi && a.theta == corrected_attitude_.theta))
+    return;
+  config_.nominal_pose.attitude = a;
+  acquisition_.adopted = true;
+}
+
+void LaneEstimator::acquire_mount(const Attitude& solved) {
+  // Along a lane the vehicle's heading and pitch average out: the mean of the first ok
+  // frames' camera yaw and pitch is the mount (online refinement follows it later, slowly).
+  if (acquisition_.done) return;
+  MountAcquisition& q = acquisition_;
+  ++q.frames;
+  q.psi += solved.psi;
+  q.theta += solved.theta;
+  const double psi = q.psi / q.frames, theta = q.theta / q.frames;
+  const Attitude& mount = corrected_attitude_;
+  if (q.frames >= kMountAcquisitionFrames) {
+    q.done = true;
+    q.adopted = q.adopted || std::abs(rad_to_deg(psi - mount.psi)) > kMountTrustDeg ||
+                std::abs(rad_to_deg(theta - mount.theta)) > kMountTrustDeg;
+  }
+  if (q.adopted) {
+    config_.nominal_pose.attitude.psi = psi;
+    config_.nominal_pose.attitude.theta = theta;
+  }
 }
 
 void LaneEstimator::reset_lines() {
@@ -260,61 +310,127 @@ void LaneEstimator::run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle) {
   out.sigma_roll_deg = rad_to_deg(sd(ldw::kRoll));
 }
 
-const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
-  auto take_detection = [this](const DetectionResult& d) {
-    detection_ = &d;
-    num_lines_ = std::min(d.num_lines, kMaxLaneLines);
-    num_picks_ = 0;
-    for (const Pick& p : d.picks)
-      if (p.line < num_lines_ && num_picks_ < static_cast<int>(picks_.size())) picks_[num_picks_++] = p;
-    const FreeSet& free = config_.solver.free;
-    for (int j = 0; j < num_lines_; ++j) {
-      const LinePrior& fit = d.lines[j].fit;
-      // Fixed slopes and curvatures stay at 0 (the road frame is aligned with the lane).
-      initial_lines_[j] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0,
-                           free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
-      prior_index_[j] = d.lines[j].prior_index;
-      detection_line_[j] = j;
-    }
-  };
-  auto fail = [this](EstimateFailure why) -> const LaneEstimate& {
-    estimate_.ok = false;
-    estimate_.reason = why;
-    miss();
-    return estimate_;
-  };
+void LaneEstimator::take_detection(const DetectionResult& d) {
+  detection_ = &d;
+  num_lines_ = std::min(d.num_lines, kMaxLaneLines);
+  num_picks_ = 0;
+  for (const Pick& p : d.picks)
+    if (p.line < num_lines_ && num_picks_ < static_cast<int>(picks_.size())) picks_[num_picks_++] = p;
+  const FreeSet& free = config_.solver.free;
+  for (int j = 0; j < num_lines_; ++j) {
+    const LinePrior& fit = d.lines[j].fit;
+    // Fixed slopes and curvatures stay at 0 (the road frame is aligned with the lane).
+    initial_lines_[j] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0, free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
+    prior_index_[j] = d.lines[j].prior_index;
+    detection_line_[j] = j;
+  }
+}
 
-  detection_pose_ = guess_pose(gyro);
-  take_detection(
-      detector_.detect(image, detection_pose_, have_last_ ? tracker_.priors() : std::span<const LinePrior>{}));
-  if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
+EstimateFailure LaneEstimator::attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
+  // Detect at detection_pose_, solve; on a cold start look again from where the first
+  // solve put the camera; drop what does not fit and solve again. The solve is left in
+  // solution_; nothing is committed (tracker, last pose) here.
+  const bool cold = !have_last_;
+  take_detection(detector_.detect(image, detection_pose_, cold ? std::span<const LinePrior>{} : tracker_.priors()));
+  if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return EstimateFailure::too_few_marks;
   const SolveResult* r = &solve(detection_pose_, gyro);
-
-  if (!have_last_ && r->converged && !r->rank_deficient) {
-    // Cold start: look again from where the first solve put the camera.
+  if (cold && r->converged && !r->rank_deficient) {
     std::array<LinePrior, kMaxLaneLines> solved{};
     for (int j = 0; j < r->num_lines; ++j) solved[j] = {r->lines[j].y0_mm, r->lines[j].m, r->lines[j].c_per_mm};
     detection_pose_ = r->pose;
     take_detection(detector_.detect(image, detection_pose_, {solved.data(), static_cast<std::size_t>(r->num_lines)}));
     prior_index_.fill(-1);  // those priors were this frame's own, not a previous frame's lines
-    if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
+    if (num_lines_ == 0 || num_picks_ < config_.detection.min_marks) return EstimateFailure::too_few_marks;
     r = &solve(detection_pose_, gyro);
   }
   if (r->converged && drop_outliers(*r)) {
-    if (num_picks_ < config_.detection.min_marks) return fail(EstimateFailure::too_few_marks);
+    if (num_picks_ < config_.detection.min_marks) return EstimateFailure::too_few_marks;
     r = &solve(r->pose, gyro);
   }
-  if (r->status == SolveStatus::too_few_picks) return fail(EstimateFailure::too_few_marks);
+  if (r->status == SolveStatus::too_few_picks) return EstimateFailure::too_few_marks;
   // Parameters the picks do not determine leave the cost flat along them, so the solve may
   // wander there without converging: the reason is then that, not the solver.
-  if (!r->converged) return fail(r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed);
-  if (r->rank_deficient) {
-    fill_estimate(*r);  // what was determined is still shown
+  if (!r->converged) return r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed;
+  return r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none;
+}
+
+int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                std::array<CameraPose, kMaxSearchPoses>& poses) {
+  // Where to start when no previous frame says: the road's vanishing point in the
+  // picture, then the mount, then the mount pitched by steps that detection's tolerance
+  // (about 4 degrees) covers, out to the search's bound. Roll stays the gyro's (or the
+  // mount's); with a gyro its pitch is measured, and the steps are not needed.
+  const CameraPose base = guess_pose(gyro);
+  int n = 0;
+  vanishing_point_ = &vp_finder_.find(image, base);
+  if (vanishing_point_->found)
+    if (const std::optional<Attitude> a =
+            attitude_from_vanishing_point(config_.camera, base, vanishing_point_->x, vanishing_point_->y)) {
+      poses[n] = base;
+      poses[n].attitude.psi = a->psi;
+      if (!gyro) poses[n].attitude.theta = a->theta;
+      ++n;
+    }
+  poses[n++] = base;
+  for (int k = 1; !gyro && n + 1 < kMaxSearchPoses && k * kSearchPitchStepDeg <= kSearchPitchDeg; ++k)
+    for (const double sign : {+1.0, -1.0}) {
+      poses[n] = base;
+      poses[n++].attitude.theta += deg_to_rad(sign * k * kSearchPitchStepDeg);
+    }
+  return n;
+}
+
+bool LaneEstimator::supported_from(const SolveResult& r) {
+  // Whether this solve is a lane, judged as fill_estimate would (side-effect free): the
+  // mount it would be judged against is the one acquisition would take.
+  const Attitude mount = config_.nominal_pose.attitude;
+  config_.nominal_pose.attitude = mount_for(r.pose.attitude);
+  std::array<EstimatedLine, kMaxLaneLines> lines{};
+  std::array<int, kMaxLaneLines> order{};
+  const int n = ordered_lines(r, lines, order);
+  const LaneMetrics m = lane_metrics({lines.data(), static_cast<std::size_t>(n)}, rad_to_deg(r.pose.attitude.psi),
+                                     rad_to_deg(config_.nominal_pose.attitude.psi), config_.detection.departure_mm);
+  const bool ok = m.has_lane && lane_support_problem(r, order[m.left], order[m.right], m.lane_width_mm, m.heading_deg,
+                                                     m.curvature_per_m) == SupportProblem::none;
+  config_.nominal_pose.attitude = mount;
+  return ok;
+}
+
+const LaneEstimate& LaneEstimator::estimate_lane(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
+  vanishing_point_ = nullptr;
+  estimate_.state = have_last_ ? EstimatorState::tracking : EstimatorState::searching;
+  EstimateFailure why = EstimateFailure::none;
+  if (have_last_) {
+    detection_pose_ = guess_pose(gyro);
+    why = attempt(image, gyro);
+  } else {
+    // Searching: the first starting pose whose solve is a supported lane, else the first
+    // pose's outcome (its reason is the frame's).
+    std::array<CameraPose, kMaxSearchPoses> poses{};
+    const int n = search_poses(image, gyro, poses);
+    bool found = false;
+    for (int k = 0; k < n && !found; ++k) {
+      detection_pose_ = poses[k];
+      why = attempt(image, gyro);
+      found = why == EstimateFailure::none && supported_from(*solution_);
+    }
+    if (!found && n > 1) {
+      detection_pose_ = poses[0];
+      why = attempt(image, gyro);
+    }
+    if (found) adopt_mount(solution_->pose.attitude);
+  }
+  if (why != EstimateFailure::none && why != EstimateFailure::rank_deficient) {
     estimate_.ok = false;
-    estimate_.reason = EstimateFailure::rank_deficient;
+    estimate_.reason = why;
+    miss();
     return estimate_;
   }
-  fill_estimate(*r);
+  fill_estimate(*solution_);  // a rank-deficient solve's determined part is still shown
+  if (why == EstimateFailure::rank_deficient) {
+    estimate_.ok = false;
+    estimate_.reason = EstimateFailure::rank_deficient;
+  }
   return estimate_;
 }
 
@@ -380,6 +496,37 @@ SupportProblem LaneEstimator::lane_support_problem(const SolveResult& r, int lef
   return check_motion(speed_mps_, heading_deg, curvature_per_m);
 }
 
+int LaneEstimator::ordered_lines(const SolveResult& r, std::array<EstimatedLine, kMaxLaneLines>& out,
+                                 std::array<int, kMaxLaneLines>& order) const {
+  std::array<int, kMaxLaneLines> marks{};
+  std::array<double, kMaxLaneLines> sum2{};
+  for (int i = 0; i < num_picks_; ++i) {
+    const auto j = static_cast<std::size_t>(picks_[i].line);
+    ++marks[j];
+    sum2[j] += residual_px_[i] * residual_px_[i];
+  }
+  const int n = std::min(r.num_lines, num_lines_);
+  // Left to right: largest y0 first (insertion sort, n <= 4).
+  for (int j = 0; j < n; ++j) order[j] = j;
+  for (int i = 1; i < n; ++i)
+    for (int k = i; k > 0 && r.lines[order[k]].y0_mm > r.lines[order[k - 1]].y0_mm; --k)
+      std::swap(order[k], order[k - 1]);
+  for (int k = 0; k < n; ++k) {
+    const auto j = static_cast<std::size_t>(order[k]);
+    const LaneLine& l = r.lines[j];
+    EstimatedLine& line = out[k];
+    line.y0_mm = l.y0_mm;
+    line.m = l.m;
+    line.c_per_mm = l.c_per_mm;
+    line.marks = marks[j];
+    // More picks, more trust; a line whose picks miss their marks, less.
+    const double line_rms = marks[j] > 0 ? std::sqrt(sum2[j] / marks[j]) : 0.0;
+    line.confidence = marks[j] / (marks[j] + kConfidenceMarks) / (1.0 + line_rms * line_rms);
+    line.sigma_y0_mm = r.sigma.y0_mm[j];
+  }
+  return n;
+}
+
 void LaneEstimator::fill_estimate(const SolveResult& r) {
   LaneEstimate& e = estimate_;
   e.psi_deg = rad_to_deg(r.pose.attitude.psi);
@@ -391,16 +538,9 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   e.rms_px = r.rms_px;
   e.iterations = r.iterations;
 
-  // Per line: its picks, their fit, its id.
-  std::array<int, kMaxLaneLines> marks{};
-  std::array<double, kMaxLaneLines> sum2{};
-  for (int i = 0; i < num_picks_; ++i) {
-    const auto j = static_cast<std::size_t>(picks_[i].line);
-    ++marks[j];
-    sum2[j] += residual_px_[i] * residual_px_[i];
-  }
-  const int n = std::min(r.num_lines, num_lines_);
-  // Ids, then left to right: largest y0 first (insertion sort, n <= 4).
+  // Per line: its picks, their fit, its id; left to right.
+  std::array<int, kMaxLaneLines> order{};
+  const int n = ordered_lines(r, e.lines, order);
   std::array<LinePrior, kMaxLaneLines> solved{};
   for (int j = 0; j < n; ++j) {
     const LaneLine& l = r.lines[j];
@@ -409,26 +549,8 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   std::array<int, kMaxLaneLines> ids{};
   tracker_.update({solved.data(), static_cast<std::size_t>(n)}, {prior_index_.data(), static_cast<std::size_t>(n)},
                   {ids.data(), static_cast<std::size_t>(n)});
-  std::array<int, kMaxLaneLines> order{};
-  for (int j = 0; j < n; ++j) order[j] = j;
-  for (int i = 1; i < n; ++i)
-    for (int k = i; k > 0 && r.lines[order[k]].y0_mm > r.lines[order[k - 1]].y0_mm; --k)
-      std::swap(order[k], order[k - 1]);
   e.num_lines = n;
-  for (int k = 0; k < n; ++k) {
-    const auto j = static_cast<std::size_t>(order[k]);
-    const LaneLine& l = r.lines[j];
-    EstimatedLine& out = e.lines[k];
-    out.id = ids[j];
-    out.y0_mm = l.y0_mm;
-    out.m = l.m;
-    out.c_per_mm = l.c_per_mm;
-    out.marks = marks[j];
-    // More picks, more trust; a line whose picks miss their marks, less.
-    const double line_rms = marks[j] > 0 ? std::sqrt(sum2[j] / marks[j]) : 0.0;
-    out.confidence = marks[j] / (marks[j] + kConfidenceMarks) / (1.0 + line_rms * line_rms);
-    out.sigma_y0_mm = r.sigma.y0_mm[j];
-  }
+  for (int k = 0; k < n; ++k) e.lines[k].id = ids[static_cast<std::size_t>(order[k])];
   last_pose_ = r.pose;
   have_last_ = true;
   misses_ = 0;
@@ -457,6 +579,7 @@ void LaneEstimator::fill_estimate(const SolveResult& r) {
   e.departure = m.departure;
   e.ok = true;
   e.reason = EstimateFailure::none;
+  acquire_mount(r.pose.attitude);
 }
 
 }  // namespace ccdlane

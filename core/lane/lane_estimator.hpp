@@ -12,6 +12,7 @@
 
 #include "core/detection/detection_config.hpp"
 #include "core/detection/lane_detector.hpp"
+#include "core/detection/vanishing_point.hpp"
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/lane/lane_estimate.hpp"
 #include "core/lane/lane_support.hpp"
@@ -84,6 +85,21 @@ class LaneEstimator {
   std::span<const Pick> solved_picks() const { return {picks_.data(), static_cast<std::size_t>(num_picks_)}; }
   const SolveResult* solution() const { return solution_; }  // null when no solve ran
   const CameraPose& detection_pose() const { return detection_pose_; }
+  // The vanishing point the last estimate() looked for (searching), null when it went on
+  // from the previous frame.
+  const VanishingPoint* vanishing_point() const { return vanishing_point_; }
+  // The mount the estimator goes by: the configured one (with the online correction), or
+  // what the road showed when that was more than kMountTrustDeg off.
+  const Attitude& mount() const { return config_.nominal_pose.attitude; }
+  // How far the mount the picture shows may lie from the configured one before the
+  // picture's is taken: a configured mount is a measurement too, within about a degree.
+  static constexpr double kMountTrustDeg = 1.0;
+  // The ok frames whose solved yaw and pitch settle the mount at the start (1 s at 25 fps).
+  static constexpr int kMountAcquisitionFrames = 25;
+  // A search without a previous frame also starts from the mount pitched by these steps,
+  // out to this bound: detection finds lines from a pose within about 4 degrees.
+  static constexpr double kSearchPitchStepDeg = 3.0;
+  static constexpr double kSearchPitchDeg = 9.0;
   const ldw::LdwMonitor& ldw_monitor() const { return ldw_; }
   // Why the last estimate()'s lines were not taken for a lane (reason no_lane) although
   // a line lay on each side the right distance apart; none otherwise.
@@ -94,6 +110,17 @@ class LaneEstimator {
   void run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle);
   void reset_lines();
   CameraPose guess_pose(const std::optional<Gx1Angles>& gyro) const;
+  void take_detection(const DetectionResult& d);
+  EstimateFailure attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro);
+  static constexpr int kMaxSearchPoses = 8;
+  int search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                   std::array<CameraPose, kMaxSearchPoses>& poses);
+  bool supported_from(const SolveResult& r);
+  int ordered_lines(const SolveResult& r, std::array<EstimatedLine, kMaxLaneLines>& out,
+                    std::array<int, kMaxLaneLines>& order) const;
+  Attitude mount_for(const Attitude& solved) const;
+  void adopt_mount(const Attitude& solved);
+  void acquire_mount(const Attitude& solved);
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   bool drop_outliers(const SolveResult& result);
   void fill_estimate(const SolveResult& result);
@@ -103,6 +130,17 @@ class LaneEstimator {
 
   LaneEstimatorOptions config_;
   Attitude configured_attitude_;  // config_.nominal_pose's before any mount correction
+  Attitude corrected_attitude_;   // configured plus the online correction: what reset() returns to
+  // The mount's acquisition at the start of a run: the solved yaw and pitch of its first
+  // ok frames, summed.
+  struct MountAcquisition {
+    int frames = 0;
+    double psi = 0.0, theta = 0.0;
+    bool adopted = false;  // the picture's mount is in use
+    bool done = false;
+  } acquisition_;
+  VanishingPointFinder vp_finder_;
+  const VanishingPoint* vanishing_point_ = nullptr;
   LaneDetector detector_;
   LaneSolver solver_;
   LaneTracker tracker_;

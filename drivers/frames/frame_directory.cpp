@@ -25,7 +25,7 @@ FrameDirectory::FrameDirectory(std::string dir) : dir_(std::move(dir)) {
   paths_.reserve(csv_.rows.size());
   for (const FrameRow& r : csv_.rows) {
     paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);
-    is_png_.push_back(has_png_extension(r.file));
+    codec_.push_back(has_png_extension(r.file) ? Codec::png : has_jpeg_extension(r.file) ? Codec::jpeg : Codec::pgm);
   }
 }
 
@@ -50,9 +50,12 @@ std::optional<double> FrameDirectory::truth(std::size_t i, std::string_view name
 std::optional<PgmHeader> FrameDirectory::probe_first() {
   PgmHeader h;
   for (std::size_t i = 0; i < paths_.size(); ++i) {
-    last_png_ = is_png_[i];
-    if ((last_png_ ? png_reader_.probe(paths_[i].c_str(), h) : reader_.probe(paths_[i].c_str(), h)) == PgmFault::none)
-      return h;
+    last_codec_ = codec_[i];
+    const char* path = paths_[i].c_str();
+    const PgmFault f = last_codec_ == Codec::png    ? png_reader_.probe(path, h)
+                       : last_codec_ == Codec::jpeg ? jpeg_reader_.probe(path, h)
+                                                    : reader_.probe(path, h);
+    if (f == PgmFault::none) return h;
   }
   return std::nullopt;
 }

@@ -1,8 +1,9 @@
 // Reading a frame directory (docs/interfaces.md "Frame directories"): frames.csv indexed once,
-// then each frame (PGM, PPM or PNG, told apart by the file's extension) decoded on demand
+// then each frame (PGM, PPM, PNG or JPEG, told apart by the file's extension) decoded on demand
 // into a caller's fixed buffer.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "drivers/frames/frames_csv.hpp"
+#include "drivers/frames/jpeg.hpp"
 #include "drivers/frames/pgm.hpp"
 #include "drivers/frames/png.hpp"
 
@@ -46,11 +48,19 @@ class FrameDirectory {
   // Decodes row i into `into` (its width, height and format are what frames must be).
   // Allocation-free; on failure error() is "<file path>: <reason>".
   PgmFault read(std::size_t i, const MutableImageView& into, PgmHeader* header = nullptr) {
-    last_png_ = is_png_[i];
-    return last_png_ ? png_reader_.read(paths_[i].c_str(), into, header)
-                     : reader_.read(paths_[i].c_str(), into, header);
+    last_codec_ = codec_[i];
+    switch (last_codec_) {
+      case Codec::png: return png_reader_.read(paths_[i].c_str(), into, header);
+      case Codec::jpeg: return jpeg_reader_.read(paths_[i].c_str(), into, header);
+      case Codec::pgm: break;
+    }
+    return reader_.read(paths_[i].c_str(), into, header);
   }
-  std::string_view error() const { return last_png_ ? png_reader_.error() : reader_.error(); }
+  std::string_view error() const {
+    return last_codec_ == Codec::png    ? png_reader_.error()
+           : last_codec_ == Codec::jpeg ? jpeg_reader_.error()
+                                        : reader_.error();
+  }
 
   // The header of the first frame whose header reads: the directory's frame size and
   // depth when the configuration does not fix them. Empty when no frame has one.
@@ -61,10 +71,13 @@ class FrameDirectory {
   std::string csv_path_;
   FramesCsv csv_;
   std::vector<std::string> paths_;
-  std::vector<bool> is_png_;  // by the file's extension: ".png" is PNG, anything else PGM or PPM
+  // By the file's extension: ".png" is PNG, ".jpg"/".jpeg" JPEG, anything else PGM or PPM.
+  enum class Codec : std::uint8_t { pgm, png, jpeg };
+  std::vector<Codec> codec_;
   PgmReader reader_;
   PngReader png_reader_;
-  bool last_png_ = false;  // which reader's error() is the last one
+  JpegReader jpeg_reader_;
+  Codec last_codec_ = Codec::pgm;  // which reader's error() is the last one
 };
 
 }  // namespace ccdlane

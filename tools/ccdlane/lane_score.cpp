@@ -30,7 +30,58 @@ std::vector<AnnotatedLane> lanes_of_mask(const ImageView& mask) {
   }
   std::vector<AnnotatedLane> out;
   for (auto& [level, lane] : by_level) out.push_back(std::move(lane));
+  mark_ego_lanes(out, mask.width, mask.height);
   return out;
+}
+
+double tusimple_threshold_scale(const AnnotatedLane& lane) {
+  const std::size_t n = lane.points.size();
+  if (n < 2) return 1.0;
+  double sy = 0, sx = 0, syy = 0, sxy = 0;
+  for (const Vec2& p : lane.points) sy += p.y(), sx += p.x(), syy += p.y() * p.y(), sxy += p.x() * p.y();
+  const double var = syy - sy * sy / static_cast<double>(n);
+  if (!(var > 0.0)) return 1.0;
+  const double k = (sxy - sx * sy / static_cast<double>(n)) / var;
+  return 1.0 / std::cos(std::atan(k));
+}
+
+void mark_ego_lanes(std::span<AnnotatedLane> lanes, int width, int height) {
+  const double centre = 0.5 * (width + 1);
+  int left = -1, right = -1;
+  double left_x = -1e300, right_x = 1e300;
+  for (std::size_t k = 0; k < lanes.size(); ++k) {
+    AnnotatedLane& lane = lanes[k];
+    lane.ego = false;
+    if (lane.points.size() < 2) continue;
+    // A straight line through the lowest third of the lane's points (at least two).
+    std::vector<Vec2> pts = lane.points;
+    std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.y() > b.y(); });
+    const std::size_t n = std::max<std::size_t>(2, pts.size() / 3);
+    double sy = 0, sx = 0, syy = 0, sxy = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      sy += pts[i].y(), sx += pts[i].x(), syy += pts[i].y() * pts[i].y(), sxy += pts[i].x() * pts[i].y();
+    const double var = syy - sy * sy / static_cast<double>(n);
+    const double k_slope = var > 0.0 ? (sxy - sx * sy / static_cast<double>(n)) / var : 0.0;
+    const double x_bottom = sx / static_cast<double>(n) + k_slope * (height - sy / static_cast<double>(n));
+    if (x_bottom < centre && x_bottom > left_x) left_x = x_bottom, left = static_cast<int>(k);
+    if (x_bottom >= centre && x_bottom < right_x) right_x = x_bottom, right = static_cast<int>(k);
+  }
+  if (left >= 0) lanes[static_cast<std::size_t>(left)].ego = true;
+  if (right >= 0) lanes[static_cast<std::size_t>(right)].ego = true;
+}
+
+FrameScore& FrameScore::operator+=(const FrameScore& o) {
+  lanes += o.lanes;
+  found += o.found;
+  reported += o.reported;
+  false_lines += o.false_lines;
+  points += o.points;
+  hit_points += o.hit_points;
+  ego_lanes += o.ego_lanes;
+  ego_found += o.ego_found;
+  ego_points += o.ego_points;
+  ego_hit_points += o.ego_hit_points;
+  return *this;
 }
 
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
@@ -38,10 +89,15 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
   FrameScore score;
   score.lanes = static_cast<int>(lanes.size());
-  // Every row some lane covers, with that lane's centre: a line's points are sampled there.
-  std::map<int, std::vector<double>> lane_columns_by_row;
+  // Every row some lane covers, with that lane's centre and threshold: a line's points
+  // are sampled there.
+  struct LanePoint {
+    double x, threshold;
+  };
+  std::map<int, std::vector<LanePoint>> lane_columns_by_row;
   for (const AnnotatedLane& lane : lanes)
-    for (const Vec2& p : lane.points) lane_columns_by_row[static_cast<int>(p.y())].push_back(p.x());
+    for (const Vec2& p : lane.points)
+      lane_columns_by_row[static_cast<int>(p.y())].push_back({p.x(), threshold * lane.threshold_scale});
   // Each line's column on each annotated row (once: the bisection is the cost).
   std::vector<std::map<int, double>> columns(lines.size());
   for (std::size_t k = 0; k < lines.size(); ++k)
@@ -52,26 +108,34 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
 
   for (const AnnotatedLane& lane : lanes) {
     std::size_t best = 0;
+    const double lane_threshold = threshold * lane.threshold_scale;
     for (std::size_t k = 0; k < lines.size(); ++k) {
       std::size_t hits = 0;
       for (const Vec2& p : lane.points) {
         const auto it = columns[k].find(static_cast<int>(p.y()));
-        hits += it != columns[k].end() && std::abs(it->second - p.x()) <= threshold;
+        hits += it != columns[k].end() && std::abs(it->second - p.x()) <= lane_threshold;
       }
       best = std::max(best, hits);
     }
+    const bool found = !lane.points.empty() &&
+                       static_cast<double>(best) >= rules.found_fraction * static_cast<double>(lane.points.size());
     score.points += lane.points.size();
     score.hit_points += best;
-    if (!lane.points.empty() &&
-        static_cast<double>(best) >= rules.found_fraction * static_cast<double>(lane.points.size()))
-      ++score.found;
+    score.found += found;
+    if (lane.ego) {
+      ++score.ego_lanes;
+      score.ego_points += lane.points.size();
+      score.ego_hit_points += best;
+      score.ego_found += found;
+    }
   }
   for (std::size_t k = 0; k < lines.size(); ++k) {
     if (columns[k].empty()) continue;
     std::size_t on_lane = 0;
     for (const auto& [row, x] : columns[k]) {
-      const std::vector<double>& lane_xs = lane_columns_by_row[row];
-      on_lane += std::any_of(lane_xs.begin(), lane_xs.end(), [&](double c) { return std::abs(c - x) <= threshold; });
+      const std::vector<LanePoint>& lane_xs = lane_columns_by_row[row];
+      on_lane += std::any_of(lane_xs.begin(), lane_xs.end(),
+                             [&](const LanePoint& c) { return std::abs(c.x - x) <= c.threshold; });
     }
     ++score.reported;
     if (static_cast<double>(on_lane) < rules.true_fraction * static_cast<double>(columns[k].size()))

@@ -15,12 +15,27 @@ namespace ccdlane::cli {
 // One annotated lane of a frame: its grey level in the mask and, on every row it
 // covers, the centre of its pixels (1-based column, 1-based row).
 struct AnnotatedLane {
-  int level = 0;
+  int level = 0;  // the mask's grey level, or the label's index
   std::vector<Vec2> points;
+  // TuSimple's threshold for this lane, 1 / cos of its angle to the picture's vertical
+  // (a slanted lane's points are farther apart along a row): the rules' threshold is
+  // multiplied by it. 1 for masks, whose lanes are scored on rows as they are.
+  double threshold_scale = 1.0;
+  bool ego = false;  // one of the own lane's two lines (mark_ego_lanes)
 };
 
-// The lanes of an 8-bit grey mask: each grey level other than 0 is one lane.
+// The lanes of an 8-bit grey mask: each grey level other than 0 is one lane. Ego lanes
+// are marked.
 std::vector<AnnotatedLane> lanes_of_mask(const ImageView& mask);
+
+// 1 / cos of the lane's angle to the vertical, from a least-squares line x = a + k y
+// through its points (TuSimple's get_angle): 1 for fewer than two points.
+double tusimple_threshold_scale(const AnnotatedLane& lane);
+
+// Marks the own lane's two lines: where each lane's lowest points, extended by a
+// straight line to the picture's bottom row, cross it, the nearest left and the nearest
+// right of the picture's centre column (the vehicle's lane, as lane benchmarks take it).
+void mark_ego_lanes(std::span<AnnotatedLane> lanes, int width, int height);
 
 struct ScoreRules {
   double threshold_px = 20.0;    // at 1280 pixels wide; scaled by width / 1280
@@ -38,10 +53,15 @@ struct FrameScore {
   int reported = 0;                        // lines reported (in the picture on annotated rows)
   int false_lines = 0;                     // of them, on no lane
   std::size_t points = 0, hit_points = 0;  // annotated lane points, and those hit
+  int ego_lanes = 0, ego_found = 0;        // the same for the own lane's two lines
+  std::size_t ego_points = 0, ego_hit_points = 0;
+
+  FrameScore& operator+=(const FrameScore& o);
 };
 
 // Scores the lines reported at `camera`'s pose against the lanes of a mask `width` wide.
-// A lane point is hit by a line passing within the threshold on its row; a lane counts
+// A lane point is hit by a line passing within the threshold (times the lane's
+// threshold_scale) on its row; a lane counts
 // the hits of the line that hits most of its points, and is found with found_fraction
 // of them. A line's points are its columns on every row where some lane has a point
 // (and the line is in the picture); it is false when fewer than true_fraction of them

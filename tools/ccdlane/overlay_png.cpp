@@ -69,6 +69,20 @@ void Overlay::line(double x0, double y0, double x1, double y1, const std::array<
   }
 }
 
+void Overlay::draw_vanishing_point(const VanishingPoint& vp) {
+  // The region searched as a dim frame; the point (when found) as a cross with the
+  // horizon through it.
+  constexpr std::array<std::uint8_t, 3> kRegion{0, 110, 110}, kPoint{255, 0, 255};
+  line(vp.x_lo - 1.0, vp.y_lo - 1.0, vp.x_hi - 1.0, vp.y_lo - 1.0, kRegion);
+  line(vp.x_lo - 1.0, vp.y_hi - 1.0, vp.x_hi - 1.0, vp.y_hi - 1.0, kRegion);
+  line(vp.x_lo - 1.0, vp.y_lo - 1.0, vp.x_lo - 1.0, vp.y_hi - 1.0, kRegion);
+  line(vp.x_hi - 1.0, vp.y_lo - 1.0, vp.x_hi - 1.0, vp.y_hi - 1.0, kRegion);
+  if (!vp.found) return;
+  line(0.0, vp.y - 1.0, width_ - 1.0, vp.y - 1.0, kRegion);
+  line(vp.x - 13.0, vp.y - 1.0, vp.x + 11.0, vp.y - 1.0, kPoint);
+  line(vp.x - 1.0, vp.y - 13.0, vp.x - 1.0, vp.y + 11.0, kPoint);
+}
+
 void Overlay::draw_marks(std::span<const MarkCandidate> marks) {
   for (const MarkCandidate& m : marks) {
     // 1-based pixel centres to 0-based buffer positions.

@@ -10,6 +10,7 @@
 
 #include "base/image_view.hpp"
 #include "core/detection/lane_marks.hpp"
+#include "core/detection/vanishing_point.hpp"
 #include "core/geometry/camera_model.hpp"
 
 namespace ccdlane::cli {
@@ -26,6 +27,11 @@ class Overlay {
   void draw_picks(std::span<const Pick> picks);
   // A road line y = y0 + m x + c x^2 from near_mm to far_mm, projected through `camera`.
   void draw_road_line(const CameraModel& camera, const LinePrior& line, double near_mm, double far_mm, int colour);
+
+  // The region the vanishing point was searched in, and the point with the horizon
+  // through it when one was found (ideal pixels, drawn as they are: near the picture's
+  // centre distortion moves them by less than a pixel).
+  void draw_vanishing_point(const VanishingPoint& vp);
 
   // Writes a PNG (drivers/frames/png.hpp). Throws std::runtime_error naming the file on failure; the file
   // is written under a temporary name and renamed, so it is whole or absent.

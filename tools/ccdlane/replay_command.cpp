@@ -31,11 +31,13 @@ struct ReplayArgs {
   std::string out;
   std::string overlay;
   bool sigmas = false;
+  bool stills = false;
 };
 
 void draw_overlay(const std::string& path, const ImageView& frame, const LaneEstimator& estimator,
                   const Config& config) {
   Overlay o(frame);
+  if (const VanishingPoint* vp = estimator.vanishing_point()) o.draw_vanishing_point(*vp);
   const DetectionResult& d = estimator.detection();
   o.draw_marks(d.marks);
   if (const SolveResult* s = estimator.solution(); s && s->converged) {
@@ -84,6 +86,9 @@ CommandAction setup_replay(CLI::App& sub) {
                  "write here, per frame, a PNG with the marks, picks and fitted lines (NNNNNN.png) and one of the "
                  "lane-paint measure detection scanned (NNNNNN-paint.png)");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
+  sub.add_flag("--stills", a->stills,
+               "each frame on its own: no pose, line, mount or filter state carried from one frame to the next "
+               "(benchmark pictures: stills of unrelated clips)");
   sub.footer(
       "Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
       "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
@@ -162,6 +167,7 @@ CommandAction setup_replay(CLI::App& sub) {
         check_written(out, out_name);
         return;
       }
+      if (a->stills) estimator.reset();
       const auto t0 = std::chrono::steady_clock::now();
       LaneEstimate e = estimator.estimate(*image, index, t_ns, gyro, vehicle);
       const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

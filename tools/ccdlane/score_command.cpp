@@ -15,6 +15,7 @@
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_score.hpp"
+#include "tools/ccdlane/tusimple_labels.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -35,21 +36,97 @@ std::string stem_of(const std::string& file) {
 double ratio(double a, double b) { return b > 0.0 ? a / b : std::nan(""); }
 
 Json score_json(const FrameScore& s) {
-  return Json{{"lanes", s.lanes},
-              {"found", s.found},
-              {"reported_lines", s.reported},
-              {"false_lines", s.false_lines},
-              {"points", s.points},
-              {"hit_points", s.hit_points},
-              {"accuracy", json_number(ratio(static_cast<double>(s.hit_points), static_cast<double>(s.points)))}};
+  return Json{
+      {"lanes", s.lanes},
+      {"found", s.found},
+      {"reported_lines", s.reported},
+      {"false_lines", s.false_lines},
+      {"points", s.points},
+      {"hit_points", s.hit_points},
+      {"accuracy", json_number(ratio(static_cast<double>(s.hit_points), static_cast<double>(s.points)))},
+      {"ego_lanes", s.ego_lanes},
+      {"ego_found", s.ego_found},
+      {"ego_accuracy", json_number(ratio(static_cast<double>(s.ego_hit_points), static_cast<double>(s.ego_points)))}};
 }
 
 std::string score_text(const FrameScore& s) {
-  char text[160];
-  std::snprintf(text, sizeof text, "lanes %d/%d found, %d false line%s of %d, accuracy %.3f (%zu/%zu points)", s.found,
-                s.lanes, s.false_lines, s.false_lines == 1 ? "" : "s", s.reported,
-                ratio(static_cast<double>(s.hit_points), static_cast<double>(s.points)), s.hit_points, s.points);
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "lanes %d/%d found, %d false line%s of %d, accuracy %.3f (%zu/%zu points); ego lanes %d/%d, "
+                "accuracy %.3f",
+                s.found, s.lanes, s.false_lines, s.false_lines == 1 ? "" : "s", s.reported,
+                ratio(static_cast<double>(s.hit_points), static_cast<double>(s.points)), s.hit_points, s.points,
+                s.ego_found, s.ego_lanes,
+                ratio(static_cast<double>(s.ego_hit_points), static_cast<double>(s.ego_points)));
   return text;
+}
+
+// Where the lanes of each frame come from: a directory of PNG masks (or CULane
+// .lines.txt files) named as the frames, or one TuSimple label file.
+class Annotations {
+ public:
+  Annotations(const std::string& path, const Config& config)
+      : path_(path), width_(config.camera.Nu), height_(config.camera.Nv) {
+    if (std::filesystem::is_directory(path)) return;
+    if (!std::filesystem::is_regular_file(path))
+      throw UsageError(path + ": neither a directory of lane masks nor a TuSimple label file");
+    labels_ = read_tusimple_labels(path, width_, height_);
+    tusimple_ = true;
+  }
+
+  // The lanes of the frame stored in `file` (as frames.csv names it); empty when it has
+  // no annotation.
+  std::optional<std::vector<AnnotatedLane>> lanes_of(const std::string& file) const {
+    if (tusimple_) {
+      for (const LabelledPicture& p : labels_)
+        for (const std::string& image : p.images)
+          if (same_picture(file, image)) return p.lanes;
+      return std::nullopt;
+    }
+    const std::string mask_path = path_ + "/" + stem_of(file) + ".png";
+    if (std::filesystem::exists(mask_path)) return read_mask(mask_path);
+    const std::string culane_path = path_ + "/" + stem_of(file) + ".lines.txt";
+    if (std::filesystem::exists(culane_path)) return read_culane_lines(culane_path, width_, height_);
+    return std::nullopt;
+  }
+
+  const char* looked_for() const {
+    return tusimple_ ? "a label whose path ends as the frame's file" : "<frame name>.png or <frame name>.lines.txt";
+  }
+
+ private:
+  std::vector<AnnotatedLane> read_mask(const std::string& mask_path) const {
+    OwnedPicture mask;
+    try {
+      mask = read_png_picture(mask_path);
+    } catch (const std::runtime_error& failure) {
+      throw UsageError(failure.what());
+    }
+    if (mask.format != PixelFormat::mono8)
+      throw UsageError(mask_path + ": a lane mask is an 8-bit grey PNG (one grey level per lane), this one is colour");
+    if (mask.width != width_ || mask.height != height_)
+      throw UsageError(mask_path + ": " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
+                       ", the camera is " + std::to_string(width_) + "x" + std::to_string(height_));
+    return lanes_of_mask(mask.view());
+  }
+
+  std::string path_;
+  int width_, height_;
+  bool tusimple_ = false;
+  std::vector<LabelledPicture> labels_;
+};
+
+// The lines replay reported for one frame, and the pose they were solved at.
+FrameScore score_replayed_frame(const Json& e, const std::vector<AnnotatedLane>& lanes, const Config& config) {
+  std::vector<LinePrior> reported;
+  CameraPose pose = config.nominal_pose();
+  if (e.value("psi_deg", Json()).is_number()) {
+    pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
+                     deg_to_rad(e["phi_deg"].get<double>())};
+    for (const Json& l : e.value("lines", Json::array()))
+      reported.push_back({l["y0_mm"].get<double>(), l["m"].get<double>(), l["c_per_mm"].get<double>()});
+  }
+  return score_frame(lanes, config.camera.Nu, CameraModel(config.camera, pose), reported, ScoreRules{});
 }
 
 }  // namespace
@@ -61,14 +138,17 @@ CommandAction setup_score(CLI::App& sub) {
   sub.add_option("frames", a->frames, "the frame directory replayed (frames.csv names each frame's file)")->required();
   sub.add_option("replay", a->replay, "replay's JSON Lines for it (ccdlane replay --out)")->required();
   sub.add_option("annotations", a->annotations,
-                 "directory of lane masks: one 8-bit grey PNG per frame, named as the frame with .png, each lane "
-                 "its own grey level, 0 = no lane")
+                 "the lanes: a directory of lane masks (one 8-bit grey PNG per frame, named as the frame with .png, "
+                 "each lane its own grey level, 0 = no lane) or of CULane labels (<frame name>.lines.txt), or a "
+                 "TuSimple label file (JSON Lines: h_samples, lanes, raw_file or image)")
       ->required();
   sub.add_flag("--json", a->json, "print one JSON object (per frame and total) instead of text");
   sub.footer(
-      "TuSimple's rules in image space: a lane point (the centre of a lane's pixels on a mask row) is hit when a "
-      "reported line, projected into the picture at the frame's solved attitude, passes within 20 px scaled by "
-      "width/1280 on that row; a lane is found when >= 85 % of its points are hit by one line; a reported line "
+      "TuSimple's rules in image space: a lane point (the centre of a lane's pixels on a mask row, or a labelled "
+      "point) is hit when a reported line, projected into the picture at the frame's solved attitude, passes "
+      "within 20 px scaled by width/1280 on that row (for labelled lanes also divided by the cosine of the lane's "
+      "angle to the vertical, as TuSimple does); a lane is found when >= 85 % of its points are hit by one line; a "
+      "reported line "
       "is false when < 85 % of its points on the annotated rows lie within that distance of a lane. Frames "
       "without a mask are not scored.");
   return [a] {
@@ -83,14 +163,12 @@ CommandAction setup_score(CLI::App& sub) {
     for (std::size_t i = 0; i < dir->size(); ++i) file_of_frame[dir->row(i).index] = dir->row(i).file;
     std::ifstream in(a->replay);
     if (!in) throw UsageError(a->replay + ": cannot read the replay output");
-    if (!std::filesystem::is_directory(a->annotations))
-      throw UsageError(a->annotations + ": not a directory of lane masks");
+    const Annotations annotations(a->annotations, config);
     if (config.solver.free.has(FreeParam::H) || config.solver.free.has(FreeParam::f))
       std::cerr << "ccdlane score: " << a->config
                 << ": H or f is solved per frame, but replay's output has only the attitude: lines are projected "
                    "with the configuration's H_mm and f_mm\n";
 
-    const ScoreRules rules;
     FrameScore total;
     int scored = 0, unannotated = 0;
     Json frames = Json::array();
@@ -105,41 +183,14 @@ CommandAction setup_score(CLI::App& sub) {
       if (file == file_of_frame.end())
         throw UsageError(a->replay + ":" + std::to_string(line_number) + ": frame " + std::to_string(frame) +
                          " is not in " + dir->csv_path());
-      const std::string mask_path = a->annotations + "/" + stem_of(file->second) + ".png";
-      if (!std::filesystem::exists(mask_path)) {
+      const std::optional<std::vector<AnnotatedLane>> lanes = annotations.lanes_of(file->second);
+      if (!lanes) {
         ++unannotated;
         continue;
       }
-      OwnedPicture mask;
-      try {
-        mask = read_png_picture(mask_path);
-      } catch (const std::runtime_error& failure) {
-        throw UsageError(failure.what());
-      }
-      if (mask.format != PixelFormat::mono8)
-        throw UsageError(mask_path +
-                         ": a lane mask is an 8-bit grey PNG (one grey level per lane), this one is colour");
-      if (mask.width != config.camera.Nu || mask.height != config.camera.Nv)
-        throw UsageError(mask_path + ": " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
-                         ", the camera of " + a->config + " is " + std::to_string(config.camera.Nu) + "x" +
-                         std::to_string(config.camera.Nv));
-      const std::vector<AnnotatedLane> lanes = lanes_of_mask(mask.view());
-      std::vector<LinePrior> reported;
-      CameraPose pose = config.nominal_pose();
-      if (e.value("psi_deg", Json()).is_number()) {
-        pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
-                         deg_to_rad(e["phi_deg"].get<double>())};
-        for (const Json& l : e.value("lines", Json::array()))
-          reported.push_back({l["y0_mm"].get<double>(), l["m"].get<double>(), l["c_per_mm"].get<double>()});
-      }
-      const FrameScore s = score_frame(lanes, mask.width, CameraModel(config.camera, pose), reported, rules);
+      const FrameScore s = score_replayed_frame(e, *lanes, config);
       ++scored;
-      total.lanes += s.lanes;
-      total.found += s.found;
-      total.reported += s.reported;
-      total.false_lines += s.false_lines;
-      total.points += s.points;
-      total.hit_points += s.hit_points;
+      total += s;
       if (a->json) {
         Json j{{"frame", frame}, {"file", file->second}};
         j.update(score_json(s));
@@ -150,8 +201,8 @@ CommandAction setup_score(CLI::App& sub) {
     }
     if (scored == 0)
       throw UsageError(a->annotations + ": no mask for any frame of " + a->replay + " (" + std::to_string(unannotated) +
-                       " frames looked for <frame name>.png)");
-    const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, config.camera.Nu);
+                       " frames looked for " + annotations.looked_for() + ")");
+    const double threshold = ScoreRules::threshold_for_width(ScoreRules{}.threshold_px, config.camera.Nu);
     if (a->json) {
       Json t = score_json(total);
       t["frames"] = scored;
