@@ -92,8 +92,8 @@ class LaneEstimator {
   // what the road showed when that was more than kMountTrustDeg off.
   const Attitude& mount() const { return config_.nominal_pose.attitude; }
   // How far the mount the picture shows may lie from the configured one before the
-  // picture's is taken: a configured mount is a measurement too, within about a degree.
-  static constexpr double kMountTrustDeg = 1.0;
+  // picture's is taken: a configured mount is a measurement too, within a degree or two.
+  static constexpr double kMountTrustDeg = 2.0;
   // The ok frames whose solved yaw and pitch settle the mount at the start (1 s at 25 fps).
   static constexpr int kMountAcquisitionFrames = 25;
   // A search without a previous frame also starts from the mount pitched by these steps,
