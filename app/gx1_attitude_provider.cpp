@@ -12,13 +12,17 @@
 namespace ccdlane {
 
 Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, LogSink log, gx1::SessionOptions options)
-    : device_(std::move(device)), log_(std::move(log)), options_(options) {}
+    : device_(std::move(device)), log_(std::move(log)), options_(options) {
+  options_.vehicle_attitude_only = true;  // a vehicle's gyro: a reading it cannot have is a fault
+}
 
 Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, LogSink log, gx1::SessionOptions options)
     : device_("emulated"),
       log_(std::move(log)),
       options_(options),
-      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), log_)) {}
+      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), log_)) {
+  options_.vehicle_attitude_only = true;
+}
 
 Gx1AttitudeProvider::~Gx1AttitudeProvider() { close(); }
 
@@ -170,6 +174,7 @@ GyroCounters Gx1AttitudeProvider::counters() const {
   c.errors = s.bad_checksums + s.unconfirmed + s.hangups;
   c.timeouts = s.stream_timeouts + s.poll_timeouts;
   c.reconnects = s.reopens;
+  c.refused = s.refused;
   return c;
 }
 

@@ -68,6 +68,7 @@ class StatusTicker {
       gyro_->last_problem(gyro_problem, sizeof gyro_problem);
     }
     in.gyro_problem = gyro_problem;
+    if (vehicle_) in.vehicle = vehicle_->counters(monotonic_ns(), kVehicleStateMaxAgeNs);
     in.allocations_since_ready = in.totals.ready ? allocation_counter::count() : 0;
     calibration_.tick(monotonic_ns());
     in.calibration = calibration_.status();
@@ -81,6 +82,8 @@ class StatusTicker {
   }
 
   const status_t& last() const { return report_.message(); }
+  // The vehicle gateway's state and refusals go into status; null: none shown.
+  void watch_vehicle(const VehicleStateListener* vehicle) { vehicle_ = vehicle; }
 
  private:
   Pipeline& pipeline_;
@@ -92,6 +95,7 @@ class StatusTicker {
   LatencyWindow window_;
   std::int64_t start_ns_;
   std::atomic<bool> said_publish_failed_{false};
+  const VehicleStateListener* vehicle_ = nullptr;
 };
 
 // "host:pid": which daemon sent a message, when two share a bus.
@@ -194,6 +198,7 @@ int run_daemon(const Config& config) {
   BusThread bus(publisher->bus().getUnderlyingLCM());
   ServiceHeartbeat heartbeat(notifier);
   StatusTicker status(pipeline, gyro.get(), *calibration, *publisher, notifier, source->describe(), start_ns);
+  status.watch_vehicle(vehicle.get());
   const FramePoolLayout& pool = pipeline.pool().layout();
   log_line(LogLevel::info, "start",
            "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, vehicle state from %s, bus %s, "

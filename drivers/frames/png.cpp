@@ -10,12 +10,14 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <csetjmp>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
+#include "base/temp_file.hpp"
 #include "base/unique_fd.hpp"
 
 namespace ccdlane {
@@ -307,9 +309,10 @@ void write_png(const std::string& path, const ImageView& image, int zlib_level) 
   if (image.empty()) throw std::runtime_error(path + ": cannot write an empty image");
   if (image.format == PixelFormat::mono16)
     throw std::runtime_error(path + ": 16-bit frames are written as PGM, not PNG");
-  const std::string tmp = path + ".tmp";
-  UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
-  if (fd.get() < 0) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
+  char tmp_name[PATH_MAX];
+  UniqueFd fd(create_temp_beside(path.c_str(), tmp_name, sizeof tmp_name));
+  if (fd.get() < 0) throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
+  const std::string tmp = tmp_name;
   WriteTarget target;
   target.fd = fd.get();
   const bool encoded = encode(target, image, std::clamp(zlib_level, 0, 9));

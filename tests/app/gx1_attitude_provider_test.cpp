@@ -1,7 +1,8 @@
 // Gx1AttitudeProvider on the in-process 3DM-GX1 emulator (a real pty): it opens, streams
 // into the history a frame's time is looked up in, says where its newest sample is (what
 // `ccdlane record` waits on), hands its event lines to the given sink, and names the
-// configuration key when the device is not there.
+// configuration key when the device is not there; readings no vehicle can have are
+// refused, counted and make it a faulty gyro.
 // (The session cannot follow an in-process emulator's new pty after a hang-up, there
 // being no link; reconnecting is the session's own tests' business.)
 #include "app/gx1_attitude_provider.hpp"
@@ -116,6 +117,40 @@ TEST(Gx1AttitudeProvider, TheYawRateOfA0x31StreamIsTheVehiclesTurnToTheLeft) {
     ASSERT_TRUE(rate);
     // Counts of 1 / 3855 rad/s (the default gain 8500): two of them make the yaw rate.
     EXPECT_NEAR(*rate, -15.0 * std::numbers::pi / 180.0, 2.0 * 8500.0 / 32768000.0 / std::cos(0.06));
+  }
+}
+
+// A pitch of 170 or a roll of 175 degrees once made every frame fail too_few_marks while
+// the status said "gyro ok": now the gyro is stale, with the cause as its problem.
+TEST(Gx1AttitudeProvider, AnglesNoVehicleCanHaveAreRefusedAndMakeTheGyroStale) {
+  for (const Gx1Angles impossible : {Gx1Angles{0.5, 170.0, 10.0}, Gx1Angles{175.0, -2.0, 10.0}}) {
+    gx1::EmulatorOptions emulator;
+    emulator.attitude = [impossible](double) { return impossible; };
+    Lines lines;
+    Gx1AttitudeProvider provider(std::move(emulator), lines.sink());
+    ASSERT_EQ(provider.open(), "");
+    std::atomic<bool> stop{false};
+    std::thread gyro([&] { provider.run(stop); });
+    for (const std::int64_t give_up = monotonic_ns() + 5'000'000'000;
+         monotonic_ns() < give_up && provider.counters().refused < 20;)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const GyroState state = provider.state();
+    const GyroCounters counters = provider.counters();
+    const bool attitude = provider.attitude_at(monotonic_ns()).has_value();
+    char problem[256];
+    provider.last_problem(problem, sizeof problem);
+    stop.store(true);
+    gyro.join();
+    provider.close();
+    EXPECT_GE(counters.refused, 20u);
+    EXPECT_EQ(counters.samples, 0u) << "none taken";
+    EXPECT_FALSE(attitude);
+    EXPECT_NE(state, GyroState::ok);
+    EXPECT_NE(std::string(problem).find(impossible.pitch_deg > 90 ? "whose pitch" : "whose roll"), std::string::npos)
+        << problem;
+    int refusal_lines = 0;
+    for (const auto& [level, text] : lines.got) refusal_lines += text.find("refused a reading") != std::string::npos;
+    EXPECT_EQ(refusal_lines, 1) << "said once";
   }
 }
 

@@ -172,7 +172,32 @@ TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
   ASSERT_TRUE(exit_status.has_value());
   EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
   const std::string out = test::read_file(dir.file("out"));
-  EXPECT_NE(out.find("| camera streaming, gyro ok, gyro reconnects 3, p99 "), std::string::npos) << out;
+  EXPECT_NE(out.find("| camera streaming, gyro ok, gyro reconnects 3, vehicle none, p99 "), std::string::npos) << out;
+}
+
+// A broken vehicle gateway and gyro: the fault and the refusals by cause, from status.
+TEST(MonitorCommandAlone, TheLiveLineShowsVehicleAndGyroRefusals) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  test::TempDir dir;
+  test::ChildProcess monitor({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
+                             test::ChildOptions{{}, dir.file("out"), dir.file("err"), {}});
+  lcm::LCM bus(kUrl);
+  ASSERT_TRUE(bus.good());
+  status_t status{};
+  status.camera_state = status_t::CAMERA_STREAMING;
+  status.gyro_state = status_t::GYRO_STALE;
+  status.gyro_refused_total = 40;
+  status.vehicle_state = status_t::VEHICLE_FAULT;
+  status.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_SPEED] = 12;
+  status.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_INDICATOR] = 1;
+  publish_for_monitor(bus, status);
+  const auto exit_status = monitor.wait_exit(3000);
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
+  const std::string out = test::read_file(dir.file("out"));
+  EXPECT_NE(out.find(", vehicle fault (refused: speed 12, indicator 1), gyro readings refused 40, p99 "),
+            std::string::npos)
+      << out;
 }
 
 // The online calibration from the status message: in the live line and, with --json, in
