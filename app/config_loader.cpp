@@ -258,18 +258,38 @@ void read_solver(TableReader& r, Config& c) {
   r.integer("max_iterations", c.solver.max_iterations);
   r.string("picks", c.solver.picks);
   r.reject_unknown();
-  require(c.solver.pixel_sigma > 0.0, r, "pixel_sigma", "must be > 0");
+  require(c.solver.pixel_sigma >= 1e-3 && c.solver.pixel_sigma <= 1000.0, r, "pixel_sigma", "must be 0.001 .. 1000 pixels");
   require(c.solver.max_iterations >= 1 && c.solver.max_iterations <= 10000, r, "max_iterations",
           "must be between 1 and 10000");
 }
 
+// The physical range of a prior's mean and sigma: beyond it (a sigma of 1e-300 or 1e300,
+// a mean of 1e300) every solve came out rank deficient instead of the file being refused.
+struct PriorRange {
+  const char* key;
+  std::optional<Prior> SolverPriors::*prior;
+  double min_mean, max_mean, min_sigma, max_sigma;
+};
+
 void read_prior(TableReader& r, Config& c) {
-  r.prior("psi_deg", c.prior.psi_deg);
-  r.prior("theta_deg", c.prior.theta_deg);
-  r.prior("phi_deg", c.prior.phi_deg);
-  r.prior("H_mm", c.prior.H_mm);
-  r.prior("f_mm", c.prior.f_mm);
-  r.prior("lane_width_mm", c.prior.lane_width_mm);
+  static constexpr PriorRange kRanges[] = {
+      {"psi_deg", &SolverPriors::psi_deg, -90.0, 90.0, 1e-3, 90.0},
+      {"theta_deg", &SolverPriors::theta_deg, -90.0, 90.0, 1e-3, 90.0},
+      {"phi_deg", &SolverPriors::phi_deg, -90.0, 90.0, 1e-3, 90.0},
+      {"H_mm", &SolverPriors::H_mm, 1.0, 20000.0, 1e-2, 20000.0},
+      {"f_mm", &SolverPriors::f_mm, 0.1, 1000.0, 1e-4, 1000.0},
+      {"lane_width_mm", &SolverPriors::lane_width_mm, 1000.0, 10000.0, 1e-2, 10000.0}};
+  for (const PriorRange& k : kRanges) {
+    std::optional<Prior>& p = c.prior.*k.prior;
+    r.prior(k.key, p);
+    if (!p) continue;
+    require(p->mean >= k.min_mean && p->mean <= k.max_mean, r, k.key,
+            "mean must be " + format_number(k.min_mean) + " .. " + format_number(k.max_mean) + ", got " +
+                format_number(p->mean));
+    require(p->sigma >= k.min_sigma && p->sigma <= k.max_sigma, r, k.key,
+            "sigma must be " + format_number(k.min_sigma) + " .. " + format_number(k.max_sigma) + ", got " +
+                format_number(p->sigma));
+  }
   r.reject_unknown();
 }
 
@@ -286,7 +306,7 @@ void read_gyro(TableReader& r, Config& c) {
   r.number("sigma_deg", c.gyro.sigma_deg);
   r.string("device", c.gyro.device);
   r.reject_unknown();
-  require(c.gyro.sigma_deg > 0.0, r, "sigma_deg", "must be > 0");
+  require(c.gyro.sigma_deg >= 1e-3 && c.gyro.sigma_deg <= 90.0, r, "sigma_deg", "must be 0.001 .. 90 degrees");
 }
 
 void read_source(TableReader& r, Config& c) {
@@ -304,7 +324,8 @@ void read_source(TableReader& r, Config& c) {
            {{"auto", SourcePixels::automatic}, {"grey", SourcePixels::grey}, {"colour", SourcePixels::colour}});
   r.string("device_format", c.source.device_format);
   r.reject_unknown();
-  require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
+  require(c.source.rate_hz == 0.0 || (c.source.rate_hz >= 0.1 && c.source.rate_hz <= 1000.0), r, "rate_hz",
+          "must be 0 (as recorded) or 0.1 .. 1000");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
           "a \"frames\" source needs path = the frame directory");
 }

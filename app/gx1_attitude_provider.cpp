@@ -47,11 +47,13 @@ std::string Gx1AttitudeProvider::open() {
   if (const int rc = session_->open(); rc < 0) {
     const std::string why = rc == -ECANCELED   ? "start-up interrupted"
                             : rc == -ETIMEDOUT ? "the sensor did not answer"
-                                               : std::strerror(-rc);
+                                               : gx1::serial_open_error(rc);
     const std::string line = "gyro.device: \"" + device_ + "\": " + path + ": " + why;
-    if (emulator_) {
+    // Not a device at all (a file named by mistake): a configuration error, not an
+    // absence to wait out, and the start fails.
+    if (emulator_ || rc == gx1::SerialPort::kNotACharacterDevice) {
       session_.reset();
-      emulator_->stop();
+      if (emulator_) emulator_->stop();
       return line;
     }
     // Kept: run() retries the device, and until it answers the gyro is reported lost.

@@ -26,4 +26,16 @@ int create_temp_beside(const char* path, char* tmp, std::size_t size) {
   return fd;
 }
 
+std::string new_temp_beside(const std::string& path) {
+  std::string tmp(path.size() + 16, '\0');
+  const int fd = create_temp_beside(path.c_str(), tmp.data(), tmp.size());
+  if (fd < 0) {
+    errno = -fd;
+    return "";
+  }
+  ::close(fd);
+  tmp.resize(path.size() + 11);  // ".tmp.XXXXXX"
+  return tmp;
+}
+
 }  // namespace ccdlane

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 namespace ccdlane {
 
@@ -12,5 +13,10 @@ namespace ccdlane {
 // `tmp` (`size` bytes). The fd (close-on-exec), or -errno; -ENAMETOOLONG when the name
 // does not fit. Allocates nothing.
 int create_temp_beside(const char* path, char* tmp, std::size_t size);
+
+// The same for writers that open their temporary by name (a stream, lcm::LogFile): the
+// file is created as above and closed, and its name returned; "" with errno set when it
+// cannot be. The name was new and unguessable, so reopening it follows no one's link.
+std::string new_temp_beside(const std::string& path);
 
 }  // namespace ccdlane

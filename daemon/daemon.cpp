@@ -31,6 +31,8 @@ namespace ccdlane {
 namespace {
 
 constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
+// With the unit's RestartSec=2s: a start attempt every 7 s while the camera is away.
+constexpr std::int64_t kRestartPauseNs = 5'000'000'000;
 
 // Everything the status thread reads once a second, gathered without allocating.
 class StatusTicker {
@@ -98,6 +100,20 @@ class StatusTicker {
   const VehicleStateListener* vehicle_ = nullptr;
 };
 
+// A failed start under systemd: the reason in STATUS= (what `systemctl status` shows
+// while the unit restarts, StartLimitIntervalSec=0 letting it restart for ever), then a
+// pause that spaces the restarts out while a camera stays away. SIGTERM ends the pause.
+// Run by hand (no NOTIFY_SOCKET), it exits at once.
+void pause_before_restart(SystemdNotifier& notifier, SignalWaiter& signals, const char* category, const char* why) {
+  if (!notifier.enabled()) return;
+  char line[400];
+  std::snprintf(line, sizeof line, "failed to start (%s): %.300s; restarting in %d s", category, why,
+                static_cast<int>(kRestartPauseNs / 1'000'000'000));
+  notifier.status(line);
+  for (const std::int64_t until = monotonic_ns() + kRestartPauseNs; monotonic_ns() < until;)
+    if (signals.wait(until - monotonic_ns()) == SignalWaiter::Event::terminate) return;
+}
+
 // "host:pid": which daemon sent a message, when two share a bus.
 std::string instance_name() {
   char host[256] = "";
@@ -149,6 +165,7 @@ int run_daemon(const Config& config) {
     log_line(LogLevel::error, category, "%s", why);
     if (gyro_open) gyro->close();
     if (source_open) source->close();
+    pause_before_restart(notifier, signals, category, why);
     return 1;
   };
   try {

@@ -37,7 +37,8 @@ struct FrameVehicle {
 class FrameDirectoryWriter {
  public:
   // Creates `dir` (and parents) if needed. Refuses a directory that already holds a
-  // frames.csv, so an earlier recording is never overwritten.
+  // frames.csv, so an earlier recording is never overwritten, or any name a recording
+  // writes (frames.csv.tmp, NNNNNN.pgm/.png), so a user's file is never replaced.
   FrameDirectoryWriter(std::string dir, FrameDirectoryLayout layout);
   ~FrameDirectoryWriter();
   FrameDirectoryWriter(const FrameDirectoryWriter&) = delete;

@@ -15,9 +15,11 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <new>
 #include <stdexcept>
 
 #include "base/temp_file.hpp"
+#include "drivers/frames/picture_bounds.hpp"
 #include "base/unique_fd.hpp"
 
 namespace ccdlane {
@@ -336,11 +338,19 @@ OwnedPicture read_png_picture(const std::string& path) {
   PngReader reader;
   PgmHeader header;
   if (reader.probe(path.c_str(), header) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
+  // The header's size, bounded before anything is allocated: a small file may claim a huge picture.
+  if (const std::string why = picture_size_problem(header.width, header.height); !why.empty())
+    throw std::runtime_error(path + ": " + why);
   OwnedPicture out;
   out.width = header.width;
   out.height = header.height;
   out.format = header.format();
-  out.pixels.resize(static_cast<std::size_t>(out.stride()) * static_cast<std::size_t>(out.height));
+  try {
+    out.pixels.resize(static_cast<std::size_t>(out.stride()) * static_cast<std::size_t>(out.height));
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error(path + ": out of memory for its " + std::to_string(out.width) + "x" +
+                             std::to_string(out.height) + " pixels");
+  }
   if (reader.read(path.c_str(), out.mutable_view()) != PgmFault::none)
     throw std::runtime_error(std::string(reader.error()));
   return out;

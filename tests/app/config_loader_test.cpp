@@ -116,6 +116,24 @@ TEST(ConfigLoader, WrongTypes) {
   EXPECT_EQ(error_of("[prior]\nphi_deg = 0.5\n"), "test.toml:2: prior.phi_deg: must be [mean, sigma], two numbers");
 }
 
+// Values that passed --check-config but could not work: sigmas of 1e+-300 and a prior of
+// 1e300 made every frame rank_deficient, rate_hz = 1e-300 ran flat out.
+TEST(ConfigLoader, SigmasPriorsAndRatesOutsidePhysicalRanges) {
+  EXPECT_EQ(error_of("[prior]\nH_mm = [1e300, 20]\n"), "test.toml:2: prior.H_mm: mean must be 1 .. 20000, got 1e+300");
+  EXPECT_EQ(error_of("[prior]\nphi_deg = [0, 1e-300]\n"),
+            "test.toml:2: prior.phi_deg: sigma must be 0.001 .. 90, got 1e-300");
+  EXPECT_EQ(error_of("[prior]\nlane_width_mm = [3600, 1e300]\n"),
+            "test.toml:2: prior.lane_width_mm: sigma must be 0.01 .. 10000, got 1e+300");
+  EXPECT_EQ(error_of("[solver]\npixel_sigma = 1e300\n"),
+            "test.toml:2: solver.pixel_sigma: must be 0.001 .. 1000 pixels");
+  EXPECT_EQ(error_of("[solver]\npixel_sigma = 1e-300\n"),
+            "test.toml:2: solver.pixel_sigma: must be 0.001 .. 1000 pixels");
+  EXPECT_EQ(error_of("[gyro]\nsigma_deg = 1e-300\n"), "test.toml:2: gyro.sigma_deg: must be 0.001 .. 90 degrees");
+  EXPECT_EQ(error_of("[source]\nrate_hz = 1e-300\n"),
+            "test.toml:2: source.rate_hz: must be 0 (as recorded) or 0.1 .. 1000");
+  EXPECT_EQ(error_of("[prior]\nH_mm = [1400, 20]\nphi_deg = [0, 1]\n[source]\nrate_hz = 0\n"), "(no error)");
+}
+
 TEST(ConfigLoader, ImpossibleValues) {
   EXPECT_EQ(error_of("[camera]\nU_mm = -6.4\n"), "test.toml:2: camera.U_mm: must be > 0, got -6.4");
   EXPECT_EQ(error_of("[camera]\nNu = 1\n"), "test.toml:2: camera.Nu: must be at least 2, got 1");

@@ -7,9 +7,13 @@
 // being no link; reconnecting is the session's own tests' business.)
 #include "app/gx1_attitude_provider.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <numbers>
 #include <string>
@@ -165,6 +169,23 @@ TEST(Gx1AttitudeProvider, AMissingDeviceNamesTheKeyAndThePath) {
   char problem[256];
   provider.last_problem(problem, sizeof problem);
   EXPECT_EQ(std::string(problem).rfind("absent: ", 0), 0u) << problem;
+}
+
+// A regular file named as the device: a configuration error (the daemon does not start),
+// not an absence to retry, and nothing written into it.
+TEST(Gx1AttitudeProvider, ARegularFileIsNoDevice) {
+  const std::string file = testing::TempDir() + "/gyro-" + std::to_string(::getpid()) + ".toml";
+  std::FILE* f = std::fopen(file.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fclose(f);
+  Gx1AttitudeProvider provider(file, {});
+  EXPECT_EQ(provider.open(), "gyro.device: \"" + file + "\": " + file +
+                                 ": not a character device (a serial port or a pty): refused");
+  EXPECT_NE(provider.state(), GyroState::lost) << "not retried as an absent device";
+  struct stat st {};
+  ASSERT_EQ(::stat(file.c_str(), &st), 0);
+  EXPECT_EQ(st.st_size, 0) << "nothing written";
+  ::unlink(file.c_str());
 }
 
 }  // namespace

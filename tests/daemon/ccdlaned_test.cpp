@@ -120,6 +120,25 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
   EXPECT_EQ(in, processed + dropped + queued) << log.substr(at);
 }
 
+// A missing camera under systemd: the reason goes to STATUS= and the exit waits out a
+// pause (the unit restarts it for ever, StartLimitIntervalSec=0), which SIGTERM ends.
+TEST(Ccdlaned, AFailedStartUnderSystemdSaysWhyAndPausesBeforeItsRestart) {
+  test::TempDir dir;
+  const std::string config =
+      dir.write("ccdlane.toml", "[source]\nkind = \"v4l2\"\ndevice = \"/dev/video-none\"\n[lcm]\nurl = \"memq://\"\n");
+  Supervised d(dir, config);
+  const std::optional<std::string> status = d.socket.receive(10000);
+  ASSERT_TRUE(status.has_value()) << test::read_file(d.stderr_path);
+  EXPECT_EQ(status->rfind("STATUS=failed to start (camera): ", 0), 0u) << *status;
+  EXPECT_NE(status->find("/dev/video-none"), std::string::npos) << *status;
+  EXPECT_NE(status->find("; restarting in 5 s"), std::string::npos) << *status;
+  EXPECT_FALSE(d.child.wait_exit(500).has_value()) << "pausing before the restart";
+  d.child.signal(SIGTERM);
+  const std::optional<int> exit_status = d.child.wait_exit(1000);
+  ASSERT_TRUE(exit_status.has_value()) << "SIGTERM ends the pause";
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 1);
+}
+
 TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
   test::TempDir dir;
   const std::string config = dir.write("ccdlane.toml", config_text("memq://", 100));
@@ -526,6 +545,48 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
 // publishes, each lane message says the speed and indicator it sent; once it has been
 // silent longer than the maximum age (0.5 s), the configured speed and no indicator.
 // Taking the messages allocates nothing once the daemon is ready.
+// A gateway sending garbage (150 m/s: once taken, with false warnings) makes LDW
+// unavailable with vehicle_fault, not "available" at the configured speed; status counts
+// the refusals by cause and says the vehicle is at fault; the cause is logged once.
+TEST(CcdlanedBus, AGatewaySendingImpossibleStatesIsAVehicleFault) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config = dir.write("ccdlane.toml", config_text(test::kBusUrl, 30));
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  vehicle_state_t garbage{};
+  garbage.speed_mps = 150.0;
+  const auto faulted = [&] {
+    return std::count_if(got.lanes.begin(), got.lanes.end(), [](const lane_estimate_t& m) {
+      return m.ldw_reason == lane_estimate_t::LDW_REASON_VEHICLE_FAULT;
+    });
+  };
+  const auto end = Clock::now() + std::chrono::seconds(20);
+  while ((faulted() < 30 || got.statuses.empty() || got.statuses.back().vehicle_state != status_t::VEHICLE_FAULT) &&
+         Clock::now() < end) {
+    bus.publish("CCDLANE_VEHICLE", &garbage);
+    bus.handleTimeout(50);
+  }
+  child.signal(SIGTERM);
+  const auto exit_status = child.wait_exit(2000);
+  while (bus.handleTimeout(100) > 0) {
+  }
+  ASSERT_TRUE(exit_status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  const std::string log = test::read_file(dir.file("stderr"));
+  EXPECT_GE(faulted(), 30) << log;
+  for (const lane_estimate_t& m : got.lanes) EXPECT_NE(m.speed_mps, 150.0) << "frame " << m.frame;
+  ASSERT_FALSE(got.statuses.empty());
+  const status_t& s = got.statuses.back();
+  EXPECT_EQ(s.vehicle_state, status_t::VEHICLE_FAULT);
+  EXPECT_GT(s.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_SPEED], 0);
+  EXPECT_EQ(s.vehicle_states_total, 0);
+  EXPECT_EQ(count_of(log, "refused a vehicle_state_t for its speed (speed 150 m/s"), 1) << log;
+  EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << "refusing allocates nothing: " << log;
+}
+
 TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
   lcm::LCM bus(test::kBusUrl);
@@ -565,6 +626,8 @@ TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   for (std::size_t i = first_after; i < got.lanes.size(); ++i) {
     EXPECT_DOUBLE_EQ(got.lanes[i].speed_mps, 90.0 / 3.6) << "frame " << got.lanes[i].frame;
     EXPECT_EQ(got.lanes[i].turn_indicator, vehicle_state_t::TURN_INDICATOR_NONE) << "frame " << got.lanes[i].frame;
+    // A gateway that fell silent is a fault: the configured speed is no warning's basis.
+    EXPECT_EQ(got.lanes[i].ldw_reason, lane_estimate_t::LDW_REASON_VEHICLE_FAULT) << "frame " << got.lanes[i].frame;
   }
   const std::string log = test::read_file(dir.file("stderr"));
   EXPECT_NE(log.find("vehicle state from CCDLANE_VEHICLE"), std::string::npos) << log;

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -166,6 +168,17 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
   EXPECT_NE(missing.err.find(dir.file("nothing")), std::string::npos);
   EXPECT_TRUE(missing.out.empty());
 
+  // A regular file is not a device: refused, and not a byte written into it.
+  const std::string toml = dir.write("some.toml", "[camera]\n");
+  const test::ProcessResult file = test::run_process({CCDLANE_TOOL, "gx1", toml, "--count", "1"});
+  EXPECT_EQ(file.exit_status, 2) << file.err;
+  EXPECT_NE(file.err.find("not a character device"), std::string::npos) << file.err;
+  std::ifstream kept(toml);
+  std::string first;
+  std::getline(kept, first);
+  EXPECT_EQ(first, "[camera]");
+  EXPECT_TRUE(kept.peek() == std::char_traits<char>::eof()) << "not a byte more";
+
   const test::ProcessResult rate = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--rate", "0"});
   EXPECT_EQ(rate.exit_status, 2);
   EXPECT_NE(rate.err.find("--rate"), std::string::npos);
@@ -190,15 +203,16 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
 
 TEST(Gx1Commands, ASilentDeviceIsAFailureNotBadInput) {
   test::TempDir dir;
-  // A FIFO is a byte stream that never answers the firmware request.
-  const std::string fifo = dir.file("fifo");
-  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-  const int keep = open(fifo.c_str(), O_RDWR | O_NONBLOCK);  // so the tool's open does not block
-  ASSERT_GE(keep, 0);
-  const test::ProcessResult r = test::run_process({CCDLANE_TOOL, "gx1", fifo, "--count", "1"});
+  // A pty whose other end never answers the firmware request.
+  const int master = posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(grantpt(master), 0);
+  ASSERT_EQ(unlockpt(master), 0);
+  const std::string slave = ptsname(master);
+  const test::ProcessResult r = test::run_process({CCDLANE_TOOL, "gx1", slave, "--count", "1"});
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.err.find("firmware"), std::string::npos) << r.err;
-  close(keep);
+  close(master);
 }
 
 }  // namespace

@@ -66,8 +66,9 @@ int run_gx1(const Gx1Args& args) {
       std::cerr << line << std::endl;
   });
   if (const int rc = session.open(); rc < 0) {
-    const std::string why = "gx1 " + args.device + ": " + std::strerror(-rc);
-    if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR) throw UsageError(why);
+    const std::string why = "gx1 " + args.device + ": " + gx1::serial_open_error(rc);
+    if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR || rc == gx1::SerialPort::kNotACharacterDevice)
+      throw UsageError(why);
     throw std::runtime_error(rc == -ETIMEDOUT ? why + " (no answer to the firmware request)" : why);
   }
   std::cerr << "gx1 " << args.device << ": firmware " << firmware_text(session.firmware()) << " (" << session.firmware()
