@@ -22,6 +22,7 @@
 #include <toml++/toml.h>
 
 #include "base/unique_fd.hpp"
+#include "bus/lcm_url.hpp"
 
 namespace ccdlane {
 namespace {
@@ -336,11 +337,8 @@ void read_lcm(TableReader& r, Config& c) {
   r.boolean("publish_frames", c.lcm.publish_frames);
   r.string("instance", c.lcm.instance);
   r.reject_unknown();
-  const std::string_view url = c.lcm.url;
-  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") || url.starts_with("tcpq://") ||
-                              url.starts_with("file://");
-  require(known_provider, r, "url",
-          "must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
+  const std::string url_problem = lcm_url_problem(c.lcm.url);
+  require(url_problem.empty(), r, "url", url_problem);
   // LCM channel names are at most 63 bytes; leave room for the longest suffix.
   require(c.lcm.prefix.size() <= 48, r, "prefix", "must be at most 48 characters");
   const bool plain = std::all_of(c.lcm.prefix.begin(), c.lcm.prefix.end(), [](unsigned char ch) {
@@ -695,7 +693,14 @@ Config load_config_file(const std::string& path) {
     if (text.size() > kMaxConfigBytes)
       fail("larger than " + std::to_string(kMaxConfigBytes >> 20) + " MB: not a configuration file");
   }
-  return parse_config(text, path);
+  Config c = parse_config(text, path);
+  // A relative [source] path belongs with the file that names it, not with wherever the
+  // program happens to be started (systemd starts it in /).
+  if (!c.source.path.empty() && c.source.path.front() != '/') {
+    const std::string::size_type slash = path.rfind('/');
+    if (slash != std::string::npos) c.source.path = path.substr(0, slash + 1) + c.source.path;
+  }
+  return c;
 }
 
 }  // namespace ccdlane

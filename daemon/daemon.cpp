@@ -19,6 +19,7 @@
 #include "daemon/bus_thread.hpp"
 #include "daemon/frame_processor.hpp"
 #include "daemon/latency_window.hpp"
+#include "daemon/memory_estimate.hpp"
 #include "daemon/online_calibration.hpp"
 #include "daemon/pipeline.hpp"
 #include "daemon/realtime.hpp"
@@ -137,7 +138,10 @@ std::string solver_observability_problem(const Config& c) {
   return why;
 }
 
-std::string daemon_config_problem(const Config& config) { return solver_observability_problem(config); }
+std::string daemon_config_problem(const Config& config) {
+  if (std::string why = solver_observability_problem(config); !why.empty()) return why;
+  return memory_problem(config, available_memory_bytes());
+}
 
 Config demo_config() {
   Config c = default_config();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -211,6 +212,19 @@ std::string load_error(const std::string& path) {
   return "(no error)";
 }
 
+// [source] path was once taken relative to the working directory (systemd's is /).
+TEST(ConfigLoader, ARelativeSourcePathIsTheConfigurationFilesNeighbour) {
+  const std::string dir = testing::TempDir() + "/config-" + std::to_string(::getpid());
+  ::mkdir(dir.c_str(), 0700);
+  const std::string path = dir + "/ccdlane.toml";
+  std::ofstream(path) << "[source]\nkind = \"frames\"\npath = \"rec\"\n";
+  EXPECT_EQ(load_config_file(path).source.path, dir + "/rec");
+  std::ofstream(path) << "[source]\nkind = \"frames\"\npath = \"/data/rec\"\n";
+  EXPECT_EQ(load_config_file(path).source.path, "/data/rec");
+  ::unlink(path.c_str());
+  ::rmdir(dir.c_str());
+}
+
 TEST(ConfigLoader, ADirectoryIsNoConfiguration) {
   EXPECT_EQ(load_error("/etc"), "/etc: is a directory, not a configuration file");
 }
@@ -279,12 +293,16 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
   EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),
             "test.toml:2: lcm.prefix: must be at most 48 characters");
   EXPECT_EQ(error_of("[lcm]\nurl = \"\"\n"),
-            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq:// or file://), e.g. "
             "\"udpm://239.255.76.67:7667?ttl=0\"");
   EXPECT_EQ(error_of("[lcm]\nurl = \"udp://239.255.76.67:7667\"\n"),
-            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq:// or file://), e.g. "
             "\"udpm://239.255.76.67:7667?ttl=0\"");
   EXPECT_EQ(parse_config("[lcm]\nurl = \"memq://\"\n", "m.toml").lcm.url, "memq://");
+  // LCM's tcpq client aborted ccdlaned and monitor 2 s after start without its server.
+  EXPECT_EQ(error_of("[lcm]\nurl = \"tcpq://192.0.2.1:7700\"\n"),
+            "test.toml:2: lcm.url: tcpq:// is not supported (LCM's tcpq client aborts the process when its server is "
+            "unreachable); use udpm://, memq:// or file://");
 }
 
 TEST(ConfigLoader, PublishFramesIsOffUnlessAsked) {

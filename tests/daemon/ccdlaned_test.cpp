@@ -269,6 +269,20 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
 
 // Frames recorded without a gyro, no gyro device, phi and y0 free: refused before anything
 // is opened, by the daemon and by --check-config alike, with the file named.
+// 8192x8192 colour with queue_depth 62 once passed --check-config and died of a bare
+// std::bad_alloc at start: refused at --check-config, here on a 4 GB address space.
+TEST(CcdlanedCommand, AConfigurationNeedingMoreMemoryThanTheMachineIsRefused) {
+  test::TempDir dir;
+  const std::string config = dir.write(
+      "huge.toml",
+      "[camera]\nNu = 8192\nNv = 8192\nUc_mm = 0.0005\nVc_mm = 0.0005\n[source]\nkind = \"v4l2\"\npixel_format = "
+      "\"colour\"\n[daemon]\nqueue_depth = 62\n[prior]\nphi_deg = [0.0, 1.0]\n");
+  const auto r = test::run_process(
+      {"/bin/sh", "-c", "ulimit -v 4194304; exec \"$@\"", "sh", kDaemon, "--check-config", "--config", config});
+  EXPECT_EQ(r.exit_status, 2) << r.err;
+  EXPECT_NE(r.err.find(config + ": needs an estimated 12800 MB at start"), std::string::npos) << r.err;
+}
+
 TEST(CcdlanedCommand, AFrameDirectoryWithoutGyroColumnsIsRefusedWhenTheRollNeedsOne) {
   test::TempDir dir;
   const std::string frames = dir.path() + "/frames";

@@ -183,6 +183,11 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
   EXPECT_EQ(rate.exit_status, 2);
   EXPECT_NE(rate.err.find("--rate"), std::string::npos);
 
+  // --stall-every 1e300 once stalled every 50 ms (an overflow).
+  const test::ProcessResult huge = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--stall-every", "1e300"});
+  EXPECT_EQ(huge.exit_status, 2);
+  EXPECT_NE(huge.err.find("--stall-every: must be a number from 0 to 86400, got 1e300"), std::string::npos) << huge.err;
+
   const test::ProcessResult stall = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--stall-ms", "-5"});
   EXPECT_EQ(stall.exit_status, 2);
   EXPECT_NE(stall.err.find("--stall-ms"), std::string::npos);

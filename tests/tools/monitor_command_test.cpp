@@ -254,6 +254,12 @@ TEST(MonitorCommandAlone, BadUsageIsExitTwo) {
   const auto s = test::run_process({kTool, "monitor", "--seconds", "-1"});
   EXPECT_EQ(s.exit_status, 2);
   EXPECT_EQ(s.err, "ccdlane: --seconds: must be a number greater than 0, got -1 (see ccdlane --help)\n");
+  // LCM's tcpq client once aborted monitor 2 s after start (exit 134) without its server.
+  const auto t = test::run_process({kTool, "monitor", "--lcm", "tcpq://192.0.2.1:7700", "--seconds", "3"});
+  EXPECT_EQ(t.exit_status, 2);
+  EXPECT_EQ(t.err,
+            "ccdlane: --lcm: tcpq:// is not supported (LCM's tcpq client aborts the process when its server is "
+            "unreachable); use udpm://, memq:// or file://\n");
 }
 
 }  // namespace

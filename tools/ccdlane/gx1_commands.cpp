@@ -194,9 +194,12 @@ CommandAction setup_gx1_emulate(CLI::App& sub) {
   sub.add_option("--garbage-every", args->garbage_every, "7 random bytes before every Nth streamed packet");
   sub.add_option("--flip-every", args->flip_every, "flip one bit in every Nth streamed packet");
   sub.add_option("--split-every", args->split_every, "write every Nth streamed packet in pieces");
-  sub.add_option("--stall-every", args->stall_every_s, "go silent every S seconds (for --stall-ms)");
+  // Bounded: 1e300 s once overflowed into "stall every 50 ms". 0: never.
+  sub.add_option("--stall-every", args->stall_every_s, "go silent every S seconds (for --stall-ms)")
+      ->check(number_from_to(0.0, 86400.0));
   sub.add_option("--stall-ms", args->stall_ms, "how long a stall lasts (default 500)");
-  sub.add_option("--hangup-every", args->hangup_every_s, "hang up every S seconds (needs --link)");
+  sub.add_option("--hangup-every", args->hangup_every_s, "hang up every S seconds (needs --link)")
+      ->check(number_from_to(0.0, 86400.0));
   sub.add_option("--hangup-ms", args->hangup_ms, "how long the device stays away (default 1000)");
   sub.add_option("--seed", args->seed, "random seed for the faults");
   sub.footer(

@@ -19,6 +19,7 @@
 #include "app/config.hpp"
 #include "bus/channels.hpp"
 #include "bus/lane_message.hpp"
+#include "bus/lcm_url.hpp"
 #include "bus/status_names.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
@@ -44,7 +45,8 @@ class Monitor {
       : args_(args),
         lanes_channel_(channel_name(args.prefix, Channel::lanes)),
         status_channel_(channel_name(args.prefix, Channel::status)),
-        bus_(args.url) {
+        bus_(lcm_url_problem(args.url).empty() ? args.url : "memq://") {
+    if (const std::string why = lcm_url_problem(args.url); !why.empty()) throw UsageError("--lcm: " + why);
     if (!bus_.good()) throw std::runtime_error("lcm: cannot open the bus \"" + args.url + "\"");
     // Plain functions, not subscribe(&Monitor::on_lane, this): GCC 12's UBSan reports a
     // false "invalid vptr" in LCM's member-function callback.
