@@ -54,6 +54,17 @@ int count_equal(const std::vector<std::string>& v, const std::string& what) {
   return static_cast<int>(std::count(v.begin(), v.end(), what));
 }
 
+// SIGTERM, then the messages the daemon sent until it exited, which must be with status 0
+// within 2 s.
+bool stops_cleanly(test::ChildProcess& child, lcm::LCM& bus) {
+  child.signal(SIGTERM);
+  const auto exit_status = child.wait_exit(2000);
+  while (bus.handleTimeout(100) > 0) {
+  }
+  EXPECT_TRUE(exit_status.has_value()) << "still running 2 s after SIGTERM";
+  return exit_status && WIFEXITED(*exit_status) && WEXITSTATUS(*exit_status) == 0;
+}
+
 // The daemon under a systemd-like supervisor: its notifications land on `socket`.
 struct Supervised {
   Supervised(const test::TempDir& dir, const std::string& config_path, std::optional<uid_t> user = {})
@@ -200,12 +211,7 @@ TEST(CcdlanedBus, PublishesLanesAndStatusOnUdpm) {
   test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
   const auto end = Clock::now() + std::chrono::seconds(15);
   while (got.statuses.size() < 3 && Clock::now() < end) bus.handleTimeout(200);
-  child.signal(SIGTERM);
-  const auto exit_status = child.wait_exit(2000);
-  while (bus.handleTimeout(100) > 0) {
-  }
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  ASSERT_TRUE(stops_cleanly(child, bus));
 
   ASSERT_GE(got.statuses.size(), 3u) << test::read_file(dir.file("stderr"));
   ASSERT_GE(got.lanes.size(), 50u);
@@ -555,10 +561,6 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
   EXPECT_EQ(count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
 }
 
-// A CAN gateway's vehicle_state_t reaches the daemon's lane departure warning: while it
-// publishes, each lane message says the speed and indicator it sent; once it has been
-// silent longer than the maximum age (0.5 s), the configured speed and no indicator.
-// Taking the messages allocates nothing once the daemon is ready.
 // A gateway sending garbage (150 m/s: once taken, with false warnings) makes LDW
 // unavailable with vehicle_fault, not "available" at the configured speed; status counts
 // the refusals by cause and says the vehicle is at fault; the cause is logged once.
@@ -583,12 +585,7 @@ TEST(CcdlanedBus, AGatewaySendingImpossibleStatesIsAVehicleFault) {
     bus.publish("CCDLANE_VEHICLE", &garbage);
     bus.handleTimeout(50);
   }
-  child.signal(SIGTERM);
-  const auto exit_status = child.wait_exit(2000);
-  while (bus.handleTimeout(100) > 0) {
-  }
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  ASSERT_TRUE(stops_cleanly(child, bus));
   const std::string log = test::read_file(dir.file("stderr"));
   EXPECT_GE(faulted(), 30) << log;
   for (const lane_estimate_t& m : got.lanes) EXPECT_NE(m.speed_mps, 150.0) << "frame " << m.frame;
@@ -601,6 +598,10 @@ TEST(CcdlanedBus, AGatewaySendingImpossibleStatesIsAVehicleFault) {
   EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << "refusing allocates nothing: " << log;
 }
 
+// A CAN gateway's vehicle_state_t reaches the daemon's lane departure warning: while it
+// publishes, each lane message says the speed and indicator it sent; once it has been
+// silent longer than the maximum age (0.5 s), the configured speed, no indicator, and LDW
+// unavailable (vehicle_fault). Taking the messages allocates nothing once the daemon is ready.
 TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
   lcm::LCM bus(test::kBusUrl);
@@ -630,12 +631,7 @@ TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   for (const auto end = Clock::now() + std::chrono::seconds(10);
        got.lanes.size() < first_after + 20 && Clock::now() < end;)
     bus.handleTimeout(100);
-  child.signal(SIGTERM);
-  const auto exit_status = child.wait_exit(2000);
-  while (bus.handleTimeout(100) > 0) {
-  }
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  ASSERT_TRUE(stops_cleanly(child, bus));
   ASSERT_GE(got.lanes.size(), first_after + 20);
   for (std::size_t i = first_after; i < got.lanes.size(); ++i) {
     EXPECT_DOUBLE_EQ(got.lanes[i].speed_mps, 90.0 / 3.6) << "frame " << got.lanes[i].frame;

@@ -16,16 +16,9 @@
 #include "drivers/frames/pgm.hpp"
 #include "drivers/frames/picture_bounds.hpp"
 #include "drivers/frames/png.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
-
-#define FUZZ_CHECK(condition)                                      \
-  do {                                                             \
-    if (!(condition)) {                                            \
-      std::fprintf(stderr, "fuzz check failed: %s\n", #condition); \
-      std::abort();                                                \
-    }                                                              \
-  } while (0)
 
 void check_pgm(std::string_view bytes) {
   ccdlane::PgmHeader h;

@@ -7,18 +7,7 @@
 #include <string_view>
 
 #include "tools/ccdlane/replay_line.hpp"
-
-namespace {
-
-#define FUZZ_CHECK(condition)                                      \
-  do {                                                             \
-    if (!(condition)) {                                            \
-      std::fprintf(stderr, "fuzz check failed: %s\n", #condition); \
-      std::abort();                                                \
-    }                                                              \
-  } while (0)
-
-}  // namespace
+#include "tests/fuzz/fuzz_check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   ccdlane::cli::ReplayLine line;
