@@ -259,7 +259,8 @@ void read_solver(TableReader& r, Config& c) {
   r.integer("max_iterations", c.solver.max_iterations);
   r.string("picks", c.solver.picks);
   r.reject_unknown();
-  require(c.solver.pixel_sigma >= 1e-3 && c.solver.pixel_sigma <= 1000.0, r, "pixel_sigma", "must be 0.001 .. 1000 pixels");
+  require(c.solver.pixel_sigma >= 1e-3 && c.solver.pixel_sigma <= 1000.0, r, "pixel_sigma",
+          "must be 0.001 .. 1000 pixels");
   require(c.solver.max_iterations >= 1 && c.solver.max_iterations <= 10000, r, "max_iterations",
           "must be between 1 and 10000");
 }

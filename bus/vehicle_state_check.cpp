@@ -27,7 +27,8 @@ const char* to_string(GatewayState s) {
 std::optional<VehicleRefusal> vehicle_state_refusal(const vehicle_state_t& m) {
   if (!(m.speed_mps >= 0.0 && m.speed_mps <= kMaxVehicleSpeedMps)) return VehicleRefusal::speed;
   if (m.has_yaw_rate && !(std::abs(m.yaw_rate_radps) <= kMaxVehicleYawRateRadps)) return VehicleRefusal::yaw_rate;
-  if (m.turn_indicator < vehicle_state_t::TURN_INDICATOR_NONE || m.turn_indicator > vehicle_state_t::TURN_INDICATOR_BOTH)
+  if (m.turn_indicator < vehicle_state_t::TURN_INDICATOR_NONE ||
+      m.turn_indicator > vehicle_state_t::TURN_INDICATOR_BOTH)
     return VehicleRefusal::indicator;
   return std::nullopt;
 }

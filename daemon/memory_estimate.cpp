@@ -48,14 +48,15 @@ std::string memory_problem(const Config& c, std::uint64_t available_bytes) {
   return "needs an estimated " + mb(need) + " at start (daemon.queue_depth " + std::to_string(c.daemon.queue_depth) +
          " + 2 frames of " + std::to_string(c.camera.Nu) + "x" + std::to_string(c.camera.Nv) + " at " +
          std::to_string(frame_bytes_per_pixel(c)) + " bytes a pixel, and the estimator's workspaces" +
-         (c.source.kind == SourceKind::synth ? ", and the rendered synthetic drive" : "") + "), more than half of the " +
-         mb(available_bytes) + " this machine has; lower queue_depth or the camera's size";
+         (c.source.kind == SourceKind::synth ? ", and the rendered synthetic drive" : "") +
+         "), more than half of the " + mb(available_bytes) +
+         " this machine has; lower queue_depth or the camera's size";
 }
 
 std::uint64_t available_memory_bytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
-  std::uint64_t bytes = pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
-                                              : UINT64_MAX;
+  std::uint64_t bytes =
+      pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : UINT64_MAX;
   rlimit as{};
   if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
     bytes = std::min<std::uint64_t>(bytes, as.rlim_cur);

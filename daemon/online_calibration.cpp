@@ -180,8 +180,7 @@ void OnlineCalibration::save(const LearnedMount& learned) {
   if (path_.empty()) return;
   char text[1024];
   const std::size_t n = format_mount_state(learned, options_, text, sizeof text);
-  const FileWriteError e =
-      n ? write_file_atomically(path_.c_str(), text, n) : FileWriteError{"format", 0};
+  const FileWriteError e = n ? write_file_atomically(path_.c_str(), text, n) : FileWriteError{"format", 0};
   if (e) {
     if (!save_failed_said_)
       log_line(LogLevel::warning, "calibration",

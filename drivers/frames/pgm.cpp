@@ -261,7 +261,8 @@ void write_pgm(const std::string& path, const ImageView& image) {
 
   char tmp_name[PATH_MAX];
   UniqueFd fd(create_temp_beside(path.c_str(), tmp_name, sizeof tmp_name));
-  if (fd.get() < 0) throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
+  if (fd.get() < 0)
+    throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
   const std::string tmp = tmp_name;
   std::size_t done = 0;
   while (done < data.size()) {

@@ -19,8 +19,8 @@
 #include <stdexcept>
 
 #include "base/temp_file.hpp"
-#include "drivers/frames/picture_bounds.hpp"
 #include "base/unique_fd.hpp"
+#include "drivers/frames/picture_bounds.hpp"
 
 namespace ccdlane {
 namespace {
@@ -313,7 +313,8 @@ void write_png(const std::string& path, const ImageView& image, int zlib_level) 
     throw std::runtime_error(path + ": 16-bit frames are written as PGM, not PNG");
   char tmp_name[PATH_MAX];
   UniqueFd fd(create_temp_beside(path.c_str(), tmp_name, sizeof tmp_name));
-  if (fd.get() < 0) throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
+  if (fd.get() < 0)
+    throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
   const std::string tmp = tmp_name;
   WriteTarget target;
   target.fd = fd.get();

@@ -38,7 +38,8 @@ int Gx1Session::open(UniqueFd fd) {
 
 int Gx1Session::configure_opened(int open_result, const char* failure) {
   if (open_result < 0) {
-    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s: %s", device().c_str(), failure, serial_open_error(open_result));
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s: %s", device().c_str(), failure,
+           serial_open_error(open_result));
     set_state(DeviceState::closed);
     return open_result;
   }

@@ -179,8 +179,8 @@ TEST(Gx1AttitudeProvider, ARegularFileIsNoDevice) {
   ASSERT_NE(f, nullptr);
   std::fclose(f);
   Gx1AttitudeProvider provider(file, {});
-  EXPECT_EQ(provider.open(), "gyro.device: \"" + file + "\": " + file +
-                                 ": not a character device (a serial port or a pty): refused");
+  EXPECT_EQ(provider.open(),
+            "gyro.device: \"" + file + "\": " + file + ": not a character device (a serial port or a pty): refused");
   EXPECT_NE(provider.state(), GyroState::lost) << "not retried as an absent device";
   struct stat st {};
   ASSERT_EQ(::stat(file.c_str(), &st), 0);

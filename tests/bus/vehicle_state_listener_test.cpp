@@ -105,7 +105,8 @@ TEST(VehicleStateListener, StatesBeyondPhysicalBoundsAreRefusedByCauseAndLoggedO
   for (const double speed : {70.01, 150.0, 300.0, 1e30, -0.0001, double{NAN}}) EXPECT_FALSE(offer(message(speed, 0)));
   for (const double yaw : {2.01, -1e30, double{NAN}}) EXPECT_FALSE(offer(message(20.0, 0, true, yaw)));
   EXPECT_TRUE(offer(message(20.0, 0, false, 1e30))) << "a yaw rate not reported is not looked at";
-  for (const std::int8_t indicator : {std::int8_t{99}, std::int8_t{-1}, std::int8_t{4}}) EXPECT_FALSE(offer(message(20.0, indicator)));
+  for (const std::int8_t indicator : {std::int8_t{99}, std::int8_t{-1}, std::int8_t{4}})
+    EXPECT_FALSE(offer(message(20.0, indicator)));
   vehicle_state_t other{};
   const auto other_bytes = encode(other);
   std::vector<std::uint8_t> wrong_hash = other_bytes;

@@ -35,8 +35,9 @@ TEST(MemoryEstimate, TheFramePoolAtItsLargestPixel) {
 
 TEST(MemoryEstimate, MoreThanHalfTheMachineIsRefusedWithTheFigures) {
   const std::string why = memory_problem(huge_colour_camera(), 16 * kGiB);
-  EXPECT_EQ(why.rfind("needs an estimated 12800 MB at start (daemon.queue_depth 62 + 2 frames of 8192x8192 at 3 bytes", 0),
-            0u)
+  EXPECT_EQ(
+      why.rfind("needs an estimated 12800 MB at start (daemon.queue_depth 62 + 2 frames of 8192x8192 at 3 bytes", 0),
+      0u)
       << why;
   EXPECT_NE(why.find("more than half of the 16384 MB this machine has; lower queue_depth or the camera's size"),
             std::string::npos)

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "tools/ccdlane/replay_line.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
+#include "tools/ccdlane/replay_line.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   ccdlane::cli::ReplayLine line;

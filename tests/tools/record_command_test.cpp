@@ -325,7 +325,8 @@ TEST(RecordCommand, AUsersDirectoryWithAFrameNameIsRefusedUntouched) {
   dir.write("mine/notes.tmp", "my notes");
   const auto r = test::run_process({kTool, "record", "synth", "--out", mine, "--count", "3"});
   EXPECT_EQ(r.exit_status, 2) << r.err;
-  EXPECT_EQ(r.err, "ccdlane: " + mine + ": already holds 000000.pgm, a name a recording writes; choose another place\n");
+  EXPECT_EQ(r.err,
+            "ccdlane: " + mine + ": already holds 000000.pgm, a name a recording writes; choose another place\n");
   EXPECT_EQ(test::read_file(mine + "/000000.pgm"), "my picture");
   EXPECT_EQ(test::read_file(mine + "/notes.tmp"), "my notes");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(mine), {}), 2);

@@ -549,9 +549,9 @@ TEST(ReplayCommand, OutputsInsideTheInputAreRefused) {
   };
   const std::vector<std::string> before = listing();
   for (const auto& [option, path] : std::vector<std::pair<std::string, std::string>>{{"--overlay", road},
-                                                                                      {"--overlay", road + "/png"},
-                                                                                      {"--overlay", dir.file("link")},
-                                                                                      {"--out", road + "/000000.pgm"}}) {
+                                                                                     {"--overlay", road + "/png"},
+                                                                                     {"--overlay", dir.file("link")},
+                                                                                     {"--out", road + "/000000.pgm"}}) {
     const auto r = test::run_process({kTool, "replay", kReferenceCamera, road, option, path});
     EXPECT_EQ(r.exit_status, 2) << option << " " << path;
     EXPECT_NE(r.err.find("lies inside the input being replayed (" + road + "); choose another " + option),

@@ -67,7 +67,8 @@ int run_gx1(const Gx1Args& args) {
   });
   if (const int rc = session.open(); rc < 0) {
     const std::string why = "gx1 " + args.device + ": " + gx1::serial_open_error(rc);
-    if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR || rc == gx1::SerialPort::kNotACharacterDevice)
+    if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR ||
+        rc == gx1::SerialPort::kNotACharacterDevice)
       throw UsageError(why);
     throw std::runtime_error(rc == -ETIMEDOUT ? why + " (no answer to the firmware request)" : why);
   }
