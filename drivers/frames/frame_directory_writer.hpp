@@ -29,9 +29,9 @@ struct FrameVehicle {
 };
 
 // Each image is written under a temporary name and renamed into place, so an image file
-// is either whole or absent. Rows go to frames.csv.tmp as they come (flushed each frame)
-// and finish() renames it to frames.csv: a directory without frames.csv is an unfinished
-// recording. A writer destroyed without finish() (an error, an exception) removes the
+// is either whole or absent. Rows go to a new frames.csv.tmp.XXXXXX as they come
+// (flushed each frame) and finish() renames it to frames.csv: a directory without
+// frames.csv is an unfinished recording. A writer destroyed without finish() (an error, an exception) removes the
 // files it wrote, and the directory if it created it. Errors throw FrameDirectoryError
 // naming the file and the reason.
 class FrameDirectoryWriter {
