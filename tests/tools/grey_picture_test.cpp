@@ -103,7 +103,7 @@ TEST(GreyPicture, AHugeClaimedSizeIsRefusedBeforeDecoding) {
     jpeg[at] = static_cast<char>(0xEA);
     jpeg[at + 1] = static_cast<char>(0x60);
   }
-  const std::string huge_jpeg = dir.write("huge.jpg", jpeg.substr(0, 2000));
+  const std::string huge_jpeg = dir.write("huge.jpg", jpeg.substr(0, sof + 2000));
   try {
     read_grey_picture(huge_jpeg);
     ADD_FAILURE() << "decoded";

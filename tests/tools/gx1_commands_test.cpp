@@ -170,9 +170,9 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
 
   // A regular file is not a device: refused, and not a byte written into it.
   const std::string toml = dir.write("some.toml", "[camera]\n");
-  const test::ProcessResult file = test::run_process({CCDLANE_TOOL, "gx1", toml, "--count", "1"});
-  EXPECT_EQ(file.exit_status, 2) << file.err;
-  EXPECT_NE(file.err.find("not a character device"), std::string::npos) << file.err;
+  const test::ProcessResult regular = test::run_process({CCDLANE_TOOL, "gx1", toml, "--count", "1"});
+  EXPECT_EQ(regular.exit_status, 2) << regular.err;
+  EXPECT_NE(regular.err.find("not a character device"), std::string::npos) << regular.err;
   std::ifstream kept(toml);
   std::string first;
   std::getline(kept, first);

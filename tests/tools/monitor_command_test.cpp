@@ -167,7 +167,9 @@ std::string live_lines_with(status_t status) {
   publish_for_monitor(bus, status);
   const auto exit_status = monitor.wait_exit(3000);
   EXPECT_TRUE(exit_status.has_value());
-  if (exit_status) EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
+  if (exit_status) {
+    EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
+  }
   return test::read_file(dir.file("out"));
 }
 
