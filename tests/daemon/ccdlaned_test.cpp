@@ -135,8 +135,9 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
 // pause (the unit restarts it for ever, StartLimitIntervalSec=0), which SIGTERM ends.
 TEST(Ccdlaned, AFailedStartUnderSystemdSaysWhyAndPausesBeforeItsRestart) {
   test::TempDir dir;
-  const std::string config =
-      dir.write("ccdlane.toml", "[source]\nkind = \"v4l2\"\ndevice = \"/dev/video-none\"\n[lcm]\nurl = \"memq://\"\n");
+  const std::string config = dir.write("ccdlane.toml",
+                                       "[source]\nkind = \"v4l2\"\ndevice = \"/dev/video-none\"\n[prior]\nphi_deg = "
+                                       "[0.0, 1.0]\n[lcm]\nurl = \"memq://\"\n");
   Supervised d(dir, config);
   std::optional<std::string> status;
   for (const auto end = Clock::now() + std::chrono::seconds(10); Clock::now() < end;)
@@ -281,10 +282,10 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
 // std::bad_alloc at start: refused at --check-config, here on a 4 GB address space.
 TEST(CcdlanedCommand, AConfigurationNeedingMoreMemoryThanTheMachineIsRefused) {
   test::TempDir dir;
-  const std::string config = dir.write(
-      "huge.toml",
-      "[camera]\nNu = 8192\nNv = 8192\nUc_mm = 0.0005\nVc_mm = 0.0005\n[source]\nkind = \"v4l2\"\npixel_format = "
-      "\"colour\"\n[daemon]\nqueue_depth = 62\n[prior]\nphi_deg = [0.0, 1.0]\n");
+  const std::string config = dir.write("huge.toml",
+                                       "[camera]\nNu = 8192\nNv = 8192\nUc_mm = 0.0005\nVc_mm = 0.0005\nk_px2 = "
+                                       "0.0\n[source]\nkind = \"v4l2\"\npixel_format = "
+                                       "\"colour\"\n[daemon]\nqueue_depth = 62\n[prior]\nphi_deg = [0.0, 1.0]\n");
   const auto r = test::run_process(
       {"/bin/sh", "-c", "ulimit -v 4194304; exec \"$@\"", "sh", kDaemon, "--check-config", "--config", config});
   EXPECT_EQ(r.exit_status, 2) << r.err;
