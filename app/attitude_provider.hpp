@@ -18,6 +18,7 @@ struct GyroCounters {
   std::uint64_t errors = 0;      // bad packets, checksum errors
   std::uint64_t timeouts = 0;    // reads that saw nothing in time
   std::uint64_t reconnects = 0;  // device reopened after a loss
+  std::uint64_t refused = 0;     // readings with angles no vehicle can have (not used)
 };
 
 class AttitudeProvider {

@@ -22,6 +22,7 @@
 #include <toml++/toml.h>
 
 #include "base/unique_fd.hpp"
+#include "bus/lcm_url.hpp"
 
 namespace ccdlane {
 namespace {
@@ -258,18 +259,39 @@ void read_solver(TableReader& r, Config& c) {
   r.integer("max_iterations", c.solver.max_iterations);
   r.string("picks", c.solver.picks);
   r.reject_unknown();
-  require(c.solver.pixel_sigma > 0.0, r, "pixel_sigma", "must be > 0");
+  require(c.solver.pixel_sigma >= 1e-3 && c.solver.pixel_sigma <= 1000.0, r, "pixel_sigma",
+          "must be 0.001 .. 1000 pixels");
   require(c.solver.max_iterations >= 1 && c.solver.max_iterations <= 10000, r, "max_iterations",
           "must be between 1 and 10000");
 }
 
+// The physical range of a prior's mean and sigma: beyond it (a sigma of 1e-300 or 1e300,
+// a mean of 1e300) every solve came out rank deficient instead of the file being refused.
+struct PriorRange {
+  const char* key;
+  std::optional<Prior> SolverPriors::*prior;
+  double min_mean, max_mean, min_sigma, max_sigma;
+};
+
 void read_prior(TableReader& r, Config& c) {
-  r.prior("psi_deg", c.prior.psi_deg);
-  r.prior("theta_deg", c.prior.theta_deg);
-  r.prior("phi_deg", c.prior.phi_deg);
-  r.prior("H_mm", c.prior.H_mm);
-  r.prior("f_mm", c.prior.f_mm);
-  r.prior("lane_width_mm", c.prior.lane_width_mm);
+  static constexpr PriorRange kRanges[] = {
+      {"psi_deg", &SolverPriors::psi_deg, -90.0, 90.0, 1e-3, 90.0},
+      {"theta_deg", &SolverPriors::theta_deg, -90.0, 90.0, 1e-3, 90.0},
+      {"phi_deg", &SolverPriors::phi_deg, -90.0, 90.0, 1e-3, 90.0},
+      {"H_mm", &SolverPriors::H_mm, 1.0, 20000.0, 1e-2, 20000.0},
+      {"f_mm", &SolverPriors::f_mm, 0.1, 1000.0, 1e-4, 1000.0},
+      {"lane_width_mm", &SolverPriors::lane_width_mm, 1000.0, 10000.0, 1e-2, 10000.0}};
+  for (const PriorRange& k : kRanges) {
+    std::optional<Prior>& p = c.prior.*k.prior;
+    r.prior(k.key, p);
+    if (!p) continue;
+    require(p->mean >= k.min_mean && p->mean <= k.max_mean, r, k.key,
+            "mean must be " + format_number(k.min_mean) + " .. " + format_number(k.max_mean) + ", got " +
+                format_number(p->mean));
+    require(p->sigma >= k.min_sigma && p->sigma <= k.max_sigma, r, k.key,
+            "sigma must be " + format_number(k.min_sigma) + " .. " + format_number(k.max_sigma) + ", got " +
+                format_number(p->sigma));
+  }
   r.reject_unknown();
 }
 
@@ -286,7 +308,7 @@ void read_gyro(TableReader& r, Config& c) {
   r.number("sigma_deg", c.gyro.sigma_deg);
   r.string("device", c.gyro.device);
   r.reject_unknown();
-  require(c.gyro.sigma_deg > 0.0, r, "sigma_deg", "must be > 0");
+  require(c.gyro.sigma_deg >= 1e-3 && c.gyro.sigma_deg <= 90.0, r, "sigma_deg", "must be 0.001 .. 90 degrees");
 }
 
 void read_source(TableReader& r, Config& c) {
@@ -304,7 +326,8 @@ void read_source(TableReader& r, Config& c) {
            {{"auto", SourcePixels::automatic}, {"grey", SourcePixels::grey}, {"colour", SourcePixels::colour}});
   r.string("device_format", c.source.device_format);
   r.reject_unknown();
-  require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
+  require(c.source.rate_hz == 0.0 || (c.source.rate_hz >= 0.1 && c.source.rate_hz <= 1000.0), r, "rate_hz",
+          "must be 0 (as recorded) or 0.1 .. 1000");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
           "a \"frames\" source needs path = the frame directory");
 }
@@ -315,11 +338,8 @@ void read_lcm(TableReader& r, Config& c) {
   r.boolean("publish_frames", c.lcm.publish_frames);
   r.string("instance", c.lcm.instance);
   r.reject_unknown();
-  const std::string_view url = c.lcm.url;
-  const bool known_provider = url.starts_with("udpm://") || url.starts_with("memq://") || url.starts_with("tcpq://") ||
-                              url.starts_with("file://");
-  require(known_provider, r, "url",
-          "must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. \"udpm://239.255.76.67:7667?ttl=0\"");
+  const std::string url_problem = lcm_url_problem(c.lcm.url);
+  require(url_problem.empty(), r, "url", url_problem);
   // LCM channel names are at most 63 bytes; leave room for the longest suffix.
   require(c.lcm.prefix.size() <= 48, r, "prefix", "must be at most 48 characters");
   const bool plain = std::all_of(c.lcm.prefix.begin(), c.lcm.prefix.end(), [](unsigned char ch) {
@@ -674,7 +694,14 @@ Config load_config_file(const std::string& path) {
     if (text.size() > kMaxConfigBytes)
       fail("larger than " + std::to_string(kMaxConfigBytes >> 20) + " MB: not a configuration file");
   }
-  return parse_config(text, path);
+  Config c = parse_config(text, path);
+  // A relative [source] path belongs with the file that names it, not with wherever the
+  // program happens to be started (systemd starts it in /).
+  if (!c.source.path.empty() && c.source.path.front() != '/') {
+    const std::string::size_type slash = path.rfind('/');
+    if (slash != std::string::npos) c.source.path = path.substr(0, slash + 1) + c.source.path;
+  }
+  return c;
 }
 
 }  // namespace ccdlane

@@ -12,13 +12,17 @@
 namespace ccdlane {
 
 Gx1AttitudeProvider::Gx1AttitudeProvider(std::string device, LogSink log, gx1::SessionOptions options)
-    : device_(std::move(device)), log_(std::move(log)), options_(options) {}
+    : device_(std::move(device)), log_(std::move(log)), options_(options) {
+  options_.vehicle_attitude_only = true;  // a vehicle's gyro: a reading it cannot have is a fault
+}
 
 Gx1AttitudeProvider::Gx1AttitudeProvider(gx1::EmulatorOptions emulator, LogSink log, gx1::SessionOptions options)
     : device_("emulated"),
       log_(std::move(log)),
       options_(options),
-      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), log_)) {}
+      emulator_(std::make_unique<gx1::Gx1Emulator>(std::move(emulator), log_)) {
+  options_.vehicle_attitude_only = true;
+}
 
 Gx1AttitudeProvider::~Gx1AttitudeProvider() { close(); }
 
@@ -43,11 +47,13 @@ std::string Gx1AttitudeProvider::open() {
   if (const int rc = session_->open(); rc < 0) {
     const std::string why = rc == -ECANCELED   ? "start-up interrupted"
                             : rc == -ETIMEDOUT ? "the sensor did not answer"
-                                               : std::strerror(-rc);
+                                               : gx1::serial_open_error(rc);
     const std::string line = "gyro.device: \"" + device_ + "\": " + path + ": " + why;
-    if (emulator_) {
+    // Not a device at all (a file named by mistake): a configuration error, not an
+    // absence to wait out, and the start fails.
+    if (emulator_ || rc == gx1::SerialPort::kNotACharacterDevice) {
       session_.reset();
-      emulator_->stop();
+      if (emulator_) emulator_->stop();
       return line;
     }
     // Kept: run() retries the device, and until it answers the gyro is reported lost.
@@ -170,6 +176,7 @@ GyroCounters Gx1AttitudeProvider::counters() const {
   c.errors = s.bad_checksums + s.unconfirmed + s.hangups;
   c.timeouts = s.stream_timeouts + s.poll_timeouts;
   c.reconnects = s.reopens;
+  c.refused = s.refused;
   return c;
 }
 

@@ -11,6 +11,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "base/temp_file.hpp"
+
 namespace ccdlane {
 namespace {
 
@@ -29,9 +31,11 @@ bool starts_with_lcm_event(const std::string& path) {
 }  // namespace
 
 FrameLogWriter::FrameLogWriter(std::string path, std::string channel)
-    : path_(std::move(path)), tmp_(path_ + ".tmp"), channel_(std::move(channel)) {
+    : path_(std::move(path)), channel_(std::move(channel)) {
   struct stat st {};
-  if (::stat(path_.c_str(), &st) == 0) throw FrameLogError(path_ + ": already exists; choose another name");
+  if (::lstat(path_.c_str(), &st) == 0) throw FrameLogError(path_ + ": already exists; choose another name");
+  tmp_ = new_temp_beside(path_);
+  if (tmp_.empty()) throw FrameLogError(path_ + ": cannot create a temporary beside it: " + std::strerror(errno));
   log_ = std::make_unique<lcm::LogFile>(tmp_, "w");
   if (!log_->good()) {
     const int error = errno;

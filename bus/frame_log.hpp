@@ -28,9 +28,10 @@ class FrameLogError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Writes frame_t events on one channel. The log is written under a temporary name
-// (PATH.tmp) and renamed into place by finish(); a writer destroyed without finish()
-// (an error, an interrupted run) removes it, so a log is either whole or absent.
+// Writes frame_t events on one channel. The log is written under a temporary name (a
+// new PATH.tmp.XXXXXX, base/temp_file.hpp) and renamed into place by finish(); a writer
+// destroyed without finish() (an error, an interrupted run) removes it, so a log is
+// either whole or absent.
 class FrameLogWriter {
  public:
   // Refuses a path that exists, so an earlier recording is never overwritten.

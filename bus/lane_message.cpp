@@ -28,6 +28,7 @@ static_assert(M::LDW_REASON_GYRO_FAULT == static_cast<int>(ldw::Availability::gy
 static_assert(M::LDW_REASON_NOT_CALIBRATED == static_cast<int>(ldw::Availability::not_calibrated));
 static_assert(M::LDW_REASON_NO_LANE == static_cast<int>(ldw::Availability::no_lane));
 static_assert(M::LDW_REASON_TOO_SLOW == static_cast<int>(ldw::Availability::too_slow));
+static_assert(M::LDW_REASON_VEHICLE_FAULT == static_cast<int>(ldw::Availability::vehicle_fault));
 static_assert(M::WARNING_NONE == static_cast<int>(ldw::Side::none));
 static_assert(M::WARNING_LEFT == static_cast<int>(ldw::Side::left));
 static_assert(M::WARNING_RIGHT == static_cast<int>(ldw::Side::right));
@@ -73,7 +74,7 @@ void to_ldw_fields(const LdwEstimate& l, lane_estimate_t& out) {
 LdwEstimate from_ldw_fields(const lane_estimate_t& m) {
   LdwEstimate l;
   l.available = m.ldw_available != 0;
-  l.reason = m.ldw_reason >= M::LDW_REASON_NONE && m.ldw_reason <= M::LDW_REASON_TOO_SLOW
+  l.reason = m.ldw_reason >= M::LDW_REASON_NONE && m.ldw_reason <= M::LDW_REASON_VEHICLE_FAULT
                  ? static_cast<ldw::Availability>(m.ldw_reason)
                  : (l.available ? ldw::Availability::none : ldw::Availability::no_lane);
   l.warning = side_from_code(m.ldw_warning);

@@ -10,5 +10,9 @@ const char* camera_state_name(int code);
 const char* gyro_state_name(int code);
 // status_t::CALIBRATION_* -> "off", "uncalibrated", "calibrating", "calibrated", "out_of_range".
 const char* calibration_state_name(int code);
+// status_t::VEHICLE_* -> "none", "ok", "fault".
+const char* vehicle_state_name(int code);
+// status_t::VEHICLE_REFUSED_* -> "undecodable", "speed", "yaw_rate", "indicator".
+const char* vehicle_refusal_name(int code);
 
 }  // namespace ccdlane

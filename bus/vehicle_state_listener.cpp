@@ -3,7 +3,7 @@
 // std::string per message.
 #include "bus/vehicle_state_listener.hpp"
 
-#include <cmath>
+#include <utility>
 
 #include <ccdlane/vehicle_state_t.hpp>
 
@@ -16,7 +16,8 @@ static_assert(vehicle_state_t::TURN_INDICATOR_LEFT == static_cast<int>(TurnIndic
 static_assert(vehicle_state_t::TURN_INDICATOR_RIGHT == static_cast<int>(TurnIndicator::right));
 static_assert(vehicle_state_t::TURN_INDICATOR_BOTH == static_cast<int>(TurnIndicator::both));
 
-VehicleStateListener::VehicleStateListener(lcm_t* lcm, const std::string& channel) : lcm_(lcm) {
+VehicleStateListener::VehicleStateListener(lcm_t* lcm, const std::string& channel, LogSink log)
+    : lcm_(lcm), channel_(channel), log_(std::move(log)) {
   if (lcm_) subscription_ = lcm_subscribe(lcm_, channel.c_str(), &VehicleStateListener::on_message, this);
 }
 
@@ -30,13 +31,10 @@ void VehicleStateListener::on_message(const lcm_recv_buf_t* rbuf, const char*, v
 
 bool VehicleStateListener::accept(const void* data, int size, std::int64_t received_ns) {
   vehicle_state_t m{};
-  const bool decoded = m.decode(data, 0, size) == size;
-  const bool valid = decoded && std::isfinite(m.speed_mps) && m.speed_mps >= 0.0 &&
-                     (!m.has_yaw_rate || std::isfinite(m.yaw_rate_radps)) &&
-                     m.turn_indicator >= vehicle_state_t::TURN_INDICATOR_NONE &&
-                     m.turn_indicator <= vehicle_state_t::TURN_INDICATOR_BOTH;
-  if (!valid) {
-    rejected_.fetch_add(1, std::memory_order_relaxed);
+  const std::optional<VehicleRefusal> why =
+      m.decode(data, 0, size) == size ? vehicle_state_refusal(m) : VehicleRefusal::undecodable;
+  if (why) {
+    refuse(*why, m, size);
     return false;
   }
   VehicleState s;
@@ -48,6 +46,45 @@ bool VehicleStateListener::accept(const void* data, int size, std::int64_t recei
   store(s);
   received_.fetch_add(1, std::memory_order_relaxed);
   return true;
+}
+
+void VehicleStateListener::refuse(VehicleRefusal why, const vehicle_state_t& m, int size) {
+  const auto i = static_cast<std::size_t>(why);
+  refused_[i].fetch_add(1, std::memory_order_relaxed);
+  if (!first_time(said_[i])) return;  // counted in status_t.vehicle_refused_by_cause
+  if (why == VehicleRefusal::undecodable) {
+    log_to(log_, LogLevel::warning, "vehicle",
+           "%s: refused a message of %d bytes that is no vehicle_state_t (another type, truncated or damaged); "
+           "LDW is unavailable (vehicle_fault) until good states come (said once per cause)",
+           channel_.c_str(), size);
+    return;
+  }
+  log_to(log_, LogLevel::warning, "vehicle",
+         "%s: refused a vehicle_state_t for its %s (speed %g m/s, yaw rate %g rad/s%s, indicator %d; bounds: speed "
+         "0..%g m/s, |yaw rate| <= %g rad/s, indicator 0..3); LDW is unavailable (vehicle_fault) until good states "
+         "come (said once per cause)",
+         channel_.c_str(), to_string(why), m.speed_mps, m.yaw_rate_radps, m.has_yaw_rate ? "" : " (not reported)",
+         int{m.turn_indicator}, kMaxVehicleSpeedMps, kMaxVehicleYawRateRadps);
+}
+
+std::uint64_t VehicleStateListener::rejected() const {
+  std::uint64_t n = 0;
+  for (const auto& c : refused_) n += c.load(std::memory_order_relaxed);
+  return n;
+}
+
+GatewayState VehicleStateListener::gateway(std::int64_t now_ns, std::int64_t max_age_ns) const {
+  const bool heard = received() + rejected() > 0;
+  const std::optional<VehicleState> s = latest();
+  return gateway_state(heard, s ? std::optional<std::int64_t>(s->received_ns) : std::nullopt, now_ns, max_age_ns);
+}
+
+GatewayCounters VehicleStateListener::counters(std::int64_t now_ns, std::int64_t max_age_ns) const {
+  GatewayCounters c;
+  c.state = gateway(now_ns, max_age_ns);
+  c.taken = received();
+  for (std::size_t i = 0; i < c.refused.size(); ++i) c.refused[i] = refused_[i].load(std::memory_order_relaxed);
+  return c;
 }
 
 void VehicleStateListener::store(const VehicleState& s) {
@@ -88,6 +125,12 @@ VehicleInputs vehicle_inputs(const std::optional<VehicleState>& state, std::int6
   in.speed_mps = state->speed_mps;
   in.yaw_rate_radps = state->yaw_rate_radps;
   in.indicator = state->indicator;
+  return in;
+}
+
+VehicleInputs vehicle_inputs(const VehicleStateListener& listener, std::int64_t now_ns, std::int64_t max_age_ns) {
+  VehicleInputs in = vehicle_inputs(listener.latest(), now_ns, max_age_ns);
+  in.vehicle_ok = listener.gateway(now_ns, max_age_ns) != GatewayState::fault;
   return in;
 }
 

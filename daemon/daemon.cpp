@@ -19,6 +19,7 @@
 #include "daemon/bus_thread.hpp"
 #include "daemon/frame_processor.hpp"
 #include "daemon/latency_window.hpp"
+#include "daemon/memory_estimate.hpp"
 #include "daemon/online_calibration.hpp"
 #include "daemon/pipeline.hpp"
 #include "daemon/realtime.hpp"
@@ -31,6 +32,8 @@ namespace ccdlane {
 namespace {
 
 constexpr std::int64_t kStatusPeriodNs = 1'000'000'000;
+// With the unit's RestartSec=2s: a start attempt every 7 s while the camera is away.
+constexpr std::int64_t kRestartPauseNs = 5'000'000'000;
 
 // Everything the status thread reads once a second, gathered without allocating.
 class StatusTicker {
@@ -68,6 +71,7 @@ class StatusTicker {
       gyro_->last_problem(gyro_problem, sizeof gyro_problem);
     }
     in.gyro_problem = gyro_problem;
+    if (vehicle_) in.vehicle = vehicle_->counters(monotonic_ns(), kVehicleStateMaxAgeNs);
     in.allocations_since_ready = in.totals.ready ? allocation_counter::count() : 0;
     calibration_.tick(monotonic_ns());
     in.calibration = calibration_.status();
@@ -81,6 +85,8 @@ class StatusTicker {
   }
 
   const status_t& last() const { return report_.message(); }
+  // The vehicle gateway's state and refusals go into status; null: none shown.
+  void watch_vehicle(const VehicleStateListener* vehicle) { vehicle_ = vehicle; }
 
  private:
   Pipeline& pipeline_;
@@ -92,7 +98,22 @@ class StatusTicker {
   LatencyWindow window_;
   std::int64_t start_ns_;
   std::atomic<bool> said_publish_failed_{false};
+  const VehicleStateListener* vehicle_ = nullptr;
 };
+
+// A failed start under systemd: the reason in STATUS= (what `systemctl status` shows
+// while the unit restarts, StartLimitIntervalSec=0 letting it restart for ever), then a
+// pause that spaces the restarts out while a camera stays away. SIGTERM ends the pause.
+// Run by hand (no NOTIFY_SOCKET), it exits at once.
+void pause_before_restart(SystemdNotifier& notifier, SignalWaiter& signals, const char* category, const char* why) {
+  if (!notifier.enabled()) return;
+  char line[400];
+  std::snprintf(line, sizeof line, "failed to start (%s): %.300s; restarting in %d s", category, why,
+                static_cast<int>(kRestartPauseNs / 1'000'000'000));
+  notifier.status(line);
+  for (const std::int64_t until = monotonic_ns() + kRestartPauseNs; monotonic_ns() < until;)
+    if (signals.wait(until - monotonic_ns()) == SignalWaiter::Event::terminate) return;
+}
 
 // "host:pid": which daemon sent a message, when two share a bus.
 std::string instance_name() {
@@ -117,7 +138,10 @@ std::string solver_observability_problem(const Config& c) {
   return why;
 }
 
-std::string daemon_config_problem(const Config& config) { return solver_observability_problem(config); }
+std::string daemon_config_problem(const Config& config) {
+  if (std::string why = solver_observability_problem(config); !why.empty()) return why;
+  return memory_problem(config, available_memory_bytes());
+}
 
 Config demo_config() {
   Config c = default_config();
@@ -145,6 +169,7 @@ int run_daemon(const Config& config) {
     log_line(LogLevel::error, category, "%s", why);
     if (gyro_open) gyro->close();
     if (source_open) source->close();
+    pause_before_restart(notifier, signals, category, why);
     return 1;
   };
   try {
@@ -194,6 +219,7 @@ int run_daemon(const Config& config) {
   BusThread bus(publisher->bus().getUnderlyingLCM());
   ServiceHeartbeat heartbeat(notifier);
   StatusTicker status(pipeline, gyro.get(), *calibration, *publisher, notifier, source->describe(), start_ns);
+  status.watch_vehicle(vehicle.get());
   const FramePoolLayout& pool = pipeline.pool().layout();
   log_line(LogLevel::info, "start",
            "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, vehicle state from %s, bus %s, "

@@ -6,11 +6,14 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
+
+#include "base/temp_file.hpp"
 
 namespace ccdlane {
 namespace {
@@ -127,9 +130,10 @@ std::string parse_mount_state(std::string_view text, const OnlineMountOptions& o
   return "";
 }
 
-FileWriteError write_file_atomically(const char* path, const char* tmp_path, const char* data, std::size_t size) {
-  const int fd = ::open(tmp_path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return {"open", errno};
+FileWriteError write_file_atomically(const char* path, const char* data, std::size_t size) {
+  char tmp_path[PATH_MAX];
+  const int fd = create_temp_beside(path, tmp_path, sizeof tmp_path);
+  if (fd < 0) return {"open", -fd};
   std::size_t done = 0;
   while (done < size) {
     const ssize_t n = ::write(fd, data + done, size - done);

@@ -33,8 +33,9 @@ struct FileWriteError {
   explicit operator bool() const { return step != nullptr; }
 };
 
-// `data` to `path` by way of `tmp_path` (same directory). No allocation: the daemon's
-// status thread writes with it after READY.
-FileWriteError write_file_atomically(const char* path, const char* tmp_path, const char* data, std::size_t size);
+// `data` to `path` by way of a new temporary file beside it (base/temp_file.hpp: never
+// a symlink's target, never a file already there), then rename. No allocation: the
+// daemon's status thread writes with it after READY.
+FileWriteError write_file_atomically(const char* path, const char* data, std::size_t size);
 
 }  // namespace ccdlane

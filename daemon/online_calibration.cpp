@@ -7,10 +7,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "base/log.hpp"
+#include "base/regular_file.hpp"
 #include "daemon/mount_state_file.hpp"
 
 namespace ccdlane {
@@ -50,7 +49,6 @@ OnlineCalibration::OnlineCalibration(const Config& config)
       refiner_(options_) {
   if (!enabled_) return;
   path_ = state_file_path(config);
-  if (!path_.empty()) tmp_path_ = path_ + ".tmp";
   load();
   shared_status_ = refiner_.status();
   shared_learned_ = refiner_.learned();
@@ -66,22 +64,21 @@ void OnlineCalibration::load() {
              "restarts; starting uncalibrated");
     return;
   }
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) {
-    if (errno == ENOENT)
-      log_line(LogLevel::info, "calibration", "%s: no mount learned yet; starting uncalibrated", path_.c_str());
-    else
-      log_line(LogLevel::warning, "calibration", "%s: cannot be read (%s); starting uncalibrated", path_.c_str(),
-               std::strerror(errno));
+  // A regular file only, opened without blocking: a FIFO or "/" is no state file.
+  std::string text;
+  const int rc = read_regular_file(path_, kMaxStateFileBytes, text);
+  if (rc == -ENOENT) {
+    log_line(LogLevel::info, "calibration", "%s: no mount learned yet; starting uncalibrated", path_.c_str());
     return;
   }
-  std::string text(kMaxStateFileBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
   std::string why;
   LearnedMount learned;
-  if (text.size() > kMaxStateFileBytes)
+  if (rc == -EFBIG)
     why = "larger than " + std::to_string(kMaxStateFileBytes) + " bytes: not a state file";
+  else if (rc == -EINVAL)
+    why = "not a regular file: not a state file";
+  else if (rc < 0)
+    why = std::string("cannot be read: ") + regular_file_error(rc);
   else if (text.find('\0') != std::string::npos)
     why = "holds NUL bytes: not a state file";
   else
@@ -183,8 +180,7 @@ void OnlineCalibration::save(const LearnedMount& learned) {
   if (path_.empty()) return;
   char text[1024];
   const std::size_t n = format_mount_state(learned, options_, text, sizeof text);
-  const FileWriteError e =
-      n ? write_file_atomically(path_.c_str(), tmp_path_.c_str(), text, n) : FileWriteError{"format", 0};
+  const FileWriteError e = n ? write_file_atomically(path_.c_str(), text, n) : FileWriteError{"format", 0};
   if (e) {
     if (!save_failed_said_)
       log_line(LogLevel::warning, "calibration",

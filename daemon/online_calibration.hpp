@@ -50,7 +50,7 @@ class OnlineCalibration {
   bool enabled_ = false;
   calibration::OnlineMountOptions options_;
   std::int64_t save_period_ns_ = 0;
-  std::string path_, tmp_path_;
+  std::string path_;
 
   calibration::OnlineMountRefiner refiner_;  // the processing thread's
 

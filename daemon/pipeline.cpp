@@ -259,7 +259,7 @@ VehicleInputs Pipeline::vehicle_inputs_for(const FrameMeta& meta, bool frame_ok)
     if (meta.speed_kmh) in.speed_mps = *meta.speed_kmh / 3.6;
     in.indicator = meta.indicator.value_or(TurnIndicator::none);
   } else if (vehicle_state_) {
-    in = vehicle_inputs(vehicle_state_->latest(), monotonic_ns(), vehicle_state_max_age_ns_);
+    in = vehicle_inputs(*vehicle_state_, monotonic_ns(), vehicle_state_max_age_ns_);
   }
   in.camera_ok = frame_ok;
   if (gyro_) {

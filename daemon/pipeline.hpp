@@ -58,7 +58,9 @@ class Pipeline {
   // Where frames that carry no recorded vehicle values (live cameras) take their speed,
   // yaw rate and indicator: the bus's latest vehicle state (a CAN gateway's
   // vehicle_state_t), none when it is older than max_age_ns. Without one, or stale:
-  // [vehicle] speed_kmh, no indicator. Call before start(); `listener` must outlive stop().
+  // [vehicle] speed_kmh, no indicator; and once the gateway was heard, LDW is unavailable
+  // (vehicle_fault) while no good state is fresh. Call before start(); `listener` must
+  // outlive stop().
   void set_vehicle_state(const VehicleStateListener* listener, std::int64_t max_age_ns) {
     vehicle_state_ = listener;
     vehicle_state_max_age_ns_ = max_age_ns;

@@ -96,6 +96,11 @@ const status_t& StatusReport::update(const StatusInputs& in) {
   m.gyro_timeouts_total = total(in.gyro_counters.timeouts);
   m.gyro_reconnects_total = total(in.gyro_counters.reconnects);
   m.no_attitude_total = total(t.no_attitude);
+  m.gyro_refused_total = total(in.gyro_counters.refused);
+  m.vehicle_state = static_cast<std::int8_t>(in.vehicle.state);
+  m.vehicle_states_total = total(in.vehicle.taken);
+  for (std::size_t i = 0; i < in.vehicle.refused.size(); ++i)
+    m.vehicle_refused_by_cause[i] = total(in.vehicle.refused[i]);
   m.publish_errors_total = total(t.publish_errors);
   m.frame_publish_errors_total = total(t.frame_publish_errors);
   m.latency_samples_lost_total = total(t.latency_samples_lost);
@@ -126,10 +131,12 @@ void StatusReport::summary_line(char* out, std::size_t size) const {
   char reconnects[40] = "";
   if (m.gyro_reconnects_total > 0)
     std::snprintf(reconnects, sizeof reconnects, " (%lld reconnects)", static_cast<long long>(m.gyro_reconnects_total));
-  std::snprintf(out, size, "%s %.1f fps, %.0f%% ok, %lld dropped, p99 %.1f ms, gyro %s%s, %lld allocations%s%s", camera,
-                m.frames_processed / seconds, std::isnan(m.ok_rate) ? 0.0 : 100.0 * m.ok_rate,
+  // A broken vehicle gateway silences LDW: say so where a mechanic looks first.
+  const char* vehicle = m.vehicle_state == status_t::VEHICLE_FAULT ? ", vehicle fault" : "";
+  std::snprintf(out, size, "%s %.1f fps, %.0f%% ok, %lld dropped, p99 %.1f ms, gyro %s%s%s, %lld allocations%s%s",
+                camera, m.frames_processed / seconds, std::isnan(m.ok_rate) ? 0.0 : 100.0 * m.ok_rate,
                 static_cast<long long>(m.frames_dropped_total), static_cast<double>(m.latency_p99_us) * 1e-3, gyro,
-                reconnects, static_cast<long long>(m.allocations_since_ready),
+                reconnects, vehicle, static_cast<long long>(m.allocations_since_ready),
                 m.camera_problem.empty() ? "" : "; camera: ", m.camera_problem.c_str());
 }
 

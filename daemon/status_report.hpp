@@ -9,6 +9,7 @@
 #include <ccdlane/status_t.hpp>
 
 #include "app/attitude_provider.hpp"
+#include "bus/vehicle_state_check.hpp"
 #include "core/calibration/online_mount_refiner.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/pipeline_totals.hpp"
@@ -24,6 +25,7 @@ struct StatusInputs {
   GyroState gyro = GyroState::none;
   GyroCounters gyro_counters;
   const char* gyro_problem = "";
+  GatewayCounters vehicle;  // state none: no gateway heard (or no listener)
   std::uint64_t allocations_since_ready = 0;
   calibration::OnlineMountStatus calibration;  // state off: no online refinement
 };

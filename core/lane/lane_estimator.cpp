@@ -275,6 +275,7 @@ void LaneEstimator::run_ldw(std::int64_t t_ns, const VehicleInputs& vehicle) {
   in.measurement = measured ? &measurement : nullptr;
   in.camera_ok = vehicle.camera_ok;
   in.gyro_ok = vehicle.gyro_ok;
+  in.vehicle_ok = vehicle.vehicle_ok;
   in.calibrated = vehicle.calibrated;
   const ldw::LdwResult& r = ldw_.step(in);
 

@@ -44,6 +44,7 @@ struct VehicleInputs {
   ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
   bool camera_ok = true;   // false: the camera stalled or failed (LDW "camera_fault")
   bool gyro_ok = true;     // false: a configured gyro is not delivering ("gyro_fault")
+  bool vehicle_ok = true;  // false: the gateway sends only refused states or stopped ("vehicle_fault")
   bool calibrated = true;  // false: the mount is outside its allowed bounds (LDW "not_calibrated")
 };
 

@@ -40,6 +40,7 @@ const LdwResult& LdwMonitor::step(const LdwFrameInput& in) {
   w.lane_changed = lane.lane_change != LaneChange::none;
   w.camera_ok = in.camera_ok;
   w.gyro_ok = in.gyro_ok;
+  w.vehicle_ok = in.vehicle_ok;
   w.calibrated = in.calibrated;
   w.left = {r.dlc.left_m, v, r.tlc_left_s};
   w.right = {r.dlc.right_m, -v, r.tlc_right_s};

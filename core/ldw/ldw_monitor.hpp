@@ -29,6 +29,7 @@ struct LdwFrameInput {
   const LaneMeasurement* measurement = nullptr;  // null: no usable solve this frame
   bool camera_ok = true;
   bool gyro_ok = true;
+  bool vehicle_ok = true;
   bool calibrated = true;
 };
 

@@ -26,6 +26,7 @@ const char* to_string(Availability a) {
     case Availability::not_calibrated: return "not_calibrated";
     case Availability::no_lane: return "no_lane";
     case Availability::too_slow: return "too_slow";
+    case Availability::vehicle_fault: return "vehicle_fault";
   }
   return "?";
 }
@@ -82,6 +83,7 @@ const LdwOutput& LdwWarning::update(const LdwInput& in) {
 
   o.reason = !in.camera_ok      ? Availability::camera_fault
              : !in.gyro_ok      ? Availability::gyro_fault
+             : !in.vehicle_ok   ? Availability::vehicle_fault
              : !in.calibrated   ? Availability::not_calibrated
              : !in.lane_tracked ? Availability::no_lane
              : !speed_ok_       ? Availability::too_slow

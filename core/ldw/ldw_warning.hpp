@@ -18,8 +18,9 @@ using TurnIndicator = ccdlane::TurnIndicator;
 using ccdlane::to_string;
 using ccdlane::turn_indicator_from_string;
 
-// Why LDW is not available; `none` when it is. Listed in order of precedence: the first
-// that applies is reported.
+// Why LDW is not available; `none` when it is. Listed in order of precedence (the first
+// that applies is reported), but for vehicle_fault, which comes after gyro_fault: it was
+// added last, and its value is on the bus (lane_estimate_t.LDW_REASON_*).
 enum class Availability : std::uint8_t {
   none,            // available
   camera_fault,    // no frames (the camera stalled or failed)
@@ -27,6 +28,7 @@ enum class Availability : std::uint8_t {
   not_calibrated,  // the camera's mounting is not known well enough
   no_lane,         // the lane is not confidently tracked
   too_slow,        // below the minimum speed
+  vehicle_fault,   // the vehicle's gateway sends only refused states, or stopped sending
 };
 const char* to_string(Availability a);  // the names above
 
@@ -69,6 +71,7 @@ struct LdwInput {
   bool lane_changed = false;  // the filter re-associated to a neighbour lane this frame
   bool camera_ok = true;
   bool gyro_ok = true;
+  bool vehicle_ok = true;
   bool calibrated = true;
   LdwSideInput left, right;
 };

@@ -4,24 +4,26 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+
+#include "base/regular_file.hpp"
 
 namespace ccdlane {
+namespace {
+
+// frames.csv of a day's drive at 60 fps is some 30 MB: far more is not a recording.
+constexpr std::size_t kMaxFramesCsvBytes = std::size_t{1} << 30;
+
+}  // namespace
 
 FrameDirectory::FrameDirectory(std::string dir) : dir_(std::move(dir)) {
   while (dir_.size() > 1 && dir_.back() == '/') dir_.pop_back();
   csv_path_ = dir_ + "/frames.csv";
-  std::ifstream in(csv_path_, std::ios::binary);
-  if (!in) {
-    const int e = errno;
-    throw FrameDirectoryError(csv_path_ + ": cannot read: " + std::strerror(e) +
-                              " (a frame directory needs frames.csv)");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw FrameDirectoryError(csv_path_ + ": read error");
-  csv_ = parse_frames_csv(text.str(), csv_path_);
+  // A regular file only, read without blocking: a FIFO here must not hang replay.
+  std::string text;
+  if (const int rc = read_regular_file(csv_path_, kMaxFramesCsvBytes, text); rc < 0)
+    throw FrameDirectoryError(csv_path_ + ": cannot read: " + regular_file_error(rc) +
+                              (rc == -EFBIG ? " (over 1 GB)" : "") + " (a frame directory needs frames.csv)");
+  csv_ = parse_frames_csv(text, csv_path_);
   paths_.reserve(csv_.rows.size());
   for (const FrameRow& r : csv_.rows) {
     paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);

@@ -1,6 +1,7 @@
 // Frame directory writer: temporary names, renames, and clean-up of unfinished work.
 #include "drivers/frames/frame_directory_writer.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -12,6 +13,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "base/temp_file.hpp"
 #include "drivers/frames/pgm.hpp"
 #include "drivers/frames/png.hpp"
 
@@ -24,6 +26,22 @@ void append_number(std::string& out, double v) {
   char buf[32];
   const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
   out.append(buf, ec == std::errc() ? end : buf);
+}
+
+// A name in `dir` that the writer would write (frames.csv.tmp, or a frame's "NNNNNN.pgm"
+// or ".png"), or "": a user's files there are never replaced, and a directory holding
+// such names is refused before a frame is taken rather than half-way through.
+std::string name_in_the_way(const std::string& dir) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const std::size_t dot = name.find('.');
+    const std::string stem = name.substr(0, dot), ext = dot == std::string::npos ? "" : name.substr(dot);
+    const bool frame_name = stem.size() >= 6 && stem.find_first_not_of("0123456789") == std::string::npos &&
+                            (ext == ".pgm" || ext == ".png");
+    if (name == "frames.csv.tmp" || frame_name) return name;
+  }
+  return "";
 }
 
 }  // namespace
@@ -40,15 +58,18 @@ FrameDirectoryWriter::FrameDirectoryWriter(std::string dir, FrameDirectoryLayout
     if (!fs::is_directory(dir_, ec)) throw FrameDirectoryError(dir_ + ": exists and is not a directory");
     if (fs::exists(dir_ + "/frames.csv", ec))
       throw FrameDirectoryError(dir_ + ": already holds a frame directory (frames.csv); choose another place");
+    if (const std::string name = name_in_the_way(dir_); !name.empty())
+      throw FrameDirectoryError(dir_ + ": already holds " + name + ", a name a recording writes; choose another place");
   } else {
     created_dir_ = fs::create_directories(dir_, ec);
     if (ec) throw FrameDirectoryError(dir_ + ": cannot create the directory: " + ec.message());
   }
-  tmp_csv_ = dir_ + "/frames.csv.tmp";
-  csv_.open(tmp_csv_, std::ios::binary | std::ios::trunc);
-  if (!csv_) {
+  tmp_csv_ = new_temp_beside(dir_ + "/frames.csv");
+  if (!tmp_csv_.empty()) csv_.open(tmp_csv_, std::ios::binary | std::ios::trunc);
+  if (tmp_csv_.empty() || !csv_) {
+    const std::string what = tmp_csv_.empty() ? dir_ + "/frames.csv.tmp" : tmp_csv_;
     abandon();
-    throw FrameDirectoryError(tmp_csv_ + ": cannot create");
+    throw FrameDirectoryError(what + ": cannot create");
   }
   std::string header = "file,t_ns";
   if (layout_.gyro) header += ",roll_deg,pitch_deg,yaw_deg";
@@ -81,6 +102,9 @@ void FrameDirectoryWriter::write(const ImageView& image, std::int64_t t_ns, cons
   char name[32];
   const bool colour = is_colour(image.format);
   std::snprintf(name, sizeof name, "%06zu.%s", files_.size(), colour ? "png" : "pgm");
+  struct stat st {};
+  if (::lstat((dir_ + "/" + name).c_str(), &st) == 0)  // appeared since the start: not ours to replace
+    throw FrameDirectoryError(dir_ + "/" + name + ": exists and is not this recording's; not replaced");
   try {
     if (colour)
       write_png(dir_ + "/" + name, image);

@@ -29,15 +29,16 @@ struct FrameVehicle {
 };
 
 // Each image is written under a temporary name and renamed into place, so an image file
-// is either whole or absent. Rows go to frames.csv.tmp as they come (flushed each frame)
-// and finish() renames it to frames.csv: a directory without frames.csv is an unfinished
-// recording. A writer destroyed without finish() (an error, an exception) removes the
+// is either whole or absent. Rows go to a new frames.csv.tmp.XXXXXX as they come
+// (flushed each frame) and finish() renames it to frames.csv: a directory without
+// frames.csv is an unfinished recording. A writer destroyed without finish() (an error, an exception) removes the
 // files it wrote, and the directory if it created it. Errors throw FrameDirectoryError
 // naming the file and the reason.
 class FrameDirectoryWriter {
  public:
   // Creates `dir` (and parents) if needed. Refuses a directory that already holds a
-  // frames.csv, so an earlier recording is never overwritten.
+  // frames.csv, so an earlier recording is never overwritten, or any name a recording
+  // writes (frames.csv.tmp, NNNNNN.pgm/.png), so a user's file is never replaced.
   FrameDirectoryWriter(std::string dir, FrameDirectoryLayout layout);
   ~FrameDirectoryWriter();
   FrameDirectoryWriter(const FrameDirectoryWriter&) = delete;

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "base/regular_file.hpp"
+
 namespace ccdlane {
 
 PgmFault FrameFileProblem::fail(PgmFault fault, const char* path, const char* format, ...) {
@@ -24,14 +26,11 @@ PgmFault FrameFileProblem::fail(PgmFault fault, const char* path, const char* fo
 }
 
 PgmFault FrameFileProblem::open_regular(const char* path, UniqueFd& fd, struct stat& st) {
-  fd = UniqueFd(::open(path, O_RDONLY | O_CLOEXEC));
-  if (fd.get() < 0) {
-    const int e = errno;
-    if (e == ENOENT) return fail(PgmFault::missing, path, "missing (no such file)");
-    return fail(PgmFault::unreadable, path, "cannot open: %s", std::strerror(e));
-  }
-  if (::fstat(fd.get(), &st) != 0) return fail(PgmFault::unreadable, path, "cannot stat: %s", std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) return fail(PgmFault::unreadable, path, "not a regular file");
+  // Without blocking: a FIFO in a frame's place must not hang the capture thread.
+  fd = UniqueFd(open_regular_file(path, &st));
+  if (fd.get() == -ENOENT) return fail(PgmFault::missing, path, "missing (no such file)");
+  if (fd.get() == -EINVAL) return fail(PgmFault::unreadable, path, "not a regular file");
+  if (fd.get() < 0) return fail(PgmFault::unreadable, path, "cannot open: %s", std::strerror(-fd.get()));
   return PgmFault::none;
 }
 

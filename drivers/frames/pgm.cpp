@@ -8,12 +8,14 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
 
+#include "base/temp_file.hpp"
 #include "base/unique_fd.hpp"
 
 namespace ccdlane {
@@ -257,9 +259,11 @@ void write_pgm(const std::string& path, const ImageView& image) {
     }
   }
 
-  const std::string tmp = path + ".tmp";
-  UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
-  if (fd.get() < 0) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
+  char tmp_name[PATH_MAX];
+  UniqueFd fd(create_temp_beside(path.c_str(), tmp_name, sizeof tmp_name));
+  if (fd.get() < 0)
+    throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
+  const std::string tmp = tmp_name;
   std::size_t done = 0;
   while (done < data.size()) {
     const ssize_t w = ::write(fd.get(), data.data() + done, data.size() - done);

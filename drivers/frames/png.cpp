@@ -10,13 +10,17 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <csetjmp>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <new>
 #include <stdexcept>
 
+#include "base/temp_file.hpp"
 #include "base/unique_fd.hpp"
+#include "drivers/frames/picture_bounds.hpp"
 
 namespace ccdlane {
 namespace {
@@ -307,9 +311,11 @@ void write_png(const std::string& path, const ImageView& image, int zlib_level) 
   if (image.empty()) throw std::runtime_error(path + ": cannot write an empty image");
   if (image.format == PixelFormat::mono16)
     throw std::runtime_error(path + ": 16-bit frames are written as PGM, not PNG");
-  const std::string tmp = path + ".tmp";
-  UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
-  if (fd.get() < 0) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
+  char tmp_name[PATH_MAX];
+  UniqueFd fd(create_temp_beside(path.c_str(), tmp_name, sizeof tmp_name));
+  if (fd.get() < 0)
+    throw std::runtime_error(path + ": cannot create a temporary beside it: " + std::strerror(-fd.get()));
+  const std::string tmp = tmp_name;
   WriteTarget target;
   target.fd = fd.get();
   const bool encoded = encode(target, image, std::clamp(zlib_level, 0, 9));
@@ -333,11 +339,19 @@ OwnedPicture read_png_picture(const std::string& path) {
   PngReader reader;
   PgmHeader header;
   if (reader.probe(path.c_str(), header) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
+  // The header's size, bounded before anything is allocated: a small file may claim a huge picture.
+  if (const std::string why = picture_size_problem(header.width, header.height); !why.empty())
+    throw std::runtime_error(path + ": " + why);
   OwnedPicture out;
   out.width = header.width;
   out.height = header.height;
   out.format = header.format();
-  out.pixels.resize(static_cast<std::size_t>(out.stride()) * static_cast<std::size_t>(out.height));
+  try {
+    out.pixels.resize(static_cast<std::size_t>(out.stride()) * static_cast<std::size_t>(out.height));
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error(path + ": out of memory for its " + std::to_string(out.width) + "x" +
+                             std::to_string(out.height) + " pixels");
+  }
   if (reader.read(path.c_str(), out.mutable_view()) != PgmFault::none)
     throw std::runtime_error(std::string(reader.error()));
   return out;

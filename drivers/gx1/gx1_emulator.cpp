@@ -11,7 +11,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 
@@ -81,10 +83,21 @@ int Gx1Emulator::create_pty() {
   if (fcntl(master, F_SETFL, fcntl(master, F_GETFL) | O_NONBLOCK) < 0 || fcntl(master, F_SETFD, FD_CLOEXEC) < 0)
     return -errno;
   if (!options_.link.empty()) {
-    // Re-point atomically: a reader never sees the link missing while a device exists.
-    const std::string tmp = options_.link + ".new";
-    ::unlink(tmp.c_str());
-    if (::symlink(name, tmp.c_str()) != 0 || ::rename(tmp.c_str(), options_.link.c_str()) != 0) return -errno;
+    // Re-point atomically: a reader never sees the link missing while a device exists. The
+    // new link gets a name of its own (symlink() never replaces one): a user's
+    // "<link>.new" is not deleted.
+    char tmp[PATH_MAX];
+    int rc = -EEXIST;
+    for (unsigned k = 0; rc == -EEXIST && k < 100; ++k) {
+      std::snprintf(tmp, sizeof tmp, "%s.new.%d.%u", options_.link.c_str(), static_cast<int>(::getpid()), k);
+      rc = ::symlink(name, tmp) == 0 ? 0 : -errno;
+    }
+    if (rc < 0) return rc;
+    if (::rename(tmp, options_.link.c_str()) != 0) {
+      const int e = errno;
+      ::unlink(tmp);
+      return -e;
+    }
   }
   master_ = std::move(m);
   std::lock_guard lock(mutex_);

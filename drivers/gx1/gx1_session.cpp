@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "drivers/device_state.hpp"
+#include "drivers/gx1/vehicle_attitude.hpp"
 
 namespace ccdlane::gx1 {
 namespace {
@@ -37,7 +38,8 @@ int Gx1Session::open(UniqueFd fd) {
 
 int Gx1Session::configure_opened(int open_result, const char* failure) {
   if (open_result < 0) {
-    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s: %s", device().c_str(), failure, std::strerror(-open_result));
+    log_to(log_, LogLevel::warning, "gyro", "gx1 %s: %s: %s", device().c_str(), failure,
+           serial_open_error(open_result));
     set_state(DeviceState::closed);
     return open_result;
   }
@@ -264,13 +266,29 @@ int Gx1Session::ingest(std::span<const std::uint8_t> bytes, std::int64_t t_read_
       bump(shared_.other_replies);
       return;
     }
+    poll_outstanding_ = false;  // the sensor answers: a refused reading is no stall
+    last_sample_ns_ = t_read_ns;
+    if (options_.vehicle_attitude_only && refuse_implausible(s.angles)) return;
     history_.push(s);
     ++samples;
-    poll_outstanding_ = false;
-    last_sample_ns_ = t_read_ns;
   });
   bump(shared_.samples, static_cast<std::uint64_t>(samples));
   return samples;
+}
+
+bool Gx1Session::refuse_implausible(const Gx1Angles& a) {
+  const char* which = implausible_vehicle_angle(a);
+  if (!which) return false;
+  bump(shared_.refused);
+  if (!refusal_reported_) {
+    refusal_reported_ = true;
+    log_to(log_, LogLevel::warning, "gyro",
+           "gx1 %s: refused a reading whose %s no road vehicle can have (roll %.1f, pitch %.1f, yaw %.1f deg; "
+           "bounds |roll| <= %.0f, |pitch| <= %.0f deg): the gyro is at fault while only such readings come "
+           "(said once)",
+           device().c_str(), which, a.roll_deg, a.pitch_deg, a.yaw_deg, kMaxVehicleRollDeg, kMaxVehiclePitchDeg);
+  }
+  return true;
 }
 
 void Gx1Session::lose(const char* what, int error) {
@@ -332,6 +350,7 @@ SessionCounters Gx1Session::counters() const {
   c.configure_failures = get(shared_.configure_failures);
   c.stream_timeouts = get(shared_.stream_timeouts);
   c.poll_timeouts = get(shared_.poll_timeouts);
+  c.refused = get(shared_.refused);
   return c;
 }
 

@@ -28,6 +28,9 @@ struct SessionOptions {
   int drain_max_ms = 1500;                        // ... or after this long, even if a stream will not stop
   int stream_timeout_ms = 1000;                   // no sample for this long while streaming: reconfigure
   std::int64_t max_age_ns = 100'000'000;          // attitude_at(): farther from real samples is stale
+  // Refuse (count, log once, keep out of the history) readings no road vehicle can have
+  // (vehicle_attitude.hpp): the vehicle's gyro, not a sensor turned in the hand.
+  bool vehicle_attitude_only = false;
   BackoffOptions backoff;
 };
 
@@ -44,6 +47,7 @@ struct SessionCounters {
   std::uint64_t configure_failures = 0;  // handshake attempts that got no firmware/serial answer
   std::uint64_t stream_timeouts = 0;
   std::uint64_t poll_timeouts = 0;  // polled mode: a poll without a reply in time
+  std::uint64_t refused = 0;        // vehicle_attitude_only: readings beyond a vehicle's attitude
 };
 
 class Gx1Session {
@@ -105,6 +109,7 @@ class Gx1Session {
   int recover_step(int timeout_ms);
   int ingest(std::span<const std::uint8_t> bytes, std::int64_t t_read_ns);
   void lose(const char* what, int error);
+  bool refuse_implausible(const Gx1Angles& angles);
   void set_state(DeviceState s) { state_.store(s, std::memory_order_release); }
   void publish_counters();
   template <typename OnReply>
@@ -127,12 +132,13 @@ class Gx1Session {
   std::int64_t poll_sent_ns_ = 0;
   bool poll_outstanding_ = false;
   bool reopen_failure_reported_ = false;
+  bool refusal_reported_ = false;
 
   // Written by the gyro thread, read by anyone: each a relaxed atomic.
   struct Shared {
     std::atomic<std::uint64_t> samples{0}, acks{0}, other_replies{0}, bad_checksums{0}, unconfirmed{0},
         bytes_skipped{0}, bytes_drained{0}, hangups{0}, reopens{0}, configure_failures{0}, stream_timeouts{0},
-        poll_timeouts{0};
+        poll_timeouts{0}, refused{0};
   } shared_;
 };
 

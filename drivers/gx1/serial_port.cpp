@@ -6,6 +6,7 @@
 #include <poll.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -37,6 +38,11 @@ SerialPort::SerialPort(std::string path, LogSink log, BackoffOptions backoff)
 
 SerialPort::~SerialPort() { close(); }
 
+const char* serial_open_error(int rc) {
+  return rc == SerialPort::kNotACharacterDevice ? "not a character device (a serial port or a pty): refused"
+                                                : std::strerror(-rc);
+}
+
 bool SerialPort::is_hangup_error(int error) {
   return error == EIO || error == ENXIO || error == ENODEV || error == EPIPE;
 }
@@ -49,6 +55,13 @@ int SerialPort::open() {
     const int e = errno;
     ++counters_.open_failures;
     return -e;
+  }
+  // A serial adapter and a pty are character devices; a file named by mistake (the
+  // configuration itself) must not have its first bytes overwritten by the handshake.
+  struct stat st {};
+  if (fstat(fd.get(), &st) != 0 || !S_ISCHR(st.st_mode)) {
+    ++counters_.open_failures;
+    return kNotACharacterDevice;
   }
   // Two readers on one serial line steal each other's bytes (the daemon and a
   // `ccdlane gx1` run by hand): an advisory lock keeps ccdlane processes apart and,

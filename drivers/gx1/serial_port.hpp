@@ -3,6 +3,7 @@
 // reopening by path with backoff after the device went away (USB adapters come and go).
 #pragma once
 
+#include <cerrno>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -41,6 +42,9 @@ struct BackoffOptions {
   int max_ms = 2000;
 };
 
+// The reason for open()'s result: kNotACharacterDevice says what it is, others strerror.
+const char* serial_open_error(int rc);
+
 class SerialPort {
  public:
   // Wire time of one byte at 38400 baud, 10 bits with start and stop bit.
@@ -54,8 +58,10 @@ class SerialPort {
 
   // Opens `path` (O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC) and configures it.
   // Returns 0 or -errno (-EBUSY: another ccdlane process holds it; -EIO: the line
-  // settings did not read back as set).
+  // settings did not read back as set; kNotACharacterDevice: `path` is a regular file, a
+  // FIFO or a directory, refused before anything is configured or written).
   int open();
+  static constexpr int kNotACharacterDevice = -ENOTTY;
   // Takes an already-open fd (a pty, a pipe) and configures it like open() would. A
   // descriptor that is not a terminal is used as a plain byte stream (logged once).
   int adopt(UniqueFd fd);

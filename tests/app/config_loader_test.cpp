@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -116,6 +117,24 @@ TEST(ConfigLoader, WrongTypes) {
   EXPECT_EQ(error_of("[prior]\nphi_deg = 0.5\n"), "test.toml:2: prior.phi_deg: must be [mean, sigma], two numbers");
 }
 
+// Values that passed --check-config but could not work: sigmas of 1e+-300 and a prior of
+// 1e300 made every frame rank_deficient, rate_hz = 1e-300 ran flat out.
+TEST(ConfigLoader, SigmasPriorsAndRatesOutsidePhysicalRanges) {
+  EXPECT_EQ(error_of("[prior]\nH_mm = [1e300, 20]\n"), "test.toml:2: prior.H_mm: mean must be 1 .. 20000, got 1e+300");
+  EXPECT_EQ(error_of("[prior]\nphi_deg = [0, 1e-300]\n"),
+            "test.toml:2: prior.phi_deg: sigma must be 0.001 .. 90, got 1e-300");
+  EXPECT_EQ(error_of("[prior]\nlane_width_mm = [3600, 1e300]\n"),
+            "test.toml:2: prior.lane_width_mm: sigma must be 0.01 .. 10000, got 1e+300");
+  EXPECT_EQ(error_of("[solver]\npixel_sigma = 1e300\n"),
+            "test.toml:2: solver.pixel_sigma: must be 0.001 .. 1000 pixels");
+  EXPECT_EQ(error_of("[solver]\npixel_sigma = 1e-300\n"),
+            "test.toml:2: solver.pixel_sigma: must be 0.001 .. 1000 pixels");
+  EXPECT_EQ(error_of("[gyro]\nsigma_deg = 1e-300\n"), "test.toml:2: gyro.sigma_deg: must be 0.001 .. 90 degrees");
+  EXPECT_EQ(error_of("[source]\nrate_hz = 1e-300\n"),
+            "test.toml:2: source.rate_hz: must be 0 (as recorded) or 0.1 .. 1000");
+  EXPECT_EQ(error_of("[prior]\nH_mm = [1400, 20]\nphi_deg = [0, 1]\n[source]\nrate_hz = 0\n"), "(no error)");
+}
+
 TEST(ConfigLoader, ImpossibleValues) {
   EXPECT_EQ(error_of("[camera]\nU_mm = -6.4\n"), "test.toml:2: camera.U_mm: must be > 0, got -6.4");
   EXPECT_EQ(error_of("[camera]\nNu = 1\n"), "test.toml:2: camera.Nu: must be at least 2, got 1");
@@ -193,6 +212,19 @@ std::string load_error(const std::string& path) {
   return "(no error)";
 }
 
+// [source] path was once taken relative to the working directory (systemd's is /).
+TEST(ConfigLoader, ARelativeSourcePathIsTheConfigurationFilesNeighbour) {
+  const std::string dir = testing::TempDir() + "/config-" + std::to_string(::getpid());
+  ::mkdir(dir.c_str(), 0700);
+  const std::string path = dir + "/ccdlane.toml";
+  std::ofstream(path) << "[source]\nkind = \"frames\"\npath = \"rec\"\n";
+  EXPECT_EQ(load_config_file(path).source.path, dir + "/rec");
+  std::ofstream(path) << "[source]\nkind = \"frames\"\npath = \"/data/rec\"\n";
+  EXPECT_EQ(load_config_file(path).source.path, "/data/rec");
+  ::unlink(path.c_str());
+  ::rmdir(dir.c_str());
+}
+
 TEST(ConfigLoader, ADirectoryIsNoConfiguration) {
   EXPECT_EQ(load_error("/etc"), "/etc: is a directory, not a configuration file");
 }
@@ -261,12 +293,16 @@ TEST(ConfigLoader, DaemonTableAndRealtimeExtras) {
   EXPECT_EQ(error_of("[lcm]\nprefix = \"" + std::string(49, 'P') + "\"\n"),
             "test.toml:2: lcm.prefix: must be at most 48 characters");
   EXPECT_EQ(error_of("[lcm]\nurl = \"\"\n"),
-            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq:// or file://), e.g. "
             "\"udpm://239.255.76.67:7667?ttl=0\"");
   EXPECT_EQ(error_of("[lcm]\nurl = \"udp://239.255.76.67:7667\"\n"),
-            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq://, tcpq:// or file://), e.g. "
+            "test.toml:2: lcm.url: must name an LCM bus (udpm://, memq:// or file://), e.g. "
             "\"udpm://239.255.76.67:7667?ttl=0\"");
   EXPECT_EQ(parse_config("[lcm]\nurl = \"memq://\"\n", "m.toml").lcm.url, "memq://");
+  // LCM's tcpq client aborted ccdlaned and monitor 2 s after start without its server.
+  EXPECT_EQ(error_of("[lcm]\nurl = \"tcpq://192.0.2.1:7700\"\n"),
+            "test.toml:2: lcm.url: tcpq:// is not supported (LCM's tcpq client aborts the process when its server is "
+            "unreachable); use udpm://, memq:// or file://");
 }
 
 TEST(ConfigLoader, PublishFramesIsOffUnlessAsked) {

@@ -1,14 +1,19 @@
 // Gx1AttitudeProvider on the in-process 3DM-GX1 emulator (a real pty): it opens, streams
 // into the history a frame's time is looked up in, says where its newest sample is (what
 // `ccdlane record` waits on), hands its event lines to the given sink, and names the
-// configuration key when the device is not there.
+// configuration key when the device is not there; readings no vehicle can have are
+// refused, counted and make it a faulty gyro.
 // (The session cannot follow an in-process emulator's new pty after a hang-up, there
 // being no link; reconnecting is the session's own tests' business.)
 #include "app/gx1_attitude_provider.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <numbers>
 #include <string>
@@ -119,6 +124,40 @@ TEST(Gx1AttitudeProvider, TheYawRateOfA0x31StreamIsTheVehiclesTurnToTheLeft) {
   }
 }
 
+// A pitch of 170 or a roll of 175 degrees once made every frame fail too_few_marks while
+// the status said "gyro ok": now the gyro is stale, with the cause as its problem.
+TEST(Gx1AttitudeProvider, AnglesNoVehicleCanHaveAreRefusedAndMakeTheGyroStale) {
+  for (const Gx1Angles impossible : {Gx1Angles{0.5, 170.0, 10.0}, Gx1Angles{175.0, -2.0, 10.0}}) {
+    gx1::EmulatorOptions emulator;
+    emulator.attitude = [impossible](double) { return impossible; };
+    Lines lines;
+    Gx1AttitudeProvider provider(std::move(emulator), lines.sink());
+    ASSERT_EQ(provider.open(), "");
+    std::atomic<bool> stop{false};
+    std::thread gyro([&] { provider.run(stop); });
+    for (const std::int64_t give_up = monotonic_ns() + 5'000'000'000;
+         monotonic_ns() < give_up && provider.counters().refused < 20;)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const GyroState state = provider.state();
+    const GyroCounters counters = provider.counters();
+    const bool attitude = provider.attitude_at(monotonic_ns()).has_value();
+    char problem[256];
+    provider.last_problem(problem, sizeof problem);
+    stop.store(true);
+    gyro.join();
+    provider.close();
+    EXPECT_GE(counters.refused, 20u);
+    EXPECT_EQ(counters.samples, 0u) << "none taken";
+    EXPECT_FALSE(attitude);
+    EXPECT_NE(state, GyroState::ok);
+    EXPECT_NE(std::string(problem).find(impossible.pitch_deg > 90 ? "whose pitch" : "whose roll"), std::string::npos)
+        << problem;
+    int refusal_lines = 0;
+    for (const auto& [level, text] : lines.got) refusal_lines += text.find("refused a reading") != std::string::npos;
+    EXPECT_EQ(refusal_lines, 1) << "said once";
+  }
+}
+
 TEST(Gx1AttitudeProvider, AMissingDeviceNamesTheKeyAndThePath) {
   Lines lines;
   Gx1AttitudeProvider provider("/nonexistent/ttyUSB9", lines.sink());
@@ -130,6 +169,23 @@ TEST(Gx1AttitudeProvider, AMissingDeviceNamesTheKeyAndThePath) {
   char problem[256];
   provider.last_problem(problem, sizeof problem);
   EXPECT_EQ(std::string(problem).rfind("absent: ", 0), 0u) << problem;
+}
+
+// A regular file named as the device: a configuration error (the daemon does not start),
+// not an absence to retry, and nothing written into it.
+TEST(Gx1AttitudeProvider, ARegularFileIsNoDevice) {
+  const std::string file = testing::TempDir() + "/gyro-" + std::to_string(::getpid()) + ".toml";
+  std::FILE* f = std::fopen(file.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fclose(f);
+  Gx1AttitudeProvider provider(file, {});
+  EXPECT_EQ(provider.open(),
+            "gyro.device: \"" + file + "\": " + file + ": not a character device (a serial port or a pty): refused");
+  EXPECT_NE(provider.state(), GyroState::lost) << "not retried as an absent device";
+  struct stat st {};
+  ASSERT_EQ(::stat(file.c_str(), &st), 0);
+  EXPECT_EQ(st.st_size, 0) << "nothing written";
+  ::unlink(file.c_str());
 }
 
 }  // namespace

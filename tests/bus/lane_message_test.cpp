@@ -183,6 +183,16 @@ TEST(LaneMessage, LdwWithoutATrackSendsNaNDistances) {
   EXPECT_FALSE(back.ldw.tlc_right_s);
 }
 
+TEST(LaneMessage, AVehicleFaultSurvivesTheBus) {
+  LaneEstimate e = sample_estimate();
+  e.ldw.available = false;
+  e.ldw.reason = ldw::Availability::vehicle_fault;
+  lane_estimate_t m;
+  to_message(e, 0, 0, m);
+  EXPECT_EQ(m.ldw_reason, lane_estimate_t::LDW_REASON_VEHICLE_FAULT);
+  EXPECT_EQ(from_message(through_bytes(m)).ldw.reason, ldw::Availability::vehicle_fault);
+}
+
 TEST(LaneMessage, CurvatureAndRadiusOfTheLane) {
   LaneEstimate e = sample_estimate();
   lane_estimate_t m;

@@ -32,6 +32,18 @@ TEST(StatusNames, GyroStates) {
   EXPECT_STREQ(to_string(GyroState::lost), "lost");
 }
 
+TEST(StatusNames, VehicleStatesAndRefusals) {
+  EXPECT_STREQ(vehicle_state_name(status_t::VEHICLE_NONE), "none");
+  EXPECT_STREQ(vehicle_state_name(status_t::VEHICLE_OK), "ok");
+  EXPECT_STREQ(vehicle_state_name(status_t::VEHICLE_FAULT), "fault");
+  EXPECT_STREQ(vehicle_state_name(3), "unknown");
+  EXPECT_STREQ(vehicle_refusal_name(status_t::VEHICLE_REFUSED_UNDECODABLE), "undecodable");
+  EXPECT_STREQ(vehicle_refusal_name(status_t::VEHICLE_REFUSED_SPEED), "speed");
+  EXPECT_STREQ(vehicle_refusal_name(status_t::VEHICLE_REFUSED_YAW_RATE), "yaw_rate");
+  EXPECT_STREQ(vehicle_refusal_name(status_t::VEHICLE_REFUSED_INDICATOR), "indicator");
+  EXPECT_STREQ(vehicle_refusal_name(-1), "unknown");
+}
+
 TEST(StatusNames, CalibrationStates) {
   EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_OFF), "off");
   EXPECT_STREQ(calibration_state_name(status_t::CALIBRATION_UNCALIBRATED), "uncalibrated");

@@ -54,6 +54,17 @@ int count_equal(const std::vector<std::string>& v, const std::string& what) {
   return static_cast<int>(std::count(v.begin(), v.end(), what));
 }
 
+// SIGTERM, then the messages the daemon sent until it exited, which must be with status 0
+// within 2 s.
+bool stops_cleanly(test::ChildProcess& child, lcm::LCM& bus) {
+  child.signal(SIGTERM);
+  const auto exit_status = child.wait_exit(2000);
+  while (bus.handleTimeout(100) > 0) {
+  }
+  EXPECT_TRUE(exit_status.has_value()) << "still running 2 s after SIGTERM";
+  return exit_status && WIFEXITED(*exit_status) && WEXITSTATUS(*exit_status) == 0;
+}
+
 // The daemon under a systemd-like supervisor: its notifications land on `socket`.
 struct Supervised {
   Supervised(const test::TempDir& dir, const std::string& config_path, std::optional<uid_t> user = {})
@@ -120,6 +131,28 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
   EXPECT_EQ(in, processed + dropped + queued) << log.substr(at);
 }
 
+// A missing camera under systemd: the reason goes to STATUS= and the exit waits out a
+// pause (the unit restarts it for ever, StartLimitIntervalSec=0), which SIGTERM ends.
+TEST(Ccdlaned, AFailedStartUnderSystemdSaysWhyAndPausesBeforeItsRestart) {
+  test::TempDir dir;
+  const std::string config = dir.write("ccdlane.toml",
+                                       "[source]\nkind = \"v4l2\"\ndevice = \"/dev/video-none\"\n[prior]\nphi_deg = "
+                                       "[0.0, 1.0]\n[lcm]\nurl = \"memq://\"\n");
+  Supervised d(dir, config);
+  std::optional<std::string> status;
+  for (const auto end = Clock::now() + std::chrono::seconds(10); Clock::now() < end;)
+    if ((status = d.socket.receive(200)) && status->rfind("STATUS=", 0) == 0) break;
+  ASSERT_TRUE(status.has_value()) << test::read_file(d.stderr_path);
+  EXPECT_EQ(status->rfind("STATUS=failed to start (camera): ", 0), 0u) << *status;
+  EXPECT_NE(status->find("/dev/video-none"), std::string::npos) << *status;
+  EXPECT_NE(status->find("; restarting in 5 s"), std::string::npos) << *status;
+  EXPECT_FALSE(d.child.wait_exit(500).has_value()) << "pausing before the restart";
+  d.child.signal(SIGTERM);
+  const std::optional<int> exit_status = d.child.wait_exit(1000);
+  ASSERT_TRUE(exit_status.has_value()) << "SIGTERM ends the pause";
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 1);
+}
+
 TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
   test::TempDir dir;
   const std::string config = dir.write("ccdlane.toml", config_text("memq://", 100));
@@ -181,12 +214,7 @@ TEST(CcdlanedBus, PublishesLanesAndStatusOnUdpm) {
   test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
   const auto end = Clock::now() + std::chrono::seconds(15);
   while (got.statuses.size() < 3 && Clock::now() < end) bus.handleTimeout(200);
-  child.signal(SIGTERM);
-  const auto exit_status = child.wait_exit(2000);
-  while (bus.handleTimeout(100) > 0) {
-  }
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  ASSERT_TRUE(stops_cleanly(child, bus));
 
   ASSERT_GE(got.statuses.size(), 3u) << test::read_file(dir.file("stderr"));
   ASSERT_GE(got.lanes.size(), 50u);
@@ -250,6 +278,20 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
 
 // Frames recorded without a gyro, no gyro device, phi and y0 free: refused before anything
 // is opened, by the daemon and by --check-config alike, with the file named.
+// 8192x8192 colour with queue_depth 62 once passed --check-config and died of a bare
+// std::bad_alloc at start: refused at --check-config, here on a 4 GB address space.
+TEST(CcdlanedCommand, AConfigurationNeedingMoreMemoryThanTheMachineIsRefused) {
+  test::TempDir dir;
+  const std::string config = dir.write("huge.toml",
+                                       "[camera]\nNu = 8192\nNv = 8192\nUc_mm = 0.0005\nVc_mm = 0.0005\nk_px2 = "
+                                       "0.0\n[source]\nkind = \"v4l2\"\npixel_format = "
+                                       "\"colour\"\n[daemon]\nqueue_depth = 62\n[prior]\nphi_deg = [0.0, 1.0]\n");
+  const auto r = test::run_process(
+      {"/bin/sh", "-c", "ulimit -v 4194304; exec \"$@\"", "sh", kDaemon, "--check-config", "--config", config});
+  EXPECT_EQ(r.exit_status, 2) << r.err;
+  EXPECT_NE(r.err.find(config + ": needs an estimated 12800 MB at start"), std::string::npos) << r.err;
+}
+
 TEST(CcdlanedCommand, AFrameDirectoryWithoutGyroColumnsIsRefusedWhenTheRollNeedsOne) {
   test::TempDir dir;
   const std::string frames = dir.path() + "/frames";
@@ -522,10 +564,47 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
   EXPECT_EQ(count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
 }
 
+// A gateway sending garbage (150 m/s: once taken, with false warnings) makes LDW
+// unavailable with vehicle_fault, not "available" at the configured speed; status counts
+// the refusals by cause and says the vehicle is at fault; the cause is logged once.
+TEST(CcdlanedBus, AGatewaySendingImpossibleStatesIsAVehicleFault) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  const std::string config = dir.write("ccdlane.toml", config_text(test::kBusUrl, 30));
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  vehicle_state_t garbage{};
+  garbage.speed_mps = 150.0;
+  const auto faulted = [&] {
+    return std::count_if(got.lanes.begin(), got.lanes.end(), [](const lane_estimate_t& m) {
+      return m.ldw_reason == lane_estimate_t::LDW_REASON_VEHICLE_FAULT;
+    });
+  };
+  const auto end = Clock::now() + std::chrono::seconds(20);
+  while ((faulted() < 30 || got.statuses.empty() || got.statuses.back().vehicle_state != status_t::VEHICLE_FAULT) &&
+         Clock::now() < end) {
+    bus.publish("CCDLANE_VEHICLE", &garbage);
+    bus.handleTimeout(50);
+  }
+  ASSERT_TRUE(stops_cleanly(child, bus));
+  const std::string log = test::read_file(dir.file("stderr"));
+  EXPECT_GE(faulted(), 30) << log;
+  for (const lane_estimate_t& m : got.lanes) EXPECT_NE(m.speed_mps, 150.0) << "frame " << m.frame;
+  ASSERT_FALSE(got.statuses.empty());
+  const status_t& s = got.statuses.back();
+  EXPECT_EQ(s.vehicle_state, status_t::VEHICLE_FAULT);
+  EXPECT_GT(s.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_SPEED], 0);
+  EXPECT_EQ(s.vehicle_states_total, 0);
+  EXPECT_EQ(count_of(log, "refused a vehicle_state_t for its speed (speed 150 m/s"), 1) << log;
+  EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << "refusing allocates nothing: " << log;
+}
+
 // A CAN gateway's vehicle_state_t reaches the daemon's lane departure warning: while it
 // publishes, each lane message says the speed and indicator it sent; once it has been
-// silent longer than the maximum age (0.5 s), the configured speed and no indicator.
-// Taking the messages allocates nothing once the daemon is ready.
+// silent longer than the maximum age (0.5 s), the configured speed, no indicator, and LDW
+// unavailable (vehicle_fault). Taking the messages allocates nothing once the daemon is ready.
 TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
   lcm::LCM bus(test::kBusUrl);
@@ -555,16 +634,13 @@ TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   for (const auto end = Clock::now() + std::chrono::seconds(10);
        got.lanes.size() < first_after + 20 && Clock::now() < end;)
     bus.handleTimeout(100);
-  child.signal(SIGTERM);
-  const auto exit_status = child.wait_exit(2000);
-  while (bus.handleTimeout(100) > 0) {
-  }
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0);
+  ASSERT_TRUE(stops_cleanly(child, bus));
   ASSERT_GE(got.lanes.size(), first_after + 20);
   for (std::size_t i = first_after; i < got.lanes.size(); ++i) {
     EXPECT_DOUBLE_EQ(got.lanes[i].speed_mps, 90.0 / 3.6) << "frame " << got.lanes[i].frame;
     EXPECT_EQ(got.lanes[i].turn_indicator, vehicle_state_t::TURN_INDICATOR_NONE) << "frame " << got.lanes[i].frame;
+    // A gateway that fell silent is a fault: the configured speed is no warning's basis.
+    EXPECT_EQ(got.lanes[i].ldw_reason, lane_estimate_t::LDW_REASON_VEHICLE_FAULT) << "frame " << got.lanes[i].frame;
   }
   const std::string log = test::read_file(dir.file("stderr"));
   EXPECT_NE(log.find("vehicle state from CCDLANE_VEHICLE"), std::string::npos) << log;

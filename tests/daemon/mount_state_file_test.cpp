@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -90,33 +91,47 @@ TEST(MountStateFile, AFormatThatDoesNotFitIsRefused) {
 
 TEST(MountStateFile, WritesAtomicallyAndAllocatesNothing) {
   test::TempDir dir;
-  const std::string path = dir.file("mount.toml"), tmp = path + ".tmp";
+  const std::string path = dir.file("mount.toml");
   dir.write("mount.toml", "the old one\n");
   char text[1024];
   const std::size_t n = format_mount_state(kLearned, options(), text, sizeof text);
   const std::uint64_t before = allocation_counter::in_this_thread();
-  const FileWriteError e = write_file_atomically(path.c_str(), tmp.c_str(), text, n);
+  const FileWriteError e = write_file_atomically(path.c_str(), text, n);
   EXPECT_EQ(allocation_counter::in_this_thread() - before, 0u);
   EXPECT_FALSE(e) << e.step << ": " << std::strerror(e.error);
   EXPECT_EQ(test::read_file(path), std::string(text, n));
-  EXPECT_FALSE(std::filesystem::exists(tmp));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 1) << "no temporary left";
+}
+
+// A symlink at the old temporary name "<state_file>.tmp" once made the daemon overwrite
+// its target: the temporary is a new name now, and the link and its target stay as they were.
+TEST(MountStateFile, ASymlinkAtTheTemporaryNameIsNotFollowed) {
+  test::TempDir dir;
+  const std::string path = dir.file("mount.toml");
+  dir.write("victim", "not the daemon's\n");
+  std::filesystem::create_symlink(dir.file("victim"), path + ".tmp");
+  const FileWriteError e = write_file_atomically(path.c_str(), "new\n", 4);
+  EXPECT_FALSE(e) << e.step << ": " << std::strerror(e.error);
+  EXPECT_EQ(test::read_file(path), "new\n");
+  EXPECT_EQ(test::read_file(dir.file("victim")), "not the daemon's\n");
+  EXPECT_TRUE(std::filesystem::is_symlink(path + ".tmp"));
 }
 
 TEST(MountStateFile, AFailedWriteNamesItsStepAndLeavesNothing) {
   test::TempDir dir;
-  const std::string path = dir.file("missing/mount.toml"), tmp = path + ".tmp";
-  const FileWriteError e = write_file_atomically(path.c_str(), tmp.c_str(), "x", 1);
+  const std::string path = dir.file("missing/mount.toml");
+  const FileWriteError e = write_file_atomically(path.c_str(), "x", 1);
   ASSERT_TRUE(e);
   EXPECT_STREQ(e.step, "open");
   EXPECT_EQ(e.error, ENOENT);
   // The target a directory: rename fails, the temporary is removed.
   std::filesystem::create_directory(dir.file("taken"));
   std::filesystem::create_directory(dir.file("taken/sub"));
-  const std::string target = dir.file("taken"), target_tmp = dir.file("taken.tmp");
-  const FileWriteError r = write_file_atomically(target.c_str(), target_tmp.c_str(), "x", 1);
+  const std::string target = dir.file("taken");
+  const FileWriteError r = write_file_atomically(target.c_str(), "x", 1);
   ASSERT_TRUE(r);
   EXPECT_STREQ(r.step, "rename");
-  EXPECT_FALSE(std::filesystem::exists(target_tmp));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 1) << "taken/ only: no temporary left";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "daemon/online_calibration.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -135,6 +136,19 @@ TEST_F(OnlineCalibrationTest, ABadStateFileIsOneLineAndUncalibrated) {
       << text;
   EXPECT_EQ(k.status().state, OnlineMountState::uncalibrated);
   EXPECT_EQ(k.status().applied, calibration::MountAngles{});
+}
+
+// A FIFO as the state file once blocked start-up for ever; "/" said "no format version".
+TEST_F(OnlineCalibrationTest, AStateFileThatIsNoRegularFileIsOneLineAndUncalibrated) {
+  ASSERT_EQ(::mkfifo(path_.c_str(), 0600), 0);
+  for (const std::string& path : {path_, std::string("/")}) {
+    LogCapture log;
+    const OnlineCalibration k(online_config(path));
+    const std::string text = log.text();
+    EXPECT_EQ(count_of(text, path + ": not used: not a regular file: not a state file; starting uncalibrated"), 1)
+        << text;
+    EXPECT_EQ(k.status().state, OnlineMountState::uncalibrated);
+  }
 }
 
 TEST_F(OnlineCalibrationTest, OutOfRangeMakesLdwNotCalibratedAndIsNotSaved) {

@@ -2,8 +2,9 @@
 // vehicle_state_t, ccdlaned's bus thread hands it to the vehicle state listener, and the
 // pipeline's lane estimator (rendered drive frames, live-camera style: no recorded
 // vehicle values) warns of a drift to the right without the indicator, stays silent
-// with the right indicator on, and falls back to [vehicle] speed_kmh and no indicator
-// once the gateway has been silent for longer than the maximum age.
+// with the right indicator on; once the gateway has been silent for longer than the
+// maximum age, or while it sends only states beyond physical bounds, LDW is unavailable
+// (vehicle_fault) and no warning is given on the garbage.
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -36,6 +37,7 @@ struct Seen {
   ldw::Side fired = ldw::Side::none;
   double speed_mps = 0.0;
   ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
+  ldw::Availability reason = ldw::Availability::none;
 };
 
 class SeenSink : public LaneSink {
@@ -44,7 +46,7 @@ class SeenSink : public LaneSink {
   bool publish_lane(const LaneEstimate& e, std::int64_t, std::int64_t) override {
     const std::uint64_t n = count_.load(std::memory_order_relaxed);
     if (n >= seen_.size()) return false;
-    seen_[n] = Seen{e.frame, e.ok, e.ldw.fired, e.ldw.speed_mps, e.ldw.indicator};
+    seen_[n] = Seen{e.frame, e.ok, e.ldw.fired, e.ldw.speed_mps, e.ldw.indicator, e.ldw.reason};
     count_.store(n + 1, std::memory_order_release);
     return true;
   }
@@ -113,13 +115,13 @@ class Gateway {
     m.turn_indicator = indicator;
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
     m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-    const std::uint64_t before = listener_.received();
+    const std::uint64_t before = listener_.received() + listener_.rejected();
     const std::string channel = channel_name("CCDLANE_", Channel::vehicle);
     ASSERT_EQ(lcm_publish(lcm_, channel.c_str(), bytes.data(), static_cast<unsigned>(bytes.size())), 0);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while (listener_.received() == before && std::chrono::steady_clock::now() < deadline)
+    while (listener_.received() + listener_.rejected() == before && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::microseconds(100));
-    ASSERT_GT(listener_.received(), before) << "the bus thread took the message";
+    ASSERT_GT(listener_.received() + listener_.rejected(), before) << "the bus thread took or refused the message";
   }
 
  private:
@@ -209,7 +211,7 @@ TEST(VehicleInputsBus, TheRightIndicatorOnTheBusSuppressesTheWarning) {
   EXPECT_TRUE(warnings_in(seen).empty());
 }
 
-TEST(VehicleInputsBus, AStaleVehicleStateFallsBackToTheConfiguredSpeedAndNoIndicator) {
+TEST(VehicleInputsBus, AGatewayThatFellSilentIsAVehicleFault) {
   ldw::ScenarioSpec spec = drift_right();
   spec.drive.duration_s = 0.2;  // 7 frames at 30 Hz
   const double configured_mps = spec.vehicle.speed_kmh / 3.6;
@@ -221,10 +223,34 @@ TEST(VehicleInputsBus, AStaleVehicleStateFallsBackToTheConfiguredSpeedAndNoIndic
   ASSERT_EQ(seen.size(), 7u);
   EXPECT_DOUBLE_EQ(seen[0].speed_mps, 12.5);
   EXPECT_EQ(seen[0].indicator, ldw::TurnIndicator::left);
+  EXPECT_NE(seen[0].reason, ldw::Availability::vehicle_fault);
   for (std::size_t k = 3; k < seen.size(); ++k) {
-    EXPECT_DOUBLE_EQ(seen[k].speed_mps, configured_mps) << "frame " << k;
+    EXPECT_DOUBLE_EQ(seen[k].speed_mps, configured_mps) << "frame " << k << ": its last indicator does not hold";
     EXPECT_EQ(seen[k].indicator, ldw::TurnIndicator::none) << "frame " << k;
+    EXPECT_EQ(seen[k].reason, ldw::Availability::vehicle_fault) << "frame " << k << ": not the configured speed";
   }
+}
+
+// 150 m/s once gave false warnings, 1e30 made every frame no_lane, a yaw rate of 1e30
+// was used and an indicator of 99 taken: each is refused, and LDW says why it is off.
+TEST(VehicleInputsBus, AGatewaySendingOnlyImpossibleStatesIsAVehicleFault) {
+  ldw::ScenarioSpec spec = drift_right();
+  const std::vector<Seen> seen = run_drive(spec, [](const Gateway& gw, const VehicleFrame& truth) {
+    switch (truth.index % 4) {
+      case 0: gw.publish(150.0, std::nullopt, vehicle_state_t::TURN_INDICATOR_NONE); break;
+      case 1: gw.publish(1e30, std::nullopt, vehicle_state_t::TURN_INDICATOR_NONE); break;
+      case 2: gw.publish(truth.speed_mps, 1e30, vehicle_state_t::TURN_INDICATOR_NONE); break;
+      default: gw.publish(truth.speed_mps, std::nullopt, 99); break;
+    }
+  });
+  ASSERT_FALSE(seen.empty());
+  int ok = 0;
+  for (const Seen& s : seen) {
+    EXPECT_EQ(s.reason, ldw::Availability::vehicle_fault) << "frame " << s.frame;
+    ok += s.ok;
+  }
+  EXPECT_GT(ok, static_cast<int>(seen.size()) * 9 / 10) << "the lanes are seen: only LDW is off";
+  EXPECT_TRUE(warnings_in(seen).empty());
 }
 
 }  // namespace

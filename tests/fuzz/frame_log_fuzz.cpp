@@ -9,18 +9,7 @@
 #include <cstdlib>
 
 #include "bus/lcm_log_scanner.hpp"
-
-namespace {
-
-#define FUZZ_CHECK(condition)                                      \
-  do {                                                             \
-    if (!(condition)) {                                            \
-      std::fprintf(stderr, "fuzz check failed: %s\n", #condition); \
-      std::abort();                                                \
-    }                                                              \
-  } while (0)
-
-}  // namespace
+#include "tests/fuzz/fuzz_check.hpp"
 
 // Input: byte 0 picks the data-length limit (small limits exercise the bound), the rest
 // is the log file.

@@ -6,16 +6,9 @@
 #include <cstring>
 
 #include "drivers/gx1/gx1_protocol.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
-
-#define FUZZ_CHECK(condition)                                      \
-  do {                                                             \
-    if (!(condition)) {                                            \
-      std::fprintf(stderr, "fuzz check failed: %s\n", #condition); \
-      std::abort();                                                \
-    }                                                              \
-  } while (0)
 
 using namespace ccdlane::gx1;
 

@@ -1,8 +1,11 @@
 // Reading pictures as grey: the Udacity JPEGs, PNGs the overlay writes, 8- and 16-bit PGM, and garbage.
 #include "tools/ccdlane/grey_picture.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -68,6 +71,57 @@ TEST(GreyPicture, RefusesWhatIsNotAPicture) {
     ADD_FAILURE() << "a truncated JPEG was read";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("cut.jpg: bad JPEG"), std::string::npos) << e.what();
+  }
+}
+
+// Files that claim huge pictures are refused from their header, naming the file, before
+// anything is allocated: a 35-byte PGM header of 65535x65535 (once 8.6 GB), the same with
+// a size within the bound but more than the file holds, and a JPEG whose frame header
+// says 60000x60000.
+TEST(GreyPicture, AHugeClaimedSizeIsRefusedBeforeDecoding) {
+  const test::TempDir dir;
+  const std::string pgm = dir.write("huge.pgm", "P5\n65535 65535\n255\n" + std::string(16, 'x'));
+  try {
+    read_grey_picture(pgm);
+    ADD_FAILURE() << "decoded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), pgm + ": 65535x65535 pixels: more than 40000000; not decoded");
+  }
+  const std::string claims = dir.write("claims.pgm", "P5\n6000 6000\n255\n" + std::string(16, 'x'));
+  try {
+    read_grey_picture(claims);
+    ADD_FAILURE() << "decoded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(claims + ": truncated: its header says 6000x6000 pixels"), std::string::npos)
+        << e.what();
+  }
+  std::ifstream in(kUdacityDir + "calibration2.jpg", std::ios::binary);
+  std::string jpeg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t sof = jpeg.find("\xFF\xC0");
+  ASSERT_NE(sof, std::string::npos) << "a baseline JPEG";
+  for (const std::size_t at : {sof + 5, sof + 7}) {  // height, then width, big-endian
+    jpeg[at] = static_cast<char>(0xEA);
+    jpeg[at + 1] = static_cast<char>(0x60);
+  }
+  const std::string huge_jpeg = dir.write("huge.jpg", jpeg.substr(0, sof + 2000));
+  try {
+    read_grey_picture(huge_jpeg);
+    ADD_FAILURE() << "decoded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), huge_jpeg + ": bad JPEG: 60000x60000 pixels: more than 40000000; not decoded");
+  }
+}
+
+// A FIFO in a picture's place is refused at once, not waited on.
+TEST(GreyPicture, AFifoIsNoPicture) {
+  const test::TempDir dir;
+  const std::string fifo = dir.file("fifo.jpg");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    read_grey_picture(fifo);
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), fifo + ": cannot open the picture: not a regular file");
   }
 }
 

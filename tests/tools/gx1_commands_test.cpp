@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -166,9 +168,25 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
   EXPECT_NE(missing.err.find(dir.file("nothing")), std::string::npos);
   EXPECT_TRUE(missing.out.empty());
 
+  // A regular file is not a device: refused, and not a byte written into it.
+  const std::string toml = dir.write("some.toml", "[camera]\n");
+  const test::ProcessResult regular = test::run_process({CCDLANE_TOOL, "gx1", toml, "--count", "1"});
+  EXPECT_EQ(regular.exit_status, 2) << regular.err;
+  EXPECT_NE(regular.err.find("not a character device"), std::string::npos) << regular.err;
+  std::ifstream kept(toml);
+  std::string first;
+  std::getline(kept, first);
+  EXPECT_EQ(first, "[camera]");
+  EXPECT_TRUE(kept.peek() == std::char_traits<char>::eof()) << "not a byte more";
+
   const test::ProcessResult rate = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--rate", "0"});
   EXPECT_EQ(rate.exit_status, 2);
   EXPECT_NE(rate.err.find("--rate"), std::string::npos);
+
+  // --stall-every 1e300 once stalled every 50 ms (an overflow).
+  const test::ProcessResult huge = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--stall-every", "1e300"});
+  EXPECT_EQ(huge.exit_status, 2);
+  EXPECT_NE(huge.err.find("--stall-every: must be a number from 0 to 86400, got 1e300"), std::string::npos) << huge.err;
 
   const test::ProcessResult stall = test::run_process({CCDLANE_TOOL, "gx1-emulate", "--stall-ms", "-5"});
   EXPECT_EQ(stall.exit_status, 2);
@@ -190,15 +208,16 @@ TEST(Gx1Commands, BadInputIsOneLineAndExitStatus2) {
 
 TEST(Gx1Commands, ASilentDeviceIsAFailureNotBadInput) {
   test::TempDir dir;
-  // A FIFO is a byte stream that never answers the firmware request.
-  const std::string fifo = dir.file("fifo");
-  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-  const int keep = open(fifo.c_str(), O_RDWR | O_NONBLOCK);  // so the tool's open does not block
-  ASSERT_GE(keep, 0);
-  const test::ProcessResult r = test::run_process({CCDLANE_TOOL, "gx1", fifo, "--count", "1"});
+  // A pty whose other end never answers the firmware request.
+  const int master = posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(grantpt(master), 0);
+  ASSERT_EQ(unlockpt(master), 0);
+  const std::string slave = ptsname(master);
+  const test::ProcessResult r = test::run_process({CCDLANE_TOOL, "gx1", slave, "--count", "1"});
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.err.find("firmware"), std::string::npos) << r.err;
-  close(keep);
+  close(master);
 }
 
 }  // namespace

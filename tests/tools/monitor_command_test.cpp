@@ -155,24 +155,47 @@ void publish_for_monitor(lcm::LCM& bus, const status_t& status) {
   }
 }
 
-// The gyro's reconnect count comes from the status message, and only when there is a gyro.
-TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
-  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+// What a monitor started for 2.5 s prints while `status` (camera streaming) is published
+// with lane messages; "" when the bus cannot be had (the caller skips).
+std::string live_lines_with(status_t status) {
   test::TempDir dir;
   test::ChildProcess monitor({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
                              test::ChildOptions{{}, dir.file("out"), dir.file("err"), {}});
   lcm::LCM bus(kUrl);
-  ASSERT_TRUE(bus.good());
-  status_t status{};
+  EXPECT_TRUE(bus.good());
   status.camera_state = status_t::CAMERA_STREAMING;
-  status.gyro_state = status_t::GYRO_OK;
-  status.gyro_reconnects_total = 3;
   publish_for_monitor(bus, status);
   const auto exit_status = monitor.wait_exit(3000);
-  ASSERT_TRUE(exit_status.has_value());
-  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
-  const std::string out = test::read_file(dir.file("out"));
-  EXPECT_NE(out.find("| camera streaming, gyro ok, gyro reconnects 3, p99 "), std::string::npos) << out;
+  EXPECT_TRUE(exit_status.has_value());
+  if (exit_status) {
+    EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
+  }
+  return test::read_file(dir.file("out"));
+}
+
+// The gyro's reconnect count comes from the status message, and only when there is a gyro.
+TEST(MonitorCommandAlone, TheLiveLineShowsTheGyroReconnects) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  status_t status{};
+  status.gyro_state = status_t::GYRO_OK;
+  status.gyro_reconnects_total = 3;
+  const std::string out = live_lines_with(status);
+  EXPECT_NE(out.find("| camera streaming, gyro ok, gyro reconnects 3, vehicle none, p99 "), std::string::npos) << out;
+}
+
+// A broken vehicle gateway and gyro: the fault and the refusals by cause, from status.
+TEST(MonitorCommandAlone, TheLiveLineShowsVehicleAndGyroRefusals) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  status_t status{};
+  status.gyro_state = status_t::GYRO_STALE;
+  status.gyro_refused_total = 40;
+  status.vehicle_state = status_t::VEHICLE_FAULT;
+  status.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_SPEED] = 12;
+  status.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_INDICATOR] = 1;
+  const std::string out = live_lines_with(status);
+  EXPECT_NE(out.find(", vehicle fault (refused: speed 12, indicator 1), gyro readings refused 40, p99 "),
+            std::string::npos)
+      << out;
 }
 
 // The online calibration from the status message: in the live line and, with --json, in
@@ -229,6 +252,12 @@ TEST(MonitorCommandAlone, BadUsageIsExitTwo) {
   const auto s = test::run_process({kTool, "monitor", "--seconds", "-1"});
   EXPECT_EQ(s.exit_status, 2);
   EXPECT_EQ(s.err, "ccdlane: --seconds: must be a number greater than 0, got -1 (see ccdlane --help)\n");
+  // LCM's tcpq client once aborted monitor 2 s after start (exit 134) without its server.
+  const auto t = test::run_process({kTool, "monitor", "--lcm", "tcpq://192.0.2.1:7700", "--seconds", "3"});
+  EXPECT_EQ(t.exit_status, 2);
+  EXPECT_EQ(t.err,
+            "ccdlane: --lcm: tcpq:// is not supported (LCM's tcpq client aborts the process when its server is "
+            "unreachable); use udpm://, memq:// or file://\n");
 }
 
 }  // namespace

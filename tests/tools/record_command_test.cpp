@@ -297,6 +297,41 @@ TEST(RecordCommand, SigintFinishesTheRecordingCleanly) {
   EXPECT_GT(records_of(log).size(), 10u);
 }
 
+// An ssh session that drops sends SIGHUP: the recording is finished as on Ctrl-C (once
+// only .tmp files were left), into a frame directory too.
+TEST(RecordCommand, SighupFinishesTheRecordingCleanly) {
+  test::TempDir dir;
+  const std::string out = dir.file("live");
+  test::ChildProcess recorder({kTool, "record", "aravis:Fake_1", "--out", out}, {{}, "", dir.file("err"), {}});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  recorder.signal(SIGHUP);
+  const auto status = recorder.wait_exit(5000);
+  ASSERT_TRUE(status.has_value());
+  ASSERT_TRUE(WIFEXITED(*status)) << test::read_file(dir.file("err"));
+  EXPECT_EQ(WEXITSTATUS(*status), 0) << test::read_file(dir.file("err"));
+  FrameDirectory d(out);
+  EXPECT_GT(d.size(), 10u);
+  for (const auto& e : std::filesystem::directory_iterator(out))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// `record --out DIR` into a user's directory once replaced its 000000.pgm and removed a
+// .tmp file of theirs: refused, and the directory is as it was.
+TEST(RecordCommand, AUsersDirectoryWithAFrameNameIsRefusedUntouched) {
+  test::TempDir dir;
+  const std::string mine = dir.file("mine");
+  std::filesystem::create_directory(mine);
+  dir.write("mine/000000.pgm", "my picture");
+  dir.write("mine/notes.tmp", "my notes");
+  const auto r = test::run_process({kTool, "record", "synth", "--out", mine, "--count", "3"});
+  EXPECT_EQ(r.exit_status, 2) << r.err;
+  EXPECT_EQ(r.err,
+            "ccdlane: " + mine + ": already holds 000000.pgm, a name a recording writes; choose another place\n");
+  EXPECT_EQ(test::read_file(mine + "/000000.pgm"), "my picture");
+  EXPECT_EQ(test::read_file(mine + "/notes.tmp"), "my notes");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(mine), {}), 2);
+}
+
 TEST(RecordCommand, BadUseIsOneLineAndLeavesNothingBehind) {
   test::TempDir dir;
   auto r = test::run_process({kTool, "record", "usb:3", "--out", dir.file("x.lcmlog")});

@@ -525,11 +525,42 @@ TEST(ReplayCommand, OutIsNeverTheInputItself) {
   const std::string before((std::istreambuf_iterator<char>(before_in)), std::istreambuf_iterator<char>());
   const auto r = test::run_process({kTool, "replay", kReferenceCamera, road, "--out", road + "/frames.csv"});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_NE(r.err.find(": is the input being replayed (" + road + "/frames.csv); choose another --out"),
+  EXPECT_NE(r.err.find(": is or lies inside the input being replayed (" + road + "); choose another --out"),
             std::string::npos)
       << r.err;
   std::ifstream after_in(road + "/frames.csv");
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), std::istreambuf_iterator<char>()), before);
+}
+
+// --overlay onto its own colour recording once replaced its PNG frames (exit 0, and a
+// second replay got no ok frame); --out onto a frame replaced it. Both are refused, the
+// recording untouched, also through a symlink to it.
+TEST(ReplayCommand, OutputsInsideTheInputAreRefused) {
+  test::TempDir dir;
+  const std::string road = dir.file("road");
+  ASSERT_EQ(test::run_process({kTool, "synth", kReferenceCamera, "--out", road, "--frames", "2"}).exit_status, 0);
+  std::filesystem::create_directory_symlink(road, dir.file("link"));
+  const auto listing = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(road))
+      names.push_back(e.path().filename().string() + ":" + std::to_string(e.file_size()));
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> before = listing();
+  for (const auto& [option, path] : std::vector<std::pair<std::string, std::string>>{{"--overlay", road},
+                                                                                     {"--overlay", road + "/png"},
+                                                                                     {"--overlay", dir.file("link")},
+                                                                                     {"--out", road + "/000000.pgm"}}) {
+    const auto r = test::run_process({kTool, "replay", kReferenceCamera, road, option, path});
+    EXPECT_EQ(r.exit_status, 2) << option << " " << path;
+    EXPECT_NE(r.err.find("lies inside the input being replayed (" + road + "); choose another " + option),
+              std::string::npos)
+        << r.err;
+  }
+  EXPECT_EQ(listing(), before);
+  EXPECT_EQ(test::run_process({kTool, "replay", kReferenceCamera, road, "--overlay", dir.file("png")}).exit_status, 0)
+      << "beside it is fine";
 }
 
 // Overlays onto a 2 MB tmpfs (a private mount namespace: root only): the disk fills

@@ -161,5 +161,27 @@ TEST_F(ScoreCommand, FramesWithoutAMaskAreNotScoredAndBadMasksAreRefused) {
   EXPECT_NE(none.err.find("no mask for any frame"), std::string::npos) << none.err;
 }
 
+// A replay line whose `lines` holds {} once crashed score (SIGSEGV), and other damage
+// gave raw library errors with exit 1: now one line with the file, line and field, exit 2.
+TEST_F(ScoreCommand, ADamagedReplayLineIsOneLineNamingFileLineAndField) {
+  render_masks(dir_->file("road"), dir_->file("masks"), {});
+  std::ifstream in(dir_->file("r.jsonl"));
+  std::string first;
+  std::getline(in, first);
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 0, "lines": [{}]})",
+       ":2: lines[0].y0_mm: not a number"},
+      {R"({"frame": "1"})", ":2: frame: not a frame number"},
+      {R"({"frame": 1, "psi_deg": 1, "theta_deg": "x"})", ":2: theta_deg: not a number"},
+  };
+  for (const auto& [bad, why] : cases) {
+    const std::string replay = dir_->write("bad.jsonl", first + "\n" + bad + "\n");
+    const auto r =
+        test::run_process({kTool, "score", kReferenceCamera, dir_->file("road"), replay, dir_->file("masks")});
+    EXPECT_EQ(r.exit_status, 2) << bad << ": " << r.err;
+    EXPECT_EQ(r.err, "ccdlane: " + replay + why + "\n");
+  }
+}
+
 }  // namespace
 }  // namespace ccdlane

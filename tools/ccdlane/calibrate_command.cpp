@@ -82,6 +82,16 @@ int refinement_half_window(const std::vector<cv::Point2f>& corners, const BoardG
   return std::clamp(static_cast<int>(0.4 * smallest), 2, 11);
 }
 
+// A picture too small to hold the board (4 px per square at least) is refused before
+// OpenCV sees it: it asserts on tiny images (Nu = 2) instead of reporting no board.
+void require_room_for_board(const Picture& p, const BoardGeometry& board) {
+  const int min_width = 4 * (board.columns + 1), min_height = 4 * (board.rows + 1);
+  if (p.picture.width < min_width || p.picture.height < min_height)
+    throw UsageError(p.path + ": " + std::to_string(p.picture.width) + "x" + std::to_string(p.picture.height) +
+                     " pixels cannot show a " + std::to_string(board.columns) + "x" + std::to_string(board.rows) +
+                     " board (at least " + std::to_string(min_width) + "x" + std::to_string(min_height) + ")");
+}
+
 std::vector<Vec2> find_corners(GreyPicture& picture, const BoardGeometry& board) {
   const cv::Mat grey(picture.height, picture.width, CV_8UC1, picture.pixels.data());  // no copy
   std::vector<cv::Point2f> corners;
@@ -190,6 +200,7 @@ int run_camera(const CameraArgs& args) {
   std::vector<int> used;  // picture index of each view
   for (std::size_t i = 0; i < pictures.size(); ++i) {
     Picture& p = pictures[i];
+    require_room_for_board(p, board);
     p.corners_px = find_corners(p.picture, board);
     if (p.corners_px.empty()) {
       std::cerr << p.path << ": no " << args.board

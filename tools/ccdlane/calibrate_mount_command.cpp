@@ -140,8 +140,11 @@ CommandAction setup_calibrate_mount(CLI::App& sub) {
       ->required();
   sub.add_option("--out", args->out,
                  "write the [mount] and [attitude] tables here (atomically) instead of standard output");
+  // A road's lanes are 2 to 5 m wide; 1e308 once wrote H_mm = inf, and -5, 0, NaN were
+  // ignored in silence.
   sub.add_option("--lane-width-mm", args->lane_width_mm,
-                 "the road's true lane width, if known (else [prior] lane_width_mm, else 3600 +/- 200)");
+                 "the road's true lane width, if known (else [prior] lane_width_mm, else 3600 +/- 200)")
+      ->check(number_from_to(2000.0, 5000.0));
   sub.footer(
       "Solves every frame with H and roll fixed at the configured values, keeps straight stretches (no bend, no "
       "gyro turn, no lane change) with lines on both sides, and averages: yaw and pitch from the solves, roll from "

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <iostream>
 
+#include "base/temp_file.hpp"
+
 namespace ccdlane::cli {
 namespace {
 
@@ -42,9 +44,11 @@ void write_file_checked(const std::string& path, const std::string& text) {
   file.commit();
 }
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
   struct stat st {};
   in_place_ = ::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+  if (!in_place_ && (tmp_ = new_temp_beside(path_)).empty())
+    throw std::runtime_error(path_ + ": cannot create a temporary beside it: " + reason(errno));
   errno = 0;
   stream_.open(in_place_ ? path_ : tmp_, std::ios::binary | std::ios::trunc);
   if (!stream_) throw std::runtime_error((in_place_ ? path_ : tmp_) + ": cannot create: " + reason(errno));

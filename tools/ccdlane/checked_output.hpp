@@ -21,8 +21,8 @@ void check_written(std::ostream& out, const std::string& what);
 // Writes `text` to `path` through OutputFile and commits it.
 void write_file_checked(const std::string& path, const std::string& text);
 
-// An output file written under PATH.tmp and renamed onto PATH by commit(), after a
-// checked flush and fsync: the file is whole or absent. A PATH that exists and is not a
+// An output file written under a new PATH.tmp.XXXXXX (base/temp_file.hpp) and renamed
+// onto PATH by commit(), after a checked flush and fsync: the file is whole or absent. A PATH that exists and is not a
 // regular file (a device, a FIFO) is written in place. Destroyed without commit(), the
 // temporary file is removed.
 class OutputFile {

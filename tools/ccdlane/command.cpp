@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace ccdlane::cli {
@@ -19,9 +20,23 @@ void catch_stop_signals() {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);  // the ssh session that ran it dropped: finish as on Ctrl-C
 }
 
 bool stop_requested() { return g_stop != 0; }
+
+CLI::Validator number_from_to(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (!text.empty() && end == text.c_str() + text.size() && v >= lo && v <= hi) return "";
+        char range[64];
+        std::snprintf(range, sizeof range, "from %g to %g", lo, hi);
+        return std::string("must be a number ") + range + ", got " + text;
+      },
+      "NUMBER");
+}
 
 CLI::Validator positive_number() {
   return CLI::Validator(

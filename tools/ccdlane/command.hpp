@@ -26,7 +26,7 @@ struct Command {
   CommandSetup setup;
 };
 
-// SIGINT/SIGTERM set a flag instead of ending the process, so that a command that runs
+// SIGINT/SIGTERM/SIGHUP set a flag instead of ending the process, so that a command that runs
 // until interrupted (recording, printing samples) finishes its output cleanly. No
 // SA_RESTART: a waiting poll() returns at once.
 void catch_stop_signals();
@@ -35,6 +35,10 @@ bool stop_requested();
 // A number > 0, refused as "must be greater than 0, got X" (CLI11's PositiveNumber
 // prints its range up to DBL_MAX, 1.797e308, in full).
 CLI::Validator positive_number();
+
+// A number in [lo, hi] (NaN and infinities refused, which CLI::Range lets through),
+// refused as "must be a number from LO to HI, got X".
+CLI::Validator number_from_to(double lo, double hi);
 
 // Parses a whole-string number; throws UsageError naming the argument otherwise.
 double parse_number(const std::string& text, const std::string& what);

@@ -5,15 +5,19 @@
 
 #include <csetjmp>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
+#include <new>
 #include <stdexcept>
 
+#include "base/regular_file.hpp"
 #include "drivers/frames/pgm.hpp"
+#include "drivers/frames/picture_bounds.hpp"
 #include "drivers/frames/png.hpp"
 
 namespace ccdlane::cli {
 namespace {
+
+// A picture file of more is no calibration picture (a 40 MP PGM is 40 MB).
+constexpr std::size_t kMaxPictureFileBytes = std::size_t{256} << 20;
 
 struct JpegError {
   jpeg_error_mgr manager;
@@ -42,6 +46,12 @@ bool decode_jpeg(const std::vector<unsigned char>& bytes, GreyPicture& out, std:
   jpeg_create_decompress(&info);
   jpeg_mem_src(&info, bytes.data(), static_cast<unsigned long>(bytes.size()));
   jpeg_read_header(&info, TRUE);
+  // A 221-byte JPEG may claim 20000x20000 pixels: bounded before the output is sized.
+  why = picture_size_problem(info.image_width, info.image_height);
+  if (!why.empty()) {
+    jpeg_destroy_decompress(&info);
+    return false;
+  }
   info.out_color_space = JCS_GRAYSCALE;
   jpeg_start_decompress(&info);
   out.width = static_cast<int>(info.output_width);
@@ -70,10 +80,17 @@ void read_png_grey(const std::string& path, GreyPicture& out) {
           static_cast<std::uint8_t>(view.at(x, y));
 }
 
-void read_pgm(const std::string& path, GreyPicture& out) {
+void read_pgm(const std::string& path, std::size_t file_bytes, GreyPicture& out) {
   PgmReader reader;
   PgmHeader header;
   if (reader.probe(path.c_str(), header) != PgmFault::none) throw std::runtime_error(std::string(reader.error()));
+  // A 35-byte header may claim 65535x65535: bounded, and held against the file's own size.
+  if (const std::string why = picture_size_problem(header.width, header.height); !why.empty())
+    throw std::runtime_error(path + ": " + why);
+  if (header.raster_bytes() > file_bytes)
+    throw std::runtime_error(path + ": truncated: its header says " + std::to_string(header.width) + "x" +
+                             std::to_string(header.height) + " pixels, more than its " + std::to_string(file_bytes) +
+                             " bytes can hold");
   const int bytes = header.bytes_per_sample();
   std::vector<std::uint8_t> raster(header.raster_bytes());
   const MutableImageView into{raster.data(),        header.width,    header.height,
@@ -89,12 +106,12 @@ void read_pgm(const std::string& path, GreyPicture& out) {
           static_cast<std::uint8_t>(static_cast<long>(view.at(x, y)) * 255 / header.maxval);
 }
 
-}  // namespace
-
-GreyPicture read_grey_picture(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the picture");
-  const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+GreyPicture read_grey_picture_bounded(const std::string& path) {
+  // A regular file (a FIFO would block), of a size a picture has.
+  std::string text;
+  if (const int rc = read_regular_file(path, kMaxPictureFileBytes, text); rc < 0)
+    throw std::runtime_error(path + ": cannot open the picture: " + regular_file_error(rc));
+  const std::vector<unsigned char> bytes(text.begin(), text.end());
   GreyPicture out;
   std::string why;
   if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
@@ -102,11 +119,21 @@ GreyPicture read_grey_picture(const std::string& path) {
   } else if (bytes.size() >= 8 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N' && bytes[3] == 'G') {
     read_png_grey(path, out);
   } else if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '5') {
-    read_pgm(path, out);
+    read_pgm(path, bytes.size(), out);
   } else {
     throw std::runtime_error(path + ": not a JPEG, PNG or binary PGM picture");
   }
   return out;
+}
+
+}  // namespace
+
+GreyPicture read_grey_picture(const std::string& path) {
+  try {
+    return read_grey_picture_bounded(path);
+  } catch (const std::bad_alloc&) {  // the bounds leave room for a machine that is short of memory
+    throw std::runtime_error(path + ": out of memory decoding the picture");
+  }
 }
 
 }  // namespace ccdlane::cli

@@ -66,8 +66,10 @@ int run_gx1(const Gx1Args& args) {
       std::cerr << line << std::endl;
   });
   if (const int rc = session.open(); rc < 0) {
-    const std::string why = "gx1 " + args.device + ": " + std::strerror(-rc);
-    if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR) throw UsageError(why);
+    const std::string why = "gx1 " + args.device + ": " + gx1::serial_open_error(rc);
+    if (rc == -ENOENT || rc == -ENOTDIR || rc == -EACCES || rc == -EISDIR ||
+        rc == gx1::SerialPort::kNotACharacterDevice)
+      throw UsageError(why);
     throw std::runtime_error(rc == -ETIMEDOUT ? why + " (no answer to the firmware request)" : why);
   }
   std::cerr << "gx1 " << args.device << ": firmware " << firmware_text(session.firmware()) << " (" << session.firmware()
@@ -193,9 +195,12 @@ CommandAction setup_gx1_emulate(CLI::App& sub) {
   sub.add_option("--garbage-every", args->garbage_every, "7 random bytes before every Nth streamed packet");
   sub.add_option("--flip-every", args->flip_every, "flip one bit in every Nth streamed packet");
   sub.add_option("--split-every", args->split_every, "write every Nth streamed packet in pieces");
-  sub.add_option("--stall-every", args->stall_every_s, "go silent every S seconds (for --stall-ms)");
+  // Bounded: 1e300 s once overflowed into "stall every 50 ms". 0: never.
+  sub.add_option("--stall-every", args->stall_every_s, "go silent every S seconds (for --stall-ms)")
+      ->check(number_from_to(0.0, 86400.0));
   sub.add_option("--stall-ms", args->stall_ms, "how long a stall lasts (default 500)");
-  sub.add_option("--hangup-every", args->hangup_every_s, "hang up every S seconds (needs --link)");
+  sub.add_option("--hangup-every", args->hangup_every_s, "hang up every S seconds (needs --link)")
+      ->check(number_from_to(0.0, 86400.0));
   sub.add_option("--hangup-ms", args->hangup_ms, "how long the device stays away (default 1000)");
   sub.add_option("--seed", args->seed, "random seed for the faults");
   sub.footer(

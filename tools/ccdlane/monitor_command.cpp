@@ -19,6 +19,7 @@
 #include "app/config.hpp"
 #include "bus/channels.hpp"
 #include "bus/lane_message.hpp"
+#include "bus/lcm_url.hpp"
 #include "bus/status_names.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
@@ -44,7 +45,8 @@ class Monitor {
       : args_(args),
         lanes_channel_(channel_name(args.prefix, Channel::lanes)),
         status_channel_(channel_name(args.prefix, Channel::status)),
-        bus_(args.url) {
+        bus_(lcm_url_problem(args.url).empty() ? args.url : "memq://") {
+    if (const std::string why = lcm_url_problem(args.url); !why.empty()) throw UsageError("--lcm: " + why);
     if (!bus_.good()) throw std::runtime_error("lcm: cannot open the bus \"" + args.url + "\"");
     // Plain functions, not subscribe(&Monitor::on_lane, this): GCC 12's UBSan reports a
     // false "invalid vptr" in LCM's member-function callback.
@@ -130,10 +132,33 @@ class Monitor {
     status["instance"] = m.instance;
     status["camera"] = camera_state_name(m.camera_state);
     status["gyro"] = gyro_state_name(m.gyro_state);
+    status["gyro_refused"] = m.gyro_refused_total;
+    status["vehicle"] = vehicle_state_name(m.vehicle_state);
+    Json refused = Json::object();
+    for (int i = 0; i < 4; ++i) refused[vehicle_refusal_name(i)] = m.vehicle_refused_by_cause[i];
+    status["vehicle_refused"] = refused;
     status["calibration"] = calibration;
     Json j;
     j["status"] = status;
     return j;
+  }
+
+  // "vehicle ok", or with refusals "vehicle fault (refused: speed 12, indicator 1)", and
+  // the gyro's refused readings: what tells a broken gateway or gyro from a missing one.
+  static void vehicle_words(const status_t& s, char* out, std::size_t size) {
+    int n = std::snprintf(out, size, "vehicle %s", vehicle_state_name(s.vehicle_state));
+    const char* open = " (refused:";
+    for (int i = 0; i < 4 && n > 0 && static_cast<std::size_t>(n) < size; ++i) {
+      if (s.vehicle_refused_by_cause[i] == 0) continue;
+      n += std::snprintf(out + n, size - static_cast<std::size_t>(n), "%s %s %lld", open, vehicle_refusal_name(i),
+                         static_cast<long long>(s.vehicle_refused_by_cause[i]));
+      open = ",";
+    }
+    if (*open == ',' && n > 0 && static_cast<std::size_t>(n) < size)
+      n += std::snprintf(out + n, size - static_cast<std::size_t>(n), ")");
+    if (s.gyro_refused_total > 0 && n > 0 && static_cast<std::size_t>(n) < size)
+      std::snprintf(out + n, size - static_cast<std::size_t>(n), ", gyro readings refused %lld",
+                    static_cast<long long>(s.gyro_refused_total));
   }
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
@@ -182,9 +207,11 @@ class Monitor {
       if (s.gyro_state != status_t::GYRO_NONE)
         std::snprintf(gyro_reconnects, sizeof gyro_reconnects, ", gyro reconnects %lld",
                       static_cast<long long>(s.gyro_reconnects_total));
+      char vehicle[160];
+      vehicle_words(s, vehicle, sizeof vehicle);
       std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
-                    " | camera %s, gyro %s%s, p99 %.1f ms, dropped %lld, allocations %lld",
-                    camera_state_name(s.camera_state), gyro_state_name(s.gyro_state), gyro_reconnects,
+                    " | camera %s, gyro %s%s, %s, p99 %.1f ms, dropped %lld, allocations %lld",
+                    camera_state_name(s.camera_state), gyro_state_name(s.gyro_state), gyro_reconnects, vehicle,
                     static_cast<double>(s.latency_p99_us) * 1e-3, static_cast<long long>(s.frames_dropped_total),
                     static_cast<long long>(s.allocations_since_ready));
       // " | calibration calibrating 45%, yaw +0.00 pitch +0.00 deg": the mount correction in use.

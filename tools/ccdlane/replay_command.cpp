@@ -13,6 +13,7 @@
 
 #include "app/config_loader.hpp"
 #include "base/image_buffer.hpp"
+#include "base/output_path.hpp"
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
 #include "core/lane/lane_estimator.hpp"
@@ -116,13 +117,12 @@ CommandAction setup_replay(CLI::App& sub) {
     const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
 
     std::unique_ptr<OutputFile> file;
-    // The output must not replace the input: its frames.csv, or the log itself.
-    if (!a->out.empty()) {
-      std::error_code ec;
-      const std::string input_file = is_log ? a->input : a->input + "/frames.csv";
-      if (std::filesystem::equivalent(a->out, input_file, ec))
-        throw UsageError(a->out + ": is the input being replayed (" + input_file + "); choose another --out");
-    }
+    // The output must not replace the input: the log itself, or anything in the directory
+    // (frames.csv, a frame; overlays written over colour PNG frames once destroyed them).
+    for (const auto& [path, option] : {std::pair{a->out, "--out"}, std::pair{a->overlay, "--overlay"}})
+      if (!path.empty() && lies_within(path, a->input))
+        throw UsageError(path + ": is or lies inside the input being replayed (" + a->input + "); choose another " +
+                         option);
     if (!a->out.empty()) {
       try {
         file = std::make_unique<OutputFile>(a->out);

@@ -15,6 +15,7 @@
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_score.hpp"
+#include "tools/ccdlane/replay_line.hpp"
 #include "tools/ccdlane/tusimple_labels.hpp"
 
 namespace ccdlane::cli {
@@ -117,14 +118,13 @@ class Annotations {
 };
 
 // The lines replay reported for one frame, and the pose they were solved at.
-FrameScore score_replayed_frame(const Json& e, const std::vector<AnnotatedLane>& lanes, const Config& config) {
+FrameScore score_replayed_frame(const ReplayLine& e, const std::vector<AnnotatedLane>& lanes, const Config& config) {
   std::vector<LinePrior> reported;
   CameraPose pose = config.nominal_pose();
-  if (e.value("psi_deg", Json()).is_number()) {
-    pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
-                     deg_to_rad(e["phi_deg"].get<double>())};
-    for (const Json& l : e.value("lines", Json::array()))
-      reported.push_back({l["y0_mm"].get<double>(), l["m"].get<double>(), l["c_per_mm"].get<double>()});
+  if (e.attitude) {
+    pose.attitude = {deg_to_rad(e.attitude->psi_deg), deg_to_rad(e.attitude->theta_deg),
+                     deg_to_rad(e.attitude->phi_deg)};
+    reported = e.lines;
   }
   return score_frame(lanes, config.camera.Nu, CameraModel(config.camera, pose), reported, ScoreRules{});
 }
@@ -175,10 +175,10 @@ CommandAction setup_score(CLI::App& sub) {
     std::string line;
     for (int line_number = 1; std::getline(in, line); ++line_number) {
       if (line.empty()) continue;
-      const Json e = Json::parse(line, nullptr, false);
-      if (e.is_discarded() || !e.is_object() || !e.contains("frame"))
-        throw UsageError(a->replay + ":" + std::to_string(line_number) + ": not a replay JSON object");
-      const auto frame = e["frame"].get<std::uint64_t>();
+      ReplayLine e;
+      if (const std::string why = parse_replay_line(line, e); !why.empty())
+        throw UsageError(a->replay + ":" + std::to_string(line_number) + ": " + why);
+      const std::uint64_t frame = e.frame;
       const auto file = file_of_frame.find(frame);
       if (file == file_of_frame.end())
         throw UsageError(a->replay + ":" + std::to_string(line_number) + ": frame " + std::to_string(frame) +

@@ -39,6 +39,7 @@ const char* reason_name(std::int8_t reason) {
     case Lane::LDW_REASON_NOT_CALIBRATED: return "not calibrated";
     case Lane::LDW_REASON_NO_LANE: return "no lane";
     case Lane::LDW_REASON_TOO_SLOW: return "too slow";
+    case Lane::LDW_REASON_VEHICLE_FAULT: return "vehicle fault";
     default: return "unknown";
   }
 }

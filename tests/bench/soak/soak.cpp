@@ -1,5 +1,5 @@
 // ccdlane_soak: ccdlaned on the synthetic source for a long run (default 1 h at 60 fps),
-// reporting every interval its memory (RSS), frames processed and dropped and the p99
+// reporting every interval its memory (RSS), open fds, frames processed and dropped and the p99
 // capture-to-publish latency, read from its own status and lane messages on the bus.
 // A soak, not a test: it measures drift (leaks, growing latency, drops) over time and
 // exits 1 only when the daemon dies or stops reporting.
@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -45,6 +46,17 @@ long rss_kb(pid_t pid) {
   while (std::getline(in, line))
     if (line.rfind("VmRSS:", 0) == 0) return std::strtol(line.c_str() + 6, nullptr, 10);
   return -1;
+}
+
+// Open file descriptors of `pid` (entries of /proc/PID/fd), -1 when they cannot be read:
+// a leak of one per reconnect or per file shows as a count that grows.
+long fd_count(pid_t pid) {
+  std::error_code ec;
+  long n = 0;
+  for (std::filesystem::directory_iterator it("/proc/" + std::to_string(pid) + "/fd", ec), end; !ec && it != end;
+       it.increment(ec))
+    ++n;
+  return ec ? -1 : n;
 }
 
 std::string write_synth_config(const SoakArgs& a) {
@@ -119,8 +131,8 @@ int run(const SoakArgs& a) {
   std::printf("# ccdlane_soak: %s --config %s (pid %d), %.0f s, report every %.0f s\n", a.daemon.c_str(),
               config.c_str(), static_cast<int>(pid), a.duration_s, a.interval_s);
   std::printf("# p99_us: of every lane message's latency_us in the interval; worst_1s_p99_us: of the status\n");
-  std::printf("%8s %9s %10s %9s %9s %9s %8s %10s %10s %12s %8s\n", "min", "rss_kB", "processed", "dropped", "not_ok",
-              "lane_msgs", "ok_msgs", "p99_us", "max_us", "worst1s_p99", "allocs");
+  std::printf("%8s %9s %5s %10s %9s %9s %9s %8s %10s %10s %12s %8s\n", "min", "rss_kB", "fds", "processed", "dropped",
+              "not_ok", "lane_msgs", "ok_msgs", "p99_us", "max_us", "worst1s_p99", "allocs");
   std::fflush(stdout);
 
   const auto start = Clock::now();
@@ -148,8 +160,8 @@ int run(const SoakArgs& a) {
                                     : *std::max_element(listener.latencies_us_.begin(), listener.latencies_us_.end());
     // processed, dropped, not_ok: from the daemon's last status in the interval (sent once
     // a second); lane_msgs, ok_msgs, p99_us, max_us: of the lane messages received in it.
-    std::printf("%8.1f %9ld %10lld %9lld %9lld %9lld %8lld %10lld %10lld %12lld %8lld\n",
-                std::chrono::duration<double>(Clock::now() - start).count() / 60.0, rss_kb(pid),
+    std::printf("%8.1f %9ld %5ld %10lld %9lld %9lld %9lld %8lld %10lld %10lld %12lld %8lld\n",
+                std::chrono::duration<double>(Clock::now() - start).count() / 60.0, rss_kb(pid), fd_count(pid),
                 processed - last_processed, dropped - last_dropped, not_ok - last_not_ok, n, listener.ok_,
                 static_cast<long long>(p99(listener.latencies_us_)), static_cast<long long>(max_us),
                 static_cast<long long>(listener.worst_status_p99_us_),

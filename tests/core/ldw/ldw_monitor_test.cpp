@@ -95,6 +95,10 @@ TEST(LdwMonitor, PassesFaultsThroughAndLosesTheLaneAfterCoasting) {
   in.t_s += 1.0 / 30;
   EXPECT_EQ(monitor.step(in).decision.reason, Availability::gyro_fault);
   in.gyro_ok = true;
+  in.vehicle_ok = false;
+  in.t_s += 1.0 / 30;
+  EXPECT_EQ(monitor.step(in).decision.reason, Availability::vehicle_fault);
+  in.vehicle_ok = true;
   in.measurement = nullptr;
   in.t_s += 0.5;
   EXPECT_EQ(monitor.step(in).decision.reason, Availability::none);  // coasting, still confident

@@ -195,12 +195,15 @@ TEST(LdwWarning, ReportsTheFirstApplicableReason) {
   in.speed_mps = 10.0;
   in.lane_tracked = false;
   in.calibrated = false;
+  in.vehicle_ok = false;
   in.gyro_ok = false;
   in.camera_ok = false;
   EXPECT_EQ(w.update(in).reason, Availability::camera_fault);
   in.camera_ok = true;
   EXPECT_EQ(w.update(in).reason, Availability::gyro_fault);
   in.gyro_ok = true;
+  EXPECT_EQ(w.update(in).reason, Availability::vehicle_fault);
+  in.vehicle_ok = true;
   EXPECT_EQ(w.update(in).reason, Availability::not_calibrated);
   in.calibrated = true;
   EXPECT_EQ(w.update(in).reason, Availability::no_lane);
@@ -241,6 +244,7 @@ TEST(LdwWarning, NamesTheDisplayedValues) {
   EXPECT_STREQ(to_string(Availability::not_calibrated), "not_calibrated");
   EXPECT_STREQ(to_string(Availability::camera_fault), "camera_fault");
   EXPECT_STREQ(to_string(Availability::gyro_fault), "gyro_fault");
+  EXPECT_STREQ(to_string(Availability::vehicle_fault), "vehicle_fault");
   for (const TurnIndicator t : {TurnIndicator::none, TurnIndicator::left, TurnIndicator::right, TurnIndicator::both})
     EXPECT_EQ(turn_indicator_from_string(to_string(t)), t);
   EXPECT_FALSE(turn_indicator_from_string("hazard"));

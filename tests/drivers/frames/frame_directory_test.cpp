@@ -2,6 +2,7 @@
 // every good frame is still read while each bad one is named with its reason.
 #include "drivers/frames/frame_directory.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -191,6 +192,35 @@ TEST(FrameDirectory, WriterRefusesToOverwriteARecording) {
   EXPECT_THROW(FrameDirectoryWriter(tmp.file("x"), {false, {"psi"}}), FrameDirectoryError);
 }
 
+// `record --out DIR` into a user's directory once replaced its 000000.pgm and removed a
+// .tmp file: a directory holding a name the writer writes is refused, untouched.
+TEST(FrameDirectory, WriterRefusesADirectoryHoldingNamesItWrites) {
+  for (const std::string name : {"000000.pgm", "000012.png", "frames.csv.tmp"}) {
+    test::TempDir tmp;
+    tmp.write(name, "mine");
+    tmp.write("notes.txt", "mine too");
+    try {
+      FrameDirectoryWriter w(tmp.path(), {});
+      FAIL() << name << ": no error";
+    } catch (const FrameDirectoryError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                tmp.path() + ": already holds " + name + ", a name a recording writes; choose another place");
+    }
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(tmp.path()), {}), 2) << name;
+  }
+  // A frame name that appears after the start is not replaced either.
+  test::TempDir tmp;
+  Frame f(4, 2);
+  FrameDirectoryWriter w(tmp.path(), {});
+  w.write(f.view, 0);
+  tmp.write("000001.pgm", "mine");
+  EXPECT_THROW(w.write(f.view, 1), FrameDirectoryError);
+  std::ifstream kept(tmp.file("000001.pgm"));
+  std::string text;
+  std::getline(kept, text);
+  EXPECT_EQ(text, "mine");
+}
+
 TEST(FrameDirectory, DamagedRecordingKeepsEveryGoodFrame) {
   test::TempDir tmp;
   const std::string path = tmp.file("rec");
@@ -244,6 +274,19 @@ TEST(FrameDirectory, NoIndexIsAnError) {
   } catch (const FrameDirectoryError& e) {
     EXPECT_EQ(std::string(e.what()),
               tmp.path() + "/frames.csv: cannot read: No such file or directory (a frame directory needs frames.csv)");
+  }
+}
+
+// frames.csv a FIFO (no writer): replay once hung for ever in open().
+TEST(FrameDirectory, AFifoAsTheIndexIsRefusedAtOnce) {
+  test::TempDir tmp;
+  ASSERT_EQ(::mkfifo(tmp.file("frames.csv").c_str(), 0600), 0);
+  try {
+    FrameDirectory dir(tmp.path());
+    FAIL() << "no error";
+  } catch (const FrameDirectoryError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              tmp.path() + "/frames.csv: cannot read: not a regular file (a frame directory needs frames.csv)");
   }
 }
 

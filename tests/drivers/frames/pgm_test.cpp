@@ -2,6 +2,8 @@
 // strided buffers, every kind of damaged file with its reason, and reads that allocate nothing.
 #include "drivers/frames/pgm.hpp"
 
+#include <sys/stat.h>
+
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -168,6 +170,11 @@ TEST(Pgm, DamagedFilesNameTheFileAndTheReason) {
   EXPECT_EQ(reader.read(missing.c_str(), b.view), PgmFault::missing);
   EXPECT_EQ(std::string(reader.error()), missing + ": missing (no such file)");
   EXPECT_EQ(reader.read(dir.path().c_str(), b.view), PgmFault::unreadable);
+  // A FIFO in a frame's place (no writer): refused at once, not waited on for ever.
+  const std::string fifo = dir.file("fifo.pgm");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(reader.read(fifo.c_str(), b.view), PgmFault::unreadable);
+  EXPECT_EQ(std::string(reader.error()), fifo + ": not a regular file");
   // A good read after the failures clears the message.
   const std::string good = dir.write("good.pgm", "P5 4 2 255\n01234567");
   EXPECT_EQ(reader.read(good.c_str(), b.view), PgmFault::none);

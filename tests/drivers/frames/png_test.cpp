@@ -249,5 +249,23 @@ TEST(Png, ExtensionTellsPngFrames) {
   EXPECT_FALSE(has_png_extension("a.apng"));
 }
 
+// A small PNG may claim a huge picture (a 389 kB mask once cost 400 MB): read whole, its
+// header's size is bounded before anything is allocated, and the file is named.
+TEST(Png, AWholePictureLargerThanTheBoundIsRefusedFromItsHeader) {
+  test::TempDir dir;
+  const int side = 7000;  // 49 million pixels of zeros: a few hundred kB compressed
+  std::vector<std::uint8_t> zeros(static_cast<std::size_t>(side) * side, 0);
+  const std::string path = dir.file("mask.png");
+  write_png(path, ImageView{zeros.data(), side, side, side, PixelFormat::mono8, 8}, 9);
+  zeros = {};
+  EXPECT_LT(std::filesystem::file_size(path), 1u << 20);
+  try {
+    read_png_picture(path);
+    ADD_FAILURE() << "decoded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": 7000x7000 pixels: more than 40000000; not decoded");
+  }
+}
+
 }  // namespace
 }  // namespace ccdlane

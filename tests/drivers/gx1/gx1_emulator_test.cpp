@@ -194,6 +194,24 @@ TEST(Gx1Emulator, RefusesToReplaceAFileWithItsLink) {
   ::unlink(path.c_str());
 }
 
+// `gx1-emulate --link X` once deleted a user's X.new on the way to re-pointing X.
+TEST(Gx1Emulator, AUsersFileBesideTheLinkIsLeftAlone) {
+  const std::string link = testing::TempDir() + "/gx1-emulator-test-beside";
+  ::unlink(link.c_str());
+  std::ofstream(link + ".new") << "precious";
+  EmulatorOptions o;
+  o.link = link;
+  Gx1Emulator emu(o);
+  ASSERT_EQ(emu.start(), 0);
+  char target[256] = {};
+  EXPECT_GT(readlink(link.c_str(), target, sizeof target - 1), 0);
+  emu.stop();
+  std::string content;
+  std::ifstream(link + ".new") >> content;
+  EXPECT_EQ(content, "precious");
+  ::unlink((link + ".new").c_str());
+}
+
 TEST(Gx1Emulator, FlipsBitsAndInjectsGarbageAsScheduled) {
   EmulatorOptions o;
   o.rate_hz = 200.0;

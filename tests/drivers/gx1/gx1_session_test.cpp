@@ -303,6 +303,38 @@ TEST_F(Gx1SessionTest, PolledModeAsksForEachSample) {
   EXPECT_GE(emu.counters().replies, samples.size());
 }
 
+// A vehicle's gyro refuses a pitch of 170 degrees (counted, logged once, kept out of the
+// history, and the sensor is not thought stalled); a sensor on the bench takes it.
+TEST_F(Gx1SessionTest, AVehiclesSessionRefusesAnglesNoVehicleCanHave) {
+  for (const bool vehicle : {true, false}) {
+    EmulatorOptions o = test_emulator(link_, 200.0);
+    o.attitude = [](double) { return Gx1Angles{1.0, 170.0, 20.0}; };
+    Gx1Emulator emu(o);
+    ASSERT_EQ(emu.start(), 0);
+    SessionOptions so = quick_session();
+    so.vehicle_attitude_only = vehicle;
+    so.stream_timeout_ms = 200;
+    log_.lines.clear();
+    Gx1Session session(link_, so, log_.sink());
+    ASSERT_EQ(session.open(), 0);
+    const auto samples = run(session, 600);
+    const SessionCounters c = session.counters();
+    session.close();
+    if (!vehicle) {
+      EXPECT_GT(samples.size(), 20u) << "on the bench any attitude is taken";
+      EXPECT_EQ(c.refused, 0u);
+      continue;
+    }
+    EXPECT_TRUE(samples.empty());
+    EXPECT_GT(c.refused, 20u);
+    EXPECT_EQ(c.stream_timeouts, 0u) << "a sensor that answers is not stalled";
+    EXPECT_EQ(std::count_if(log_.lines.begin(), log_.lines.end(),
+                            [](const std::string& l) { return l.find("whose pitch") != std::string::npos; }),
+              1);
+    EXPECT_EQ(session.attitude_at(monotonic_ns()).status == AttitudeStatus::ok, false);
+  }
+}
+
 TEST_F(Gx1SessionTest, WorksOverAnAdoptedFd) {
   Gx1Emulator emu(test_emulator("", 100.0));
   ASSERT_EQ(emu.start(), 0);

@@ -5,9 +5,11 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <pty.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -195,6 +197,41 @@ TEST(SerialPort, AdoptsAnOpenPty) {
   EXPECT_EQ(port.reopen_with_backoff(monotonic_ns()), 0);  // still open: nothing to do
   port.close();
   EXPECT_EQ(port.open(), -ENODEV);  // no path to reopen by
+}
+
+// `[gyro] device = "some.toml"` once had its first bytes overwritten by the handshake: a
+// regular file, a FIFO or a directory by path is refused before anything is written.
+TEST(SerialPort, OnlyACharacterDeviceIsOpenedByPath) {
+  const std::string dir = testing::TempDir() + "/serial-" + std::to_string(getpid());
+  ::mkdir(dir.c_str(), 0700);
+  const std::string file = dir + "/some.toml", fifo = dir + "/fifo";
+  {
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("[camera]\n", f);
+    std::fclose(f);
+  }
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {file, fifo}) {
+    SerialPort port(path);
+    EXPECT_EQ(port.open(), SerialPort::kNotACharacterDevice) << path;
+    EXPECT_FALSE(port.is_open());
+  }
+  EXPECT_EQ(SerialPort(dir).open(), -EISDIR);
+  char text[32] = "";
+  std::FILE* f = std::fopen(file.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  ASSERT_NE(std::fgets(text, sizeof text, f), nullptr);
+  std::fclose(f);
+  EXPECT_STREQ(text, "[camera]\n") << "not a byte written";
+  EXPECT_STREQ(serial_open_error(SerialPort::kNotACharacterDevice),
+               "not a character device (a serial port or a pty): refused");
+  Pty pty;
+  SerialPort port(pty.slave_path);
+  EXPECT_EQ(port.open(), 0) << "a pty is a character device";
+  ::unlink(file.c_str());
+  ::unlink(fifo.c_str());
+  ::rmdir(dir.c_str());
 }
 
 TEST(SerialPort, AdoptsAPipeAsAPlainByteStream) {
