@@ -154,6 +154,7 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   to_ldw_fields(e.ldw, out);
   out.roll_unobservable = e.roll_unobservable ? 1 : 0;
   out.source_frame = static_cast<std::int64_t>(e.source_frame);
+  out.state = e.state == EstimatorState::tracking ? M::STATE_TRACKING : M::STATE_SEARCHING;
   // Lines were solved on ok frames and on those that failed only after the solve.
   const bool solved = e.ok || e.reason == EstimateFailure::no_lane || e.reason == EstimateFailure::rank_deficient;
   out.curvature_per_m = solved ? e.curvature_per_m : kNaN;
@@ -191,6 +192,7 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.ldw = from_ldw_fields(m);
   e.roll_unobservable = m.roll_unobservable != 0;
   e.source_frame = static_cast<std::uint64_t>(m.source_frame);
+  e.state = m.state == M::STATE_TRACKING ? EstimatorState::tracking : EstimatorState::searching;
   e.curvature_per_m = std::isfinite(m.curvature_per_m) ? m.curvature_per_m : 0.0;
   return e;
 }

@@ -294,6 +294,47 @@ TEST(LaneEstimator, AMountCorrectionMovesTheHeadingReferenceAndUncalibratedStops
   EXPECT_EQ(corrected.ldw.reason, ldw::Availability::not_calibrated);
 }
 
+// A mount known only roughly: configured 5 degrees off in pitch or in yaw. The first frame
+// searches (the picture's vanishing point, then pitch steps) and is ok; the frames after
+// it track; the solved pitch is the true one within the solver's sigmas, and the heading,
+// measured from the mount the first second of solves shows, is the truth's within the
+// sigmas plus what the vehicle's heading averaged over that second (the drive weaves).
+TEST(LaneEstimator, AMountFiveDegreesOffIsFoundFromThePicture) {
+  for (const AttitudeDeg off : {AttitudeDeg{0.0, 5.0, 0.0}, AttitudeDeg{0.0, -5.0, 0.0}, AttitudeDeg{5.0, 0.0, 0.0},
+                                AttitudeDeg{-5.0, 0.0, 0.0}}) {
+    const Config truth = small_camera();
+    Drive d(truth);
+    Config configured = truth;
+    configured.attitude.psi_deg += off.psi_deg;
+    configured.attitude.theta_deg += off.theta_deg;
+    LaneEstimator est(configured.estimator_options());
+    const int n = LaneEstimator::kMountAcquisitionFrames;
+    double heading_sum = 0.0, pitch_sum = 0.0, sigma_psi = 0.0, sigma_theta = 0.0;
+    for (std::uint64_t k = 0; k < 40; ++k) {
+      const SynthFrame f = d.render(k);
+      const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+      ASSERT_TRUE(e.ok) << "mount off " << off.psi_deg << "/" << off.theta_deg << " frame " << k << ": "
+                        << to_string(e.reason);
+      EXPECT_EQ(e.state, k == 0 ? EstimatorState::searching : EstimatorState::tracking);
+      EXPECT_NEAR(e.theta_deg, rad_to_deg(f.pose.attitude.theta), 3 * e.sigma_theta_deg) << "frame " << k;
+      EXPECT_NEAR(e.lane_width_mm, 3600.0, 3 * std::hypot(e.lines[1].sigma_y0_mm, e.lines[2].sigma_y0_mm));
+      sigma_psi = e.sigma_psi_deg, sigma_theta = e.sigma_theta_deg;
+      if (k < static_cast<std::uint64_t>(n)) {
+        heading_sum += f.heading_deg;
+        pitch_sum += rad_to_deg(f.pose.attitude.theta);
+        continue;
+      }
+      // This frame's yaw error and the acquired mean's (n frames: sigma / sqrt(n)).
+      EXPECT_NEAR(e.heading_deg, f.heading_deg - heading_sum / n, 3 * e.sigma_psi_deg * std::sqrt(1.0 + 1.0 / n))
+          << "frame " << k;
+    }
+    // The mount is the mean of the first n solves: the true mount plus the vehicle's mean
+    // heading and pitch over them, within the mean's sigma.
+    EXPECT_NEAR(rad_to_deg(est.mount().psi), truth.attitude.psi_deg + heading_sum / n, 3 * sigma_psi / std::sqrt(n));
+    EXPECT_NEAR(rad_to_deg(est.mount().theta), pitch_sum / n, 3 * sigma_theta / std::sqrt(n));
+  }
+}
+
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
