@@ -15,6 +15,7 @@
 #include "bus/channels.hpp"
 #include "bus/lcm_publisher.hpp"
 #include "bus/vehicle_state_listener.hpp"
+#include "core/lane/observability.hpp"
 #include "daemon/allocation_counter.hpp"
 #include "daemon/bus_thread.hpp"
 #include "daemon/frame_processor.hpp"
@@ -107,14 +108,13 @@ std::string solver_observability_problem(const Config& c) {
   // Synthetic frames carry their drive's gyro reading and frame directories (most) their
   // recorded one: the roll is measured when either they or the [gyro] device give it.
   const std::string no_recorded_gyro = c.gyro.device.empty() ? frames_without_gyro(c) : "";
-  const std::string why = observability_problem(c.estimator_options(), no_recorded_gyro.empty());
+  const Observability o = observability(c.estimator_options(), no_recorded_gyro.empty());
   // A frame directory is expected to carry its gyro: name the file that does not.
-  if (!why.empty() && !no_recorded_gyro.empty() && c.source.kind == SourceKind::frames &&
-      why.find("phi and y0") != std::string::npos)
+  if (o == Observability::roll_unobservable && !no_recorded_gyro.empty() && c.source.kind == SourceKind::frames)
     return no_recorded_gyro +
            " and there is no [gyro] device, no [prior] phi_deg and no [prior] lane_width_mm, "
            "while solver.free has phi and y0: the roll is not observable; add one of them or fix phi";
-  return why;
+  return explain(o);
 }
 
 std::string daemon_config_problem(const Config& config) { return solver_observability_problem(config); }

@@ -44,7 +44,7 @@ void LineGrouper::vote(const MarkCandidate& mark, int delta) {
   }
 }
 
-bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
+bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
                            const GroupingParams& params, DetectedLine& out, bool parallel) {
   const auto id = static_cast<std::int16_t>(line);
   auto pixel_tol = [&](double X) { return params.fit_tolerance_px * params.mm_per_px_per_mm * X; };
@@ -68,7 +68,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
   // 2. RANSAC among them: the model, or a straight line through two gated marks, that
   // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
   // a plain least-squares fit off the line; the consensus does not care about it.
-  auto consensus = [&](const LinePrior& h) {
+  auto consensus = [&](const RoadLine& h) {
     int count = 0;
     for (int k = 0; k < g; ++k) {
       const MarkCandidate& m = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
@@ -76,14 +76,14 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
     }
     return count;
   };
-  LinePrior best = model;
+  RoadLine best = model;
   int best_count = consensus(model);
   if (parallel) {
     // Slope and curvature are the road's: the consensus is over y0 alone, one hypothesis
     // through each gated mark.
     for (int k = 0; k < g; ++k) {
       const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
-      LinePrior h = model;
+      RoadLine h = model;
       h.y0_mm = a.Y - (model.m + model.c_per_mm * a.X) * a.X;
       const int count = consensus(h);
       if (count > best_count) best_count = count, best = h;
@@ -99,7 +99,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
     // road, parabolas through three.
     const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
     const MarkCandidate& b = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
-    LinePrior h;
+    RoadLine h;
     if (it % 2 == 0) {
       if (std::abs(a.X - b.X) < 2000.0) continue;
       const double c = model.c_per_mm;
@@ -181,7 +181,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
   return true;
 }
 
-int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
+int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
                        std::array<DetectedLine, kMaxDetectedLines>& out) {
   std::array<DetectedLine, kMaxFoundLines>& lines = found_;
   for (MarkCandidate& m : marks) m.line = -1;
@@ -220,7 +220,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
     }
     if (weight > 0.0) return sum / weight;
     double prior_c = 0.0;
-    for (const LinePrior& p : priors) prior_c += p.c_per_mm / static_cast<double>(priors.size());
+    for (const RoadLine& p : priors) prior_c += p.c_per_mm / static_cast<double>(priors.size());
     return prior_c;
   };
   auto revote = [&] {
@@ -248,7 +248,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
       bj = static_cast<int>(std::find(sums.begin(), sums.end(), row_best) - sums.begin());
     }
     if (best < params.min_marks) break;
-    const LinePrior model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
+    const RoadLine model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
     DetectedLine l;
     if (fit_line(marks, model, 400.0, n, params, l) && separated(l)) {
       lines[static_cast<std::size_t>(n++)] = l;
@@ -288,7 +288,7 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
     const double slope_per_mm = n >= 2 && var > 1e6 ? (sym / sw - sy / sw * sm / sw) / var : 0.0;
     auto road_line = [&](double y_ref_mm) {  // the road's line through y_ref_mm at the reference distance
       const double m = sm / sw + slope_per_mm * (y_ref_mm - sy / sw);
-      return LinePrior{y_ref_mm - (m + curvature_ * kReferenceMm) * kReferenceMm, m, curvature_};
+      return RoadLine{y_ref_mm - (m + curvature_ * kReferenceMm) * kReferenceMm, m, curvature_};
     };
     auto add_parallel = [&](double y_ref_mm, int prior_index) {
       DetectedLine l;

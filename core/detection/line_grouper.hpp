@@ -40,7 +40,7 @@ class LineGrouper {
   // Assigns marks[i].line and fills lines (returns how many), ordered left to right
   // (largest y at 10 m first). `priors` are the previous frame's lines; a line continuing
   // prior k has prior_index k. Picks are not chosen here.
-  int group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
+  int group(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
             std::array<DetectedLine, kMaxDetectedLines>& lines);
 
   static constexpr int kY0Bins = 300;    // -15 m .. 15 m in 100 mm
@@ -53,7 +53,7 @@ class LineGrouper {
   // consensus line (RANSAC), refits by least squares; assigns the marks to `line`.
   // `parallel`: keep the model's slope and curvature (those of the road's other lines, or
   // of the line's previous frame), fit y0 alone, and accept a single dash.
-  bool fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
+  bool fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
                 const GroupingParams& params, DetectedLine& out, bool parallel = false);
   void vote(const MarkCandidate& m, int delta);
 

@@ -34,7 +34,7 @@ std::vector<AnnotatedLane> lanes_of_mask(const ImageView& mask) {
 }
 
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
-                       std::span<const LinePrior> lines, const ScoreRules& rules) {
+                       std::span<const RoadLine> lines, const ScoreRules& rules) {
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
   FrameScore score;
   score.lanes = static_cast<int>(lanes.size());

@@ -25,7 +25,7 @@ class Overlay {
   // Picks: crosses in their line's colour.
   void draw_picks(std::span<const Pick> picks);
   // A road line y = y0 + m x + c x^2 from near_mm to far_mm, projected through `camera`.
-  void draw_road_line(const CameraModel& camera, const LinePrior& line, double near_mm, double far_mm, int colour);
+  void draw_road_line(const CameraModel& camera, const RoadLine& line, double near_mm, double far_mm, int colour);
 
   // Writes a PNG (drivers/frames/png.hpp). Throws std::runtime_error naming the file on failure; the file
   // is written under a temporary name and renamed, so it is whole or absent.

@@ -12,10 +12,12 @@
 #include <vector>
 
 #include "app/config_loader.hpp"
+#include "app/frame_inputs.hpp"
 #include "base/image_buffer.hpp"
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
 #include "core/lane/lane_estimator.hpp"
+#include "core/lane/observability.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
@@ -41,9 +43,8 @@ void draw_overlay(const std::string& path, const ImageView& frame, const LaneEst
   if (const SolveResult* s = estimator.solution(); s && s->converged) {
     const CameraModel camera(config.camera, s->pose);
     for (int j = 0; j < s->num_lines; ++j) {
-      const LaneLine& l = s->lines[static_cast<std::size_t>(j)];
-      o.draw_road_line(camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm, config.detection.max_range_mm,
-                       j);
+      o.draw_road_line(camera, s->lines[static_cast<std::size_t>(j)], config.detection.min_range_mm,
+                       config.detection.max_range_mm, j);
     }
     o.draw_picks(estimator.solved_picks());
   } else {
@@ -145,25 +146,32 @@ CommandAction setup_replay(CLI::App& sub) {
     std::uint64_t worst_frame = 0;
     // One frame through the pipeline; `image` null for a frame that could not be read.
     bool observability_checked = false;
-    const auto replay_frame = [&](const ImageView* image, std::uint64_t index, std::int64_t t_ns,
-                                  const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle) {
+    const bool gyro_configured = !config.gyro.device.empty();
+    const auto replay_frame = [&](const ImageView* image, const FrameMeta& meta) {
       // As the daemon does at start: refuse solves that cannot determine what they are
       // asked for. The roll is measured when the recording's first readable frame carries
       // a gyro reading, or when it was made with a gyro (whose first readings may come
       // after the first frames), as the daemon counts a configured gyro.
       if (image && !observability_checked && (observability_checked = true))
-        if (const std::string why = observability_problem(options, gyro || !config.gyro.device.empty()); !why.empty())
-          throw UsageError(a->config + ": " + why + " (the frames of " + a->input + " carry " + (gyro ? "" : "no ") +
-                           "gyro readings)");
+        if (const Observability o = observability(options, meta.gyro || gyro_configured);
+            o != Observability::observable)
+          throw UsageError(a->config + ": " + explain(o) + " (the frames of " + a->input + " carry " +
+                           (meta.gyro ? "" : "no ") + "gyro readings)");
+      // Nothing is live in a recording; the gyro is judged as ccdlaned judged it: a
+      // configured one that gave the frame no reading failed.
+      LiveReadings live;
+      live.gyro_delivering = meta.gyro || !gyro_configured;
+      const FrameInputs in = frame_inputs(image, meta.sequence, meta, live, gyro_configured);
+      const std::uint64_t index = meta.sequence;
       ++frames;
       if (!image) {
         ++skipped;
-        print_json_line(out, lane_estimate_json(estimator.no_frame(index, t_ns, vehicle), a->sigmas));
+        print_json_line(out, lane_estimate_json(estimator.estimate(in), a->sigmas));
         check_written(out, out_name);
         return;
       }
       const auto t0 = std::chrono::steady_clock::now();
-      LaneEstimate e = estimator.estimate(*image, index, t_ns, gyro, vehicle);
+      LaneEstimate e = estimator.estimate(in);
       const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       e.latency_us = static_cast<std::int64_t>(dt * 1e6);
       total_s += dt;
@@ -196,11 +204,7 @@ CommandAction setup_replay(CLI::App& sub) {
         const bool read = dir->read(i, image) == PgmFault::none;
         if (!read) std::cerr << "ccdlane replay: " << dir->error() << '\n';
         const ImageView view = image;
-        VehicleInputs vehicle;  // without the columns: [vehicle] speed_kmh, no indicator
-        if (row.speed_kmh) vehicle.speed_mps = *row.speed_kmh / 3.6;
-        vehicle.indicator = row.indicator;
-        vehicle.gyro_ok = row.gyro || config.gyro.device.empty();  // as ccdlaned playing the directory
-        replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro, vehicle);
+        replay_frame(read ? &view : nullptr, recorded_frame_meta(row));
       }
     } else {
       for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
@@ -218,13 +222,8 @@ CommandAction setup_replay(CLI::App& sub) {
                     << image.height << ", the camera of " << a->config << " is " << W << "x" << H << '\n';
           usable = false;
         }
-        VehicleInputs vehicle;  // as the daemon had it when it recorded the frame
-        if (r.speed_kmh) vehicle.speed_mps = *r.speed_kmh / 3.6;
-        vehicle.yaw_rate_radps = r.yaw_rate_radps;
-        vehicle.indicator = r.indicator;
-        // As the daemon judged it: a configured gyro that gave the frame no reading failed.
-        vehicle.gyro_ok = r.gyro || config.gyro.device.empty();
-        replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro, vehicle);
+        // The vehicle as the daemon had it when it recorded the frame.
+        replay_frame(usable ? &image : nullptr, recorded_frame_meta(r));
       }
       if (frames == 0 && log->lost_events() == 0)
         throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +

@@ -124,7 +124,7 @@ CommandAction setup_score(CLI::App& sub) {
                          ", the camera of " + a->config + " is " + std::to_string(config.camera.Nu) + "x" +
                          std::to_string(config.camera.Nv));
       const std::vector<AnnotatedLane> lanes = lanes_of_mask(mask.view());
-      std::vector<LinePrior> reported;
+      std::vector<RoadLine> reported;
       CameraPose pose = config.nominal_pose();
       if (e.value("psi_deg", Json()).is_number()) {
         pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
