@@ -52,6 +52,59 @@ std::string score_text(const FrameScore& s) {
   return text;
 }
 
+// A frame's lane mask: an 8-bit grey PNG of the camera's size.
+OwnedPicture read_mask(const std::string& mask_path, const Config& config, const std::string& config_path) {
+  OwnedPicture mask;
+  try {
+    mask = read_png_picture(mask_path);
+  } catch (const std::runtime_error& failure) {
+    throw UsageError(failure.what());
+  }
+  if (mask.format != PixelFormat::mono8)
+    throw UsageError(mask_path + ": a lane mask is an 8-bit grey PNG (one grey level per lane), this one is colour");
+  if (mask.width != config.camera.Nu || mask.height != config.camera.Nv)
+    throw UsageError(mask_path + ": " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
+                     ", the camera of " + config_path + " is " + std::to_string(config.camera.Nu) + "x" +
+                     std::to_string(config.camera.Nv));
+  return mask;
+}
+
+// The lines a replay object reports, and the attitude it solved (the configuration's
+// without a solve).
+std::vector<RoadLine> reported_lines(const Json& e, const Config& config, CameraPose& pose) {
+  std::vector<RoadLine> reported;
+  pose = config.nominal_pose();
+  if (!e.value("psi_deg", Json()).is_number()) return reported;
+  pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
+                   deg_to_rad(e["phi_deg"].get<double>())};
+  for (const Json& l : e.value("lines", Json::array()))
+    reported.push_back({l["y0_mm"].get<double>(), l["m"].get<double>(), l["c_per_mm"].get<double>()});
+  return reported;
+}
+
+void add_to(FrameScore& total, const FrameScore& s) {
+  total.lanes += s.lanes;
+  total.found += s.found;
+  total.reported += s.reported;
+  total.false_lines += s.false_lines;
+  total.points += s.points;
+  total.hit_points += s.hit_points;
+}
+
+// The total line, or with `frames` (the per-frame objects) the one JSON object.
+void print_total(const FrameScore& total, int scored, int unannotated, double threshold, Json* frames) {
+  if (frames) {
+    Json t = score_json(total);
+    t["frames"] = scored;
+    t["frames_without_mask"] = unannotated;
+    std::cout << Json{{"threshold_px", threshold}, {"frames", std::move(*frames)}, {"total", std::move(t)}}.dump()
+              << '\n';
+  } else {
+    std::printf("total: %d frames scored (%d without a mask), threshold %.1f px: %s\n", scored, unannotated, threshold,
+                score_text(total).c_str());
+  }
+}
+
 }  // namespace
 
 CommandAction setup_score(CLI::App& sub) {
@@ -110,36 +163,13 @@ CommandAction setup_score(CLI::App& sub) {
         ++unannotated;
         continue;
       }
-      OwnedPicture mask;
-      try {
-        mask = read_png_picture(mask_path);
-      } catch (const std::runtime_error& failure) {
-        throw UsageError(failure.what());
-      }
-      if (mask.format != PixelFormat::mono8)
-        throw UsageError(mask_path +
-                         ": a lane mask is an 8-bit grey PNG (one grey level per lane), this one is colour");
-      if (mask.width != config.camera.Nu || mask.height != config.camera.Nv)
-        throw UsageError(mask_path + ": " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
-                         ", the camera of " + a->config + " is " + std::to_string(config.camera.Nu) + "x" +
-                         std::to_string(config.camera.Nv));
+      const OwnedPicture mask = read_mask(mask_path, config, a->config);
       const std::vector<AnnotatedLane> lanes = lanes_of_mask(mask.view());
-      std::vector<RoadLine> reported;
-      CameraPose pose = config.nominal_pose();
-      if (e.value("psi_deg", Json()).is_number()) {
-        pose.attitude = {deg_to_rad(e["psi_deg"].get<double>()), deg_to_rad(e["theta_deg"].get<double>()),
-                         deg_to_rad(e["phi_deg"].get<double>())};
-        for (const Json& l : e.value("lines", Json::array()))
-          reported.push_back({l["y0_mm"].get<double>(), l["m"].get<double>(), l["c_per_mm"].get<double>()});
-      }
+      CameraPose pose;
+      const std::vector<RoadLine> reported = reported_lines(e, config, pose);
       const FrameScore s = score_frame(lanes, mask.width, CameraModel(config.camera, pose), reported, rules);
       ++scored;
-      total.lanes += s.lanes;
-      total.found += s.found;
-      total.reported += s.reported;
-      total.false_lines += s.false_lines;
-      total.points += s.points;
-      total.hit_points += s.hit_points;
+      add_to(total, s);
       if (a->json) {
         Json j{{"frame", frame}, {"file", file->second}};
         j.update(score_json(s));
@@ -152,16 +182,7 @@ CommandAction setup_score(CLI::App& sub) {
       throw UsageError(a->annotations + ": no mask for any frame of " + a->replay + " (" + std::to_string(unannotated) +
                        " frames looked for <frame name>.png)");
     const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, config.camera.Nu);
-    if (a->json) {
-      Json t = score_json(total);
-      t["frames"] = scored;
-      t["frames_without_mask"] = unannotated;
-      std::cout << Json{{"threshold_px", threshold}, {"frames", std::move(frames)}, {"total", std::move(t)}}.dump()
-                << '\n';
-    } else {
-      std::printf("total: %d frames scored (%d without a mask), threshold %.1f px: %s\n", scored, unannotated,
-                  threshold, score_text(total).c_str());
-    }
+    print_total(total, scored, unannotated, threshold, a->json ? &frames : nullptr);
     return std::cout.flush() ? 0 : 1;
   };
 }
