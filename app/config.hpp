@@ -30,14 +30,6 @@ struct SolverConfig : SolverOptions {
 
 using PriorConfig = SolverPriors;  // [prior]
 
-struct LineInit {
-  double y0_mm = 0.0;
-  double m = 0.0;
-  double c_per_mm = 0.0;
-
-  bool operator==(const LineInit&) const = default;
-};
-
 struct GyroConfig {
   double sigma_deg = 0.5;  // std. dev. of its roll and pitch, used as priors
   std::string device;      // "" = no gyro, "emulated", or a serial device path
@@ -106,7 +98,7 @@ struct Config {
   AttitudeDeg attitude;
   SolverConfig solver;
   PriorConfig prior;
-  std::vector<LineInit> lines;
+  std::vector<RoadLine> lines;
   GyroConfig gyro;
   SourceConfig source;
   LcmConfig lcm;

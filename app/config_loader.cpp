@@ -296,7 +296,7 @@ void read_prior(TableReader& r, Config& c) {
 }
 
 void read_line(TableReader& r, Config& c) {
-  LineInit line;
+  RoadLine line;
   r.number("y0_mm", line.y0_mm);
   r.number("m", line.m);
   r.number("c_per_mm", line.c_per_mm);

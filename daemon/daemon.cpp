@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <optional>
 
 #include "app/gyro_factory.hpp"
 #include "app/source_factory.hpp"
@@ -15,6 +16,7 @@
 #include "bus/channels.hpp"
 #include "bus/lcm_publisher.hpp"
 #include "bus/vehicle_state_listener.hpp"
+#include "core/lane/observability.hpp"
 #include "daemon/allocation_counter.hpp"
 #include "daemon/bus_thread.hpp"
 #include "daemon/frame_processor.hpp"
@@ -128,14 +130,13 @@ std::string solver_observability_problem(const Config& c) {
   // Synthetic frames carry their drive's gyro reading and frame directories (most) their
   // recorded one: the roll is measured when either they or the [gyro] device give it.
   const std::string no_recorded_gyro = c.gyro.device.empty() ? frames_without_gyro(c) : "";
-  const std::string why = observability_problem(c.estimator_options(), no_recorded_gyro.empty());
+  const Observability o = observability(c.estimator_options(), no_recorded_gyro.empty());
   // A frame directory is expected to carry its gyro: name the file that does not.
-  if (!why.empty() && !no_recorded_gyro.empty() && c.source.kind == SourceKind::frames &&
-      why.find("phi and y0") != std::string::npos)
+  if (o == Observability::roll_unobservable && !no_recorded_gyro.empty() && c.source.kind == SourceKind::frames)
     return no_recorded_gyro +
            " and there is no [gyro] device, no [prior] phi_deg and no [prior] lane_width_mm, "
            "while solver.free has phi and y0: the roll is not observable; add one of them or fix phi";
-  return why;
+  return explain(o);
 }
 
 std::string daemon_config_problem(const Config& config) {
@@ -151,12 +152,10 @@ Config demo_config() {
   return c;
 }
 
-int run_daemon(const Config& config) {
-  const std::int64_t start_ns = monotonic_ns();
-  SignalWaiter signals;  // before any thread exists, so that all of them inherit the mask
-  SystemdNotifier notifier;
-  RealtimeSetup realtime(config.realtime);
+namespace {
 
+// What ccdlaned runs on, made and opened by start_up() in this order.
+struct Devices {
   std::unique_ptr<FrameSource> source;
   std::unique_ptr<AttitudeProvider> gyro;
   std::unique_ptr<EstimatorProcessor> processor;
@@ -164,84 +163,81 @@ int run_daemon(const Config& config) {
   std::unique_ptr<LcmPublisher> publisher;
   std::unique_ptr<VehicleStateListener> vehicle;
   bool source_open = false, gyro_open = false;
+  SystemdNotifier* notifier = nullptr;  // for the pause before a restart
+  SignalWaiter* signals = nullptr;
+
   // A start that fails half-way leaves no stream running and no device open.
-  const auto fail = [&](const char* category, const char* why) {
+  int fail(const char* category, const char* why) {
     log_line(LogLevel::error, category, "%s", why);
     if (gyro_open) gyro->close();
     if (source_open) source->close();
-    pause_before_restart(notifier, signals, category, why);
+    if (notifier && signals) pause_before_restart(*notifier, *signals, category, why);
     return 1;
-  };
-  try {
-    // Rendering the synthetic drive takes seconds: a SIGTERM meanwhile must not wait for it.
-    source = make_frame_source(config, [&signals] { return signals.terminate_pending(); });
-    if (std::string why = source->open(); !why.empty()) {
-      if (signals.terminate_pending() && signals.wait(0) == SignalWaiter::Event::terminate) {
-        log_line(LogLevel::info, "stop", "SIG%s during start-up: stopping", sigabbrev_np(signals.last_signal()));
-        return 0;
-      }
-      return fail("camera", why.c_str());
-    }
-    source_open = true;
-    // A sensor that does not answer takes seconds of handshakes: SIGTERM ends them.
-    gyro = make_attitude_provider(config, {}, [&signals] { return signals.terminate_pending(); });
-    if (gyro) {
-      // An absent gyro degrades the estimate, it does not stop the lanes: a gyro lost
-      // mid-run is handled so too, and a daemon that exits here is restart-looped.
-      if (std::string why = gyro->open(); !why.empty()) {
-        if (signals.terminate_pending() && signals.wait(0) == SignalWaiter::Event::terminate) {
-          log_line(LogLevel::info, "stop", "SIG%s during start-up: stopping", sigabbrev_np(signals.last_signal()));
-          source->close();
-          return 0;
-        }
-        if (gyro->state() != GyroState::lost) return fail("gyro", why.c_str());
-        log_line(LogLevel::warning, "gyro", "absent: %s; running without it and retrying the device", why.c_str());
-      }
-      gyro_open = true;
-    }
-    processor = std::make_unique<EstimatorProcessor>(config, *source);
-    calibration = std::make_unique<OnlineCalibration>(config);
-    if (calibration->enabled()) processor->attach(*calibration);
-    publisher = std::make_unique<LcmPublisher>(config.lcm);
-    publisher->set_instance(config.lcm.instance.empty() ? instance_name() : config.lcm.instance);
-    publisher->watch_for_other_instances();
-    vehicle = std::make_unique<VehicleStateListener>(publisher->bus().getUnderlyingLCM(),
-                                                     channel_name(config.lcm.prefix, Channel::vehicle));
-    // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
-    if (config.lcm.publish_frames) publisher->enable_frames(source->width(), source->height(), source->format());
-  } catch (const std::exception& e) {
-    return fail("start", e.what());
   }
+};
 
-  Pipeline pipeline(*source, gyro.get(), *processor, *publisher, realtime, pipeline_options(config));
-  pipeline.set_vehicle_state(vehicle.get(), kVehicleStateMaxAgeNs);
-  // The one thread that handles the bus: vehicle states as they come, other instances.
-  BusThread bus(publisher->bus().getUnderlyingLCM());
-  ServiceHeartbeat heartbeat(notifier);
-  StatusTicker status(pipeline, gyro.get(), *calibration, *publisher, notifier, source->describe(), start_ns);
-  status.watch_vehicle(vehicle.get());
+// A SIGTERM while a device took its time to open (seconds of handshakes) ends the start.
+bool terminated_during_start_up(SignalWaiter& signals) {
+  if (!signals.terminate_pending() || signals.wait(0) != SignalWaiter::Event::terminate) return false;
+  log_line(LogLevel::info, "stop", "SIG%s during start-up: stopping", sigabbrev_np(signals.last_signal()));
+  return true;
+}
+
+// Opens the source and the gyro; the exit status when the daemon is not to go on.
+std::optional<int> open_devices(const Config& config, SignalWaiter& signals, Devices& d) {
+  // Rendering the synthetic drive takes seconds: a SIGTERM meanwhile must not wait for it.
+  d.source = make_frame_source(config, [&signals] { return signals.terminate_pending(); });
+  if (std::string why = d.source->open(); !why.empty())
+    return terminated_during_start_up(signals) ? 0 : d.fail("camera", why.c_str());
+  d.source_open = true;
+  // A sensor that does not answer takes seconds of handshakes: SIGTERM ends them.
+  d.gyro = make_attitude_provider(config, {}, [&signals] { return signals.terminate_pending(); });
+  if (!d.gyro) return std::nullopt;
+  // An absent gyro degrades the estimate, it does not stop the lanes: a gyro lost
+  // mid-run is handled so too, and a daemon that exits here is restart-looped.
+  if (std::string why = d.gyro->open(); !why.empty()) {
+    if (terminated_during_start_up(signals)) {
+      d.source->close();
+      return 0;
+    }
+    if (d.gyro->state() != GyroState::lost) return d.fail("gyro", why.c_str());
+    log_line(LogLevel::warning, "gyro", "absent: %s; running without it and retrying the device", why.c_str());
+  }
+  d.gyro_open = true;
+  return std::nullopt;
+}
+
+// The processor, the online calibration and the bus.
+void make_processing(const Config& config, Devices& d) {
+  d.processor = std::make_unique<EstimatorProcessor>(config, *d.source);
+  d.calibration = std::make_unique<OnlineCalibration>(config);
+  if (d.calibration->enabled()) d.processor->attach(*d.calibration);
+  d.publisher = std::make_unique<LcmPublisher>(config.lcm);
+  d.publisher->set_instance(config.lcm.instance.empty() ? instance_name() : config.lcm.instance);
+  d.publisher->watch_for_other_instances();
+  d.vehicle = std::make_unique<VehicleStateListener>(d.publisher->bus().getUnderlyingLCM(),
+                                                     channel_name(config.lcm.prefix, Channel::vehicle));
+  // [lcm] publish_frames: raw frames on their own channel, so lcm-logger records a drive.
+  if (config.lcm.publish_frames) d.publisher->enable_frames(d.source->width(), d.source->height(), d.source->format());
+}
+
+void log_started(const Config& config, const Devices& d, const Pipeline& pipeline, const SystemdNotifier& notifier) {
   const FramePoolLayout& pool = pipeline.pool().layout();
   log_line(LogLevel::info, "start",
            "%s; gyro %s; %d frame buffers of %dx%d; lanes on %s, status on %s, vehicle state from %s, bus %s, "
            "instance %s",
-           source->describe().c_str(), gyro ? gyro->describe().c_str() : "none", pool.count, pool.width, pool.height,
-           publisher->lanes_channel().c_str(), publisher->status_channel().c_str(),
-           channel_name(config.lcm.prefix, Channel::vehicle).c_str(), publisher->url().c_str(),
-           publisher->instance().c_str());
+           d.source->describe().c_str(), d.gyro ? d.gyro->describe().c_str() : "none", pool.count, pool.width,
+           pool.height, d.publisher->lanes_channel().c_str(), d.publisher->status_channel().c_str(),
+           channel_name(config.lcm.prefix, Channel::vehicle).c_str(), d.publisher->url().c_str(),
+           d.publisher->instance().c_str());
   if (notifier.watchdog_interval_us() > 0)
     log_line(LogLevel::info, "systemd", "watchdog every %.3f s, pinged while frames flow",
              static_cast<double>(notifier.watchdog_interval_us()) * 1e-6);
+}
 
-  pipeline.start();
-  bus.start();
-  realtime.lock_memory();
-  char rt[160];
-  realtime.describe(rt, sizeof rt);
-  log_line(LogLevel::info, "realtime", "%s", rt);
-  pipeline.run();
-
-  // From here the main thread allocates nothing: it waits, counts, tells systemd and
-  // publishes status.
+// Until SIGTERM or the end of a finite source. The main thread allocates nothing here:
+// it waits, counts, tells systemd and publishes status.
+void serve(SignalWaiter& signals, const Pipeline& pipeline, ServiceHeartbeat& heartbeat, StatusTicker& status) {
   std::int64_t next_status = monotonic_ns() + kStatusPeriodNs;
   for (;;) {
     const std::int64_t now = monotonic_ns();
@@ -249,7 +245,7 @@ int run_daemon(const Config& config) {
     const SignalWaiter::Event event = signals.wait(wait);
     if (event == SignalWaiter::Event::terminate) {
       log_line(LogLevel::info, "stop", "SIG%s: stopping", sigabbrev_np(signals.last_signal()));
-      break;
+      return;
     }
     if (event == SignalWaiter::Event::hangup) {
       log_line(LogLevel::notice, "config",
@@ -260,7 +256,7 @@ int run_daemon(const Config& config) {
     heartbeat.tick(monotonic_ns(), totals.ready, totals.frames_processed);
     if (pipeline.finished()) {
       log_line(LogLevel::info, "stop", "the source ended and every frame was processed: stopping");
-      break;
+      return;
     }
     if (monotonic_ns() >= next_status) {
       status.tick();
@@ -268,14 +264,9 @@ int run_daemon(const Config& config) {
       if (next_status < monotonic_ns()) next_status = monotonic_ns() + kStatusPeriodNs;
     }
   }
+}
 
-  notifier.stopping();
-  pipeline.stop();  // threads joined: the capture wait is bounded, queued frames are left
-  bus.stop();
-  source->close();  // streams off, device closed
-  if (gyro) gyro->close();
-  calibration->stop();  // the processing thread has ended: the last estimate is saved
-  status.tick();        // the last word on the bus; udpm sends synchronously, nothing is left queued
+void log_stopped(const StatusTicker& status, const Pipeline& pipeline) {
   const status_t& s = status.last();
   // in = processed + dropped + left queued at the stop: every frame is accounted for.
   log_line(LogLevel::info, "stop",
@@ -284,6 +275,51 @@ int run_daemon(const Config& config) {
            static_cast<long long>(s.frames_in_total), static_cast<long long>(s.frames_processed_total),
            static_cast<long long>(s.frames_dropped_total), static_cast<long long>(pipeline.totals().frames_unprocessed),
            static_cast<long long>(s.frames_not_ok_total), static_cast<long long>(s.allocations_since_ready));
+}
+
+}  // namespace
+
+int run_daemon(const Config& config) {
+  const std::int64_t start_ns = monotonic_ns();
+  SignalWaiter signals;  // before any thread exists, so that all of them inherit the mask
+  SystemdNotifier notifier;
+  RealtimeSetup realtime(config.realtime);
+  Devices d;
+  d.notifier = &notifier;
+  d.signals = &signals;
+  try {
+    if (const std::optional<int> status = open_devices(config, signals, d)) return *status;
+    make_processing(config, d);
+  } catch (const std::exception& e) {
+    return d.fail("start", e.what());
+  }
+
+  Pipeline pipeline(*d.source, d.gyro.get(), *d.processor, *d.publisher, realtime, pipeline_options(config));
+  pipeline.set_vehicle_state(d.vehicle.get(), kVehicleStateMaxAgeNs);
+  // The one thread that handles the bus: vehicle states as they come, other instances.
+  BusThread bus(d.publisher->bus().getUnderlyingLCM());
+  ServiceHeartbeat heartbeat(notifier);
+  StatusTicker status(pipeline, d.gyro.get(), *d.calibration, *d.publisher, notifier, d.source->describe(), start_ns);
+  status.watch_vehicle(d.vehicle.get());
+  log_started(config, d, pipeline, notifier);
+
+  pipeline.start();
+  bus.start();
+  realtime.lock_memory();
+  char rt[160];
+  realtime.describe(rt, sizeof rt);
+  log_line(LogLevel::info, "realtime", "%s", rt);
+  pipeline.run();
+  serve(signals, pipeline, heartbeat, status);
+
+  notifier.stopping();
+  pipeline.stop();  // threads joined: the capture wait is bounded, queued frames are left
+  bus.stop();
+  d.source->close();  // streams off, device closed
+  if (d.gyro) d.gyro->close();
+  d.calibration->stop();  // the processing thread has ended: the last estimate is saved
+  status.tick();          // the last word on the bus; udpm sends synchronously, nothing is left queued
+  log_stopped(status, pipeline);
   return 0;
 }
 

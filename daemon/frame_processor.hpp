@@ -56,19 +56,24 @@ class EstimatorProcessor final : public FrameProcessor {
 
   LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
                        std::optional<Gx1Angles> attitude, const VehicleInputs& inputs) override {
-    VehicleInputs vehicle = inputs;
-    if (calibration_) calibration_->before_frame(estimator_, vehicle);
-    const LaneEstimate& e = estimator_.estimate(image, frame, meta.frame_t_ns(), attitude, vehicle);
-    if (calibration_) calibration_->after_frame(e, vehicle);
+    FrameInputs in{frame, meta.sequence, meta.frame_t_ns(), image, attitude, attitude_source(meta, attitude), inputs};
+    if (calibration_) calibration_->before_frame(estimator_, in.vehicle);
+    const LaneEstimate& e = estimator_.estimate(in);
+    if (calibration_) calibration_->after_frame(e, in.vehicle);
     return e;
   }
   LaneEstimate no_frame(std::uint64_t frame, const FrameMeta& meta, const VehicleInputs& inputs) override {
-    VehicleInputs vehicle = inputs;
-    if (calibration_) calibration_->before_frame(estimator_, vehicle);
-    return estimator_.no_frame(frame, meta.frame_t_ns(), vehicle);
+    FrameInputs in{frame, meta.sequence, meta.frame_t_ns(), std::nullopt, std::nullopt, AttitudeSource::none, inputs};
+    if (calibration_) calibration_->before_frame(estimator_, in.vehicle);
+    return estimator_.estimate(in);
   }
 
  private:
+  static AttitudeSource attitude_source(const FrameMeta& meta, const std::optional<Gx1Angles>& attitude) {
+    if (!attitude) return AttitudeSource::none;
+    return meta.gyro ? AttitudeSource::recorded : AttitudeSource::live;
+  }
+
   LaneEstimator estimator_;
   OnlineCalibration* calibration_ = nullptr;
 };

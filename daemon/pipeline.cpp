@@ -9,9 +9,9 @@
 #include <exception>
 #include <stdexcept>
 
+#include "app/frame_inputs.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
-#include "core/lane/lane_estimator.hpp"
 #include "daemon/allocation_counter.hpp"
 
 namespace ccdlane {
@@ -39,9 +39,6 @@ PipelineOptions pipeline_options(const Config& c) {
   o.capture_priority = c.realtime.capture_priority;
   o.processing_priority = c.realtime.processing_priority;
   o.gyro_priority = c.realtime.gyro_priority;
-  const LaneEstimatorOptions estimator = c.estimator_options();
-  o.roll_needs_gyro =
-      !observability_problem(estimator, false).empty() && observability_problem(estimator, true).empty();
   return o;
 }
 
@@ -252,56 +249,45 @@ void Pipeline::processing_loop() {
   }
 }
 
-VehicleInputs Pipeline::vehicle_inputs_for(const FrameMeta& meta, bool frame_ok) const {
-  VehicleInputs in;
-  if (meta.speed_kmh || meta.indicator) {
-    // A recording plays with the vehicle it was made with, whatever is on the bus now.
-    if (meta.speed_kmh) in.speed_mps = *meta.speed_kmh / 3.6;
-    in.indicator = meta.indicator.value_or(TurnIndicator::none);
-  } else if (vehicle_state_) {
-    in = vehicle_inputs(*vehicle_state_, monotonic_ns(), vehicle_state_max_age_ns_);
-  }
-  in.camera_ok = frame_ok;
-  if (gyro_) {
-    const GyroState g = gyro_->state();
-    in.gyro_ok = g != GyroState::stale && g != GyroState::lost;
-  }
-  return in;
+LiveReadings Pipeline::live_readings(const SlotMeta& slot) {
+  LiveReadings live;
+  // A recording plays with the vehicle it was made with, whatever is on the bus now.
+  if (!slot.meta.speed_kmh && !slot.meta.indicator && vehicle_state_)
+    live.vehicle = vehicle_inputs(*vehicle_state_, monotonic_ns(), vehicle_state_max_age_ns_);
+  if (!gyro_) return live;
+  const GyroState g = gyro_->state();
+  live.gyro_delivering = g != GyroState::stale && g != GyroState::lost;
+  // A recording's frames carry their own reading, and were not turned by this gyro.
+  if (slot.bad || slot.meta.gyro) return live;
+  live.gyro = gyro_->attitude_at(slot.meta.t_ns);
+  if (!live.gyro) no_attitude_.fetch_add(1, std::memory_order_relaxed);
+  live.yaw_rate_radps = gyro_->yaw_rate_at(slot.meta.t_ns);
+  return live;
 }
 
 void Pipeline::process_one(std::uint32_t index) {
   const SlotMeta slot = slots_[index];
+  const ImageView image = pool_.view(static_cast<int>(index));
+  const FrameInputs in =
+      frame_inputs(slot.bad ? nullptr : &image, slot.frame, slot.meta, live_readings(slot), gyro_ != nullptr);
   if (slot.bad) {
     if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
     // The lane departure warning coasts through it, and says the camera failed.
-    LaneEstimate estimate = processor_.no_frame(slot.frame, slot.meta, vehicle_inputs_for(slot.meta, false));
-    estimate.source_frame = slot.meta.sequence;
+    LaneEstimate estimate = processor_.no_frame(slot.frame, slot.meta, in.vehicle);
+    estimate.source_frame = slot.meta.sequence;  // for processors other than the estimator
     publish(estimate, slot.received_ns);
     return;
   }
-  std::optional<Gx1Angles> attitude = slot.meta.gyro;
-  if (!attitude && gyro_) {
-    attitude = gyro_->attitude_at(slot.meta.t_ns);
-    if (!attitude) no_attitude_.fetch_add(1, std::memory_order_relaxed);
-  }
-  VehicleInputs vehicle = vehicle_inputs_for(slot.meta, true);
-  // A configured gyro that gave this frame no reading is at fault for it: what the frame's
-  // record shows (frame_t has_gyro), so that replay judges the frame alike.
-  vehicle.gyro_ok = !gyro_ || attitude.has_value();
-  // The live gyro's yaw rate when the vehicle gives none (and the frame is live: a
-  // recording's frames are not turned by this gyro).
-  if (!vehicle.yaw_rate_radps && !slot.meta.gyro && gyro_) vehicle.yaw_rate_radps = gyro_->yaw_rate_at(slot.meta.t_ns);
-  const ImageView image = pool_.view(static_cast<int>(index));
+  const VehicleInputs& vehicle = in.vehicle;
   // The source's id may wrap (a 16-bit block id) or restart with the camera: messages go
   // out under the run's own count, with the source's id beside it.
-  LaneEstimate estimate = processor_.process(image, slot.frame, slot.meta, attitude, vehicle);
-  estimate.source_frame = slot.meta.sequence;
-  estimate.roll_unobservable = options_.roll_needs_gyro && !attitude;
+  LaneEstimate estimate = processor_.process(image, slot.frame, slot.meta, in.gyro, vehicle);
+  estimate.source_frame = slot.meta.sequence;  // for processors other than the estimator
   if (sink_.publishes_frames()) {
     // Only processed frames go out, in processing order (after any drop), keyed as the
     // lane message is: the log holds the very frame stream the estimator's tracking saw,
     // with the vehicle inputs it was given, so that replay warns as the daemon did.
-    FrameRecord record{slot.frame, slot.meta.frame_t_ns(), realtime_us_of_monotonic(slot.meta.t_ns), attitude,
+    FrameRecord record{slot.frame, slot.meta.frame_t_ns(), realtime_us_of_monotonic(slot.meta.t_ns), in.gyro,
                        slot.meta.sequence};
     if (vehicle.speed_mps) record.speed_kmh = *vehicle.speed_mps * 3.6;
     record.yaw_rate_radps = vehicle.yaw_rate_radps;

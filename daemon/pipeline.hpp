@@ -14,6 +14,7 @@
 
 #include "app/attitude_provider.hpp"
 #include "app/config.hpp"
+#include "app/frame_inputs.hpp"
 #include "base/spsc_ring.hpp"
 #include "bus/lane_sink.hpp"
 #include "bus/vehicle_state_listener.hpp"
@@ -35,9 +36,6 @@ struct PipelineOptions {
   int processing_priority = 0;
   int gyro_priority = 0;
   std::size_t latency_queue = 16384;  // latency samples waiting for the status thread
-  // The roll is observable only through a gyro reading (phi and y0 free, no roll or
-  // lane-width prior): a frame without one is flagged roll_unobservable.
-  bool roll_needs_gyro = false;
 };
 
 // The options ccdlaned runs its pipeline with: [daemon] and [realtime].
@@ -102,8 +100,9 @@ class Pipeline {
   void processing_loop();
   void gyro_loop();
   void process_one(std::uint32_t index);
-  // The frame's vehicle inputs: its recorded ones, else the bus's; the devices' health.
-  VehicleInputs vehicle_inputs_for(const FrameMeta& meta, bool frame_ok) const;
+  // What the gyro and the bus know at the frame (app/frame_inputs.hpp's LiveReadings);
+  // counts a frame the live gyro has no reading for.
+  LiveReadings live_readings(const SlotMeta& slot);
   // Sends one estimate (every frame's, bad ones included) and counts it.
   void publish(LaneEstimate& estimate, std::int64_t received_ns);
   // Hands the filled buffer to processing and takes a free one; false when stopping.

@@ -35,6 +35,7 @@ struct FrameMeta {
   // columns), so that a recording plays with the inputs it was made with; empty when the
   // recording has no such value (live sources: the daemon takes the bus's vehicle state).
   std::optional<double> speed_kmh;
+  std::optional<double> yaw_rate_radps;  // + turning left (a logged frame_t's)
   std::optional<TurnIndicator> indicator;
 
   // The timestamp a frame goes out under (lane estimates, frame_t): as recorded, else t_ns.

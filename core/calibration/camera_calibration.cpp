@@ -12,11 +12,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "core/calibration/homography_initialisation.hpp"
+#include "core/solver/nielsen_damping.hpp"
 
 namespace ccdlane::calibration {
 namespace {
@@ -94,7 +96,8 @@ LmResult levenberg_marquardt(const ChessboardProblem& problem, FitState& state, 
   Eigen::MatrixXd j;
   if (!problem.evaluate(state, r, &j)) return out;
   double cost = 0.5 * r.squaredNorm();
-  double lambda = 1e-3, nu = 2.0;
+  solver::NielsenDamping damping;
+  double& lambda = damping.lambda;
   Eigen::MatrixXd normal = j.transpose() * j;
   Eigen::VectorXd gradient = j.transpose() * r;
   while (out.iterations < max_iterations) {
@@ -113,8 +116,7 @@ LmResult levenberg_marquardt(const ChessboardProblem& problem, FitState& state, 
     const FitState candidate = problem.stepped(state, step);
     const double predicted = -(gradient.dot(step) + 0.5 * step.dot(normal * step));
     if (!problem.evaluate(candidate, r_new, nullptr)) {
-      lambda *= nu;
-      nu *= 2.0;
+      damping.reject();
       continue;
     }
     const double new_cost = 0.5 * r_new.squaredNorm();
@@ -130,12 +132,9 @@ LmResult levenberg_marquardt(const ChessboardProblem& problem, FitState& state, 
         out.ok = true;
         return out;
       }
-      const double t = 2.0 * rho - 1.0;
-      lambda *= std::max(1.0 / 3.0, 1.0 - t * t * t);
-      nu = 2.0;
+      damping.accept(rho);
     } else {
-      lambda *= nu;
-      nu *= 2.0;
+      damping.reject();
       if (lambda > 1e20) {  // no step decreases the cost: the start is the optimum
         out.ok = true;
         return out;
@@ -175,9 +174,11 @@ const char* to_string(CalibrationStatus status) {
   return "?";
 }
 
-CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, const BoardGeometry& board,
-                                   const std::vector<BoardView>& views, const CalibrationOptions& options) {
-  const std::vector<Vec3> corners = board_corners(board);
+namespace {
+
+// Why the views cannot be calibrated from, as the refused calibration; empty when they can.
+std::optional<CameraCalibration> unusable_views(const CameraSpec& chip, const std::vector<Vec3>& corners,
+                                                const std::vector<BoardView>& views) {
   for (std::size_t v = 0; v < views.size(); ++v)
     if (views[v].corners_px.size() != corners.size())
       return refused(CalibrationStatus::wrong_corner_count,
@@ -199,9 +200,14 @@ CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, 
                    "the pictures are " + std::to_string(views[0].width) + "x" + std::to_string(views[0].height) +
                        ", the chip (Nu x Nv) " + std::to_string(chip.Nu) + "x" + std::to_string(chip.Nv),
                    0);
+  return std::nullopt;
+}
 
-  // Start: the picture's centre, no distortion, Zhang's f, each pose from its homography.
-  FitState state;
+// The start: the picture's centre, no distortion, Zhang's f, each pose from its
+// homography; the refused calibration when a view's corners fit no plane's picture.
+std::optional<CameraCalibration> initial_state(const CameraSpec& chip, double initial_f_mm,
+                                               const std::vector<Vec3>& corners, const std::vector<BoardView>& views,
+                                               FitState& state) {
   state.intrinsics = {initial_f_mm, CameraSpec::default_cx(chip.Nu), CameraSpec::default_cy(chip.Nv), 0.0};
   std::vector<Mat3> homographies;
   for (std::size_t v = 0; v < views.size(); ++v) {
@@ -214,6 +220,34 @@ CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, 
   }
   if (const auto f = focal_length_from_homographies(homographies)) state.intrinsics.f_mm = *f;
   for (const Mat3& h : homographies) state.poses.push_back(pose_from_homography(h, state.intrinsics.f_mm));
+  return std::nullopt;
+}
+
+// Each view's pose, tilt and residuals at the fit (`r`: every corner's, view by view).
+void add_view_residuals(const Eigen::VectorXd& r, const std::vector<Vec3>& corners, const std::vector<BoardView>& views,
+                        const FitState& state, CameraCalibration& c) {
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    ViewResidual view;
+    view.pose = state.poses[v];
+    view.tilt_deg = board_tilt_deg(view.pose);
+    const auto rows =
+        r.segment(static_cast<Eigen::Index>(2 * corners.size() * v), static_cast<Eigen::Index>(2 * corners.size()));
+    view.rms_px = std::sqrt(rows.squaredNorm() / static_cast<double>(corners.size()));
+    for (std::size_t i = 0; i < corners.size(); ++i)
+      view.reprojected_px.push_back(views[v].corners_px[i] + rows.segment<2>(static_cast<Eigen::Index>(2 * i)));
+    c.views.push_back(std::move(view));
+  }
+}
+
+}  // namespace
+
+CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, const BoardGeometry& board,
+                                   const std::vector<BoardView>& views, const CalibrationOptions& options) {
+  const std::vector<Vec3> corners = board_corners(board);
+  if (std::optional<CameraCalibration> refusal = unusable_views(chip, corners, views)) return std::move(*refusal);
+  FitState state;
+  if (std::optional<CameraCalibration> refusal = initial_state(chip, initial_f_mm, corners, views, state))
+    return std::move(*refusal);
 
   const ChessboardProblem problem(chip, corners, views);
   const LmResult lm = levenberg_marquardt(problem, state, options.max_iterations);
@@ -229,17 +263,7 @@ CameraCalibration calibrate_camera(const CameraSpec& chip, double initial_f_mm, 
   c.rms_px = std::sqrt(sum_squares / static_cast<double>(corners.size() * views.size()));
   const int dof = problem.equations() - problem.unknowns();
   c.residual_sigma_px = std::sqrt(sum_squares / dof);
-  for (std::size_t v = 0; v < views.size(); ++v) {
-    ViewResidual view;
-    view.pose = state.poses[v];
-    view.tilt_deg = board_tilt_deg(view.pose);
-    const auto rows =
-        r.segment(static_cast<Eigen::Index>(2 * corners.size() * v), static_cast<Eigen::Index>(2 * corners.size()));
-    view.rms_px = std::sqrt(rows.squaredNorm() / static_cast<double>(corners.size()));
-    for (std::size_t i = 0; i < corners.size(); ++i)
-      view.reprojected_px.push_back(views[v].corners_px[i] + rows.segment<2>(static_cast<Eigen::Index>(2 * i)));
-    c.views.push_back(std::move(view));
-  }
+  add_view_residuals(r, corners, views, state, c);
 
   double largest_tilt = 0.0;
   for (const ViewResidual& v : c.views) largest_tilt = std::max(largest_tilt, v.tilt_deg);

@@ -127,18 +127,20 @@ MountFrame mount_frame(const LaneEstimate& e, const SolveResult* solution, const
   return f;
 }
 
-MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& o, double reference_phi_deg) {
-  MountCalibration r;
-  r.frames = static_cast<int>(frames.size());
-  const std::size_t n = frames.size();
-  const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
+namespace {
 
-  // Which frames show the lane, which of those are on straight road, and where the
-  // vehicle turned or moved sideways.
-  std::vector<bool> keep(n, false);
-  std::vector<double> lane_change_t;
+constexpr int kMinBlocks = 3;  // fewer give no spread worth the name
+
+double seconds(std::int64_t t_ns) { return 1e-9 * static_cast<double>(t_ns); }
+
+// Which frames show the lane on straight road with the vehicle neither turning nor moving
+// sideways, counted into `r`; and, apart, the times the vehicle crossed a line.
+std::vector<bool> straight_frames(std::span<const MountFrame> frames, const MountOptions& o, MountCalibration& r,
+                                  std::vector<double>& lane_change_t) {
+  const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
+  std::vector<bool> keep(frames.size(), false);
   int last_lane = -1;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < frames.size(); ++i) {
     const MountFrame& f = frames[i];
     if (!f.lane) continue;
     ++r.frames_with_lane;
@@ -149,11 +151,11 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
     }
     if (last_lane >= 0) {
       const MountFrame& p = frames[static_cast<std::size_t>(last_lane)];
-      const double dt = 1e-9 * static_cast<double>(f.t_ns - p.t_ns);
+      const double dt = seconds(f.t_ns - p.t_ns);
       const double jump = f.lateral_offset_mm - p.lateral_offset_mm;
       // The own lane's centre jumps by about a lane width when the vehicle crosses a line.
       if (std::abs(jump) > 0.5 * f.lane_width_mm) {
-        lane_change_t.push_back(1e-9 * static_cast<double>(f.t_ns));
+        lane_change_t.push_back(seconds(f.t_ns));
       } else if (dt > 0.0 && std::abs(jump) / dt > o.max_lateral_speed_mm_s) {
         ++r.frames_lane_change;  // moving sideways: changing lanes or swerving
         ok = false;
@@ -167,9 +169,15 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
     keep[i] = ok;
     last_lane = static_cast<int>(i);
   }
-  for (std::size_t i = 0; i < n; ++i) {
+  return keep;
+}
+
+// Drops the frames within lane_change_guard_s of a line crossing.
+void drop_lane_changes(std::span<const MountFrame> frames, const std::vector<double>& lane_change_t,
+                       const MountOptions& o, std::vector<bool>& keep, MountCalibration& r) {
+  for (std::size_t i = 0; i < frames.size(); ++i) {
     if (!keep[i]) continue;
-    const double t = 1e-9 * static_cast<double>(frames[i].t_ns);
+    const double t = seconds(frames[i].t_ns);
     for (double c : lane_change_t)
       if (std::abs(t - c) < o.lane_change_guard_s) {
         keep[i] = false;
@@ -177,96 +185,132 @@ MountCalibration calibrate_mount(std::span<const MountFrame> frames, const Mount
         break;
       }
   }
+}
 
-  // Stretches: runs of kept frames without a long gap; each cut into equal blocks.
+// Per block, the sums (then means) of the kept frames' values; and the frames' variances
+// summed.
+struct Blocks {
   std::vector<double> psi, theta, phi, width;
-  std::vector<int> block_frames, phi_frames;
+  std::vector<int> frames, phi_frames;
   double var_psi = 0.0, var_theta = 0.0, var_width = 0.0;
+
+  void add(std::size_t count) {
+    for (std::size_t b = 0; b < count; ++b) {
+      psi.push_back(0.0), theta.push_back(0.0), phi.push_back(0.0), width.push_back(0.0);
+      frames.push_back(0);
+      phi_frames.push_back(0);
+    }
+  }
+  // Empty blocks (a stretch with uneven frame times) carry nothing.
+  void drop_empty() {
+    for (std::size_t b = frames.size(); b-- > 0;)
+      if (frames[b] == 0) {
+        for (auto* v : {&psi, &theta, &phi, &width}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
+        for (auto* v : {&frames, &phi_frames}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
+      }
+  }
+};
+
+// One stretch, frames[i, end), cut into equal blocks of at least block_s.
+void add_stretch(std::span<const MountFrame> frames, std::size_t i, std::size_t end, double block_s, Blocks& blocks,
+                 MountCalibration& r) {
+  const std::size_t count = end - i;
+  // A stretch lasts from its first frame to one frame interval past its last.
+  const double t0 = seconds(frames[i].t_ns);
+  const double span = seconds(frames[end - 1].t_ns - frames[i].t_ns);
+  const double duration = count > 1 ? span * static_cast<double>(count) / static_cast<double>(count - 1) : 0.0;
+  if (duration < block_s) return;
+  ++r.stretches;
+  r.straight_s += duration;
+  const int n = std::max(1, static_cast<int>(std::floor(duration / block_s)));
+  const std::size_t first_block = blocks.frames.size();
+  blocks.add(static_cast<std::size_t>(n));
+  for (std::size_t k = i; k < end; ++k) {
+    const MountFrame& f = frames[k];
+    const double t = seconds(f.t_ns) - t0;
+    const auto b = first_block + static_cast<std::size_t>(std::min(n - 1, static_cast<int>(t / (duration / n))));
+    blocks.psi[b] += f.psi_deg, blocks.theta[b] += f.theta_deg, blocks.width[b] += f.lane_width_mm;
+    ++blocks.frames[b];
+    if (f.phi_deg) blocks.phi[b] += *f.phi_deg, ++blocks.phi_frames[b];
+    blocks.var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
+    blocks.var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
+    blocks.var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
+    ++r.frames_kept;
+  }
+}
+
+// Stretches: runs of kept frames without a long gap; each cut into equal blocks.
+Blocks straight_blocks(std::span<const MountFrame> frames, const std::vector<bool>& keep, const MountOptions& o,
+                       MountCalibration& r) {
+  Blocks blocks;
+  const std::size_t n = frames.size();
   for (std::size_t i = 0; i < n;) {
     if (!keep[i]) {
       ++i;
       continue;
     }
     std::size_t end = i + 1;
-    while (end < n && keep[end] && 1e-9 * static_cast<double>(frames[end].t_ns - frames[end - 1].t_ns) <= o.max_gap_s)
-      ++end;
-    const std::size_t count = end - i;
-    // A stretch lasts from its first frame to one frame interval past its last.
-    const double t0 = 1e-9 * static_cast<double>(frames[i].t_ns);
-    const double span = 1e-9 * static_cast<double>(frames[end - 1].t_ns - frames[i].t_ns);
-    const double duration = count > 1 ? span * static_cast<double>(count) / static_cast<double>(count - 1) : 0.0;
-    if (duration >= o.block_s) {
-      ++r.stretches;
-      r.straight_s += duration;
-      const int blocks = std::max(1, static_cast<int>(std::floor(duration / o.block_s)));
-      const std::size_t first_block = block_frames.size();
-      for (int b = 0; b < blocks; ++b) {
-        psi.push_back(0.0), theta.push_back(0.0), phi.push_back(0.0), width.push_back(0.0);
-        block_frames.push_back(0);
-        phi_frames.push_back(0);
-      }
-      for (std::size_t k = i; k < end; ++k) {
-        const MountFrame& f = frames[k];
-        const double t = 1e-9 * static_cast<double>(f.t_ns) - t0;
-        const auto b =
-            first_block + static_cast<std::size_t>(std::min(blocks - 1, static_cast<int>(t / (duration / blocks))));
-        psi[b] += f.psi_deg, theta[b] += f.theta_deg, width[b] += f.lane_width_mm;
-        ++block_frames[b];
-        if (f.phi_deg) phi[b] += *f.phi_deg, ++phi_frames[b];
-        var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
-        var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
-        var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
-        ++r.frames_kept;
-      }
-    }
+    while (end < n && keep[end] && seconds(frames[end].t_ns - frames[end - 1].t_ns) <= o.max_gap_s) ++end;
+    add_stretch(frames, i, end, o.block_s, blocks, r);
     i = end;
   }
-  // Empty blocks (a stretch with uneven frame times) carry nothing.
-  for (std::size_t b = block_frames.size(); b-- > 0;)
-    if (block_frames[b] == 0) {
-      for (auto* v : {&psi, &theta, &phi, &width}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
-      for (auto* v : {&block_frames, &phi_frames}) v->erase(v->begin() + static_cast<std::ptrdiff_t>(b));
-    }
+  blocks.drop_empty();
+  return blocks;
+}
+
+// Why the drive gives no calibration, when it is too little: the status and message.
+bool too_little(const MountOptions& o, MountCalibration& r) {
+  if (r.straight_s >= o.min_straight_s && r.blocks >= kMinBlocks) return false;
+  char text[256];
+  if (r.frames_with_lane == 0) {
+    r.status = MountStatus::no_lines;
+    std::snprintf(text, sizeof text, "none of the %d frames shows lane lines on both sides of the vehicle", r.frames);
+  } else if (2 * r.frames_curved >= r.frames_with_lane) {
+    r.status = MountStatus::only_curves;
+    std::snprintf(text, sizeof text,
+                  "%d of the %d frames with lane lines are on bends (radius under %.0f m): a bend's heading is "
+                  "not the road's direction; drive a straight road",
+                  r.frames_curved, r.frames_with_lane, o.min_radius_m);
+  } else {
+    r.status = MountStatus::too_short;
+    std::snprintf(text, sizeof text,
+                  "only %.1f s of straight driving with lines on both sides (%d frames kept of %d), at least "
+                  "%.1f s needed",
+                  r.straight_s, r.frames_kept, r.frames, o.min_straight_s);
+  }
+  r.message = text;
+  return true;
+}
+
+}  // namespace
+
+MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& o, double reference_phi_deg) {
+  MountCalibration r;
+  r.frames = static_cast<int>(frames.size());
+  std::vector<double> lane_change_t;
+  std::vector<bool> keep = straight_frames(frames, o, r, lane_change_t);
+  drop_lane_changes(frames, lane_change_t, o, keep, r);
+  Blocks blocks = straight_blocks(frames, keep, o, r);
+
   // Roll from the blocks that saw three lines often enough to count.
   std::vector<double> phi_means;
   std::vector<int> phi_counts;
   int phi_total = 0;
-  for (std::size_t b = 0; b < block_frames.size(); ++b) {
-    psi[b] /= block_frames[b], theta[b] /= block_frames[b], width[b] /= block_frames[b];
-    if (2 * phi_frames[b] >= block_frames[b]) {
-      phi_means.push_back(phi[b] / phi_frames[b]);
-      phi_counts.push_back(phi_frames[b]);
-      phi_total += phi_frames[b];
+  for (std::size_t b = 0; b < blocks.frames.size(); ++b) {
+    const int count = blocks.frames[b];
+    blocks.psi[b] /= count, blocks.theta[b] /= count, blocks.width[b] /= count;
+    if (2 * blocks.phi_frames[b] >= count) {
+      phi_means.push_back(blocks.phi[b] / blocks.phi_frames[b]);
+      phi_counts.push_back(blocks.phi_frames[b]);
+      phi_total += blocks.phi_frames[b];
     }
   }
-  r.blocks = static_cast<int>(block_frames.size());
+  r.blocks = static_cast<int>(blocks.frames.size());
+  if (too_little(o, r)) return r;
 
-  constexpr int kMinBlocks = 3;  // fewer give no spread worth the name
-  if (r.straight_s < o.min_straight_s || r.blocks < kMinBlocks) {
-    char text[256];
-    if (r.frames_with_lane == 0) {
-      r.status = MountStatus::no_lines;
-      std::snprintf(text, sizeof text, "none of the %d frames shows lane lines on both sides of the vehicle", r.frames);
-    } else if (2 * r.frames_curved >= r.frames_with_lane) {
-      r.status = MountStatus::only_curves;
-      std::snprintf(text, sizeof text,
-                    "%d of the %d frames with lane lines are on bends (radius under %.0f m): a bend's heading is "
-                    "not the road's direction; drive a straight road",
-                    r.frames_curved, r.frames_with_lane, o.min_radius_m);
-    } else {
-      r.status = MountStatus::too_short;
-      std::snprintf(text, sizeof text,
-                    "only %.1f s of straight driving with lines on both sides (%d frames kept of %d), at least "
-                    "%.1f s needed",
-                    r.straight_s, r.frames_kept, r.frames, o.min_straight_s);
-    }
-    r.message = text;
-    return r;
-  }
-
-  const Mean mpsi = block_mean(psi, block_frames, var_psi, r.frames_kept);
-  const Mean mtheta = block_mean(theta, block_frames, var_theta, r.frames_kept);
-  const Mean mwidth = block_mean(width, block_frames, var_width, r.frames_kept);
+  const Mean mpsi = block_mean(blocks.psi, blocks.frames, blocks.var_psi, r.frames_kept);
+  const Mean mtheta = block_mean(blocks.theta, blocks.frames, blocks.var_theta, r.frames_kept);
+  const Mean mwidth = block_mean(blocks.width, blocks.frames, blocks.var_width, r.frames_kept);
   r.psi_deg = mpsi.value, r.sigma_psi_deg = mpsi.sigma;
   r.theta_deg = mtheta.value, r.sigma_theta_deg = mtheta.sigma;
   r.phi_determined = phi_means.size() >= kMinBlocks;

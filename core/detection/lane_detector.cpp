@@ -131,11 +131,11 @@ void LaneDetector::choose_picks() {
 }
 
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
-                                            std::span<const LinePrior> priors) {
+                                            std::span<const RoadLine> priors) {
   result_ = DetectionResult{};
   if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return result_;
   double mean_m = 0.0, mean_c = 0.0;
-  for (const LinePrior& p : priors) {
+  for (const RoadLine& p : priors) {
     mean_m += p.m / static_cast<double>(priors.size());
     mean_c += p.c_per_mm / static_cast<double>(priors.size());
   }

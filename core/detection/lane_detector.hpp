@@ -25,7 +25,7 @@ class LaneDetector {
   // seen from `pose` (the best current guess: previous frame, gyro, or nominal). `priors`
   // are the previous frame's lines in the same road frame (empty on the first frame or
   // after a loss). The result stays valid until the next call.
-  const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const LinePrior> priors);
+  const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> priors);
 
   int max_picks() const { return config_.max_picks; }
   int max_candidates() const { return static_cast<int>(marks_.size()); }

@@ -24,16 +24,8 @@ struct MarkCandidate {
   double width_px() const { return right_px - left_px; }
 };
 
-// A lane line y = y0 + m x + c x^2 on the road, as detection fitted it at its pose.
-struct LinePrior {
-  double y0_mm = 0.0;
-  double m = 0.0;
-  double c_per_mm = 0.0;
-  double y_at(double x_mm) const { return y0_mm + (m + c_per_mm * x_mm) * x_mm; }
-};
-
 struct DetectedLine {
-  LinePrior fit;       // at the detection pose
+  RoadLine fit;        // the line as detection fitted it, at the detection pose
   int marks = 0;       // candidates grouped into it
   int first_pick = 0;  // its picks: DetectionResult::picks[first_pick .. + num_picks)
   int num_picks = 0;

@@ -19,7 +19,58 @@ constexpr double kReferenceMm = 10000.0;  // where lines are compared and ordere
 constexpr double kGateGrowth = 0.02;      // gate widening per mm of distance (pose error)
 constexpr double kMaxCurvature = 1e-5;    // c of a 50 m radius: anything sharper is not a lane
 
+constexpr double kPriorGateMm = 350.0;    // gate about a previous frame's line at 0 m
+constexpr double kNewLineGateMm = 400.0;  // about a voted or parallel line: less known
+// A line's own curvature is fitted only from marks this far apart, and this many: nearer
+// ones keep the road's (shared, or the prior's).
+constexpr double kCurvatureSpanMm = 15000.0;
+constexpr int kCurvatureMarks = 15;
+// RANSAC samples: marks this far apart along the road for a line (two) or a parabola (three).
+constexpr double kMinPairSpanMm = 2000.0;
+constexpr double kMinTripleSpanMm = 3000.0;
+constexpr double kConsensusTolerance = 1.5;  // pixel tolerances: the consensus, and the first pass of the fit
+constexpr int kFitPasses = 4;
+constexpr int kNewLineAttempts = 16;       // voted cells tried for new lines
+constexpr int kDashAttempts = 8;           // y0 bins tried for single dashes
+constexpr double kCurvatureChange = 1e-8;  // a shared curvature that moved more re-casts the votes
+constexpr double kMinSlopeVariance = 1e6;  // mm^2 of the lines' y spread to fit slope against y
+
 double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
+
+// The lateral road distance the fit tolerance spans at distance X.
+double pixel_tolerance_mm(const GroupingParams& params, double X) {
+  return params.fit_tolerance_px * params.mm_per_px_per_mm * X;
+}
+
+// The road's line through a given y at the reference distance: the lines found give its
+// curvature and its slope, fitted as a linear function of y when two or more lines are
+// known (a pitch error tilts projected lines in proportion to their offset).
+struct RoadDirection {
+  double sw = 0, sy = 0, sm = 0, slope_per_mm = 0, c = 0;
+
+  RoadLine through(double y_ref_mm) const {
+    const double m = sm / sw + slope_per_mm * (y_ref_mm - sy / sw);
+    return RoadLine{y_ref_mm - (m + c * kReferenceMm) * kReferenceMm, m, c};
+  }
+};
+
+RoadDirection road_direction(std::span<const DetectedLine> lines, double curvature) {
+  RoadDirection d;
+  d.c = curvature;
+  double syy = 0, sym = 0;
+  for (const DetectedLine& l : lines) {
+    const double w = l.marks, y = l.fit.y_at(kReferenceMm);
+    d.sw += w, d.sy += w * y, d.sm += w * l.fit.m, syy += w * y * y, sym += w * y * l.fit.m;
+  }
+  const double var = syy / d.sw - (d.sy / d.sw) * (d.sy / d.sw);
+  d.slope_per_mm = lines.size() >= 2 && var > kMinSlopeVariance ? (sym / d.sw - d.sy / d.sw * d.sm / d.sw) / var : 0.0;
+  return d;
+}
+
+void release_line(std::span<MarkCandidate> marks, int line) {
+  for (MarkCandidate& m : marks)
+    if (m.line == line) m.line = -1;
+}
 
 }  // namespace
 
@@ -44,46 +95,38 @@ void LineGrouper::vote(const MarkCandidate& mark, int delta) {
   }
 }
 
-bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
-                           const GroupingParams& params, DetectedLine& out, bool parallel) {
-  const auto id = static_cast<std::int16_t>(line);
-  auto pixel_tol = [&](double X) { return params.fit_tolerance_px * params.mm_per_px_per_mm * X; };
-  auto release = [&] {
-    for (MarkCandidate& m : marks)
-      if (m.line == id) m.line = -1;
-    return false;
-  };
-
-  // 1. The free marks within the gate around the model.
+int LineGrouper::gate_marks(std::span<const MarkCandidate> marks, const RoadLine& model, double gate_base_mm,
+                            std::int16_t id) {
   int g = 0;
   for (std::size_t i = 0; i < marks.size() && g < static_cast<int>(gated_.size()); ++i) {
     const MarkCandidate& m = marks[i];
     if ((m.line == -1 || m.line == id) && std::abs(m.Y - model.y_at(m.X)) <= gate(gate_base_mm, m.X))
       gated_[static_cast<std::size_t>(g++)] = static_cast<int>(i);
   }
-  const int min_marks = parallel ? params.min_dash_marks : params.min_marks;
-  const double min_span_mm = parallel ? params.min_dash_span_mm : params.min_span_mm;
-  if (g < min_marks) return release();
+  return g;
+}
 
-  // 2. RANSAC among them: the model, or a straight line through two gated marks, that
-  // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
-  // a plain least-squares fit off the line; the consensus does not care about it.
-  auto consensus = [&](const LinePrior& h) {
+RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g, const RoadLine& model, int line,
+                                     const GroupingParams& params, bool parallel) const {
+  const auto gated = [&](int k) -> const MarkCandidate& {
+    return marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
+  };
+  auto consensus = [&](const RoadLine& h) {
     int count = 0;
     for (int k = 0; k < g; ++k) {
-      const MarkCandidate& m = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
-      count += std::abs(m.Y - h.y_at(m.X)) <= 1.5 * pixel_tol(m.X);
+      const MarkCandidate& m = gated(k);
+      count += std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m.X);
     }
     return count;
   };
-  LinePrior best = model;
+  RoadLine best = model;
   int best_count = consensus(model);
   if (parallel) {
     // Slope and curvature are the road's: the consensus is over y0 alone, one hypothesis
     // through each gated mark.
     for (int k = 0; k < g; ++k) {
-      const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
-      LinePrior h = model;
+      const MarkCandidate& a = gated(k);
+      RoadLine h = model;
       h.y0_mm = a.Y - (model.m + model.c_per_mm * a.X) * a.X;
       const int count = consensus(h);
       if (count > best_count) best_count = count, best = h;
@@ -97,17 +140,19 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
   for (int it = 0; it < (parallel ? 0 : kRansacIterations); ++it) {
     // Straight lines through two marks (with the model's curvature) and, on a curving
     // road, parabolas through three.
-    const MarkCandidate& a = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
-    const MarkCandidate& b = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
-    LinePrior h;
+    const MarkCandidate& a = gated(next());
+    const MarkCandidate& b = gated(next());
+    RoadLine h;
     if (it % 2 == 0) {
-      if (std::abs(a.X - b.X) < 2000.0) continue;
+      if (std::abs(a.X - b.X) < kMinPairSpanMm) continue;
       const double c = model.c_per_mm;
       const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
       h = {a.Y - c * a.X * a.X - m * a.X, m, c};
     } else {
-      const MarkCandidate& d = marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(next())])];
-      if (std::abs(a.X - b.X) < 3000.0 || std::abs(b.X - d.X) < 3000.0 || std::abs(a.X - d.X) < 3000.0) continue;
+      const MarkCandidate& d = gated(next());
+      if (std::abs(a.X - b.X) < kMinTripleSpanMm || std::abs(b.X - d.X) < kMinTripleSpanMm ||
+          std::abs(a.X - d.X) < kMinTripleSpanMm)
+        continue;
       // Divided differences through (a, b, d).
       const double ab = (b.Y - a.Y) / (b.X - a.X), bd = (d.Y - b.Y) / (d.X - b.X);
       const double c = (bd - ab) / (d.X - a.X);
@@ -118,52 +163,79 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
     const int count = consensus(h);
     if (count > best_count) best_count = count, best = h;
   }
-  model = best;
+  return best;
+}
+
+LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id,
+                                           const GroupingParams& params, double tolerance, bool parallel) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  FitPass p;
+  int first_row = 1 << 30, last_row = -1;
+  for (MarkCandidate& m : marks) {
+    if (m.line != -1 && m.line != id) continue;
+    const double tol = tolerance * pixel_tolerance_mm(params, m.X);
+    if (std::abs(m.Y - model.y_at(m.X)) > tol) {
+      m.line = -1;
+      continue;
+    }
+    m.line = id;
+    const double x = m.X * 1e-3;  // metres along, for conditioning
+    const Eigen::Vector3d phi(1.0, x, x * x);
+    A += phi * phi.transpose();
+    b += phi * m.Y;
+    ++p.marks;
+    p.near_mm = std::min(p.near_mm, m.X);
+    p.far_mm = std::max(p.far_mm, m.X);
+    first_row = std::min<int>(first_row, m.scan_row);
+    last_row = std::max<int>(last_row, m.scan_row);
+  }
+  p.rows = last_row - first_row + 1;
+  // The curvature term only when the marks reach far enough to show it; otherwise the
+  // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
+  Eigen::Vector3d coef = Eigen::Vector3d::Zero();
+  if (p.marks == 0) return p;
+  if (parallel) {  // y - m x - c x^2 = y0
+    coef[1] = model.m * 1e3;
+    coef[2] = model.c_per_mm * 1e6;
+    coef[0] = (b[0] - A(0, 1) * coef[1] - A(0, 2) * coef[2]) / A(0, 0);
+  } else if (p.marks >= kCurvatureMarks && p.far_mm - p.near_mm >= kCurvatureSpanMm) {
+    coef = A.ldlt().solve(b);
+  } else {
+    coef[2] = model.c_per_mm * 1e6;
+    coef.head<2>() = A.topLeftCorner<2, 2>().ldlt().solve(b.head<2>() - A.topRightCorner<2, 1>() * coef[2]);
+  }
+  p.finite = coef.allFinite();
+  if (p.finite) model = {coef[0], coef[1] * 1e-3, coef[2] * 1e-6};
+  return p;
+}
+
+bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
+                           const GroupingParams& params, DetectedLine& out, bool parallel) {
+  const auto id = static_cast<std::int16_t>(line);
+  const auto release = [&] {
+    release_line(marks, id);
+    return false;
+  };
+  // 1. The free marks within the gate around the model.
+  const int g = gate_marks(marks, model, gate_base_mm, id);
+  const int min_marks = parallel ? params.min_dash_marks : params.min_marks;
+  const double min_span_mm = parallel ? params.min_dash_span_mm : params.min_span_mm;
+  if (g < min_marks) return release();
+
+  // 2. RANSAC among them: the model, or a straight line through two gated marks, that
+  // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
+  // a plain least-squares fit off the line; the consensus does not care about it.
+  model = consensus_line(marks, g, model, line, params, parallel);
 
   // 3. Least squares on the consensus, then more passes on every free mark within the
   // pixel tolerance of the fit (the line may reach beyond the gate once it is known).
-  constexpr int kPasses = 4;
-  for (int pass = 0; pass < kPasses; ++pass) {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    int n = 0;
-    double near = 1e300, far = 0.0;
-    int first_row = 1 << 30, last_row = -1;
-    for (MarkCandidate& m : marks) {
-      if (m.line != -1 && m.line != id) continue;
-      const double tol = (pass == 0 ? 1.5 : 1.0) * pixel_tol(m.X);
-      if (std::abs(m.Y - model.y_at(m.X)) > tol) {
-        m.line = -1;
-        continue;
-      }
-      m.line = id;
-      const double x = m.X * 1e-3;  // metres along, for conditioning
-      const Eigen::Vector3d phi(1.0, x, x * x);
-      A += phi * phi.transpose();
-      b += phi * m.Y;
-      ++n;
-      near = std::min(near, m.X);
-      far = std::max(far, m.X);
-      first_row = std::min<int>(first_row, m.scan_row);
-      last_row = std::max<int>(last_row, m.scan_row);
-    }
-    if (n < min_marks || far - near < min_span_mm) return release();
-    if (n < params.min_coverage * (last_row - first_row + 1)) return release();  // sparse: clutter, not paint
-    // The curvature term only when the marks reach far enough to show it; otherwise the
-    // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
-    Eigen::Vector3d coef = Eigen::Vector3d::Zero();
-    if (parallel) {  // y - m x - c x^2 = y0
-      coef[1] = model.m * 1e3;
-      coef[2] = model.c_per_mm * 1e6;
-      coef[0] = (b[0] - A(0, 1) * coef[1] - A(0, 2) * coef[2]) / A(0, 0);
-    } else if (n >= 15 && far - near >= 15000.0) {
-      coef = A.ldlt().solve(b);
-    } else {
-      coef[2] = model.c_per_mm * 1e6;
-      coef.head<2>() = A.topLeftCorner<2, 2>().ldlt().solve(b.head<2>() - A.topRightCorner<2, 1>() * coef[2]);
-    }
-    if (!coef.allFinite()) return release();
-    model = {coef[0], coef[1] * 1e-3, coef[2] * 1e-6};
+  for (int pass = 0; pass < kFitPasses; ++pass) {
+    const FitPass p = fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel);
+    const int n = p.marks;
+    if (n < min_marks || p.far_mm - p.near_mm < min_span_mm) return release();
+    if (n < params.min_coverage * p.rows) return release();  // sparse: clutter, not paint
+    if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
     for (const MarkCandidate& m : marks) {
       if (m.line != id) continue;
@@ -173,167 +245,157 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, LinePrior model, doub
     }
     out.fit = model;
     out.marks = n;
-    out.near_mm = near;
-    out.far_mm = far;
+    out.near_mm = p.near_mm;
+    out.far_mm = p.far_mm;
     out.rms_mm = std::sqrt(sum2 / n);
-    if (pass == kPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
+    if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
   }
   return true;
 }
 
-int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
-                       std::array<DetectedLine, kMaxDetectedLines>& out) {
-  std::array<DetectedLine, kMaxFoundLines>& lines = found_;
-  for (MarkCandidate& m : marks) m.line = -1;
-  int n = 0;
-  auto separated = [&](const DetectedLine& l) {
-    for (int k = 0; k < n; ++k)
-      if (std::abs(lines[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) <
-          params.min_separation_mm)
-        return false;
-    return true;
-  };
+bool LineGrouper::separated(const DetectedLine& l, int n, const GroupingParams& params) const {
+  for (int k = 0; k < n; ++k)
+    if (std::abs(found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) <
+        params.min_separation_mm)
+      return false;
+  return true;
+}
 
-  // 1. Where the previous frame's lines were.
+int LineGrouper::continue_priors(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
+                                 const GroupingParams& params) {
+  int n = 0;
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
     DetectedLine l;
-    if (!fit_line(marks, priors[k], 350.0, n, params, l)) continue;
-    if (!separated(l)) {
-      for (MarkCandidate& m : marks)
-        if (m.line == n) m.line = -1;
+    if (!fit_line(marks, priors[k], kPriorGateMm, n, params, l)) continue;
+    if (!separated(l, n, params)) {
+      release_line(marks, n);
       continue;
     }
     l.prior_index = static_cast<int>(k);
-    lines[static_cast<std::size_t>(n++)] = l;
+    found_[static_cast<std::size_t>(n++)] = l;
   }
+  return n;
+}
 
-  // 2. New lines among what is left: the strongest (y0, m) cell, fitted, until none has
-  // enough votes. Lane lines share their curvature: votes are cast along the curvature
-  // of the lines found so far (a dashed line on a bend is found along the solid one).
-  auto shared_curvature = [&] {
-    double sum = 0.0, weight = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const DetectedLine& l = lines[static_cast<std::size_t>(k)];
-      if (l.far_mm - l.near_mm < 15000.0) continue;  // too short to show curvature
-      sum += l.fit.c_per_mm * l.marks;
-      weight += l.marks;
-    }
-    if (weight > 0.0) return sum / weight;
-    double prior_c = 0.0;
-    for (const LinePrior& p : priors) prior_c += p.c_per_mm / static_cast<double>(priors.size());
-    return prior_c;
-  };
-  auto revote = [&] {
-    std::fill(votes_.begin(), votes_.end(), 0);
-    for (const MarkCandidate& m : marks)
-      if (m.line == -1) vote(m, +1);
-  };
-  curvature_ = shared_curvature();
-  revote();
-  for (int attempt = 0; attempt < 16 && n < kMaxFoundLines; ++attempt) {
-    // The first cell (in y0, then slope order) of the most votes over 3 bins of y0. Sums
-    // and row maxima are vector operations; a row is searched only when it beats the best.
-    int best = 0, bi = -1, bj = -1;
-    for (int i = 1; i + 1 < kY0Bins; ++i) {
-      const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
-      std::array<std::uint16_t, kSlopeBins> sums;
-      for (int j = 0; j < kSlopeBins; ++j)
-        sums[static_cast<std::size_t>(j)] =
-            static_cast<std::uint16_t>(row[j - kSlopeBins] + row[j] + row[j + kSlopeBins]);
-      std::uint16_t row_best = 0;
-      for (std::uint16_t v : sums) row_best = std::max(row_best, v);
-      if (row_best <= best) continue;
-      best = row_best;
-      bi = i;
-      bj = static_cast<int>(std::find(sums.begin(), sums.end(), row_best) - sums.begin());
-    }
-    if (best < params.min_marks) break;
-    const LinePrior model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
+double LineGrouper::shared_curvature(std::span<const RoadLine> priors, int n) const {
+  double sum = 0.0, weight = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const DetectedLine& l = found_[static_cast<std::size_t>(k)];
+    if (l.far_mm - l.near_mm < kCurvatureSpanMm) continue;  // too short to show curvature
+    sum += l.fit.c_per_mm * l.marks;
+    weight += l.marks;
+  }
+  if (weight > 0.0) return sum / weight;
+  double prior_c = 0.0;
+  for (const RoadLine& p : priors) prior_c += p.c_per_mm / static_cast<double>(priors.size());
+  return prior_c;
+}
+
+void LineGrouper::revote(std::span<const MarkCandidate> marks) {
+  std::fill(votes_.begin(), votes_.end(), 0);
+  for (const MarkCandidate& m : marks)
+    if (m.line == -1) vote(m, +1);
+}
+
+int LineGrouper::strongest_cell(int& bi, int& bj) const {
+  // The first cell (in y0, then slope order) of the most votes over 3 bins of y0. Sums
+  // and row maxima are vector operations; a row is searched only when it beats the best.
+  int best = 0;
+  bi = bj = -1;
+  for (int i = 1; i + 1 < kY0Bins; ++i) {
+    const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
+    std::array<std::uint16_t, kSlopeBins> sums;
+    for (int j = 0; j < kSlopeBins; ++j)
+      sums[static_cast<std::size_t>(j)] =
+          static_cast<std::uint16_t>(row[j - kSlopeBins] + row[j] + row[j + kSlopeBins]);
+    std::uint16_t row_best = 0;
+    for (std::uint16_t v : sums) row_best = std::max(row_best, v);
+    if (row_best <= best) continue;
+    best = row_best;
+    bi = i;
+    bj = static_cast<int>(std::find(sums.begin(), sums.end(), row_best) - sums.begin());
+  }
+  return best;
+}
+
+int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
+                                const GroupingParams& params, int n) {
+  curvature_ = shared_curvature(priors, n);
+  revote(marks);
+  for (int attempt = 0; attempt < kNewLineAttempts && n < kMaxFoundLines; ++attempt) {
+    int bi = -1, bj = -1;
+    if (strongest_cell(bi, bj) < params.min_marks) break;
+    const RoadLine model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
     DetectedLine l;
-    if (fit_line(marks, model, 400.0, n, params, l) && separated(l)) {
-      lines[static_cast<std::size_t>(n++)] = l;
-      const double c = shared_curvature();
-      if (std::abs(c - curvature_) > 1e-8) {
+    if (fit_line(marks, model, kNewLineGateMm, n, params, l) && separated(l, n, params)) {
+      found_[static_cast<std::size_t>(n++)] = l;
+      const double c = shared_curvature(priors, n);
+      if (std::abs(c - curvature_) > kCurvatureChange) {
         curvature_ = c;
-        revote();
+        revote(marks);
       } else {
         for (const MarkCandidate& m : marks)
           if (m.line == n - 1) vote(m, -1);
       }
       continue;
     }
-    for (MarkCandidate& m : marks)
-      if (m.line == n) m.line = -1;
+    release_line(marks, n);
     // Not a line: silence this cell and its neighbours.
     for (int i = std::max(0, bi - 1); i <= std::min(kY0Bins - 1, bi + 1); ++i)
       for (int j = std::max(0, bj - 1); j <= std::min(kSlopeBins - 1, bj + 1); ++j)
         votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)] = 0;
   }
+  return n;
+}
 
-  // 3. Single dashes: on a bend, with 3 m dashes and 9 m gaps, often one dash of a dashed
-  // line is in the searched range, too little to fit a line's slope. The lines of one road
-  // are parallel: such a line has the road's curvature and the slope the lines found give
-  // at its y0 (a pitch error tilts projected lines in proportion to their offset, so the
-  // slope is fitted as a linear function of y0 when two or more lines are known), and only
-  // its y0 is fitted. First where the previous frame's lines that were not found again
-  // were, then wherever free marks agree on one y0.
-  if (n > 0) {
-    double sw = 0, sy = 0, sm = 0, syy = 0, sym = 0;
-    for (int k = 0; k < n; ++k) {
-      const DetectedLine& l = lines[static_cast<std::size_t>(k)];
-      const double w = l.marks, y = l.fit.y_at(kReferenceMm);
-      sw += w, sy += w * y, sm += w * l.fit.m, syy += w * y * y, sym += w * y * l.fit.m;
+int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
+                             const GroupingParams& params, int n) {
+  if (n == 0) return n;
+  const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
+  auto add_parallel = [&](double y_ref_mm, int prior_index) {
+    DetectedLine l;
+    if (fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true) && separated(l, n, params)) {
+      l.prior_index = prior_index;
+      l.parallel = true;
+      found_[static_cast<std::size_t>(n++)] = l;
+      return;
     }
-    const double var = syy / sw - (sy / sw) * (sy / sw);
-    const double slope_per_mm = n >= 2 && var > 1e6 ? (sym / sw - sy / sw * sm / sw) / var : 0.0;
-    auto road_line = [&](double y_ref_mm) {  // the road's line through y_ref_mm at the reference distance
-      const double m = sm / sw + slope_per_mm * (y_ref_mm - sy / sw);
-      return LinePrior{y_ref_mm - (m + curvature_ * kReferenceMm) * kReferenceMm, m, curvature_};
-    };
-    auto add_parallel = [&](double y_ref_mm, int prior_index) {
-      DetectedLine l;
-      if (fit_line(marks, road_line(y_ref_mm), 400.0, n, params, l, true) && separated(l)) {
-        l.prior_index = prior_index;
-        l.parallel = true;
-        lines[static_cast<std::size_t>(n++)] = l;
-        return true;
-      }
-      for (MarkCandidate& m : marks)
-        if (m.line == n) m.line = -1;
-      return false;
-    };
-    for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
-      bool continued = false;
-      for (int j = 0; j < n; ++j)
-        continued = continued || lines[static_cast<std::size_t>(j)].prior_index == static_cast<int>(k);
-      if (!continued) add_parallel(priors[k].y_at(kReferenceMm), static_cast<int>(k));
-    }
-    std::array<std::uint16_t, kY0Bins> y_votes{};
-    for (const MarkCandidate& m : marks) {
-      if (m.line != -1) continue;
-      // The mark's y at the reference distance along the road's line through it (twice: the
-      // slope depends on where the line is).
-      double y = m.Y + (road_line(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-      y = m.Y + (road_line(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-      const double u = (y - kY0MinMm) / kY0BinMm;
-      if (u >= 0.0 && u < kY0Bins) ++y_votes[static_cast<std::size_t>(u)];
-    }
-    for (int attempt = 0; attempt < 8 && n < kMaxFoundLines; ++attempt) {
-      int best = 0, bi = -1;
-      for (int i = 1; i + 1 < kY0Bins; ++i) {
-        const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
-                      y_votes[static_cast<std::size_t>(i + 1)];
-        if (v > best) best = v, bi = i;
-      }
-      if (best < params.min_dash_marks) break;
-      add_parallel(kY0MinMm + (bi + 0.5) * kY0BinMm, -1);
-      for (int i = bi - 1; i <= bi + 1; ++i) y_votes[static_cast<std::size_t>(i)] = 0;
-    }
+    release_line(marks, n);
+  };
+  for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
+    bool continued = false;
+    for (int j = 0; j < n; ++j)
+      continued = continued || found_[static_cast<std::size_t>(j)].prior_index == static_cast<int>(k);
+    if (!continued) add_parallel(priors[k].y_at(kReferenceMm), static_cast<int>(k));
   }
+  std::array<std::uint16_t, kY0Bins> y_votes{};
+  for (const MarkCandidate& m : marks) {
+    if (m.line != -1) continue;
+    // The mark's y at the reference distance along the road's line through it (twice: the
+    // slope depends on where the line is).
+    double y = m.Y + (road.through(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+    y = m.Y + (road.through(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+    const double u = (y - kY0MinMm) / kY0BinMm;
+    if (u >= 0.0 && u < kY0Bins) ++y_votes[static_cast<std::size_t>(u)];
+  }
+  for (int attempt = 0; attempt < kDashAttempts && n < kMaxFoundLines; ++attempt) {
+    int best = 0, bi = -1;
+    for (int i = 1; i + 1 < kY0Bins; ++i) {
+      const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
+                    y_votes[static_cast<std::size_t>(i + 1)];
+      if (v > best) best = v, bi = i;
+    }
+    if (best < params.min_dash_marks) break;
+    add_parallel(kY0MinMm + (bi + 0.5) * kY0BinMm, -1);
+    for (int i = bi - 1; i <= bi + 1; ++i) y_votes[static_cast<std::size_t>(i)] = 0;
+  }
+  return n;
+}
 
-  // 4. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
+int LineGrouper::keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
+                              std::array<DetectedLine, kMaxDetectedLines>& out) const {
   std::array<int, kMaxFoundLines> order{};
-  auto y_ref = [&](int k) { return lines[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm); };
+  auto y_ref = [&](int k) { return found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm); };
   auto insertion_sort = [&order](int count, auto before) {
     for (int i = 1; i < count; ++i)
       for (int j = i; j > 0 && before(order[static_cast<std::size_t>(j)], order[static_cast<std::size_t>(j - 1)]); --j)
@@ -347,12 +409,31 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const LinePrior
   new_index.fill(-1);
   out = {};
   for (int k = 0; k < kept; ++k) {
-    out[static_cast<std::size_t>(k)] = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])];
+    out[static_cast<std::size_t>(k)] = found_[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])];
     new_index[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = static_cast<std::int16_t>(k);
   }
   for (MarkCandidate& m : marks)
     if (m.line >= 0) m.line = new_index[static_cast<std::size_t>(m.line)];
   return kept;
+}
+
+int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
+                       std::array<DetectedLine, kMaxDetectedLines>& out) {
+  for (MarkCandidate& m : marks) m.line = -1;
+  // 1. Where the previous frame's lines were.
+  int n = continue_priors(marks, priors, params);
+  // 2. New lines among what is left: the strongest (y0, m) cell, fitted, until none has
+  // enough votes. Lane lines share their curvature: votes are cast along the curvature
+  // of the lines found so far (a dashed line on a bend is found along the solid one).
+  n = find_new_lines(marks, priors, params, n);
+  // 3. Single dashes: on a bend, with 3 m dashes and 9 m gaps, often one dash of a dashed
+  // line is in the searched range, too little to fit a line's slope. The lines of one road
+  // are parallel: such a line has the road's curvature and the slope the lines found give
+  // at its y0, and only its y0 is fitted. First where the previous frame's lines that were
+  // not found again were, then wherever free marks agree on one y0.
+  n = find_dashes(marks, priors, params, n);
+  // 4. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
+  return keep_nearest(marks, params, n, out);
 }
 
 }  // namespace ccdlane

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -40,7 +41,7 @@ class LineGrouper {
   // Assigns marks[i].line and fills lines (returns how many), ordered left to right
   // (largest y at 10 m first). `priors` are the previous frame's lines; a line continuing
   // prior k has prior_index k. Picks are not chosen here.
-  int group(std::span<MarkCandidate> marks, std::span<const LinePrior> priors, const GroupingParams& params,
+  int group(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
             std::array<DetectedLine, kMaxDetectedLines>& lines);
 
   static constexpr int kY0Bins = 300;    // -15 m .. 15 m in 100 mm
@@ -53,8 +54,38 @@ class LineGrouper {
   // consensus line (RANSAC), refits by least squares; assigns the marks to `line`.
   // `parallel`: keep the model's slope and curvature (those of the road's other lines, or
   // of the line's previous frame), fit y0 alone, and accept a single dash.
-  bool fit_line(std::span<MarkCandidate> marks, LinePrior model, double gate_base_mm, int line,
+  bool fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
                 const GroupingParams& params, DetectedLine& out, bool parallel = false);
+  // fit_line's steps: the marks in the gate (indices in gated_), their consensus line,
+  // and one least-squares pass over the marks within `tolerance` fit tolerances of
+  // `model`, which it refits (assigning them to `id`).
+  struct FitPass {
+    int marks = 0;
+    double near_mm = 1e300, far_mm = 0.0;  // the road distances the marks span
+    int rows = 0;                          // scan rows from the first mark's to the last's
+    bool finite = true;                    // the refit is a number
+  };
+  int gate_marks(std::span<const MarkCandidate> marks, const RoadLine& model, double gate_base_mm, std::int16_t id);
+  RoadLine consensus_line(std::span<const MarkCandidate> marks, int gated, const RoadLine& model, int line,
+                          const GroupingParams& params, bool parallel) const;
+  FitPass fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id, const GroupingParams& params,
+                   double tolerance, bool parallel);
+
+  // group()'s steps, each taking and returning how many lines found_ holds.
+  int continue_priors(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params);
+  int find_new_lines(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
+                     int n);
+  int find_dashes(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
+                  int n);
+  int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
+                   std::array<DetectedLine, kMaxDetectedLines>& out) const;
+  // Whether `l` is min_separation_mm from each of the first n lines found.
+  bool separated(const DetectedLine& l, int n, const GroupingParams& params) const;
+  // The curvature the lines found so far share (weighted by marks), else the priors' mean.
+  double shared_curvature(std::span<const RoadLine> priors, int n) const;
+  // The votes' strongest cell (bi, bj) and its votes.
+  int strongest_cell(int& bi, int& bj) const;
+  void revote(std::span<const MarkCandidate> marks);
   void vote(const MarkCandidate& m, int delta);
 
   std::vector<std::uint16_t> votes_;  // kY0Bins x kSlopeBins

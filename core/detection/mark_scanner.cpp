@@ -51,6 +51,10 @@ int MarkScanner::scan(const ImageView& image, const ScanRow& r, int scan_row_ind
   return scan_row(measure_.data(), x_begin, x_end, r, scan_row_index, min_contrast, to_8bit, out, count, capacity);
 }
 
+// One piece on purpose (91 lines): it is detection's innermost loop, run over every pixel
+// of every scan row; its prefix sums, box derivative and edge lists are local pointers
+// into the members' storage that the compiler keeps in registers and vectorises across
+// the three passes, and tests/bench/detection_bench.cpp holds the whole to its budget.
 template <typename Pixel>
 int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const ScanRow& r, int scan_row_index,
                           float min_contrast, float to_8bit, MarkCandidate* out, int count, int capacity) {

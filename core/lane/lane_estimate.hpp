@@ -6,8 +6,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "core/ldw/lane_filter.hpp"
-#include "core/ldw/ldw_warning.hpp"
+#include "core/ldw/ldw_monitor.hpp"
 #include "core/solver/lane_solver.hpp"
 
 namespace ccdlane {
@@ -43,29 +42,8 @@ struct EstimatedLine {
   double sigma_y0_mm = kUndetermined;
 };
 
-// The lane departure warning at this frame (interfaces.md "Per-frame result", `ldw`):
-// the decision, each front wheel's DLC and TLC, and the lane filter's state with sigmas.
-struct LdwEstimate {
-  bool available = false;
-  ldw::Availability reason = ldw::Availability::no_lane;  // none when available
-  ldw::Side warning = ldw::Side::none;                    // set for [ldw] warning_duration_s from a departure's warning
-  ldw::Side fired = ldw::Side::none;                      // the side whose warning started at this frame
-  std::uint32_t warnings = 0;                             // warnings fired since start
-  bool tracked = false;  // the filter has a lane (status not lost): DLC and state meaningful
-  ldw::TrackStatus track = ldw::TrackStatus::lost;
-  double dlc_left_mm = 0.0, dlc_right_mm = 0.0;   // front wheel's outer edge to the line's inner edge, + inside
-  std::optional<double> tlc_left_s, tlc_right_s;  // empty when not approaching that line
-  double lateral_velocity_mps = 0.0;              // + toward the left
-  double speed_mps = 0.0;                         // the speed used (the input's, or [vehicle] speed_kmh)
-  ldw::TurnIndicator indicator = ldw::TurnIndicator::none;
-  // The filtered lane state, SI-derived units as in the per-frame result; sigmas are NaN
-  // where the state is not estimated (roll with a gyro).
-  double offset_mm = 0.0, heading_deg = 0.0, curvature_per_m = 0.0, lane_width_mm = 0.0;
-  double pitch_deg = 0.0, roll_deg = 0.0;
-  double sigma_offset_mm = 0.0, sigma_heading_deg = 0.0, sigma_curvature_per_m = 0.0, sigma_lane_width_mm = 0.0;
-  double sigma_pitch_deg = 0.0, sigma_roll_deg = 0.0;
-  double sigma_lateral_velocity_mps = 0.0;
-};
+// The lane departure warning at this frame: the LDW monitor's result, as it made it.
+using LdwEstimate = ldw::LdwEstimate;
 
 struct LaneEstimate {
   std::uint64_t frame = 0;  // source sequence number (replay: 0-based row of frames.csv)

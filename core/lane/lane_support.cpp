@@ -112,8 +112,8 @@ SupportProblem check_motion(double speed_mps, double heading_deg, double curvatu
              : SupportProblem::implausible_motion;
 }
 
-LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
-                         const LinePrior& right, int right_line, double margin_mm) {
+LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
+                         const RoadLine& right, int right_line, double margin_mm) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
   for (const MarkCandidate& m : marks) {
     if (!(m.X >= 0.0)) continue;

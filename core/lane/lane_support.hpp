@@ -124,8 +124,8 @@ struct LaneClutter {
   int inside_bins = 0;
   int line_bins = 0;
 };
-LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const LinePrior& left, int left_line,
-                         const LinePrior& right, int right_line, double margin_mm);
+LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
+                         const RoadLine& right, int right_line, double margin_mm);
 SupportProblem check_clutter(const LaneClutter& clutter);
 
 // The lateral speed and acceleration of a vehicle at `speed_mps` with this heading

@@ -9,7 +9,7 @@ namespace {
 constexpr double kSameLineMm = 1000.0;  // an earlier line this near a seen one is that line
 }
 
-void LaneTracker::update(std::span<const LinePrior> lines, std::span<const int> prior_index, std::span<int> ids) {
+void LaneTracker::update(std::span<const RoadLine> lines, std::span<const int> prior_index, std::span<int> ids) {
   const std::size_t n = std::min({lines.size(), prior_index.size(), ids.size(), static_cast<std::size_t>(kCapacity)});
   std::array<bool, kCapacity> continued{};
   double shift = 0.0;  // how far the road moved sideways since the last frame (mean of the continued lines)
@@ -46,7 +46,7 @@ void LaneTracker::update(std::span<const LinePrior> lines, std::span<const int> 
 
   // Next frame's priors: this frame's lines, then the ones still coasting (moved with
   // the road) unless a line seen now is already there.
-  std::array<LinePrior, kCapacity> next_lines{};
+  std::array<RoadLine, kCapacity> next_lines{};
   std::array<int, kCapacity> next_ids{}, next_missed{};
   int count = 0;
   for (std::size_t j = 0; j < n; ++j, ++count) {
@@ -57,7 +57,7 @@ void LaneTracker::update(std::span<const LinePrior> lines, std::span<const int> 
   for (int k = 0; k < count_ && count < kCapacity; ++k) {
     const auto kk = static_cast<std::size_t>(k);
     if (continued[kk] || missed_[kk] + 1 > kCoastFrames) continue;
-    LinePrior moved = lines_[kk];
+    RoadLine moved = lines_[kk];
     moved.y0_mm += shift;
     bool taken = false;
     for (std::size_t j = 0; j < n; ++j) taken = taken || std::abs(lines[j].y0_mm - moved.y0_mm) < kSameLineMm;

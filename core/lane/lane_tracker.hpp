@@ -19,12 +19,12 @@ class LaneTracker {
 
   // The lines detection should look for first this frame (road frame): last frame's,
   // then the coasting ones.
-  std::span<const LinePrior> priors() const { return {lines_.data(), static_cast<std::size_t>(count_)}; }
+  std::span<const RoadLine> priors() const { return {lines_.data(), static_cast<std::size_t>(count_)}; }
 
   // After a frame's lines are known: `lines` (road frame) and, per line, the index into
   // priors() it continues (-1 = new). Writes each line's id. When nothing continues and
   // nothing coasts (the first frame, after a loss), ids restart at 0, left to right.
-  void update(std::span<const LinePrior> lines, std::span<const int> prior_index, std::span<int> ids);
+  void update(std::span<const RoadLine> lines, std::span<const int> prior_index, std::span<int> ids);
 
   // A frame without lines: everything coasts one frame.
   void coast();
@@ -33,7 +33,7 @@ class LaneTracker {
   void reset() { count_ = 0; }
 
  private:
-  std::array<LinePrior, kCapacity> lines_{};
+  std::array<RoadLine, kCapacity> lines_{};
   std::array<int, kCapacity> ids_{};
   std::array<int, kCapacity> missed_{};  // frames since each was last seen
   int count_ = 0;

@@ -9,8 +9,8 @@ namespace ccdlane::ldw {
 LaneMeasurement measurement_from_solve(const SolveResult& r, int left_line, int right_line, double mount_psi_rad,
                                        bool roll_is_measured) {
   LaneMeasurement m;
-  const LaneLine& L = r.lines[static_cast<std::size_t>(left_line)];
-  const LaneLine& R = r.lines[static_cast<std::size_t>(right_line)];
+  const RoadLine& L = r.lines[static_cast<std::size_t>(left_line)];
+  const RoadLine& R = r.lines[static_cast<std::size_t>(right_line)];
   const double mean_slope = 0.5 * (L.m + R.m);
   m.value << L.y0_mm * 1e-3, R.y0_mm * 1e-3, r.pose.attitude.psi - mount_psi_rad - std::atan(mean_slope),
       (L.c_per_mm + R.c_per_mm) * 1e3, r.pose.attitude.theta, r.pose.attitude.phi;

@@ -1,6 +1,7 @@
 // One frame of lane departure warning: filter, wheels, time to crossing, decision.
 #include "core/ldw/ldw_monitor.hpp"
 
+#include "core/geometry/types.hpp"
 #include "core/ldw/tlc.hpp"
 
 namespace ccdlane::ldw {
@@ -12,6 +13,7 @@ void LdwMonitor::reset() {
   warning_.reset();
   last_t_s_.reset();
   result_ = LdwResult{};
+  estimate_ = LdwEstimate{};
 }
 
 const LdwResult& LdwMonitor::step(const LdwFrameInput& in) {
@@ -45,7 +47,42 @@ const LdwResult& LdwMonitor::step(const LdwFrameInput& in) {
   w.left = {r.dlc.left_m, v, r.tlc_left_s};
   w.right = {r.dlc.right_m, -v, r.tlc_right_s};
   r.decision = warning_.update(w);
+  report(in.indicator);
   return r;
+}
+
+void LdwMonitor::report(TurnIndicator indicator) {
+  const LdwResult& r = result_;
+  LdwEstimate& out = estimate_;
+  out.available = r.decision.available;
+  out.reason = r.decision.reason;
+  out.warning = r.decision.warning;
+  out.fired = r.decision.fired;
+  out.warnings = r.decision.warnings;
+  out.track = r.lane.status;
+  out.tracked = r.lane.status != TrackStatus::lost;
+  out.dlc_left_mm = r.dlc.left_m * 1e3;
+  out.dlc_right_mm = r.dlc.right_m * 1e3;
+  out.tlc_left_s = r.tlc_left_s;
+  out.tlc_right_s = r.tlc_right_s;
+  out.lateral_velocity_mps = r.lateral_velocity_mps;
+  out.sigma_lateral_velocity_mps = r.lane.sigma_lateral_velocity_mps;
+  out.speed_mps = r.speed_mps;
+  out.indicator = indicator;
+  const StateVector& x = r.lane.value;
+  const StateVector& sd = r.lane.sigma;
+  out.offset_mm = x(kOffset) * 1e3;
+  out.heading_deg = rad_to_deg(x(kHeading));
+  out.curvature_per_m = x(kCurvature);
+  out.lane_width_mm = x(kWidth) * 1e3;
+  out.pitch_deg = rad_to_deg(x(kPitch));
+  out.roll_deg = rad_to_deg(x(kRoll));
+  out.sigma_offset_mm = sd(kOffset) * 1e3;
+  out.sigma_heading_deg = rad_to_deg(sd(kHeading));
+  out.sigma_curvature_per_m = sd(kCurvature);
+  out.sigma_lane_width_mm = sd(kWidth) * 1e3;
+  out.sigma_pitch_deg = rad_to_deg(sd(kPitch));
+  out.sigma_roll_deg = rad_to_deg(sd(kRoll));
 }
 
 }  // namespace ccdlane::ldw

@@ -3,6 +3,7 @@
 // both run them (so they give the same warnings on the same recording).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "core/ldw/lane_filter.hpp"
@@ -43,6 +44,32 @@ struct LdwResult {
   double speed_mps = 0.0;             // the speed used
 };
 
+// The lane departure warning at this frame as the per-frame result reports it
+// (interfaces.md "Per-frame result", `ldw`): the decision, each front wheel's DLC and TLC,
+// and the lane filter's state with sigmas, in the result's units. The estimate's `ldw`
+// is this, as the monitor made it.
+struct LdwEstimate {
+  bool available = false;
+  Availability reason = Availability::no_lane;  // none when available
+  Side warning = Side::none;                    // set for [ldw] warning_duration_s from a departure's warning
+  Side fired = Side::none;                      // the side whose warning started at this frame
+  std::uint32_t warnings = 0;                   // warnings fired since start
+  bool tracked = false;                         // the filter has a lane (status not lost): DLC and state meaningful
+  TrackStatus track = TrackStatus::lost;
+  double dlc_left_mm = 0.0, dlc_right_mm = 0.0;   // front wheel's outer edge to the line's inner edge, + inside
+  std::optional<double> tlc_left_s, tlc_right_s;  // empty when not approaching that line
+  double lateral_velocity_mps = 0.0;              // + toward the left
+  double speed_mps = 0.0;                         // the speed used (the input's, or [vehicle] speed_kmh)
+  TurnIndicator indicator = TurnIndicator::none;
+  // The filtered lane state, SI-derived units as in the per-frame result; sigmas are NaN
+  // where the state is not estimated (roll with a gyro).
+  double offset_mm = 0.0, heading_deg = 0.0, curvature_per_m = 0.0, lane_width_mm = 0.0;
+  double pitch_deg = 0.0, roll_deg = 0.0;
+  double sigma_offset_mm = 0.0, sigma_heading_deg = 0.0, sigma_curvature_per_m = 0.0, sigma_lane_width_mm = 0.0;
+  double sigma_pitch_deg = 0.0, sigma_roll_deg = 0.0;
+  double sigma_lateral_velocity_mps = 0.0;
+};
+
 class LdwMonitor {
  public:
   explicit LdwMonitor(const LdwConfig& config = {});
@@ -50,6 +77,8 @@ class LdwMonitor {
   // One frame, in time order. Allocation-free.
   const LdwResult& step(const LdwFrameInput& in);
   const LdwResult& result() const { return result_; }
+  // The last step's result in the per-frame result's terms: what the estimate reports.
+  const LdwEstimate& estimate() const { return estimate_; }
   const LaneFilter& filter() const { return filter_; }
   const LdwConfig& config() const { return config_; }
 
@@ -57,8 +86,11 @@ class LdwMonitor {
   LdwConfig config_;
   LaneFilter filter_;
   LdwWarning warning_;
+  void report(TurnIndicator indicator);
+
   std::optional<double> last_t_s_;
   LdwResult result_;
+  LdwEstimate estimate_;
 };
 
 }  // namespace ccdlane::ldw

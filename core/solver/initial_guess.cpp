@@ -37,7 +37,7 @@ int ground_points_of_picks(const CameraSpec& spec, const CameraPose& pose, std::
 }
 
 void fit_initial_lines(std::span<const Pick> picks, const Vec2* ground, int num_lines, bool fit_slope,
-                       LaneLine* lines) {
+                       RoadLine* lines) {
   // Sums for the normal equations of y = y0 + m x, per line.
   struct Sums {
     double n = 0, x = 0, y = 0, xx = 0, xy = 0;
@@ -54,8 +54,8 @@ void fit_initial_lines(std::span<const Pick> picks, const Vec2* ground, int num_
   }
   for (int j = 0; j < num_lines; ++j) {
     const Sums& t = s[j];
-    LaneLine& line = lines[j];
-    line = LaneLine{};
+    RoadLine& line = lines[j];
+    line = RoadLine{};
     if (t.n == 0) continue;
     const double det = t.n * t.xx - t.x * t.x;  // n^2 times the variance of x
     if (fit_slope && det > 1e-9 * t.n * t.xx) {

@@ -16,6 +16,6 @@ int ground_points_of_picks(const CameraSpec& spec, const CameraPose& pose, std::
 // Per line, the least-squares line y = y0 + m x through its picks' ground points (m = 0
 // unless `fit_slope`, or when its points do not spread along x); c = 0. A line without
 // picks gets y0 = 0.
-void fit_initial_lines(std::span<const Pick> picks, const Vec2* ground, int num_lines, bool fit_slope, LaneLine* lines);
+void fit_initial_lines(std::span<const Pick> picks, const Vec2* ground, int num_lines, bool fit_slope, RoadLine* lines);
 
 }  // namespace ccdlane::solver

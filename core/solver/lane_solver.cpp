@@ -38,7 +38,7 @@ SolveSigmas::SolveSigmas() {
   c_per_mm.fill(kUndetermined);
 }
 
-double radius_of_curvature_mm(const LaneLine& line) {
+double radius_of_curvature_mm(const RoadLine& line) {
   if (line.c_per_mm == 0.0) return std::numeric_limits<double>::infinity();
   return std::pow(1.0 + line.m * line.m, 1.5) / (2.0 * line.c_per_mm);
 }
@@ -136,7 +136,7 @@ std::optional<SolveStatus> LaneSolver::Impl::reject(const SolveRequest& r) {
     if (!finite_prior(*prior)) return SolveStatus::invalid_input;
   if (!r.initial_lines.empty()) {
     if (r.initial_lines.size() != static_cast<std::size_t>(r.num_lines)) return SolveStatus::invalid_input;
-    for (const LaneLine& l : r.initial_lines)
+    for (const RoadLine& l : r.initial_lines)
       if (!std::isfinite(l.y0_mm) || !std::isfinite(l.m) || !std::isfinite(l.c_per_mm))
         return SolveStatus::invalid_input;
   }

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "core/geometry/camera_model.hpp"
+#include "core/geometry/road_line.hpp"
 #include "core/solver/solver_options.hpp"
 
 namespace ccdlane {
@@ -27,17 +28,10 @@ struct Pick {
   double py = 0.0;
 };
 
-// A lane line on the road: y = y0 + m x + c x^2 (fixed frame, mm).
-struct LaneLine {
-  double y0_mm = 0.0;
-  double m = 0.0;
-  double c_per_mm = 0.0;
-};
-
 // The line's signed radius of curvature at x = 0, mm: positive when it bends toward +y
 // (left), infinite when straight. (1 + m^2)^(3/2) / (2 c); about 1 / (2 c) for the
 // small headings of a lane.
-double radius_of_curvature_mm(const LaneLine& line);
+double radius_of_curvature_mm(const RoadLine& line);
 
 // What one solve is asked to do. Fixed parameters keep their value from `initial_pose`
 // and `initial_lines`. Beyond docs/solver.md's roll/offset family and scale (free H without a
@@ -58,7 +52,7 @@ struct SolveRequest {
   // Initial lines (exactly num_lines of them); empty = a straight-line fit of the
   // initial ground points of each line (docs/solver.md): y0 and, when m is free, m from the
   // fit, otherwise m = 0; c = 0.
-  std::span<const LaneLine> initial_lines;
+  std::span<const RoadLine> initial_lines;
   // The initial pose and lines are a solution of a similar problem (the previous frame):
   // Levenberg-Marquardt then starts close to Gauss-Newton and needs fewer iterations.
   bool warm_start = false;
@@ -104,7 +98,7 @@ struct SolveResult {
   double rms_px = 0.0;          // RMS over the picks of the reprojection distance, pixels
   CameraPose pose;
   int num_lines = 0;
-  std::array<LaneLine, kMaxLaneLines> lines{};
+  std::array<RoadLine, kMaxLaneLines> lines{};
   SolveSigmas sigma;
   // Evaluated mark positions, one per pick, valid until the next solve (solver storage).
   std::span<const Vec2> points_mm;

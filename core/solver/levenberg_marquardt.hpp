@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/solver/cholesky.hpp"
+#include "core/solver/nielsen_damping.hpp"
 #include "core/solver/schur_system.hpp"
 
 namespace ccdlane::solver {
@@ -61,11 +62,9 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
                               LmWorkspace& ws) {
   LmOutcome out;
   const int n = layout.size();
-  double lambda = options.initial_damping, nu = 2.0;
-  const auto reject = [&] {
-    lambda *= nu;
-    nu *= 2.0;
-  };
+  NielsenDamping damping{options.initial_damping};
+  double& lambda = damping.lambda;
+  const auto reject = [&] { damping.reject(); };
   if (current->cost == 0.0) {  // nothing left to decrease: an exact fit
     out.status = SolveStatus::converged_cost;
     return out;
@@ -120,9 +119,7 @@ LmOutcome levenberg_marquardt(Model& model, const ParameterLayout& layout, const
         continue;
       }
       std::swap(current, candidate);
-      const double t = 2.0 * rho - 1.0;
-      lambda *= std::max(1.0 / 3.0, 1.0 - t * t * t);
-      nu = 2.0;
+      damping.accept(rho);
       if (current->cost == 0.0) {
         out.status = SolveStatus::converged_cost;
         return out;

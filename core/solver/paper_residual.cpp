@@ -34,7 +34,7 @@ bool PaperResidual::evaluate(SolverState& state) {
   const Vec3 L = camera_.lens_centre(&dL);
   double cost = 0.0;
   for (std::size_t i = 0; i < picks_.size(); ++i) {
-    const LaneLine& line = state.lines[picks_[i].line];
+    const RoadLine& line = state.lines[picks_[i].line];
     const Vec3 D = camera_.cell_centre(ideal_px_[i], &dP) - L;
     const PoseJacobian3 dD = dP - dL;
     // r1 = a1 x + b1 - q x^2, r2 = a2 x + b2 (from the definitions above).

@@ -18,7 +18,7 @@ double& pose_param(CameraPose& pose, PoseParam p) {
   }
 }
 
-double& line_param(LaneLine& line, LineParam k) {
+double& line_param(RoadLine& line, LineParam k) {
   switch (k) {
     case kY0: return line.y0_mm;
     case kSlope: return line.m;
@@ -55,7 +55,7 @@ ReducedParam ParameterLayout::describe(int index) const {
   return {kLineFree[line_kind_[rel % num_line_kinds_]], rel / num_line_kinds_};
 }
 
-void ParameterLayout::apply_step(const ReducedVector& step, CameraPose& pose, LaneLine* lines) const {
+void ParameterLayout::apply_step(const ReducedVector& step, CameraPose& pose, RoadLine* lines) const {
   for (int k = 0; k < num_pose_; ++k) pose_param(pose, global_[k]) += step[k];
   if (const int c = shared_curvature_index(); c >= 0)
     for (int j = 0; j < num_lines_; ++j) lines[j].c_per_mm += step[c];
@@ -63,13 +63,13 @@ void ParameterLayout::apply_step(const ReducedVector& step, CameraPose& pose, La
     for (int k = 0; k < num_line_kinds_; ++k) line_param(lines[j], line_kind_[k]) += step[line_offset(j) + k];
 }
 
-double ParameterLayout::squared_norm(const CameraPose& pose, const LaneLine* lines) const {
+double ParameterLayout::squared_norm(const CameraPose& pose, const RoadLine* lines) const {
   CameraPose p = pose;
   double sum = 0.0;
   for (int k = 0; k < num_pose_; ++k) sum += pose_param(p, global_[k]) * pose_param(p, global_[k]);
   if (shared_curvature_index() >= 0 && num_lines_ > 0) sum += lines[0].c_per_mm * lines[0].c_per_mm;
   for (int j = 0; j < num_lines_; ++j) {
-    LaneLine l = lines[j];
+    RoadLine l = lines[j];
     for (int k = 0; k < num_line_kinds_; ++k) sum += line_param(l, line_kind_[k]) * line_param(l, line_kind_[k]);
   }
   return sum;

@@ -38,9 +38,9 @@ class ParameterLayout {
 
   // Adds a reduced step to the parameters it stands for (a shared curvature's to every
   // line's c).
-  void apply_step(const ReducedVector& step, CameraPose& pose, LaneLine* lines) const;
+  void apply_step(const ReducedVector& step, CameraPose& pose, RoadLine* lines) const;
   // Squared norm of the free parameters' values (radians, mm): the scale of a step.
-  double squared_norm(const CameraPose& pose, const LaneLine* lines) const;
+  double squared_norm(const CameraPose& pose, const RoadLine* lines) const;
   // Where local parameter `local` of line `line` (globals, then the line's kinds) sits in
   // the reduced vector: the globals are shared by every line, its own kinds sit at the
   // line's offset.
@@ -57,6 +57,6 @@ class ParameterLayout {
 
 // Pose parameter p of a pose, by reference (psi theta phi H f order).
 double& pose_param(CameraPose& pose, PoseParam p);
-double& line_param(LaneLine& line, LineParam k);
+double& line_param(RoadLine& line, LineParam k);
 
 }  // namespace ccdlane::solver

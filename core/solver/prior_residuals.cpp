@@ -14,7 +14,7 @@ void add_row(PriorRows& rows, const Prior& prior, double value, int index, doubl
 }
 
 // The lines with the largest and the smallest y0, whose difference is the lane width.
-std::pair<int, int> outermost_lines(const LaneLine* lines, int num_lines) {
+std::pair<int, int> outermost_lines(const RoadLine* lines, int num_lines) {
   int left = 0, right = 0;
   for (int j = 1; j < num_lines; ++j) {
     if (lines[j].y0_mm > lines[left].y0_mm) left = j;
@@ -26,7 +26,7 @@ std::pair<int, int> outermost_lines(const LaneLine* lines, int num_lines) {
 }  // namespace
 
 void evaluate_priors(const SolverPriors& priors, const ParameterLayout& layout, const CameraPose& pose,
-                     const LaneLine* lines, PriorRows& rows, double& cost) {
+                     const RoadLine* lines, PriorRows& rows, double& cost) {
   rows.count = 0;
   const double per_rad = rad_to_deg(1.0);
   if (priors.psi_deg)

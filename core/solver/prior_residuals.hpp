@@ -9,7 +9,7 @@ namespace ccdlane::solver {
 // with its derivative over the reduced parameters (zero for fixed ones). Adds r^2 to
 // `cost`. The lane width is y0_max - y0_min over the lines (ignored below two lines).
 void evaluate_priors(const SolverPriors& priors, const ParameterLayout& layout, const CameraPose& pose,
-                     const LaneLine* lines, PriorRows& rows, double& cost);
+                     const RoadLine* lines, PriorRows& rows, double& cost);
 
 // How many priors constrain a free parameter: each is one more residual.
 int count_free_priors(const SolverPriors& priors, const ParameterLayout& layout);

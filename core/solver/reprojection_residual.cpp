@@ -28,7 +28,7 @@ bool ReprojectionResidual::evaluate_cost(SolverState& state) {
   const int n = static_cast<int>(picks_.size());
   projection_.set_pose(state.pose);
   for (int j = 0; j < layout_->num_lines(); ++j) {  // each pick's road point, on its own line
-    const LaneLine line = state.lines[j];
+    const RoadLine line = state.lines[j];
     const int end = segments_->begin[j + 1];
     for (int i = segments_->begin[j]; i < end; ++i) {
       const double x = state.x[i];

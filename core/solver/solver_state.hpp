@@ -11,7 +11,7 @@ namespace ccdlane::solver {
 // candidate) are swapped by pointer, never copied, as the iteration goes on.
 struct SolverState {
   CameraPose pose;
-  std::array<LaneLine, kMaxLaneLines> lines{};
+  std::array<RoadLine, kMaxLaneLines> lines{};
   double* x = nullptr;       // per pick: its distance ahead along its line, mm
   PickRows* rows = nullptr;  // per pick: residuals and Jacobians at this point
   LineNormals normals;       // the rows' sums per line (accumulate_normals)
@@ -20,6 +20,6 @@ struct SolverState {
 };
 
 // The road point of a pick at distance x along `line`.
-inline double line_y(const LaneLine& line, double x) { return line.y0_mm + (line.m + line.c_per_mm * x) * x; }
+inline double line_y(const RoadLine& line, double x) { return line.y0_mm + (line.m + line.c_per_mm * x) * x; }
 
 }  // namespace ccdlane::solver

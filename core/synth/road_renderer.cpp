@@ -300,13 +300,15 @@ Rgb RoadRenderer::sky(double qx, double qy, double qz) const {
 }
 
 void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) {
-  const int W = camera_.Nu, H = camera_.Nv;
-  const GroundProjector v(camera_, truth.pose);
-  const Ray &L = v.lens(), &T0 = v.t0(), &T1 = v.t1();
-  const double pu = v.pitch_u(), pv = v.pitch_v(), cx = camera_.cx, cy = camera_.cy;
-  const double corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
+  set_road(truth);
+  render_radiance(GroundProjector(camera_, truth.pose));
+  const std::size_t plane = static_cast<std::size_t>(camera_.Nu) * static_cast<std::size_t>(camera_.Nv);
+  if (scene_.blur_px > 0.0)
+    for (int c = 0; c < channels_; ++c) blur(radiance_.data() + static_cast<std::size_t>(c) * plane);
+  expose(truth.index, out);
+}
 
-  // The road as this frame sees it.
+void RoadRenderer::set_road(const SynthFrame& truth) {
   num_lines_ = std::min(truth.num_lines, kMaxRoadLines);
   c_ = truth.c_per_mm;
   odometer_ = truth.odometer_mm;
@@ -322,6 +324,13 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
   }
   road_left_ = lines_[0].y0 + kShoulderMm;
   road_right_ = lines_[num_lines_ - 1].y0 - kShoulderMm;
+}
+
+void RoadRenderer::render_radiance(const GroundProjector& v) {
+  const int W = camera_.Nu, H = camera_.Nv;
+  const Ray &L = v.lens(), &T0 = v.t0(), &T1 = v.t1();
+  const double pu = v.pitch_u(), pv = v.pitch_v(), cx = camera_.cx, cy = camera_.cy;
+  const double corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
   const double shadow_angle = 0.35 + 0.5 * synth::unit(synth::hash(scene_.seed, 51));
   const double sh_c = std::cos(shadow_angle), sh_s = std::sin(shadow_angle);
   const double shadow_offset = kShadowPeriodMm * synth::unit(synth::hash(scene_.seed, 52));
@@ -374,11 +383,13 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
       }
     }
   }
-  if (scene_.blur_px > 0.0)
-    for (int c = 0; c < channels_; ++c) blur(radiance_.data() + static_cast<std::size_t>(c) * plane);
+}
 
+void RoadRenderer::expose(std::uint64_t frame_index, const MutableImageView& out) {
+  const int W = camera_.Nu, H = camera_.Nv;
+  const std::size_t plane = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
   // Sensor: noise, quantisation, clipping.
-  synth::PixelNoise noise(synth::hash(scene_.seed, 61, truth.index));
+  synth::PixelNoise noise(synth::hash(scene_.seed, 61, frame_index));
   const bool wide = out.format == PixelFormat::mono16;
   const int bits = wide ? std::clamp(out.significant_bits, 9, 16) : 8;
   const float maxval = static_cast<float>((1 << bits) - 1);

@@ -41,6 +41,13 @@ class RoadRenderer {
     Rgb paint;
   };
 
+  // render()'s steps: the road of this frame (its lines, dashes and paint), the scene's
+  // radiance seen through `v` into radiance_, and the sensor (noise, quantisation,
+  // clipping) from radiance_ into `out`.
+  void set_road(const SynthFrame& truth);
+  void render_radiance(const GroundProjector& v);
+  void expose(std::uint64_t frame_index, const MutableImageView& out);
+
   Rgb shade_ground(double X, double Y, double footprint) const;
   double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY,
                         int& line) const;

@@ -72,7 +72,7 @@ void BM_Detection(benchmark::State& state) {
   Scene& s = scene(static_cast<int>(state.range(0)));
   const bool colour = state.range(1) != 0;
   LaneDetector detector(s.config.camera, s.config.detection);
-  std::vector<LinePrior> priors;
+  std::vector<RoadLine> priors;
   for (int j = 0; j < s.truth[0].num_lines; ++j)
     priors.push_back({s.truth[0].y0_mm[static_cast<std::size_t>(j)], 0, 0});
   std::size_t i = 0;

@@ -27,7 +27,7 @@ constexpr double kPixelSigma = 0.5, kGyroSigmaDeg = 0.5;
 struct Problem {
   test::SyntheticScene scene;
   std::vector<Pick> picks;
-  std::vector<LaneLine> warm_lines;
+  std::vector<RoadLine> warm_lines;
   SolveRequest request;
 };
 
@@ -134,7 +134,7 @@ struct CeresProblem {
     const SolveRequest& r = p.request;
     const CameraModel camera(p.scene.camera, r.initial_pose);
     attitude0 = {r.initial_pose.attitude.psi, r.initial_pose.attitude.theta, r.initial_pose.attitude.phi};
-    for (const LaneLine& l : p.warm_lines) y0_0.push_back(l.y0_mm);
+    for (const RoadLine& l : p.warm_lines) y0_0.push_back(l.y0_mm);
     for (const Pick& pick : p.picks) x0.push_back(camera.ground_point_from_pixel(Vec2(pick.px, pick.py))->x());
     reset();
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();

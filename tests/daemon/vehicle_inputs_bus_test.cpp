@@ -17,7 +17,7 @@
 #include "base/clock.hpp"
 #include "bus/channels.hpp"
 #include "bus/vehicle_state_listener.hpp"
-#include "core/ldw/scenarios.hpp"
+#include "core/evaluation/ldw_scenarios.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/vehicle_drive.hpp"
 #include "daemon/bus_thread.hpp"

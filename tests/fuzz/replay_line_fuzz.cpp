@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!why.empty() || !line.attitude) return 0;
   FUZZ_CHECK(std::isfinite(line.attitude->psi_deg) && std::isfinite(line.attitude->theta_deg) &&
              std::isfinite(line.attitude->phi_deg));
-  for (const ccdlane::LinePrior& l : line.lines)
+  for (const ccdlane::RoadLine& l : line.lines)
     FUZZ_CHECK(std::isfinite(l.y0_mm) && std::isfinite(l.m) && std::isfinite(l.c_per_mm));
   return 0;
 }

@@ -26,7 +26,7 @@ TEST(LaneScore, MaskLanesAreTheCentresOfEachGreyLevelPerRow) {
 }
 
 // A lane annotated as the projection of `line` shifted by `dx` pixels on rows first..last.
-AnnotatedLane lane_along(const CameraModel& cam, const LinePrior& line, double dx, int first, int last) {
+AnnotatedLane lane_along(const CameraModel& cam, const RoadLine& line, double dx, int first, int last) {
   AnnotatedLane lane;
   lane.level = 1;
   for (int row = first; row <= last; ++row)
@@ -37,7 +37,7 @@ AnnotatedLane lane_along(const CameraModel& cam, const LinePrior& line, double d
 TEST(LaneScore, HitsUpToTheThresholdScaledByWidth) {
   const Config c = default_config();
   const CameraModel cam(c.camera, c.nominal_pose());
-  const LinePrior line{-1800, 0.01, 1e-7};
+  const RoadLine line{-1800, 0.01, 1e-7};
   const double threshold = ScoreRules::threshold_for_width(20.0, c.camera.Nu);
   for (const double dx : {0.0, threshold - 0.01, -(threshold - 0.01)}) {
     const AnnotatedLane lane = lane_along(cam, line, dx, 400, 580);
@@ -58,7 +58,7 @@ TEST(LaneScore, HitsUpToTheThresholdScaledByWidth) {
 TEST(LaneScore, EightyFivePercentRules) {
   const Config c = default_config();
   const CameraModel cam(c.camera, c.nominal_pose());
-  const LinePrior line{1800, 0.0, 0.0};
+  const RoadLine line{1800, 0.0, 0.0};
   // 100 rows on the line, then rows off it: 85 of 100 hit is found, 84 is not.
   for (const int on : {85, 84}) {
     AnnotatedLane lane = lane_along(cam, line, 0.0, 401, 400 + on);

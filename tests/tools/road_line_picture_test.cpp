@@ -13,7 +13,7 @@ TEST(RoadLinePicture, ColumnAtRowIsTheProjectedPointOnThatRow) {
   Config c = default_config();
   c.attitude.phi_deg = 1.5;  // rows tilt: the row of a point depends on its side too
   const CameraModel cam(c.camera, c.nominal_pose());
-  const LinePrior line{-1700, 0.02, 2e-7};
+  const RoadLine line{-1700, 0.02, 2e-7};
   for (const double x_mm : {4000.0, 9000.0, 25000.0, 60000.0}) {
     const Vec2 p = *cam.pixel_from_point(Vec3(x_mm, line.y_at(x_mm), 0));
     const auto column = road_line_column_at_row(cam, line, p.y(), 500, 300000);

@@ -48,7 +48,7 @@ TEST(TuSimpleLabels, ScoredWithTheAngleScaledThreshold) {
   // miss by the plain rule and a hit by TuSimple's.
   const Config c = default_config();
   const CameraModel cam(c.camera, c.nominal_pose());
-  const LinePrior line{-1800.0, 0.0, 0.0};
+  const RoadLine line{-1800.0, 0.0, 0.0};
   AnnotatedLane lane;
   for (int row = 330; row <= 600; row += 10)
     if (const auto x = road_line_column_at_row(cam, line, row, 500, 300000)) lane.points.emplace_back(*x, row);
@@ -58,7 +58,7 @@ TEST(TuSimpleLabels, ScoredWithTheAngleScaledThreshold) {
   const double threshold = ScoreRules::threshold_for_width(ScoreRules{}.threshold_px, c.camera.Nu);
   const double dx = threshold * (1.0 + scale) / 2.0;
   for (Vec2& p : lane.points) p.x() += dx;
-  const std::vector<LinePrior> reported{line};
+  const std::vector<RoadLine> reported{line};
   lane.threshold_scale = 1.0;
   EXPECT_EQ(score_frame({&lane, 1}, c.camera.Nu, cam, reported).found, 0);
   lane.threshold_scale = scale;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/config_loader.hpp"
+#include "app/frame_inputs.hpp"
 #include "base/image_buffer.hpp"
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
@@ -37,11 +38,14 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
   const int W = config.camera.Nu, H = config.camera.Nv;
   LaneEstimator estimator(calibration::mount_estimator_options(config.estimator_options(), phi_deg));
   std::vector<MountFrame> frames;
-  const auto one = [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns,
-                       const std::optional<Gx1Angles>& gyro) {
-    // The gyro only for the turn rate: as a prior it would pull pitch towards its own.
-    const LaneEstimate& e = estimator.estimate(image, index, t_ns, std::nullopt);
-    frames.push_back(calibration::mount_frame(e, estimator.solution(), gyro, phi_deg, config.H_mm));
+  const auto one = [&](const ImageView& image, const FrameMeta& recorded) {
+    // The picture and its time only: the gyro only for the turn rate (as a prior it would
+    // pull pitch towards its own), and the solves are judged at [vehicle] speed_kmh.
+    FrameMeta meta;
+    meta.sequence = recorded.sequence;
+    meta.t_ns = recorded.t_ns;
+    const LaneEstimate& e = estimator.estimate(frame_inputs(&image, meta.sequence, meta, {}, false));
+    frames.push_back(calibration::mount_frame(e, estimator.solution(), recorded.gyro, phi_deg, config.H_mm));
   };
   try {
     if (std::filesystem::is_regular_file(args.recording)) {
@@ -49,7 +53,7 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
       for (FrameLogReader::Next n; (n = log.next()) != FrameLogReader::Next::end;) {
         const ImageView& image = log.image();
         if (n != FrameLogReader::Next::frame || image.width != W || image.height != H) continue;
-        one(image, log.record().sequence, log.record().t_ns, log.record().gyro);
+        one(image, recorded_frame_meta(log.record()));
       }
     } else {
       FrameDirectory dir(args.recording);
@@ -61,8 +65,7 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
       const PixelFormat format = header ? header->format() : PixelFormat::mono8;
       const ImageBuffer buffer(W, H, format, header && format == PixelFormat::mono16 ? header->significant_bits() : 8);
       for (std::size_t i = 0; i < dir.size(); ++i)
-        if (dir.read(i, buffer.view()) == PgmFault::none)
-          one(buffer.view(), dir.row(i).index, dir.row(i).t_ns, dir.row(i).gyro);
+        if (dir.read(i, buffer.view()) == PgmFault::none) one(buffer.view(), recorded_frame_meta(dir.row(i)));
     }
   } catch (const UsageError&) {
     throw;

@@ -85,7 +85,7 @@ FrameScore& FrameScore::operator+=(const FrameScore& o) {
 }
 
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
-                       std::span<const LinePrior> lines, const ScoreRules& rules) {
+                       std::span<const RoadLine> lines, const ScoreRules& rules) {
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
   FrameScore score;
   score.lanes = static_cast<int>(lanes.size());

@@ -68,6 +68,6 @@ struct FrameScore {
 // are within the threshold of a lane point on that row. A line on no annotated row is
 // neither counted nor false.
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
-                       std::span<const LinePrior> lines, const ScoreRules& rules = {});
+                       std::span<const RoadLine> lines, const ScoreRules& rules = {});
 
 }  // namespace ccdlane::cli

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "app/config_loader.hpp"
-#include "core/ldw/scenarios.hpp"
+#include "core/evaluation/ldw_scenarios.hpp"
 #include "tools/ccdlane/command.hpp"
 
 namespace ccdlane::cli {
@@ -34,7 +34,7 @@ CommandAction setup_ldw_scenarios(CLI::App& sub) {
       "R 500 m, each with --seeds noise seeds; the warning's wheel position (DLC, m, + inside) against "
       "the earliest (0.75 m inside) and latest (0.3 m outside) warning lines; false alarms per hour of "
       "normal driving (weaving, curves, signalled lane changes); suppression cases. The per-frame solve "
-      "is the truth plus the noise the solver reports on rendered frames (core/ldw/scenarios.hpp).");
+      "is the truth plus the noise the solver reports on rendered frames (core/evaluation/ldw_scenarios.hpp).");
   return [a] {
     const Config config = a->config.empty() ? default_config() : load_config_file(a->config);
     ldw::LdwConfig ldw = config.ldw;

@@ -99,7 +99,7 @@ void Overlay::draw_picks(std::span<const Pick> picks) {
   }
 }
 
-void Overlay::draw_road_line(const CameraModel& camera, const LinePrior& road, double near_mm, double far_mm,
+void Overlay::draw_road_line(const CameraModel& camera, const RoadLine& road, double near_mm, double far_mm,
                              int line_index) {
   std::optional<Vec2> previous;
   for (const std::optional<Vec2>& p : road_line_pixels(camera, road, near_mm, far_mm, 60)) {

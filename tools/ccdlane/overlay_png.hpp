@@ -26,7 +26,7 @@ class Overlay {
   // Picks: crosses in their line's colour.
   void draw_picks(std::span<const Pick> picks);
   // A road line y = y0 + m x + c x^2 from near_mm to far_mm, projected through `camera`.
-  void draw_road_line(const CameraModel& camera, const LinePrior& line, double near_mm, double far_mm, int colour);
+  void draw_road_line(const CameraModel& camera, const RoadLine& line, double near_mm, double far_mm, int colour);
 
   // The region the vanishing point was searched in, and the point with the horizon
   // through it when one was found (ideal pixels, drawn as they are: near the picture's

@@ -12,11 +12,13 @@
 #include <vector>
 
 #include "app/config_loader.hpp"
+#include "app/frame_inputs.hpp"
 #include "base/image_buffer.hpp"
 #include "base/output_path.hpp"
 #include "bus/channels.hpp"
 #include "bus/frame_log.hpp"
 #include "core/lane/lane_estimator.hpp"
+#include "core/lane/observability.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
@@ -44,9 +46,8 @@ void draw_overlay(const std::string& path, const ImageView& frame, const LaneEst
   if (const SolveResult* s = estimator.solution(); s && s->converged) {
     const CameraModel camera(config.camera, s->pose);
     for (int j = 0; j < s->num_lines; ++j) {
-      const LaneLine& l = s->lines[static_cast<std::size_t>(j)];
-      o.draw_road_line(camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm, config.detection.max_range_mm,
-                       j);
+      o.draw_road_line(camera, s->lines[static_cast<std::size_t>(j)], config.detection.min_range_mm,
+                       config.detection.max_range_mm, j);
     }
     o.draw_picks(estimator.solved_picks());
   } else {
@@ -72,6 +73,225 @@ std::pair<int, int> searched_rows(const ImageView& frame, const LaneEstimator& e
   return {first, last};
 }
 
+// One replay: the input and output opened, every frame through the estimator, and the
+// tallies the summary line gives.
+class Replay {
+ public:
+  // Loads the configuration and opens the input, the output and the overlay directory;
+  // UsageError for anything that is bad input.
+  explicit Replay(const ReplayArgs& args);
+  // Replays every frame; the exit status (1: events of the log were lost to damage).
+  int run();
+
+ private:
+  void open_input();
+  void open_output();
+  void replay_directory();
+  void replay_log();
+  void replay_frame(const ImageView* image, const FrameMeta& meta);
+  void check_observability(const FrameMeta& meta);
+  void write_overlays(const ImageView& image, std::uint64_t index);
+  int finish();
+
+  const ReplayArgs& a_;
+  const Config config_;
+  const LaneEstimatorOptions options_;
+  const bool gyro_configured_;
+  std::optional<FrameDirectory> dir_;
+  std::optional<FrameLogReader> log_;
+  PixelFormat format_ = PixelFormat::mono8;  // of a frame directory's frames
+  int bits_ = 8;
+  std::unique_ptr<OutputFile> file_;
+  std::ostream* out_ = &std::cout;
+  std::string out_name_ = "standard output";
+  LaneEstimator estimator_;
+  bool observability_checked_ = false;
+  std::size_t csv_issues_ = 0;  // malformed rows of frames.csv
+  std::size_t frames_ = 0, ok_ = 0, skipped_ = 0, overlays_ = 0;
+  double total_s_ = 0.0, worst_s_ = 0.0;
+  std::uint64_t worst_frame_ = 0;
+};
+
+Replay::Replay(const ReplayArgs& args)
+    : a_(args),
+      config_(load_config_file(args.config)),
+      options_(config_.estimator_options()),
+      gyro_configured_(!config_.gyro.device.empty()),
+      estimator_(options_) {
+  open_input();
+  open_output();
+}
+
+void Replay::open_input() {
+  try {
+    if (std::filesystem::is_regular_file(a_.input))
+      log_.emplace(a_.input, channel_name(config_.lcm.prefix, Channel::frames));
+    else
+      dir_.emplace(a_.input);
+  } catch (const std::runtime_error& e) {  // FrameDirectoryError, FrameLogError
+    throw UsageError(e.what());
+  }
+  // The picture size is the camera's, from the configuration; a frame of another size is
+  // skipped and counted wherever it is, the first one included. The first readable
+  // frame gives only the pixel format.
+  const auto header = dir_ ? dir_->probe_first() : std::nullopt;
+  format_ = header ? header->format() : PixelFormat::mono8;
+  bits_ = header && format_ == PixelFormat::mono16 ? header->significant_bits() : 8;
+}
+
+void Replay::open_output() {
+  // The output must not replace the input: the log itself, or anything in the directory
+  // (frames.csv, a frame; overlays written over colour PNG frames once destroyed them).
+  for (const auto& [path, option] : {std::pair{a_.out, "--out"}, std::pair{a_.overlay, "--overlay"}})
+    if (!path.empty() && lies_within(path, a_.input))
+      throw UsageError(path + ": is or lies inside the input being replayed (" + a_.input + "); choose another " +
+                       option);
+  if (!a_.out.empty()) {
+    try {
+      file_ = std::make_unique<OutputFile>(a_.out);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+    out_ = &file_->stream();
+    out_name_ = a_.out;
+  }
+  if (!a_.overlay.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a_.overlay, ec);
+    if (ec) throw UsageError(a_.overlay + ": cannot create the overlay directory: " + ec.message());
+  }
+}
+
+int Replay::run() {
+  if (dir_) {
+    csv_issues_ = dir_->issues().size();
+    for (const std::string& issue : dir_->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
+    skipped_ = csv_issues_;
+    replay_directory();
+  } else {
+    replay_log();
+  }
+  return finish();
+}
+
+void Replay::replay_directory() {
+  const ImageBuffer buffer(config_.camera.Nu, config_.camera.Nv, format_, bits_);
+  const MutableImageView& image = buffer.view();
+  for (std::size_t i = 0; i < dir_->size(); ++i) {
+    const bool read = dir_->read(i, image) == PgmFault::none;
+    if (!read) std::cerr << "ccdlane replay: " << dir_->error() << '\n';
+    const ImageView view = image;
+    replay_frame(read ? &view : nullptr, recorded_frame_meta(dir_->row(i)));
+  }
+}
+
+void Replay::replay_log() {
+  const int W = config_.camera.Nu, H = config_.camera.Nv;
+  for (FrameLogReader::Next n; (n = log_->next()) != FrameLogReader::Next::end;) {
+    if (n == FrameLogReader::Next::lost) {  // no frame to print: its number is unknown
+      std::cerr << "ccdlane replay: " << log_->problem() << '\n';
+      continue;
+    }
+    const FrameRecord& r = log_->record();
+    const ImageView& image = log_->image();
+    bool usable = n == FrameLogReader::Next::frame;
+    if (!usable) {
+      std::cerr << "ccdlane replay: " << log_->problem() << '\n';
+    } else if (image.width != W || image.height != H) {
+      std::cerr << "ccdlane replay: " << a_.input << ": frame " << r.sequence << " is " << image.width << "x"
+                << image.height << ", the camera of " << a_.config << " is " << W << "x" << H << '\n';
+      usable = false;
+    }
+    // The vehicle as the daemon had it when it recorded the frame.
+    replay_frame(usable ? &image : nullptr, recorded_frame_meta(r));
+  }
+  if (frames_ == 0 && log_->lost_events() == 0)
+    throw UsageError(a_.input + ": no frames on channel " + log_->channel() + " (" +
+                     std::to_string(log_->other_events()) + " events on other channels)");
+}
+
+void Replay::check_observability(const FrameMeta& meta) {
+  // As the daemon does at start: refuse solves that cannot determine what they are asked
+  // for. The roll is measured when the recording's first readable frame carries a gyro
+  // reading, or when it was made with a gyro (whose first readings may come after the
+  // first frames), as the daemon counts a configured gyro.
+  observability_checked_ = true;
+  if (const Observability o = observability(options_, meta.gyro || gyro_configured_); o != Observability::observable)
+    throw UsageError(a_.config + ": " + explain(o) + " (the frames of " + a_.input + " carry " +
+                     (meta.gyro ? "" : "no ") + "gyro readings)");
+}
+
+// One frame through the pipeline; `image` null for a frame that could not be read.
+void Replay::replay_frame(const ImageView* image, const FrameMeta& meta) {
+  if (image && !observability_checked_) check_observability(meta);
+  // Nothing is live in a recording; the gyro is judged as ccdlaned judged it: a
+  // configured one that gave the frame no reading failed.
+  LiveReadings live;
+  live.gyro_delivering = meta.gyro || !gyro_configured_;
+  const FrameInputs in = frame_inputs(image, meta.sequence, meta, live, gyro_configured_);
+  ++frames_;
+  if (!image) {
+    ++skipped_;
+    print_json_line(*out_, lane_estimate_json(estimator_.estimate(in), a_.sigmas));
+    check_written(*out_, out_name_);
+    return;
+  }
+  if (a_.stills) estimator_.reset();
+  const auto t0 = std::chrono::steady_clock::now();
+  LaneEstimate e = estimator_.estimate(in);
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  e.latency_us = static_cast<std::int64_t>(dt * 1e6);
+  total_s_ += dt;
+  if (dt > worst_s_) worst_s_ = dt, worst_frame_ = meta.sequence;
+  ok_ += e.ok;
+  print_json_line(*out_, lane_estimate_json(e, a_.sigmas));
+  check_written(*out_, out_name_);
+  if (!a_.overlay.empty()) write_overlays(*image, meta.sequence);
+}
+
+void Replay::write_overlays(const ImageView& image, std::uint64_t index) {
+  char name[32], paint[32];
+  std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
+  std::snprintf(paint, sizeof paint, "/%06llu-paint.png", static_cast<unsigned long long>(index));
+  try {
+    draw_overlay(a_.overlay + name, image, estimator_, config_);
+    const auto [first, last] = searched_rows(image, estimator_, config_);
+    write_paint_measure_png(a_.overlay + paint, image, first, last);
+  } catch (const std::runtime_error& failure) {
+    // Each PNG is whole or absent (temporary name, then rename): say what is there.
+    throw std::runtime_error(std::string(failure.what()) + "; " + std::to_string(overlays_) +
+                             " complete overlays remain in " + a_.overlay + ", no partial file");
+  }
+  ++overlays_;
+}
+
+int Replay::finish() {
+  const std::size_t processed = frames_ - (skipped_ - csv_issues_);
+  // Nothing replayed is bad input, not a result: no output file is left.
+  if (frames_ > 0 && processed == 0 && file_) file_.reset();
+  if (file_)
+    file_->commit();
+  else
+    flush_checked(std::cout, "standard output");
+  char summary[256];
+  std::snprintf(summary, sizeof summary,
+                "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
+                frames_ + csv_issues_, ok_, skipped_, processed ? 1e3 * total_s_ / static_cast<double>(processed) : 0.0,
+                1e3 * worst_s_, static_cast<unsigned long long>(worst_frame_));
+  std::cerr << summary << '\n';
+  // Frames lost to a damaged or cut log are a failed replay even when the rest went
+  // well: the output is kept, the status says it is incomplete.
+  if (log_ && log_->lost_events() > 0) {
+    std::fprintf(stderr, "ccdlane replay: %s: %llu event(s) lost to damage (%llu bytes skipped)%s\n", a_.input.c_str(),
+                 static_cast<unsigned long long>(log_->lost_events()),
+                 static_cast<unsigned long long>(log_->lost_bytes()),
+                 log_->truncated() ? ", the last one cut short" : "");
+    return 1;
+  }
+  if (frames_ > 0 && processed == 0) throw UsageError(a_.input + ": none of the frames could be read");
+  return 0;
+}
+
 }  // namespace
 
 CommandAction setup_replay(CLI::App& sub) {
@@ -95,172 +315,7 @@ CommandAction setup_replay(CLI::App& sub) {
       "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
       "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
       "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
-  return [a] {
-    const Config config = load_config_file(a->config);
-    const int W = config.camera.Nu, H = config.camera.Nv;
-    const bool is_log = std::filesystem::is_regular_file(a->input);
-    std::optional<FrameDirectory> dir;
-    std::optional<FrameLogReader> log;
-    try {
-      if (is_log)
-        log.emplace(a->input, channel_name(config.lcm.prefix, Channel::frames));
-      else
-        dir.emplace(a->input);
-    } catch (const std::runtime_error& e) {  // FrameDirectoryError, FrameLogError
-      throw UsageError(e.what());
-    }
-    // The picture size is the camera's, from the configuration; a frame of another size is
-    // skipped and counted wherever it is, the first one included. The first readable
-    // frame gives only the pixel format.
-    const auto header = dir ? dir->probe_first() : std::nullopt;
-    const PixelFormat format = header ? header->format() : PixelFormat::mono8;
-    const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
-
-    std::unique_ptr<OutputFile> file;
-    // The output must not replace the input: the log itself, or anything in the directory
-    // (frames.csv, a frame; overlays written over colour PNG frames once destroyed them).
-    for (const auto& [path, option] : {std::pair{a->out, "--out"}, std::pair{a->overlay, "--overlay"}})
-      if (!path.empty() && lies_within(path, a->input))
-        throw UsageError(path + ": is or lies inside the input being replayed (" + a->input + "); choose another " +
-                         option);
-    if (!a->out.empty()) {
-      try {
-        file = std::make_unique<OutputFile>(a->out);
-      } catch (const std::runtime_error& e) {
-        throw UsageError(e.what());
-      }
-    }
-    std::ostream& out = file ? file->stream() : std::cout;
-    const std::string out_name = file ? a->out : "standard output";
-    if (!a->overlay.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(a->overlay, ec);
-      if (ec) throw UsageError(a->overlay + ": cannot create the overlay directory: " + ec.message());
-    }
-
-    const std::size_t csv_issues = dir ? dir->issues().size() : 0;  // malformed rows of frames.csv
-    if (dir)
-      for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
-    std::size_t skipped = csv_issues;
-
-    const LaneEstimatorOptions options = config.estimator_options();
-    LaneEstimator estimator(options);
-    std::size_t frames = 0, ok = 0, overlays = 0;
-    double total_s = 0.0, worst_s = 0.0;
-    std::uint64_t worst_frame = 0;
-    // One frame through the pipeline; `image` null for a frame that could not be read.
-    bool observability_checked = false;
-    const auto replay_frame = [&](const ImageView* image, std::uint64_t index, std::int64_t t_ns,
-                                  const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle) {
-      // As the daemon does at start: refuse solves that cannot determine what they are
-      // asked for. The roll is measured when the recording's first readable frame carries
-      // a gyro reading, or when it was made with a gyro (whose first readings may come
-      // after the first frames), as the daemon counts a configured gyro.
-      if (image && !observability_checked && (observability_checked = true))
-        if (const std::string why = observability_problem(options, gyro || !config.gyro.device.empty()); !why.empty())
-          throw UsageError(a->config + ": " + why + " (the frames of " + a->input + " carry " + (gyro ? "" : "no ") +
-                           "gyro readings)");
-      ++frames;
-      if (!image) {
-        ++skipped;
-        print_json_line(out, lane_estimate_json(estimator.no_frame(index, t_ns, vehicle), a->sigmas));
-        check_written(out, out_name);
-        return;
-      }
-      if (a->stills) estimator.reset();
-      const auto t0 = std::chrono::steady_clock::now();
-      LaneEstimate e = estimator.estimate(*image, index, t_ns, gyro, vehicle);
-      const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      e.latency_us = static_cast<std::int64_t>(dt * 1e6);
-      total_s += dt;
-      if (dt > worst_s) worst_s = dt, worst_frame = index;
-      ok += e.ok;
-      print_json_line(out, lane_estimate_json(e, a->sigmas));
-      check_written(out, out_name);
-      if (!a->overlay.empty()) {
-        char name[32], paint[32];
-        std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
-        std::snprintf(paint, sizeof paint, "/%06llu-paint.png", static_cast<unsigned long long>(index));
-        try {
-          draw_overlay(a->overlay + name, *image, estimator, config);
-          const auto [first, last] = searched_rows(*image, estimator, config);
-          write_paint_measure_png(a->overlay + paint, *image, first, last);
-        } catch (const std::runtime_error& failure) {
-          // Each PNG is whole or absent (temporary name, then rename): say what is there.
-          throw std::runtime_error(std::string(failure.what()) + "; " + std::to_string(overlays) +
-                                   " complete overlays remain in " + a->overlay + ", no partial file");
-        }
-        ++overlays;
-      }
-    };
-
-    if (dir) {
-      const ImageBuffer buffer(W, H, format, bits);
-      const MutableImageView& image = buffer.view();
-      for (std::size_t i = 0; i < dir->size(); ++i) {
-        const FrameRow& row = dir->row(i);
-        const bool read = dir->read(i, image) == PgmFault::none;
-        if (!read) std::cerr << "ccdlane replay: " << dir->error() << '\n';
-        const ImageView view = image;
-        VehicleInputs vehicle;  // without the columns: [vehicle] speed_kmh, no indicator
-        if (row.speed_kmh) vehicle.speed_mps = *row.speed_kmh / 3.6;
-        vehicle.indicator = row.indicator;
-        vehicle.gyro_ok = row.gyro || config.gyro.device.empty();  // as ccdlaned playing the directory
-        replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro, vehicle);
-      }
-    } else {
-      for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
-        if (n == FrameLogReader::Next::lost) {  // no frame to print: its number is unknown
-          std::cerr << "ccdlane replay: " << log->problem() << '\n';
-          continue;
-        }
-        const FrameRecord& r = log->record();
-        const ImageView& image = log->image();
-        bool usable = n == FrameLogReader::Next::frame;
-        if (!usable) {
-          std::cerr << "ccdlane replay: " << log->problem() << '\n';
-        } else if (image.width != W || image.height != H) {
-          std::cerr << "ccdlane replay: " << a->input << ": frame " << r.sequence << " is " << image.width << "x"
-                    << image.height << ", the camera of " << a->config << " is " << W << "x" << H << '\n';
-          usable = false;
-        }
-        VehicleInputs vehicle;  // as the daemon had it when it recorded the frame
-        if (r.speed_kmh) vehicle.speed_mps = *r.speed_kmh / 3.6;
-        vehicle.yaw_rate_radps = r.yaw_rate_radps;
-        vehicle.indicator = r.indicator;
-        // As the daemon judged it: a configured gyro that gave the frame no reading failed.
-        vehicle.gyro_ok = r.gyro || config.gyro.device.empty();
-        replay_frame(usable ? &image : nullptr, r.sequence, r.t_ns, r.gyro, vehicle);
-      }
-      if (frames == 0 && log->lost_events() == 0)
-        throw UsageError(a->input + ": no frames on channel " + log->channel() + " (" +
-                         std::to_string(log->other_events()) + " events on other channels)");
-    }
-    const std::size_t processed = frames - (skipped - csv_issues);
-    // Nothing replayed is bad input, not a result: no output file is left.
-    if (frames > 0 && processed == 0 && file) file.reset();
-    if (file)
-      file->commit();
-    else
-      flush_checked(std::cout, "standard output");
-    char summary[256];
-    std::snprintf(summary, sizeof summary,
-                  "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
-                  frames + csv_issues, ok, skipped, processed ? 1e3 * total_s / static_cast<double>(processed) : 0.0,
-                  1e3 * worst_s, static_cast<unsigned long long>(worst_frame));
-    std::cerr << summary << '\n';
-    // Frames lost to a damaged or cut log are a failed replay even when the rest went
-    // well: the output is kept, the status says it is incomplete.
-    if (log && log->lost_events() > 0) {
-      std::fprintf(stderr, "ccdlane replay: %s: %llu event(s) lost to damage (%llu bytes skipped)%s\n",
-                   a->input.c_str(), static_cast<unsigned long long>(log->lost_events()),
-                   static_cast<unsigned long long>(log->lost_bytes()),
-                   log->truncated() ? ", the last one cut short" : "");
-      return 1;
-    }
-    if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");
-    return 0;
-  };
+  return [a] { return Replay(*a).run(); };
 }
 
 }  // namespace ccdlane::cli

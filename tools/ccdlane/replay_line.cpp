@@ -42,7 +42,7 @@ std::string parse_replay_line(std::string_view text, ReplayLine& out) {
     const Json& l = (*lines)[i];
     const std::string at = "lines[" + std::to_string(i) + "]";
     if (!l.is_object()) return at + ": not an object";
-    LinePrior p;
+    RoadLine p;
     if (!number_at(l, "y0_mm", p.y0_mm)) return at + ".y0_mm: not a number";
     if (!number_at(l, "m", p.m)) return at + ".m: not a number";
     if (!number_at(l, "c_per_mm", p.c_per_mm)) return at + ".c_per_mm: not a number";

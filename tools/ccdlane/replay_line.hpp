@@ -21,7 +21,7 @@ struct ReplayAttitude {
 struct ReplayLine {
   std::uint64_t frame = 0;
   std::optional<ReplayAttitude> attitude;  // empty: not solved (no psi_deg)
-  std::vector<LinePrior> lines;            // read only with an attitude
+  std::vector<RoadLine> lines;            // read only with an attitude
 };
 
 // "" and `out`, or the problem naming the field: "not a JSON object", "frame: not a frame

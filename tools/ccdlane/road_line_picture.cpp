@@ -4,13 +4,13 @@
 namespace ccdlane::cli {
 namespace {
 
-std::optional<Vec2> pixel_at(const CameraModel& camera, const LinePrior& line, double x_mm) {
+std::optional<Vec2> pixel_at(const CameraModel& camera, const RoadLine& line, double x_mm) {
   return camera.pixel_from_point(Vec3(x_mm, line.y_at(x_mm), 0.0));
 }
 
 }  // namespace
 
-std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, const LinePrior& line, double near_mm,
+std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, const RoadLine& line, double near_mm,
                                                   double far_mm, int samples) {
   std::vector<std::optional<Vec2>> out;
   out.reserve(static_cast<std::size_t>(samples) + 1);
@@ -18,7 +18,7 @@ std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, con
   return out;
 }
 
-std::optional<double> road_line_column_at_row(const CameraModel& camera, const LinePrior& line, double row_px,
+std::optional<double> road_line_column_at_row(const CameraModel& camera, const RoadLine& line, double row_px,
                                               double near_mm, double far_mm) {
   const auto near = pixel_at(camera, line, near_mm), far = pixel_at(camera, line, far_mm);
   if (!near || !far) return std::nullopt;

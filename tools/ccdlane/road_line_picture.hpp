@@ -13,14 +13,14 @@ namespace ccdlane::cli {
 // The line from near_mm to far_mm ahead, sampled at `samples` + 1 evenly spaced
 // distances, as observed (distorted) 1-based pixels; empty entries where a point is not
 // in front of the lens.
-std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, const LinePrior& line, double near_mm,
+std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, const RoadLine& line, double near_mm,
                                                   double far_mm, int samples);
 
 // The 1-based column at which the line crosses 1-based picture row `row_px`, somewhere
 // between near_mm and far_mm ahead; empty when it does not (the row is above where the
 // line ends or below where it starts). Bisection on the distance: on the road ahead, a
 // point's row falls monotonically as it gets farther.
-std::optional<double> road_line_column_at_row(const CameraModel& camera, const LinePrior& line, double row_px,
+std::optional<double> road_line_column_at_row(const CameraModel& camera, const RoadLine& line, double row_px,
                                               double near_mm, double far_mm);
 
 }  // namespace ccdlane::cli

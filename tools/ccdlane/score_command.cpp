@@ -119,7 +119,7 @@ class Annotations {
 
 // The lines replay reported for one frame, and the pose they were solved at.
 FrameScore score_replayed_frame(const ReplayLine& e, const std::vector<AnnotatedLane>& lanes, const Config& config) {
-  std::vector<LinePrior> reported;
+  std::vector<RoadLine> reported;
   CameraPose pose = config.nominal_pose();
   if (e.attitude) {
     pose.attitude = {deg_to_rad(e.attitude->psi_deg), deg_to_rad(e.attitude->theta_deg),

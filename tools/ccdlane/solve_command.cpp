@@ -130,8 +130,8 @@ int run_solve(const SolveArgs& args) {
   const std::string path = picks_path(args, config);
   const PicksCsv csv = read_picks(path);
 
-  std::vector<LaneLine> initial_lines;
-  for (const LineInit& l : config.lines) initial_lines.push_back({l.y0_mm, l.m, l.c_per_mm});
+  std::vector<RoadLine> initial_lines;
+  for (const RoadLine& l : config.lines) initial_lines.push_back({l.y0_mm, l.m, l.c_per_mm});
   SolveRequest request;
   request.mode = config.solver.mode;
   request.free = config.solver.free;

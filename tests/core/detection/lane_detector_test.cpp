@@ -113,7 +113,7 @@ TEST(LaneDetector, PriorLinesKeepTheirIdentityThroughALaneChange) {
   test::RenderedRoad road(c);
   LaneDetector det(c.camera, c.detection);
   // Follow each road line by the prior chain: road line -> detection index per frame.
-  std::vector<LinePrior> priors;
+  std::vector<RoadLine> priors;
   std::vector<int> road_of;  // road line of each prior
   for (std::uint64_t k = 0; k < 5 * 30; k += 5) {
     const SynthFrame f = road.render(k);
@@ -195,7 +195,7 @@ TEST(LaneDetector, WrongSizedFramesGiveNothingAndDetectionAllocatesNothing) {
   small.width = 640;
   EXPECT_EQ(det.detect(small, f.pose, {}).num_lines, 0);
   EXPECT_EQ(det.detect(ImageView{}, f.pose, {}).num_lines, 0);
-  const LinePrior priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
+  const RoadLine priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
   // Colour too (the paint measure per scanned segment), on a dashed bend (single dashes
   // taken as parallels of the road's lines).
   Config bend = highway();
@@ -204,7 +204,7 @@ TEST(LaneDetector, WrongSizedFramesGiveNothingAndDetectionAllocatesNothing) {
   test::RenderedRoad colour(bend, PixelFormat::rgb8);
   const SynthFrame fc = colour.render(2);
   LaneDetector det_colour(bend.camera, bend.detection);
-  const LinePrior bend_priors[] = {{fc.y0_mm[1], 0, fc.c_per_mm}, {fc.y0_mm[2], 0, fc.c_per_mm}};
+  const RoadLine bend_priors[] = {{fc.y0_mm[1], 0, fc.c_per_mm}, {fc.y0_mm[2], 0, fc.c_per_mm}};
   test::AllocationScope scope;
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(det.detect(road.view, f.pose, priors).num_lines, 4);

@@ -42,7 +42,7 @@ struct Scene {
   }
 };
 
-int group(Scene& s, std::array<DetectedLine, kMaxDetectedLines>& lines, std::span<const LinePrior> priors = {},
+int group(Scene& s, std::array<DetectedLine, kMaxDetectedLines>& lines, std::span<const RoadLine> priors = {},
           int max_lines = 4) {
   LineGrouper g(4096);
   GroupingParams p;
@@ -125,7 +125,7 @@ TEST(LineGrouper, ContinuesThePreviousFramesLines) {
   s.line(-5550, 0.0, 0.0);
   // The previous frame saw them 150 mm further left, listed in another order, plus a line
   // that has gone.
-  const LinePrior priors[] = {{-5400, 0, 0}, {9000, 0, 0}, {1800, 0, 0}, {-1800, 0, 0}};
+  const RoadLine priors[] = {{-5400, 0, 0}, {9000, 0, 0}, {1800, 0, 0}, {-1800, 0, 0}};
   std::array<DetectedLine, kMaxDetectedLines> lines{};
   ASSERT_EQ(group(s, lines, priors), 3);
   EXPECT_EQ(lines[0].prior_index, 2);
@@ -160,7 +160,7 @@ TEST(LineGrouper, GroupingAllocatesNothing) {
   s.clutter(200);
   LineGrouper g(4096);
   std::array<DetectedLine, kMaxDetectedLines> lines{};
-  const LinePrior priors[] = {{1800, 0, 0}};
+  const RoadLine priors[] = {{1800, 0, 0}};
   test::AllocationScope scope;
   EXPECT_EQ(g.group(s.marks, priors, GroupingParams{}, lines), 2);
   EXPECT_EQ(scope.count(), 0u);

@@ -139,7 +139,7 @@ TEST(PaintMeasure, YellowPaintOnConcreteIsFoundInColourWhereGreyLosesIt) {
   }
   // Colour detection allocates nothing per frame either.
   const SynthFrame f = scene.render(3, PixelFormat::rgb8);
-  const LinePrior priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
+  const RoadLine priors[] = {{f.y0_mm[1], 0, 0}, {f.y0_mm[2], 0, 0}};
   test::AllocationScope scope;
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(det.detect(scene.colour(PixelFormat::rgb8), f.pose, priors).num_lines, 4);

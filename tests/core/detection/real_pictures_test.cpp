@@ -40,7 +40,7 @@ struct Picture {
 
 // Where the road line y = y0 + m x + c x^2 crosses picture row `py`, or NaN when it
 // does not within 2..200 m (bisection on x: the row falls as x grows).
-double column_at_row(const CameraModel& cam, const LaneLine& l, double py) {
+double column_at_row(const CameraModel& cam, const RoadLine& l, double py) {
   auto pixel = [&](double x) { return cam.pixel_from_point(Vec3(x, l.y0_mm + (l.m + l.c_per_mm * x) * x, 0)); };
   double lo = 2000, hi = 200000;
   const auto near = pixel(lo), far = pixel(hi);
@@ -71,9 +71,9 @@ void write_overlay(const std::string& path, const test::PngImage& frame, const L
   if (!est.solution() || !est.solution()->converged) {  // detection's own fits, at its pose
     const CameraModel at_detection(cam.spec(), est.detection_pose());
     for (int j = 0; j < est.detection().num_lines; ++j) {
-      const LinePrior& f = est.detection().lines[static_cast<std::size_t>(j)].fit;
+      const RoadLine& f = est.detection().lines[static_cast<std::size_t>(j)].fit;
       for (int y = 1; y <= out.height; y += 2) {
-        const double x = column_at_row(at_detection, LaneLine{f.y0_mm, f.m, f.c_per_mm}, y);
+        const double x = column_at_row(at_detection, RoadLine{f.y0_mm, f.m, f.c_per_mm}, y);
         if (std::isfinite(x)) put(static_cast<int>(std::lround(x)) - 1, y - 1, colours[j % 4]);
       }
     }
@@ -126,7 +126,7 @@ void check_picture(const Picture& pic) {
   // every own-lane line is among them.
   std::vector<int> found(pic.lines.size(), 0);
   for (int j = 0; j < s.num_lines; ++j) {
-    const LaneLine& l = s.lines[static_cast<std::size_t>(j)];
+    const RoadLine& l = s.lines[static_cast<std::size_t>(j)];
     int on = -1;
     for (std::size_t k = 0; k < pic.lines.size() && on < 0; ++k) {
       bool all = true;

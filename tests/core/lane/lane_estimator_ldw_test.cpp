@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/evaluation/ldw_scenarios.hpp"
 #include "core/lane/lane_estimator.hpp"
-#include "core/ldw/scenarios.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/vehicle_drive.hpp"
 #include "tests/core/synth/rendered_road.hpp"

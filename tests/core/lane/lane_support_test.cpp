@@ -153,7 +153,7 @@ TEST(LaneSupport, PaintHasOneWidthOnTheRoadAMixOfBarsDoesNot) {
 // clutter. An arrow's many marks near the vehicle take few metres; bars spread along the
 // lane take many.
 TEST(LaneSupport, ALaneFullOfMarksAlongItsLengthIsNotARoad) {
-  const LinePrior left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
+  const RoadLine left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
   std::vector<MarkCandidate> marks;
   const auto at = [](int line, double X, double Y) {
     MarkCandidate m;

@@ -10,7 +10,7 @@ namespace ccdlane {
 namespace {
 
 std::vector<int> update(LaneTracker& t, std::initializer_list<double> y0, std::initializer_list<int> prior) {
-  std::vector<LinePrior> l;
+  std::vector<RoadLine> l;
   for (double y : y0) l.push_back({y, 0, 0});
   std::vector<int> p(prior), ids(l.size());
   t.update(l, p, ids);

@@ -76,7 +76,7 @@ TEST(InitialGuess, LineFitRecoversStraightLinesExactly) {
   const std::vector<Vec2> ground = {{5000, 1800},  {10000, 1850},  {20000, 1950},  // y = 1750 + 0.01 x
                                     {6000, -1760}, {30000, -1880},                 // y = -1730 - 0.005 x
                                     {8000, 100}};
-  LaneLine lines[4];
+  RoadLine lines[4];
   fit_initial_lines(picks, ground.data(), 4, true, lines);
   EXPECT_NEAR(lines[0].y0_mm, 1750.0, 1e-9);
   EXPECT_NEAR(lines[0].m, 0.01, 1e-12);

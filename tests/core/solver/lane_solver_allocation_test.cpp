@@ -40,7 +40,7 @@ TEST(LaneSolverAllocation, SolveNeverAllocatesAfterWarmUp) {
   const std::vector<Pick> picks = test::noisy_picks(scene, 0.5, rng);
   std::vector<Pick> bad = picks;
   bad[4].px = std::nan("");
-  const std::vector<LaneLine> lines = scene.lines;
+  const std::vector<RoadLine> lines = scene.lines;
 
   // Requests covering both modes, every parameter kind, all priors, a rank-deficient
   // problem, warm starts and rejected input.

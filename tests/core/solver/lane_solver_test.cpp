@@ -39,17 +39,17 @@ SolveRequest cold_request(const SyntheticScene& scene, std::span<const Pick> pic
 }
 
 // Fixed parameters must hold their true value: start them there.
-void start_fixed_at_truth(SolveRequest& r, const SyntheticScene& scene, std::vector<LaneLine>& lines) {
+void start_fixed_at_truth(SolveRequest& r, const SyntheticScene& scene, std::vector<RoadLine>& lines) {
   const Attitude& t = scene.truth.attitude;
   if (!r.free.has(FreeParam::psi)) r.initial_pose.attitude.psi = t.psi;
   if (!r.free.has(FreeParam::theta)) r.initial_pose.attitude.theta = t.theta;
   if (!r.free.has(FreeParam::phi)) r.initial_pose.attitude.phi = t.phi;
   const bool straight = std::all_of(scene.lines.begin(), scene.lines.end(),
-                                    [](const LaneLine& l) { return l.m == 0.0 && l.c_per_mm == 0.0; });
+                                    [](const RoadLine& l) { return l.m == 0.0 && l.c_per_mm == 0.0; });
   if (straight) return;  // the solver's own fit (m = 0, c = 0) then starts fixed kinds right
   // Lines given: free kinds start from a rough guess, fixed ones at the truth.
   lines = scene.lines;
-  for (LaneLine& l : lines) {
+  for (RoadLine& l : lines) {
     if (r.free.has(FreeParam::y0)) l.y0_mm += 300.0;
     if (r.free.has(FreeParam::m)) l.m = 0.0;
     if (r.free.has(FreeParam::c)) l.c_per_mm = 0.0;
@@ -71,7 +71,7 @@ TruthErrors errors_against_truth(const SolveResult& res, const SyntheticScene& s
   e.f_mm = std::abs(res.pose.f_mm - scene.truth.f_mm);
   for (std::size_t j = 0; j < scene.lines.size(); ++j)
     for (double x = 0; x <= 40000.0; x += 5000.0) {
-      const LaneLine &l = res.lines[j], &tl = scene.lines[j];
+      const RoadLine &l = res.lines[j], &tl = scene.lines[j];
       e.line_mm = std::max(
           e.line_mm, std::abs((l.y0_mm + l.m * x + l.c_per_mm * x * x) - (tl.y0_mm + tl.m * x + tl.c_per_mm * x * x)));
     }
@@ -132,7 +132,7 @@ TEST(LaneSolverTruth, ZeroNoiseRecoversTruthInReprojectionMode) {
     for (int draw = 0; draw < kTruthDraws; ++draw) {
       const SyntheticScene scene = test::make_scene(rng, c.scene);
       SolveRequest r = cold_request(scene, scene.picks, c.free);
-      std::vector<LaneLine> lines;
+      std::vector<RoadLine> lines;
       start_fixed_at_truth(r, scene, lines);
       // Priors centred on the truth are consistent with noise-free picks.
       if (c.roll_prior) r.priors.phi_deg = Prior{rad_to_deg(scene.truth.attitude.phi), 0.5};
@@ -165,7 +165,7 @@ TEST(LaneSolverTruth, ZeroNoiseRecoversTruthInPaperModeAndModesAgree) {
   for (const auto& [free, options] : cases)
     for (int draw = 0; draw < kTruthDraws; ++draw) {
       const SyntheticScene scene = test::make_scene(rng, options);
-      std::vector<LaneLine> lines;
+      std::vector<RoadLine> lines;
       SolveRequest r = cold_request(scene, scene.picks, free, SolverMode::paper);
       start_fixed_at_truth(r, scene, lines);
       const SolveResult& p = paper.solve(r);
@@ -235,7 +235,7 @@ void run_monte_carlo(const MonteCarloSetup& setup, std::uint64_t seed) {
     const SyntheticScene scene = test::make_scene(rng, setup.scene);
     const std::vector<Pick> picks = test::noisy_picks(scene, kPixelSigma, rng);
     SolveRequest r = cold_request(scene, picks, setup.free);
-    std::vector<LaneLine> lines;
+    std::vector<RoadLine> lines;
     start_fixed_at_truth(r, scene, lines);
     r.pixel_sigma = kPixelSigma;
     r.priors.theta_deg = Prior{rad_to_deg(scene.truth.attitude.theta) + kGyroSigmaDeg * unit(rng), kGyroSigmaDeg};
@@ -303,7 +303,7 @@ TEST(LaneSolverCurve, ZeroNoiseRecoversABendWithOneSharedCurvature) {
   // The paper's index takes the same model (gentler bends: its local minima, see above).
   for (int draw = 0; draw < kTruthDraws; ++draw) {
     const SyntheticScene scene = test::make_scene(rng, bend(1000e3, 2000e3));
-    std::vector<LaneLine> lines;
+    std::vector<RoadLine> lines;
     SolveRequest r = cold_request(scene, scene.picks, free_set({psi, theta, y0}), SolverMode::paper);
     r.line_model = LineModel::shared_curvature;
     start_fixed_at_truth(r, scene, lines);
@@ -533,11 +533,11 @@ TEST_F(LaneSolverInput, NonFiniteSettingsAreRejected) {
   r = request;
   r.priors.theta_deg = Prior{0.0, -1.0};
   expect_invalid(r, "negative prior sigma");
-  const LaneLine lines[2] = {{1750.0, 0.0, 0.0}, {std::nan(""), 0.0, 0.0}};
+  const RoadLine lines[2] = {{1750.0, 0.0, 0.0}, {std::nan(""), 0.0, 0.0}};
   r = request;
   r.initial_lines = lines;
   expect_invalid(r, "NaN initial line");
-  r.initial_lines = std::span<const LaneLine>(lines, 1);
+  r.initial_lines = std::span<const RoadLine>(lines, 1);
   expect_invalid(r, "one initial line for two lines");
 }
 
@@ -612,7 +612,7 @@ TEST(LaneSolverWarmStart, NextFrameConvergesInFewIterations) {
     ASSERT_TRUE(cold.converged);
     const int cold_iterations = cold.iterations;
     const CameraPose pose = cold.pose;
-    const std::vector<LaneLine> lines(cold.lines.begin(), cold.lines.begin() + cold.num_lines);
+    const std::vector<RoadLine> lines(cold.lines.begin(), cold.lines.begin() + cold.num_lines);
 
     r.picks = frame2;
     r.initial_pose = pose;

@@ -14,7 +14,7 @@ namespace ccdlane::solver {
 namespace {
 
 // docs/solver.md's r1, r2 for one pick at distance x on `line`, at `pose`.
-Vec2 spec_residuals(const CameraSpec& spec, const CameraPose& pose, const Vec2& ideal, const LaneLine& line, double x) {
+Vec2 spec_residuals(const CameraSpec& spec, const CameraPose& pose, const Vec2& ideal, const RoadLine& line, double x) {
   const CameraModel cam(spec, pose);
   const Vec3 L = cam.lens_centre(), P = cam.cell_centre(ideal);
   const double y = line.y0_mm + line.m * x + line.c_per_mm * x * x;
@@ -68,7 +68,7 @@ TEST(PaperResidual, ResidualsAreTheSpecificationsAtTheOptimalX) {
   model.configure(f.layout, f.scene.picks, f.ideal);
   ASSERT_TRUE(model.evaluate(f.state));
   for (std::size_t i = 0; i < f.x.size(); ++i) {
-    const LaneLine& line = f.state.lines[f.scene.picks[i].line];
+    const RoadLine& line = f.state.lines[f.scene.picks[i].line];
     const Vec2 r = spec_residuals(f.scene.camera, f.state.pose, f.ideal[i], line, f.x[i]);
     EXPECT_NEAR(f.rows.r0[i], r.x(), 1e-9 * r.norm() + 1e-6);
     EXPECT_NEAR(f.rows.r1[i], r.y(), 1e-9 * r.norm() + 1e-6);
@@ -101,7 +101,7 @@ TEST(PaperResidual, JacobiansMatchFiniteDifferencesAtFixedX) {
       const int line = f.scene.picks[i].line;
       const auto r_at = [&](const ReducedVector& step, double dx) {
         CameraPose pose = f.state.pose;
-        std::array<LaneLine, kMaxLaneLines> lines = f.state.lines;
+        std::array<RoadLine, kMaxLaneLines> lines = f.state.lines;
         f.layout.apply_step(step, pose, lines.data());
         const Vec2 r = spec_residuals(f.scene.camera, pose, f.ideal[i], lines[line], f.x[i] + dx);
         return Eigen::VectorXd(r);

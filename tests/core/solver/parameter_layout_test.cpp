@@ -37,7 +37,7 @@ TEST(ParameterLayout, StepsLandOnTheirParametersOnly) {
   using enum FreeParam;
   const ParameterLayout layout(free_set({theta, H, m}), 2);
   CameraPose pose{{0.1, 0.2, 0.3}, 1400.0, 5.05};
-  LaneLine lines[2] = {{1750.0, 0.01, 1e-6}, {-1750.0, 0.02, 2e-6}};
+  RoadLine lines[2] = {{1750.0, 0.01, 1e-6}, {-1750.0, 0.02, 2e-6}};
   ReducedVector step(layout.size());
   step << 0.5, 10.0, 0.001, 0.002;
   layout.apply_step(step, pose, lines);
@@ -80,11 +80,11 @@ TEST(ParameterLayout, SharedCurvatureIsOneGlobalAfterThePose) {
   EXPECT_EQ(ParameterLayout(free_set({psi, y0}), 2).shared_curvature_index(), -1);
 
   CameraPose pose{{0.1, 0.2, 0.3}, 1400.0, 5.05};
-  LaneLine lines[3] = {{1750.0, 0.0, 1e-6}, {-1750.0, 0.0, 1e-6}, {-5250.0, 0.0, 1e-6}};
+  RoadLine lines[3] = {{1750.0, 0.0, 1e-6}, {-1750.0, 0.0, 1e-6}, {-5250.0, 0.0, 1e-6}};
   ReducedVector step(layout.size());
   step << 0.5, 0.25, 2e-6, 10.0, 20.0, 30.0;
   layout.apply_step(step, pose, lines);
-  for (const LaneLine& l : lines) EXPECT_DOUBLE_EQ(l.c_per_mm, 3e-6);
+  for (const RoadLine& l : lines) EXPECT_DOUBLE_EQ(l.c_per_mm, 3e-6);
   EXPECT_DOUBLE_EQ(lines[2].y0_mm, -5220.0);
   EXPECT_DOUBLE_EQ(pose.attitude.theta, 0.45);
   // The shared c counts once in the parameters' norm.

@@ -19,7 +19,7 @@ TEST(PriorResiduals, AnglesInDegreesLengthsInMillimetres) {
   priors.H_mm = Prior{1400.0, 20.0};
   priors.psi_deg = Prior{0.0, 2.0};  // psi is fixed: constant residual, no derivative
   const CameraPose pose{{deg_to_rad(3.0), 0.0, deg_to_rad(2.0)}, 1430.0, 5.05};
-  const LaneLine lines[2] = {{1700.0, 0, 0}, {-1800.0, 0, 0}};
+  const RoadLine lines[2] = {{1700.0, 0, 0}, {-1800.0, 0, 0}};
   PriorRows rows;
   double cost = 0.0;
   evaluate_priors(priors, layout, pose, lines, rows, cost);
@@ -39,7 +39,7 @@ TEST(PriorResiduals, LaneWidthBetweenTheOutermostLines) {
   const ParameterLayout layout(free_set({y0}), 3);
   SolverPriors priors;
   priors.lane_width_mm = Prior{7000.0, 100.0};
-  const LaneLine lines[3] = {{100.0, 0, 0}, {3600.0, 0, 0}, {-3500.0, 0, 0}};
+  const RoadLine lines[3] = {{100.0, 0, 0}, {3600.0, 0, 0}, {-3500.0, 0, 0}};
   PriorRows rows;
   double cost = 0.0;
   evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);

@@ -57,7 +57,7 @@ TEST(ReprojectionResidual, ResidualsAreWhitenedPixelErrors) {
   double cost = 0.0;
   for (std::size_t i = 0; i < f.x.size(); ++i) {
     const Pick& p = f.scene.picks[i];
-    const LaneLine& l = f.state.lines[p.line];
+    const RoadLine& l = f.state.lines[p.line];
     const Vec2 px = *camera.pixel_from_point(Vec3(f.x[i], l.y0_mm + l.m * f.x[i] + l.c_per_mm * f.x[i] * f.x[i], 0));
     const Vec2 r = (px - Vec2(p.px, p.py)) / 0.5;
     EXPECT_NEAR(f.rows.r0[i], r.x(), 1e-9);

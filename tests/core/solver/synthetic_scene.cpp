@@ -23,7 +23,7 @@ SyntheticScene make_scene(std::mt19937_64& rng, const SceneOptions& o) {
     bend_c = (unit(rng) < 0.0 ? -1.0 : 1.0) / (2.0 * radius);
   }
   for (int j = 0; j < o.num_lines; ++j) {
-    LaneLine l;
+    RoadLine l;
     l.y0_mm = centre + spacing * ((o.num_lines - 1) / 2.0 - j);  // left (largest y0) first
     l.m = o.max_slope * unit(rng);
     l.c_per_mm = o.max_radius_mm > 0.0 ? bend_c : o.max_curvature * unit(rng);
@@ -34,7 +34,7 @@ SyntheticScene make_scene(std::mt19937_64& rng, const SceneOptions& o) {
   for (int i = 0, tries = 0; i < o.num_picks; ++tries) {
     if (tries > 100000) throw std::runtime_error("make_scene: marks do not fall into the picture");
     const int j = i % o.num_lines;
-    const LaneLine& l = s.lines[j];
+    const RoadLine& l = s.lines[j];
     const std::size_t n_at = o.mark_distances_mm.size();
     const double x = n_at > 0 ? o.mark_distances_mm[(i / o.num_lines) % n_at] : ahead(rng);
     const auto px = camera.pixel_from_point(Vec3(x, l.y0_mm + l.m * x + l.c_per_mm * x * x, 0.0));

@@ -31,7 +31,7 @@ struct SceneOptions {
 struct SyntheticScene {
   CameraSpec camera;
   CameraPose truth;
-  std::vector<LaneLine> lines;
+  std::vector<RoadLine> lines;
   std::vector<double> x_mm;  // each mark's truth distance ahead
   std::vector<Pick> picks;   // exact projections of the marks
 };

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "app/config.hpp"
-#include "core/ldw/scenarios.hpp"
+#include "core/evaluation/ldw_scenarios.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "core/synth/synth_drive.hpp"
 

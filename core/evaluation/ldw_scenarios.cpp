@@ -1,6 +1,6 @@
 // The scenario runner: each frame's truth becomes a noisy measurement, the monitor runs
 // on it as the daemon would, and each warning is judged by the truth at its frame.
-#include "core/ldw/scenarios.hpp"
+#include "core/evaluation/ldw_scenarios.hpp"
 
 #include <algorithm>
 #include <cmath>

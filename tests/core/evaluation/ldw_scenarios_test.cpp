@@ -3,7 +3,7 @@
 // 20 noise seeds on each drive: every departure warned once, the wheel between the earliest and
 // latest warning lines), false alarms in normal driving, suppression, filter consistency
 // on the drives, coasting through dropped frames, and the summary table.
-#include "core/ldw/scenarios.hpp"
+#include "core/evaluation/ldw_scenarios.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,218 @@
+// The solver is plain least squares: a solve whose picks do not fit well (a stray mark, a
+// line that is not a lane line) is cleaned and solved again by the estimator, once.
+#include "core/lane/lane_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/gx1_attitude.hpp"
+
+namespace ccdlane {
+namespace {
+
+constexpr double kLineOutlierPx = 3.0;  // a line whose picks miss by this much (RMS) is not a lane line
+constexpr double kMinPickOutlierPx = 1.0;
+constexpr double kOutlierSigmas = 3.0;    // a pick further than this many robust sigmas is an outlier
+constexpr double kMadToSigma = 1.4826;    // median absolute deviation to a Gaussian's sigma
+constexpr double kBadFitSigmas = 2.0;     // a solve whose RMS exceeds this many pixel sigmas fits badly
+constexpr double kUnprojectablePx = 1e9;  // the residual of a mark behind the camera
+
+std::optional<Prior> gyro_prior(const std::optional<Prior>& configured, double gyro_rad, double sigma_deg) {
+  if (configured) return configured;  // a [prior] entry overrides the gyro
+  return Prior{rad_to_deg(gyro_rad), sigma_deg};
+}
+
+}  // namespace
+
+LaneFit::LaneFit(const LaneEstimatorOptions& options)
+    : options_(options),
+      min_marks_(options.detection.min_marks),
+      solver_(options.camera, options.detection.max_picks, kMaxLaneLines),
+      picks_(static_cast<std::size_t>(options.detection.max_picks)),
+      residual_px_(picks_.size()),
+      scratch_(picks_.size()) {}
+
+bool LaneFit::take(const DetectionResult& d, bool own_priors) {
+  detection_ = &d;
+  num_lines_ = std::min(d.num_lines, kMaxLaneLines);
+  num_picks_ = 0;
+  for (const Pick& p : d.picks)
+    if (p.line < num_lines_ && num_picks_ < static_cast<int>(picks_.size())) picks_[num_picks_++] = p;
+  const FreeSet& free = options_.solver.free;
+  for (int j = 0; j < num_lines_; ++j) {
+    const RoadLine& fit = d.lines[j].fit;
+    // Fixed slopes and curvatures stay at 0 (the road frame is aligned with the lane).
+    initial_lines_[j] = {fit.y0_mm, free.has(FreeParam::m) ? fit.m : 0.0, free.has(FreeParam::c) ? fit.c_per_mm : 0.0};
+    prior_index_[j] = d.lines[j].prior_index;
+    detection_line_[j] = j;
+  }
+  if (own_priors) prior_index_.fill(-1);
+  return num_lines_ > 0 && enough_picks();
+}
+
+SolveRequest LaneFit::request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const {
+  SolveRequest req;
+  req.mode = options_.solver.mode;
+  req.free = options_.solver.free;
+  req.line_model = options_.solver.line_model;
+  req.pixel_sigma = options_.solver.pixel_sigma;
+  req.max_iterations = options_.solver.max_iterations;
+  const SolverPriors& p = options_.priors;
+  req.priors = {p.psi_deg, p.theta_deg, p.phi_deg, p.H_mm, p.f_mm, p.lane_width_mm};
+  if (p.lane_width_mm && num_lines_ > 2) {
+    // The solver's lane-width prior holds between the outermost lines; with more than
+    // two lines they are k lanes apart, k from the initial lines: k widths, each with
+    // its own spread.
+    double lo = initial_lines_[0].y0_mm, hi = lo;
+    for (int j = 1; j < num_lines_; ++j) {
+      lo = std::min(lo, initial_lines_[j].y0_mm);
+      hi = std::max(hi, initial_lines_[j].y0_mm);
+    }
+    const double k = std::max(1.0, std::round((hi - lo) / p.lane_width_mm->mean));
+    req.priors.lane_width_mm = Prior{k * p.lane_width_mm->mean, std::sqrt(k) * p.lane_width_mm->sigma};
+  }
+  if (gyro) {
+    const Attitude a = camera_attitude_from_gx1(*gyro);
+    req.priors.theta_deg = gyro_prior(p.theta_deg, a.theta, options_.gyro_sigma_deg);
+    req.priors.phi_deg = gyro_prior(p.phi_deg, a.phi, options_.gyro_sigma_deg);
+  }
+  req.initial_pose = initial;
+  req.picks = picks();
+  req.num_lines = num_lines_;
+  req.initial_lines = std::span<const RoadLine>(initial_lines_.data(), static_cast<std::size_t>(num_lines_));
+  return req;
+}
+
+const SolveResult& LaneFit::solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) {
+  const SolveRequest req = request(initial, gyro);
+  solve_priors_ = req.priors;
+  const SolveResult& r = solver_.solve(req);
+  measure_residuals(r);
+  return r;
+}
+
+void LaneFit::measure_residuals(const SolveResult& r) {
+  // Reprojection distance of every pick from its solved mark.
+  const CameraModel camera(options_.camera, r.pose);
+  for (int i = 0; i < num_picks_; ++i) {
+    double d = kUnprojectablePx;
+    if (static_cast<std::size_t>(i) < r.points_mm.size()) {
+      const Vec2& xy = r.points_mm[i];
+      if (const auto px = camera.pixel_from_point(Vec3(xy.x(), xy.y(), 0.0)))
+        d = std::hypot(px->x() - picks_[i].px, px->y() - picks_[i].py);
+    }
+    residual_px_[i] = d;
+  }
+}
+
+bool LaneFit::drop_outliers(const SolveResult& result) {
+  if (!(result.rms_px > kBadFitSigmas * options_.solver.pixel_sigma)) return false;
+  // Robust scale of the residuals (median absolute, as a Gaussian sigma).
+  std::copy_n(residual_px_.begin(), num_picks_, scratch_.begin());
+  const auto mid = scratch_.begin() + num_picks_ / 2;
+  std::nth_element(scratch_.begin(), mid, scratch_.begin() + num_picks_);
+  const double threshold = std::max(kOutlierSigmas * kMadToSigma * *mid, kMinPickOutlierPx);
+
+  std::array<double, kMaxLaneLines> sum2{};
+  std::array<int, kMaxLaneLines> count{};
+  for (int i = 0; i < num_picks_; ++i) {
+    const auto j = static_cast<std::size_t>(picks_[i].line);
+    sum2[j] += residual_px_[i] * residual_px_[i];
+    ++count[j];
+  }
+  // Keep the lines that fit, renumbered in order; within them the picks that fit.
+  std::array<int, kMaxLaneLines> new_index{};
+  int lines = 0;
+  for (int j = 0; j < num_lines_; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    const bool fits = count[k] > 0 && std::sqrt(sum2[k] / count[k]) <= kLineOutlierPx;
+    new_index[k] = fits ? lines++ : -1;
+  }
+  int kept = 0;
+  for (int i = 0; i < num_picks_; ++i) {
+    Pick p = picks_[i];
+    const int j = new_index[p.line];
+    if (j < 0 || residual_px_[i] > threshold) continue;
+    p.line = j;
+    picks_[kept++] = p;
+  }
+  if (kept == num_picks_) return false;
+  for (int j = 0; j < num_lines_; ++j) {
+    const int k = new_index[j];
+    if (k < 0) continue;
+    initial_lines_[k] = result.lines[j];
+    prior_index_[k] = prior_index_[j];
+    detection_line_[k] = detection_line_[j];
+  }
+  num_lines_ = lines;
+  num_picks_ = kept;
+  return num_lines_ > 0;
+}
+
+SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const {
+  // Each solved line's support, once. A line fitted as a parallel of the others took its
+  // direction from them: its marks only say where it is, so it has at most a dash's
+  // support, whatever their number (marks of noise lie along any curve parallel to a
+  // line of bars).
+  std::array<LineSupport, kMaxLaneLines> each{};
+  std::array<SupportProblem, kMaxLaneLines> full{};
+  int full_lines = 0;
+  for (int j = 0; j < r.num_lines; ++j) {
+    each[j] = line_support(picks(), r.points_mm, j);
+    const SupportProblem p = check_line_support(each[j], options_.detection);
+    full[j] =
+        p == SupportProblem::none && detection_->lines[detection_line_[j]].parallel ? SupportProblem::too_few_marks : p;
+    full_lines += full[j] == SupportProblem::none;
+  }
+  const LineSupport support[2] = {each[left], each[right]};
+  const SupportProblem problem[2] = {full[left], full[right]};
+  // Both lines need the support of paint along the road, except that one of them may be
+  // a single dash (detection takes one only as a parallel of the road's other lines, e.g.
+  // a dashed line on a bend) beside a fully supported one, on a road that two fully
+  // supported lines establish (one line of bars in noise and a dash beside it made a
+  // lane). Its few marks over a metre or two say nothing of how paint narrows with
+  // distance: the slope is checked on full lines.
+  const bool one_dash_beside_a_line =
+      full_lines >= 2 && (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
+  for (int k = 0; k < 2; ++k) {
+    if (problem[k] != SupportProblem::none) {
+      if (!one_dash_beside_a_line ||
+          !check_dash_support(support[k], options_.detection, GroupingParams{}, lane_width_mm))
+        return problem[k];
+      continue;
+    }
+    const int line = k == 0 ? left : right;
+    if (const SupportProblem p = check_paint_width(paint_width_slope(detection_->marks, detection_line_[line]));
+        p != SupportProblem::none)
+      return p;
+    if (const SupportProblem p =
+            check_paint_width_spread(paint_width_spread(detection_->marks, detection_line_[line]), options_.detection);
+        p != SupportProblem::none)
+      return p;
+  }
+  return SupportProblem::none;
+}
+
+SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
+                                             const Attitude& mount) const {
+  if (const SupportProblem p = line_support_problem(r, own.left, own.right, own.lane_width_mm);
+      p != SupportProblem::none)
+    return p;
+  const DetectedLine& detected_left = detection_->lines[detection_line_[own.left]];
+  const DetectedLine& detected_right = detection_->lines[detection_line_[own.right]];
+  if (const SupportProblem p = check_clutter(
+          lane_clutter(detection_->marks, detected_left.fit, detection_line_[own.left], detected_right.fit,
+                       detection_line_[own.right], options_.detection.max_mark_width_mm));
+      p != SupportProblem::none)
+    return p;
+  // The own lane's width against the configured lane width (the solve's own prior may
+  // span several lanes); the attitude against the priors this solve had (the gyro's).
+  SolverPriors priors = solve_priors_;
+  priors.lane_width_mm = options_.priors.lane_width_mm;
+  if (const SupportProblem p = check_priors(priors, r.pose, own.lane_width_mm); p != SupportProblem::none) return p;
+  if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, mount); p != SupportProblem::none) return p;
+  if (const SupportProblem p = check_heading(own.heading_deg); p != SupportProblem::none) return p;
+  return check_motion(speed_mps, own.heading_deg, own.curvature_per_m);
+}
+
+}  // namespace ccdlane

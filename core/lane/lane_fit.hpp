@@ -1,0 +1,82 @@
+// The fit stage of the lane estimator: a detection's picks and lines solved for the
+// attitude and the lines on the road (gyro roll and pitch as priors), the picks and lines
+// that do not fit dropped, and the solved lane checked for the support a real one gives.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "base/gx1_angles.hpp"
+#include "core/detection/lane_marks.hpp"
+#include "core/lane/lane_estimator_options.hpp"
+#include "core/lane/lane_support.hpp"
+#include "core/solver/lane_solver.hpp"
+
+namespace ccdlane {
+
+// What the own lane is, as the track stage found it (indices into the solve's lines) and
+// measured it: what lane_support_problem() checks.
+struct OwnLane {
+  int left = -1, right = -1;
+  double lane_width_mm = 0.0;
+  double heading_deg = 0.0;
+  double curvature_per_m = 0.0;
+};
+
+class LaneFit {
+ public:
+  // Sizes the solver and the pick buffers for options.detection.max_picks. May allocate.
+  explicit LaneFit(const LaneEstimatorOptions& options);
+
+  // Takes a detection's picks and lines as the problem to solve; false when they are too
+  // few to solve (the frame has too_few_marks). `own_priors`: the lines detection looked
+  // along were this frame's own solve's, not a previous frame's (no line continues one).
+  bool take(const DetectionResult& detection, bool own_priors = false);
+
+  // Solves the problem taken, from `initial`; `gyro` gives roll and pitch priors.
+  const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
+
+  // After a converged solve that fits badly: drops the lines and then the picks that miss
+  // their marks, keeping the solved lines as the next initial ones; false when nothing
+  // was dropped or no line is left (nothing to solve again).
+  bool drop_outliers(const SolveResult& result);
+  bool enough_picks() const { return num_picks_ >= min_marks_; }
+
+  // Why the solved lines `own` names are not a lane a car can drive at `speed_mps`
+  // (lane_support.hpp); none when they are.
+  SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
+                                      const Attitude& mount) const;
+
+  // The current problem, for the track stage and for overlays and diagnostics.
+  const DetectionResult& detection() const { return *detection_; }
+  std::span<const Pick> picks() const { return {picks_.data(), static_cast<std::size_t>(num_picks_)}; }
+  std::span<const double> residual_px() const { return {residual_px_.data(), static_cast<std::size_t>(num_picks_)}; }
+  int num_lines() const { return num_lines_; }
+  // Per solver line: the tracker's prior it continues (-1: none).
+  std::span<const int> prior_index() const { return {prior_index_.data(), static_cast<std::size_t>(num_lines_)}; }
+  void clear() { num_picks_ = 0; }
+
+ private:
+  SolveRequest request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const;
+  void measure_residuals(const SolveResult& r);
+  SupportProblem line_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const;
+
+  const LaneEstimatorOptions& options_;
+  int min_marks_;
+  LaneSolver solver_;
+  const DetectionResult* detection_ = nullptr;
+  // The picks and initial lines of the current solve (detection's, minus outliers).
+  std::vector<Pick> picks_;
+  int num_picks_ = 0;
+  int num_lines_ = 0;
+  std::array<RoadLine, kMaxLaneLines> initial_lines_{};
+  std::array<int, kMaxLaneLines> prior_index_{};     // per solver line: detection's prior_index
+  std::array<int, kMaxLaneLines> detection_line_{};  // per solver line: its line in detection()
+  std::vector<double> residual_px_;                  // per pick, of the last solve
+  std::vector<double> scratch_;
+  SolverPriors solve_priors_;  // of the last solve
+};
+
+}  // namespace ccdlane
