@@ -16,9 +16,9 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
       roll_needs_gyro_(ccdlane::roll_needs_gyro(config)),
       detector_(config.camera, config.detection),
       fit_(config_),
-      vp_finder_(config.camera, config.detection),
       ldw_(config.ldw),
-      last_pose_(config.nominal_pose) {
+      last_pose_(config.nominal_pose),
+      vp_finder_(config.camera, config.detection) {
   reset();
 }
 
@@ -36,13 +36,14 @@ void LaneEstimator::set_mount_correction(double psi_deg, double theta_deg) {
 }
 
 Attitude LaneEstimator::mount_for(const Attitude& solved) const {
-  // At the start of a run a mount that is clearly off (more than kMountTrustDeg in yaw or
-  // pitch from the configured one) is replaced by the picture's: the first frame's solve,
-  // then the mean of the first second's (acquire_mount).
+  // At the start of a run a mount that is clearly off is replaced by the picture's: one
+  // frame's solve when it is off by more than twice kMountTrustDeg (one frame's yaw is
+  // the mount's plus the vehicle's heading), then the mean of the first second's when
+  // that is off by more than kMountTrustDeg (acquire_mount).
   if (acquisition_.done || acquisition_.adopted) return config_.nominal_pose.attitude;
   const Attitude& mount = corrected_attitude_;
-  if (std::abs(rad_to_deg(solved.psi - mount.psi)) <= kMountTrustDeg &&
-      std::abs(rad_to_deg(solved.theta - mount.theta)) <= kMountTrustDeg)
+  if (std::abs(rad_to_deg(solved.psi - mount.psi)) <= 2 * kMountTrustDeg &&
+      std::abs(rad_to_deg(solved.theta - mount.theta)) <= 2 * kMountTrustDeg)
     return mount;
   Attitude a = mount;
   a.psi = solved.psi;

@@ -113,18 +113,7 @@ class LaneEstimator {
   LaneEstimatorOptions config_;
   Attitude configured_attitude_;  // config_.nominal_pose's before any mount correction
   Attitude corrected_attitude_;   // configured plus the online correction: what reset() returns to
-  // The mount's acquisition at the start of a run: the solved yaw and pitch of its first
-  // ok frames, summed (docs/real-roads.md "The mount, settled at the start").
-  struct MountAcquisition {
-    int frames = 0;
-    double psi = 0.0, theta = 0.0;
-    bool adopted = false;  // the picture's mount is in use
-    bool done = false;
-  } acquisition_;
-  VanishingPointFinder vp_finder_;
-  const VanishingPoint* vanishing_point_ = nullptr;
-  EstimatorState state_ = EstimatorState::searching;
-  bool roll_needs_gyro_;  // observability.hpp: a frame without a gyro reading is roll_unobservable
+  bool roll_needs_gyro_;          // observability.hpp: a frame without a gyro reading is roll_unobservable
   LaneDetector detector_;
   LaneFit fit_;
   LaneTracker tracker_;
@@ -141,6 +130,19 @@ class LaneEstimator {
   TrackedLines tracked_;
   SupportProblem support_ = SupportProblem::none;
   LaneEstimate estimate_;
+
+  // The search without a previous frame (docs/real-roads.md).
+  // The mount's acquisition at the start of a run: the solved yaw and pitch of its first
+  // ok frames, summed (docs/real-roads.md "The mount, settled at the start").
+  struct MountAcquisition {
+    int frames = 0;
+    double psi = 0.0, theta = 0.0;
+    bool adopted = false;  // the picture's mount is in use
+    bool done = false;
+  } acquisition_;
+  VanishingPointFinder vp_finder_;
+  const VanishingPoint* vanishing_point_ = nullptr;
+  EstimatorState state_ = EstimatorState::searching;
 };
 
 }  // namespace ccdlane

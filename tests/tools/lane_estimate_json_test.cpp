@@ -27,12 +27,13 @@ LaneEstimate sample() {
   e.rms_px = 0.5;
   e.iterations = 5;
   e.latency_us = 180;
+  e.state = EstimatorState::tracking;
   return e;
 }
 
 TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
   const Json j = lane_estimate_json(sample());
-  EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
+  EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"state":"tracking","psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
                       R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
                       R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
                       R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"curvature_per_m":0.002,)"

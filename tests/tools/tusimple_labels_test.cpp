@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "app/config.hpp"
+#include "tests/support/run_process.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/road_line_picture.hpp"
-#include "tests/support/run_process.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -105,8 +105,7 @@ TEST(TuSimpleLabels, MalformedLabelsAreNamedByFileAndLine) {
             std::string::npos);
   EXPECT_NE(message(R"({"image": "a", "h_samples": [1, 2], "lanes": [[1]]})").find("one x per h_sample (2)"),
             std::string::npos);
-  EXPECT_NE(message(R"({"image": "a", "h_samples": [1], "lanes": [["x"]]})").find("hold numbers"),
-            std::string::npos);
+  EXPECT_NE(message(R"({"image": "a", "h_samples": [1], "lanes": [["x"]]})").find("hold numbers"), std::string::npos);
 }
 
 }  // namespace

@@ -62,9 +62,7 @@ std::string bytes_of(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
+void write_bytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
 TEST(JpegReader, DecodesColourAndGreyWithinRounding) {
   test::TempDir dir;
@@ -119,8 +117,7 @@ TEST(JpegReader, BadFilesSayWhy) {
   EXPECT_EQ(fault(dir.path() + "/empty.jpg", frame), PgmFault::truncated);
   write_bytes(dir.path() + "/text.jpg", "not a picture\n");
   EXPECT_EQ(fault(dir.path() + "/text.jpg", frame), PgmFault::bad_header);
-  EXPECT_NE(std::string(reader.error()).find("text.jpg: bad header: not a JPEG"), std::string::npos)
-      << reader.error();
+  EXPECT_NE(std::string(reader.error()).find("text.jpg: bad header: not a JPEG"), std::string::npos) << reader.error();
 
   const std::string bytes = bytes_of(good);
   write_bytes(dir.path() + "/head.jpg", bytes.substr(0, 40));  // the header cut off
