@@ -294,7 +294,8 @@ void read_source(TableReader& r, Config& c) {
            {{"synth", SourceKind::synth},
             {"frames", SourceKind::frames},
             {"v4l2", SourceKind::v4l2},
-            {"aravis", SourceKind::aravis}});
+            {"aravis", SourceKind::aravis},
+            {"video", SourceKind::video}});
   r.string("device", c.source.device);
   r.string("camera", c.source.camera);
   r.string("path", c.source.path);
@@ -307,6 +308,8 @@ void read_source(TableReader& r, Config& c) {
   require(c.source.rate_hz >= 0.0, r, "rate_hz", "must be >= 0 (0 = as recorded)");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
           "a \"frames\" source needs path = the frame directory");
+  require(c.source.kind != SourceKind::video || !c.source.path.empty(), r, "path",
+          "a \"video\" source needs path = the video file");
 }
 
 void read_lcm(TableReader& r, Config& c) {

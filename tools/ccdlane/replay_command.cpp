@@ -1,5 +1,5 @@
-// `ccdlane replay`: the full per-frame pipeline over a recorded frame directory or an LCM
-// log of frames, as fast as the machine allows, one JSON object per frame.
+// `ccdlane replay`: the full per-frame pipeline over a recorded frame directory, an LCM
+// log of frames or a video file, as fast as the machine allows, one JSON object per frame.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +21,7 @@
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
+#include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -77,7 +78,8 @@ CommandAction setup_replay(CLI::App& sub) {
   sub.add_option("input", a->input,
                  "frame directory (frames.csv + PGM, PPM or PNG frames), or an LCM log of ccdlane.frame_t on <[lcm] "
                  "prefix>FRAMES "
-                 "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames)")
+                 "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames), or a video file (.mp4, .mkv, "
+                 ".mov, .avi; H.264, H.265 or MJPEG) of [camera] Nu x Nv, its frame times from the container")
       ->required();
   sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
   sub.add_option("--overlay", a->overlay,
@@ -87,16 +89,22 @@ CommandAction setup_replay(CLI::App& sub) {
   sub.footer(
       "Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
       "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
-      "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
+      "timestamp each frame_t carries, other channels ignored; from a video, no gyro and [vehicle] speed_kmh. A "
+      "damaged or cut video, or one whose times go backwards, exits 2 after the frames before it are written. "
+      "Damaged frames are reported once each "
       "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
   return [a] {
     const Config config = load_config_file(a->config);
     const int W = config.camera.Nu, H = config.camera.Nv;
-    const bool is_log = std::filesystem::is_regular_file(a->input);
+    const bool is_video = is_video_recording(a->input);
+    const bool is_log = !is_video && std::filesystem::is_regular_file(a->input);
     std::optional<FrameDirectory> dir;
     std::optional<FrameLogReader> log;
+    std::unique_ptr<VideoReader> video;
     try {
-      if (is_log)
+      if (is_video)
+        video = open_video_recording(a->input, config, a->config);
+      else if (is_log)
         log.emplace(a->input, channel_name(config.lcm.prefix, Channel::frames));
       else
         dir.emplace(a->input);
@@ -114,7 +122,7 @@ CommandAction setup_replay(CLI::App& sub) {
     // The output must not replace the input: its frames.csv, or the log itself.
     if (!a->out.empty()) {
       std::error_code ec;
-      const std::string input_file = is_log ? a->input : a->input + "/frames.csv";
+      const std::string input_file = is_log || is_video ? a->input : a->input + "/frames.csv";
       if (std::filesystem::equivalent(a->out, input_file, ec))
         throw UsageError(a->out + ": is the input being replayed (" + input_file + "); choose another --out");
     }
@@ -188,6 +196,7 @@ CommandAction setup_replay(CLI::App& sub) {
       }
     };
 
+    std::string video_problem;  // a damaged, cut or mistimed video: said after the output is kept
     if (dir) {
       const ImageBuffer buffer(W, H, format, bits);
       const MutableImageView& image = buffer.view();
@@ -202,6 +211,13 @@ CommandAction setup_replay(CLI::App& sub) {
         vehicle.gyro_ok = row.gyro || config.gyro.device.empty();  // as ccdlaned playing the directory
         replay_frame(read ? &view : nullptr, row.index, row.t_ns, row.gyro, vehicle);
       }
+    } else if (video) {
+      // A dashcam records no gyro, speed or indicator: [vehicle] speed_kmh, no indicator.
+      VehicleInputs vehicle;
+      vehicle.gyro_ok = config.gyro.device.empty();
+      video_problem = read_video_recording(*video, [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns) {
+        replay_frame(&image, index, t_ns, std::nullopt, vehicle);
+      });
     } else {
       for (FrameLogReader::Next n; (n = log->next()) != FrameLogReader::Next::end;) {
         if (n == FrameLogReader::Next::lost) {  // no frame to print: its number is unknown
@@ -232,7 +248,7 @@ CommandAction setup_replay(CLI::App& sub) {
     }
     const std::size_t processed = frames - (skipped - csv_issues);
     // Nothing replayed is bad input, not a result: no output file is left.
-    if (frames > 0 && processed == 0 && file) file.reset();
+    if (((frames > 0 && processed == 0) || (video && frames == 0)) && file) file.reset();
     if (file)
       file->commit();
     else
@@ -252,6 +268,7 @@ CommandAction setup_replay(CLI::App& sub) {
                    log->truncated() ? ", the last one cut short" : "");
       return 1;
     }
+    if (!video_problem.empty()) throw UsageError(video_problem);
     if (frames > 0 && processed == 0) throw UsageError(a->input + ": none of the frames could be read");
     return 0;
   };

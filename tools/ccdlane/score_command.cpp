@@ -15,6 +15,7 @@
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_score.hpp"
+#include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -58,7 +59,10 @@ CommandAction setup_score(CLI::App& sub) {
   auto a = std::make_shared<ScoreArgs>();
   sub.add_option("config", a->config, "the configuration replay ran with (TOML): its camera projects the lines")
       ->required();
-  sub.add_option("frames", a->frames, "the frame directory replayed (frames.csv names each frame's file)")->required();
+  sub.add_option("frames", a->frames,
+                 "the frame directory replayed (frames.csv names each frame's file), or the video (frame N's mask is "
+                 "NNNNNN.png, its number in six digits)")
+      ->required();
   sub.add_option("replay", a->replay, "replay's JSON Lines for it (ccdlane replay --out)")->required();
   sub.add_option("annotations", a->annotations,
                  "directory of lane masks: one 8-bit grey PNG per frame, named as the frame with .png, each lane "
@@ -73,14 +77,32 @@ CommandAction setup_score(CLI::App& sub) {
       "without a mask are not scored.");
   return [a] {
     const Config config = load_config_file(a->config);
-    std::optional<FrameDirectory> dir;
-    try {
-      dir.emplace(a->frames);
-    } catch (const std::runtime_error& e) {
-      throw UsageError(e.what());
-    }
+    // Each frame's name, which its mask takes: a directory's file, a video's frame number.
     std::map<std::uint64_t, std::string> file_of_frame;
-    for (std::size_t i = 0; i < dir->size(); ++i) file_of_frame[dir->row(i).index] = dir->row(i).file;
+    std::string index_name;  // where the frame numbers come from, for errors
+    if (is_video_recording(a->frames)) {
+      const auto video = open_video_recording(a->frames, config, a->config);
+      index_name = a->frames;
+      char name[32];
+      // A container that does not count its frames (MKV) is counted by reading it.
+      std::int64_t count = video->frames_in_index();
+      if (count == 0) {
+        (void)read_video_recording(*video, [](const ImageView&, std::uint64_t, std::int64_t) {});
+        count = static_cast<std::int64_t>(video->frame_index() + 1);
+      }
+      for (std::int64_t i = 0; i < count; ++i) {
+        std::snprintf(name, sizeof name, "%06lld", static_cast<long long>(i));
+        file_of_frame[static_cast<std::uint64_t>(i)] = name;
+      }
+    } else {
+      try {
+        const FrameDirectory dir(a->frames);
+        index_name = dir.csv_path();
+        for (std::size_t i = 0; i < dir.size(); ++i) file_of_frame[dir.row(i).index] = dir.row(i).file;
+      } catch (const std::runtime_error& e) {
+        throw UsageError(e.what());
+      }
+    }
     std::ifstream in(a->replay);
     if (!in) throw UsageError(a->replay + ": cannot read the replay output");
     if (!std::filesystem::is_directory(a->annotations))
@@ -104,7 +126,7 @@ CommandAction setup_score(CLI::App& sub) {
       const auto file = file_of_frame.find(frame);
       if (file == file_of_frame.end())
         throw UsageError(a->replay + ":" + std::to_string(line_number) + ": frame " + std::to_string(frame) +
-                         " is not in " + dir->csv_path());
+                         " is not in " + index_name);
       const std::string mask_path = a->annotations + "/" + stem_of(file->second) + ".png";
       if (!std::filesystem::exists(mask_path)) {
         ++unannotated;
