@@ -222,7 +222,7 @@ PLOTS = [
     ("heading", "Heading and curvature", plot_heading, ["heading", "curvature"]),
     ("dlc-tlc", "Distance and time to line crossing (front wheels)", plot_dlc,
      ["DLC left", "DLC right", "TLC left", "TLC right"]),
-    ("ldw", "Lane departure warning: availability and warnings", plot_ldw, ["LDW available"]),
+    ("ldw", "Lane departure warning: availability and warnings", plot_ldw, ["LDW available", "warnings"]),
     ("not-ok", "Frames not ok, by reason", plot_not_ok, ["not ok"]),
     ("latency", "Processing time", plot_latency, ["latency"]),
 ]
