@@ -95,8 +95,7 @@ void Overlay::draw_road_line(const CameraModel& camera, const LinePrior& road, d
 }
 
 void Overlay::write_png(const std::string& path) const {
-  const ImageView view{rgb_.data(), width_, height_, static_cast<std::ptrdiff_t>(width_) * 3, PixelFormat::rgb8, 8};
-  ccdlane::write_png(path, view, 3);
+  ccdlane::write_png(path, view(), 3);
 }
 
 void write_paint_measure_png(const std::string& path, const ImageView& frame, int first_row, int last_row) {

@@ -21,6 +21,7 @@
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
+#include "tools/ccdlane/overlay_video.hpp"
 #include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
@@ -31,6 +32,7 @@ struct ReplayArgs {
   std::string input;
   std::string out;
   std::string overlay;
+  std::string overlay_video;
   bool sigmas = false;
 };
 
@@ -85,6 +87,10 @@ CommandAction setup_replay(CLI::App& sub) {
   sub.add_option("--overlay", a->overlay,
                  "write here, per frame, a PNG with the marks, picks and fitted lines (NNNNNN.png) and one of the "
                  "lane-paint measure detection scanned (NNNNNN-paint.png)");
+  sub.add_option("--overlay-video", a->overlay_video,
+                 "write an annotated video here (H.264; .mp4, .mkv, .mov): each frame at its own time with the lines "
+                 "found, the own lane filled, the candidate marks faint, a strip with width, offset, heading, radius, "
+                 "state and LDW availability, and a departure warning on its side while it is held");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.footer(
       "Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
@@ -141,6 +147,16 @@ CommandAction setup_replay(CLI::App& sub) {
       if (ec) throw UsageError(a->overlay + ": cannot create the overlay directory: " + ec.message());
     }
 
+    std::unique_ptr<OverlayVideo> overlay_video;
+    if (!a->overlay_video.empty()) {
+      try {  // in the input video's time base, so that the frames keep their times exactly
+        overlay_video = std::make_unique<OverlayVideo>(a->overlay_video, W, H, video ? video->time_base_num() : 1,
+                                                       video ? video->time_base_den() : 90'000);
+      } catch (const std::runtime_error& e) {
+        throw UsageError(e.what());
+      }
+    }
+
     const std::size_t csv_issues = dir ? dir->issues().size() : 0;  // malformed rows of frames.csv
     if (dir)
       for (const std::string& issue : dir->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
@@ -179,6 +195,7 @@ CommandAction setup_replay(CLI::App& sub) {
       ok += e.ok;
       print_json_line(out, lane_estimate_json(e, a->sigmas));
       check_written(out, out_name);
+      if (overlay_video) overlay_video->add(*image, e, estimator, config);
       if (!a->overlay.empty()) {
         char name[32], paint[32];
         std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
@@ -253,6 +270,10 @@ CommandAction setup_replay(CLI::App& sub) {
       file->commit();
     else
       flush_checked(std::cout, "standard output");
+    if (overlay_video && overlay_video->frames() > 0) {  // the frames before a damaged one are kept too
+      overlay_video->finish();
+      std::cerr << "ccdlane replay: " << overlay_video->frames() << " annotated frames in " << a->overlay_video << '\n';
+    }
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
