@@ -60,6 +60,8 @@ class VideoReader {
   bool rewind();
 
   std::uint64_t frames_read() const { return frames_read_; }
+  // The last frame next() delivered, counted as the file holds them (skipped ones included).
+  std::uint64_t frame_index() const { return decoded_ > 0 ? decoded_ - 1 : 0; }
   std::uint64_t non_monotonic() const { return non_monotonic_; }
   // The first frame (0-based, counting skipped ones) whose time did not increase; -1 if none.
   std::int64_t first_non_monotonic() const { return first_non_monotonic_; }

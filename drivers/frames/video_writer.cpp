@@ -65,7 +65,8 @@ namespace {
 AVDictionary* encoder_options(const VideoWriterOptions& o, AVCodecContext* encoder) {
   AVDictionary* d = nullptr;
   if (o.encoder == "libx264") {
-    av_dict_set(&d, "preset", "veryfast", 0);
+    // Lossless test recordings are small; annotated replays must keep pace with replay.
+    av_dict_set(&d, "preset", o.lossless ? "veryfast" : "superfast", 0);
     if (o.lossless) av_dict_set(&d, "qp", "0", 0);
   } else if (o.encoder == "libx265") {
     av_dict_set(&d, "preset", "ultrafast", 0);
@@ -97,7 +98,9 @@ VideoWriter::VideoWriter(std::string path, VideoWriterOptions options)
   av.encoder->height = options_.height;
   av.encoder->time_base = AVRational{options_.time_base_num, options_.time_base_den};
   av.encoder->pix_fmt = codec->pix_fmts ? codec->pix_fmts[0] : AV_PIX_FMT_YUV420P;
-  av.encoder->thread_count = 1;
+  // The encoder's own threads (x264 pipelines frames): an overlay is written while the
+  // replay waits for nothing else.
+  av.encoder->thread_count = 0;
   last_interval_ = std::max<std::int64_t>(1, av_rescale_q(1, AVRational{1, 30}, av.encoder->time_base));
   if (container->flags & AVFMT_GLOBALHEADER) av.encoder->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   AVDictionary* opts = encoder_options(options_, av.encoder);

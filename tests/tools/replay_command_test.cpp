@@ -21,6 +21,7 @@
 #include "core/geometry/camera_model.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/png.hpp"
+#include "drivers/frames/video_reader.hpp"
 #include "drivers/frames/video_writer.hpp"
 #include "tests/support/run_process.hpp"
 #include "tests/support/test_video.hpp"
@@ -609,7 +610,9 @@ TEST(ReplayCommand, ALosslessMp4OfARenderedDriveReplaysToTheSameLines) {
   constexpr int kFrames = 30;
   const RenderedDrive drive(kFrames);
   const auto from_dir = test::run_process({kTool, "replay", drive.config, drive.frames});
-  const auto from_video = test::run_process({kTool, "replay", drive.config, drive.video});
+  const std::string annotated = drive.dir.file("annotated.mp4");
+  const auto from_video =
+      test::run_process({kTool, "replay", drive.config, drive.video, "--overlay-video", annotated});
   ASSERT_EQ(from_dir.exit_status, 0) << from_dir.err;
   ASSERT_EQ(from_video.exit_status, 0) << from_video.err;
   const std::vector<Json> a = json_lines(from_dir.out), b = json_lines(from_video.out);
@@ -627,6 +630,17 @@ TEST(ReplayCommand, ALosslessMp4OfARenderedDriveReplaysToTheSameLines) {
     EXPECT_NEAR(b[i]["theta_deg"].get<double>(), a[i]["theta_deg"].get<double>(), 0.05) << i;
   }
   EXPECT_GE(both_ok, kFrames - 2);
+  // The annotated video has the input's frames at the input's times.
+  VideoReader in(drive.video), out(annotated);
+  const ImageBuffer a_frame(800, 600, in.format(), 8), b_frame(800, 600, out.format(), 8);
+  std::int64_t t_in = 0, t_out = 0;
+  int frames = 0;
+  for (VideoRead r; (r = in.next(a_frame.view(), t_in)) == VideoRead::frame; ++frames) {
+    ASSERT_EQ(out.next(b_frame.view(), t_out), VideoRead::frame) << frames;
+    EXPECT_EQ(t_out, t_in);
+  }
+  EXPECT_EQ(frames, kFrames);
+  EXPECT_EQ(out.next(b_frame.view(), t_out), VideoRead::end);
 }
 
 TEST(ReplayCommand, TheRealDriveReplaysFromMp4) {
