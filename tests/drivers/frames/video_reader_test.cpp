@@ -78,8 +78,7 @@ struct Case {
 };
 
 TEST(VideoReader, EveryContainerAndCodec) {
-  const Case cases[] = {{"b.mkv", "libx265", "hevc", 90'000, 8.0},
-                        {"c.avi", "mjpeg", "mjpeg", 25, 8.0},
+  const Case cases[] = {{"c.avi", "mjpeg", "mjpeg", 25, 8.0},
                         {"d.mov", "libx264", "h264", 90'000, 8.0},
                         {"e.mkv", "mjpeg", "mjpeg", 90'000, 8.0}};
   for (const Case& c : cases) {
@@ -96,6 +95,16 @@ TEST(VideoReader, EveryContainerAndCodec) {
     EXPECT_EQ(d.t_ns, times);
     for (const double e : d.mean_error) EXPECT_LE(e, c.mean_error);
   }
+}
+
+// H.265 from a file written once (tests/data/README.md): libx265's encoder leaks at open.
+TEST(VideoReader, H265InMatroska) {
+  VideoReader r(std::string(CCDLANE_TEST_DATA_DIR) + "/video/pattern-hevc.mkv");
+  EXPECT_EQ(r.codec(), "hevc");
+  const Decoded d = read_all(r);
+  EXPECT_EQ(d.last, VideoRead::end) << r.problem();
+  EXPECT_EQ(d.t_ns, (std::vector<std::int64_t>{0, 40'000'000, 80'000'000, 120'000'000}));
+  for (const double e : d.mean_error) EXPECT_LE(e, 8.0);
 }
 
 TEST(VideoReader, RewindStartsOver) {
