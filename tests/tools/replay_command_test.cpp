@@ -689,6 +689,16 @@ TEST(ReplayCommand, BadVideosAreOneLineExitTwoAndNoOutputFile) {
   const std::string text = dir.write("notes.mkv", "not a video at all\n");
   refused(kReferenceCamera, text, text + ": not a video, or cut short before its index (Invalid data found when "
                                          "processing input)");
+  // Frames out of time: the rest is replayed and written, the line counts and names them.
+  const std::string repeated = std::string(CCDLANE_TEST_DATA_DIR) + "/video/repeated-time-mjpeg.mkv";
+  const std::string small = dir.write("small.toml", "[camera]\nNu = 64\nNv = 48\n[prior]\nphi_deg = [0.0, 1.0]\n");
+  const auto r = test::run_process({kTool, "replay", small, repeated, "--out", dir.file("r.jsonl")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("ccdlane: " + repeated +
+                       ": 1 frame(s) whose time does not come after the one before, skipped (the first: frame 3)\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(json_lines(text_of(dir.file("r.jsonl"))).size(), 5u);
   const std::string ffv1 = test::write_test_video(dir.file("f.mkv"), 800, 600, {0, 40'000'000}, {.encoder = "ffv1"});
   refused(kReferenceCamera, ffv1, ffv1 + ": unsupported codec ffv1 (ccdlane reads H.264, H.265 and MJPEG)");
 }

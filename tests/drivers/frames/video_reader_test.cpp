@@ -179,6 +179,20 @@ TEST(VideoReader, DamagedDataStopsAtTheDamagedFrame) {
   EXPECT_NE(std::string(r.problem()).find(": frame "), std::string::npos) << r.problem();
 }
 
+// A frame whose time does not come after the one before is skipped, counted and named.
+TEST(VideoReader, ATimeThatDoesNotIncreaseIsSkippedCountedAndNamed) {
+  VideoReader r(std::string(CCDLANE_TEST_DATA_DIR) + "/video/repeated-time-mjpeg.mkv");
+  const ImageBuffer frame(64, 48, r.format(), 8);
+  std::vector<std::int64_t> times;
+  std::vector<std::uint64_t> index;
+  std::int64_t t = 0;
+  while (r.next(frame.view(), t) == VideoRead::frame) times.push_back(t), index.push_back(r.frame_index());
+  EXPECT_EQ(times, (std::vector<std::int64_t>{0, 40'000'000, 80'000'000, 160'000'000, 200'000'000}));
+  EXPECT_EQ(index, (std::vector<std::uint64_t>{0, 1, 2, 4, 5}));
+  EXPECT_EQ(r.non_monotonic(), 1u);
+  EXPECT_EQ(r.first_non_monotonic(), 3);
+}
+
 TEST(VideoReader, RefusesWhatIsNotAReadableVideo) {
   test::TempDir tmp;
   const auto error_of = [](const std::string& path) {
