@@ -213,10 +213,10 @@ VideoRead VideoReader::next(const MutableImageView& into, std::int64_t& t_ns) {
 
 bool VideoReader::rewind() {
   Codec& av = *av_;
-  if (av_seek_frame(av.format, av.stream, av.format->streams[av.stream]->start_time == AV_NOPTS_VALUE
-                                              ? 0
-                                              : av.format->streams[av.stream]->start_time,
-                    AVSEEK_FLAG_BACKWARD) < 0)
+  if (av_seek_frame(
+          av.format, av.stream,
+          av.format->streams[av.stream]->start_time == AV_NOPTS_VALUE ? 0 : av.format->streams[av.stream]->start_time,
+          AVSEEK_FLAG_BACKWARD) < 0)
     return false;
   avcodec_flush_buffers(av.decoder);
   frames_read_ = decoded_ = 0;

@@ -43,8 +43,8 @@ class VideoReader {
   int height() const { return height_; }
   // mono8 for a grey video, else rgb8: colour is kept, as a colour camera delivers it.
   PixelFormat format() const { return format_; }
-  const std::string& codec() const { return codec_; }  // "h264", "hevc", "mjpeg"
-  double frame_rate_hz() const { return rate_hz_; }    // the container's average; 0 when unknown
+  const std::string& codec() const { return codec_; }               // "h264", "hevc", "mjpeg"
+  double frame_rate_hz() const { return rate_hz_; }                 // the container's average; 0 when unknown
   std::int64_t frames_in_index() const { return indexed_frames_; }  // 0 when the container does not say
   // The stream's time base (seconds per tick), so that a writer can keep the times exactly.
   int time_base_num() const { return tb_num_; }
@@ -82,8 +82,8 @@ class VideoReader {
   double rate_hz_ = 0.0;
   std::int64_t indexed_frames_ = 0;
   int tb_num_ = 1, tb_den_ = 1;
-  std::uint64_t frames_read_ = 0;   // delivered since open or rewind
-  std::uint64_t decoded_ = 0;       // decoded since open or rewind, skipped ones included
+  std::uint64_t frames_read_ = 0;  // delivered since open or rewind
+  std::uint64_t decoded_ = 0;      // decoded since open or rewind, skipped ones included
   std::uint64_t non_monotonic_ = 0;
   std::int64_t first_non_monotonic_ = -1;
   std::int64_t origin_pts_ = 0;

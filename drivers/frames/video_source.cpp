@@ -21,8 +21,7 @@ std::string VideoSource::open() {
   const VideoReader& r = *reader_;
   if (options_.width > 0 && (r.width() != options_.width || r.height() != options_.height)) {
     const std::string why = r.path() + ": frames are " + std::to_string(r.width()) + "x" + std::to_string(r.height()) +
-                            ", the camera is " + std::to_string(options_.width) + "x" +
-                            std::to_string(options_.height);
+                            ", the camera is " + std::to_string(options_.width) + "x" + std::to_string(options_.height);
     reader_.reset();
     return why;
   }

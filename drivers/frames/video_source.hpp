@@ -14,9 +14,9 @@
 namespace ccdlane {
 
 struct VideoSourceOptions {
-  std::string path;    // the video file
-  bool loop = false;   // start over at the end instead of reporting end_of_stream
-  int width = 0;       // expected frame size (the camera's Nu x Nv); 0 = the video's
+  std::string path;   // the video file
+  bool loop = false;  // start over at the end instead of reporting end_of_stream
+  int width = 0;      // expected frame size (the camera's Nu x Nv); 0 = the video's
   int height = 0;
 };
 
@@ -54,8 +54,8 @@ class VideoSource final : public FrameSource {
   std::unique_ptr<VideoReader> reader_;
   std::unique_ptr<ImageBuffer> staged_;  // the frame decoded ahead, waiting until due
   bool have_staged_ = false;
-  std::int64_t staged_t_ns_ = 0;   // its time in the file
-  std::int64_t anchor_ns_ = 0;     // monotonic time at which file time 0 of this pass is due
+  std::int64_t staged_t_ns_ = 0;  // its time in the file
+  std::int64_t anchor_ns_ = 0;    // monotonic time at which file time 0 of this pass is due
   bool started_ = false;
   std::int64_t pass_offset_ns_ = 0;  // added to file times on later passes of a loop
   std::int64_t last_t_ns_ = 0;       // the last frame's recorded time (for the next pass)

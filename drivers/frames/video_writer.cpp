@@ -81,7 +81,10 @@ AVDictionary* encoder_options(const VideoWriterOptions& o, AVCodecContext* encod
 }  // namespace
 
 VideoWriter::VideoWriter(std::string path, VideoWriterOptions options)
-    : path_(std::move(path)), part_path_(path_ + ".part"), options_(std::move(options)), av_(std::make_unique<Codec>()) {
+    : path_(std::move(path)),
+      part_path_(path_ + ".part"),
+      options_(std::move(options)),
+      av_(std::make_unique<Codec>()) {
   av_log_set_level(AV_LOG_QUIET);
   Codec& av = *av_;
   const auto fail = [this](const std::string& what) { return std::runtime_error(path_ + ": " + what); };

@@ -394,8 +394,9 @@ TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
 TEST(ConfigLoader, SourceKindIsOneOfFiveAndATypeErrorIsSaidAsSuch) {
   EXPECT_EQ(parse_config("[source]\nkind = \"frames\"\npath = \"/tmp\"\n", "f.toml").source.kind, SourceKind::frames);
   EXPECT_EQ(parse_config("[source]\nkind = \"video\"\npath = \"d.mp4\"\n", "f.toml").source.kind, SourceKind::video);
-  EXPECT_EQ(error_of("[source]\nkind = \"usb\"\n"),
-            "test.toml:2: source.kind: must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", \"video\", got \"usb\"");
+  EXPECT_EQ(
+      error_of("[source]\nkind = \"usb\"\n"),
+      "test.toml:2: source.kind: must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", \"video\", got \"usb\"");
   EXPECT_EQ(error_of("[source]\nkind = 3\n"), "test.toml:2: source.kind: must be a string, got an integer");
 }
 

@@ -382,9 +382,9 @@ TEST(CcdlanedBus, AVideoSourcePlaysAtTheFilesRate) {
   std::vector<std::int64_t> times;
   for (int i = 0; i < kFrames; ++i) times.push_back(i * 40'000'000LL);
   const std::string video = test::write_test_video(dir.file("drive.mp4"), 800, 600, times);  // the default camera
-  const std::string config = dir.write(
-      "video.toml", "[source]\nkind = \"video\"\npath = \"" + video + "\"\n[prior]\nphi_deg = [0.0, 1.0]\n[lcm]\nurl = \"" +
-                        test::kBusUrl + "\"\n");
+  const std::string config =
+      dir.write("video.toml", "[source]\nkind = \"video\"\npath = \"" + video +
+                                  "\"\n[prior]\nphi_deg = [0.0, 1.0]\n[lcm]\nurl = \"" + test::kBusUrl + "\"\n");
   const auto start = Clock::now();
   test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
   std::optional<int> exit_status;

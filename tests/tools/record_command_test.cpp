@@ -378,8 +378,8 @@ TEST(RecordCommand, AVideoBecomesALogWithTheGivenSpeed) {
   const std::vector<std::int64_t> times = {0, 40'000'000, 80'000'000, 200'000'000, 240'000'000};
   const std::string video = test::write_test_video(dir.file("drive.mp4"), 800, 600, times);
   const std::string config = dir.write("camera.toml", "[prior]\nphi_deg = [0.0, 1.0]\n");
-  const auto r = test::run_process({kTool, "record", "video:" + video, "--config", config, "--out",
-                                    dir.file("drive.lcmlog"), "--speed-kmh", "90"});
+  const auto r = test::run_process(
+      {kTool, "record", "video:" + video, "--config", config, "--out", dir.file("drive.lcmlog"), "--speed-kmh", "90"});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const std::vector<FrameRecord> records = records_of(dir.file("drive.lcmlog"));
   ASSERT_EQ(records.size(), times.size());

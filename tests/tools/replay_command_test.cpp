@@ -611,8 +611,7 @@ TEST(ReplayCommand, ALosslessMp4OfARenderedDriveReplaysToTheSameLines) {
   const RenderedDrive drive(kFrames);
   const auto from_dir = test::run_process({kTool, "replay", drive.config, drive.frames});
   const std::string annotated = drive.dir.file("annotated.mp4");
-  const auto from_video =
-      test::run_process({kTool, "replay", drive.config, drive.video, "--overlay-video", annotated});
+  const auto from_video = test::run_process({kTool, "replay", drive.config, drive.video, "--overlay-video", annotated});
   ASSERT_EQ(from_dir.exit_status, 0) << from_dir.err;
   ASSERT_EQ(from_video.exit_status, 0) << from_video.err;
   const std::vector<Json> a = json_lines(from_dir.out), b = json_lines(from_video.out);
@@ -671,8 +670,7 @@ TEST(ReplayCommand, ACutVideoKeepsItsFirstFramesAndExitsTwo) {
   ASSERT_LT(out.size(), 211u);
   const std::string line = "ccdlane: " + cut + ": frame " + std::to_string(out.size()) + ": cut short";
   EXPECT_NE(r.err.find(line), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("; the " + std::to_string(out.size()) + " frames before it were processed\n"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("; the " + std::to_string(out.size()) + " frames before it were processed\n"), std::string::npos)
       << r.err;
 }
 
@@ -684,11 +682,12 @@ TEST(ReplayCommand, BadVideosAreOneLineExitTwoAndNoOutputFile) {
     EXPECT_EQ(r.err, "ccdlane: " + line + "\n");
     EXPECT_FALSE(std::filesystem::exists(dir.file("o.jsonl")));
   };
-  refused(kReferenceCamera, kSegA,
-          kSegA + ": frames are 1280x720, the camera of " + kReferenceCamera + " is 800x600");
+  refused(kReferenceCamera, kSegA, kSegA + ": frames are 1280x720, the camera of " + kReferenceCamera + " is 800x600");
   const std::string text = dir.write("notes.mkv", "not a video at all\n");
-  refused(kReferenceCamera, text, text + ": not a video, or cut short before its index (Invalid data found when "
-                                         "processing input)");
+  refused(kReferenceCamera, text,
+          text +
+              ": not a video, or cut short before its index (Invalid data found when "
+              "processing input)");
   // Frames out of time: the rest is replayed and written, the line counts and names them.
   const std::string repeated = std::string(CCDLANE_TEST_DATA_DIR) + "/video/repeated-time-mjpeg.mkv";
   const std::string small = dir.write("small.toml", "[camera]\nNu = 64\nNv = 48\n[prior]\nphi_deg = [0.0, 1.0]\n");

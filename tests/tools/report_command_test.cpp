@@ -84,7 +84,8 @@ TEST(ReportCommand, ThePageShowsEverySeriesInABrowser) {
   if (::access(kChromium, X_OK) != 0) GTEST_SKIP() << "no " << kChromium << " (tools/install-deps installs it)";
   test::TempDir dir;
   const std::string replay = dir.write("drive.jsonl", drive_jsonl());
-  const auto r = test::run_process({kTool, "report", replay, "--out", dir.file("report.html"), "--png", dir.file("png")});
+  const auto r =
+      test::run_process({kTool, "report", replay, "--out", dir.file("report.html"), "--png", dir.file("png")});
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const std::string html = text_of(dir.file("report.html"));
   // Self-contained: nothing fetched from anywhere.
@@ -99,10 +100,11 @@ TEST(ReportCommand, ThePageShowsEverySeriesInABrowser) {
     EXPECT_TRUE(std::filesystem::file_size(dir.file(std::string("png/") + plot + ".png")) > 5000) << plot;
 
   const std::string shot = dir.file("shot.png");
-  const auto c = test::run_process({kChromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-                                    "--no-first-run", "--disable-background-networking", "--disable-component-update",
-                                    "--disable-sync", "--hide-scrollbars", "--user-data-dir=" + dir.file("chromium"),
-                                    "--window-size=960,2400", "--screenshot=" + shot, "file://" + dir.file("report.html")});
+  const auto c =
+      test::run_process({kChromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                         "--hide-scrollbars", "--user-data-dir=" + dir.file("chromium"), "--window-size=960,2400",
+                         "--screenshot=" + shot, "file://" + dir.file("report.html")});
   ASSERT_EQ(c.exit_status, 0) << c.err;
   const test::PngImage page = test::read_png(shot);
   ASSERT_EQ(page.format, PixelFormat::rgb8);

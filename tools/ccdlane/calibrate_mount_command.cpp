@@ -141,9 +141,10 @@ int run_mount(const MountArgs& args) {
 CommandAction setup_calibrate_mount(CLI::App& sub) {
   auto args = std::make_shared<MountArgs>();
   sub.add_option("config", args->config, "configuration (TOML) with the nominal mount and the camera")->required();
-  sub.add_option("recording", args->recording,
-                 "frame directory (frames.csv + PGM frames), LCM log of ccdlane.frame_t, or video file (.mp4, .mkv, .mov, "
-                 ".avi), of a drive on a marked road")
+  sub.add_option(
+         "recording", args->recording,
+         "frame directory (frames.csv + PGM frames), LCM log of ccdlane.frame_t, or video file (.mp4, .mkv, .mov, "
+         ".avi), of a drive on a marked road")
       ->required();
   sub.add_option("--out", args->out,
                  "write the [mount] and [attitude] tables here (atomically) instead of standard output");

@@ -138,9 +138,9 @@ class Monitor {
   }
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
-  //  heading 0.07 deg, radius 850 m (straight at 10 km and beyond; - unsolved), departure none | 30 msg/s | LDW available, warning none, DLC
-  //  910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera streaming, gyro ok, gyro
-  //  reconnects 0, p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
+  //  heading 0.07 deg, radius 850 m (straight at 10 km and beyond; - unsolved), departure none | 30 msg/s | LDW
+  //  available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera
+  //  streaming, gyro ok, gyro reconnects 0, p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
   void print_line() {
     char text[768];
     int n = 0;

@@ -23,9 +23,8 @@ const cv::Scalar kLineColours[] = {{255, 200, 0}, {0, 200, 255}, {255, 90, 255},
 
 std::vector<cv::Point> line_points(const CameraModel& camera, const LaneLine& l, const Config& config) {
   std::vector<cv::Point> points;
-  for (const std::optional<Vec2>& p : road_line_pixels(camera, {l.y0_mm, l.m, l.c_per_mm},
-                                                       config.detection.min_range_mm, config.detection.max_range_mm,
-                                                       40))
+  for (const std::optional<Vec2>& p : road_line_pixels(
+           camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm, config.detection.max_range_mm, 40))
     if (p) points.emplace_back(static_cast<int>(std::lround(p->x() - 1)), static_cast<int>(std::lround(p->y() - 1)));
   return points;
 }
@@ -80,19 +79,20 @@ std::string overlay_strip_text(const LaneEstimate& e) {
       l.available ? std::string("LDW available") : std::string("LDW unavailable (") + to_string(l.reason) + ")";
   const std::string state = std::string(e.ok ? "ok" : to_string(e.reason)) + ", " + ldw::to_string(l.track);
   if (e.ok)
-    std::snprintf(text, sizeof text, "width %.2f m | offset %+.2f m | heading %+.1f deg | radius %s | %s | %s",
-                  e.lane_width_mm / 1000.0, e.lateral_offset_mm / 1000.0, e.heading_deg,
-                  radius_text(e.curvature_per_m != 0.0 ? 1.0 / e.curvature_per_m : std::numeric_limits<double>::infinity()).c_str(), state.c_str(),
-                  ldw.c_str());
+    std::snprintf(
+        text, sizeof text, "width %.2f m | offset %+.2f m | heading %+.1f deg | radius %s | %s | %s",
+        e.lane_width_mm / 1000.0, e.lateral_offset_mm / 1000.0, e.heading_deg,
+        radius_text(e.curvature_per_m != 0.0 ? 1.0 / e.curvature_per_m : std::numeric_limits<double>::infinity())
+            .c_str(),
+        state.c_str(), ldw.c_str());
   else
-    std::snprintf(text, sizeof text, "width - | offset - | heading - | radius - | %s | %s", state.c_str(),
-                  ldw.c_str());
+    std::snprintf(text, sizeof text, "width - | offset - | heading - | radius - | %s | %s", state.c_str(), ldw.c_str());
   return text;
 }
 
 OverlayVideo::OverlayVideo(const std::string& path, int width, int height, int time_base_num, int time_base_den)
-    : writer_(path, {.width = width, .height = height, .time_base_num = time_base_num, .time_base_den = time_base_den}) {
-}
+    : writer_(path,
+              {.width = width, .height = height, .time_base_num = time_base_num, .time_base_den = time_base_den}) {}
 
 void OverlayVideo::add(const ImageView& frame, const LaneEstimate& e, const LaneEstimator& estimator,
                        const Config& config) {
@@ -106,18 +106,19 @@ void OverlayVideo::add(const ImageView& frame, const LaneEstimate& e, const Lane
   draw_faint(picture, estimator, camera ? &*camera : nullptr, config);
   if (camera)
     for (int j = 0; j < s->num_lines; ++j)
-      cv::polylines(picture, std::vector<std::vector<cv::Point>>{line_points(*camera, s->lines[std::size_t(j)], config)},
-                    false, kLineColours[j % 4], 3, cv::LINE_AA);
+      cv::polylines(picture,
+                    std::vector<std::vector<cv::Point>>{line_points(*camera, s->lines[std::size_t(j)], config)}, false,
+                    kLineColours[j % 4], 3, cv::LINE_AA);
   const double scale = rgb.width / 1280.0 * 0.62;
   const int strip = std::max(18, static_cast<int>(34 * rgb.width / 1280.0));
   const int strip_top = rgb.height - strip;
   cv::rectangle(picture, {0, strip_top}, {rgb.width, rgb.height}, cv::Scalar(0, 0, 0), cv::FILLED);
-  cv::putText(picture, overlay_strip_text(e), {8, rgb.height - strip / 3}, cv::FONT_HERSHEY_SIMPLEX, scale, kText,
-              1, cv::LINE_AA);
+  cv::putText(picture, overlay_strip_text(e), {8, rgb.height - strip / 3}, cv::FONT_HERSHEY_SIMPLEX, scale, kText, 1,
+              cv::LINE_AA);
   draw_warning(picture, e.ldw.warning, strip_top);
-  writer_.write(ImageView{picture.data, rgb.width, rgb.height, static_cast<std::ptrdiff_t>(picture.step),
-                          PixelFormat::rgb8, 8},
-                e.t_ns);
+  writer_.write(
+      ImageView{picture.data, rgb.width, rgb.height, static_cast<std::ptrdiff_t>(picture.step), PixelFormat::rgb8, 8},
+      e.t_ns);
 }
 
 }  // namespace ccdlane::cli

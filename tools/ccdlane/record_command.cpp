@@ -43,7 +43,7 @@ struct RecordArgs {
   std::optional<double> seconds;
   std::optional<int> count;
   double fps = 30.0;
-  bool vehicle_state = false;  // --vehicle-state
+  bool vehicle_state = false;       // --vehicle-state
   std::optional<double> speed_kmh;  // --speed-kmh: a constant speed for a video (a dashcam has no CAN)
 };
 

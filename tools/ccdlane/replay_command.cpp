@@ -77,11 +77,12 @@ std::pair<int, int> searched_rows(const ImageView& frame, const LaneEstimator& e
 CommandAction setup_replay(CLI::App& sub) {
   auto a = std::make_shared<ReplayArgs>();
   sub.add_option("config", a->config, "configuration file (TOML)")->required();
-  sub.add_option("input", a->input,
-                 "frame directory (frames.csv + PGM, PPM or PNG frames), or an LCM log of ccdlane.frame_t on <[lcm] "
-                 "prefix>FRAMES "
-                 "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames), or a video file (.mp4, .mkv, "
-                 ".mov, .avi; H.264, H.265 or MJPEG) of [camera] Nu x Nv, its frame times from the container")
+  sub.add_option(
+         "input", a->input,
+         "frame directory (frames.csv + PGM, PPM or PNG frames), or an LCM log of ccdlane.frame_t on <[lcm] "
+         "prefix>FRAMES "
+         "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames), or a video file (.mp4, .mkv, "
+         ".mov, .avi; H.264, H.265 or MJPEG) of [camera] Nu x Nv, its frame times from the container")
       ->required();
   sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
   sub.add_option("--overlay", a->overlay,

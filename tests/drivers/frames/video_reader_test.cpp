@@ -73,7 +73,7 @@ struct Case {
   const char* file;
   const char* encoder;
   const char* codec;
-  int tb_den;  // AVI keeps one tick per frame
+  int tb_den;         // AVI keeps one tick per frame
   double mean_error;  // lossy: the test pattern's sharp wrap costs most
 };
 
