@@ -5,7 +5,6 @@
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
-#include <libavutil/error.h>
 #include <libavutil/log.h>
 #include <libavutil/opt.h>
 #include <libswscale/swscale.h>
@@ -16,15 +15,11 @@ extern "C" {
 #include <filesystem>
 #include <stdexcept>
 
+#include "drivers/frames/av_error_text.hpp"
+
 namespace ccdlane {
 
 namespace {
-
-std::string av_error_text(int error) {
-  char text[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(error, text, sizeof text);
-  return text;
-}
 
 AVPixelFormat av_format_of(PixelFormat f) {
   switch (f) {
