@@ -42,7 +42,7 @@ CaptureStatus VideoSource::decode_ahead() {
       have_staged_ = true;
       return CaptureStatus::frame;
     }
-    if (got == VideoRead::damaged && reader_->frames_read() > 0 && problem_.empty()) {
+    if (got == VideoRead::damaged && problem_.empty()) {
       problem_.set("%.*s", static_cast<int>(reader_->problem().size()), reader_->problem().data());
       ++counters_.errors;
       return CaptureStatus::error;
