@@ -37,7 +37,7 @@ struct GyroConfig {
   bool operator==(const GyroConfig&) const = default;
 };
 
-enum class SourceKind { synth, frames, v4l2, aravis };
+enum class SourceKind { synth, frames, v4l2, aravis, video };
 
 // [source] pixel_format: what a v4l2 or aravis camera is asked to deliver.
 enum class SourcePixels { automatic, grey, colour };

@@ -316,7 +316,8 @@ void read_source(TableReader& r, Config& c) {
            {{"synth", SourceKind::synth},
             {"frames", SourceKind::frames},
             {"v4l2", SourceKind::v4l2},
-            {"aravis", SourceKind::aravis}});
+            {"aravis", SourceKind::aravis},
+            {"video", SourceKind::video}});
   r.string("device", c.source.device);
   r.string("camera", c.source.camera);
   r.string("path", c.source.path);
@@ -330,6 +331,8 @@ void read_source(TableReader& r, Config& c) {
           "must be 0 (as recorded) or 0.1 .. 1000");
   require(c.source.kind != SourceKind::frames || !c.source.path.empty(), r, "path",
           "a \"frames\" source needs path = the frame directory");
+  require(c.source.kind != SourceKind::video || !c.source.path.empty(), r, "path",
+          "a \"video\" source needs path = the video file");
 }
 
 void read_lcm(TableReader& r, Config& c) {

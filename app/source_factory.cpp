@@ -7,6 +7,7 @@
 #include "drivers/camera/camera_factory.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/frame_directory_source.hpp"
+#include "drivers/frames/video_source.hpp"
 
 namespace ccdlane {
 namespace {
@@ -29,6 +30,16 @@ std::unique_ptr<FrameSource> make_frames(const Config& c) {
   o.width = c.camera.Nu;
   o.height = c.camera.Nv;
   return std::make_unique<FrameDirectorySource>(o);
+}
+
+// A recorded drive from a dashcam or a vehicle camera's file: played at its own rate.
+std::unique_ptr<FrameSource> make_video(const Config& c) {
+  VideoSourceOptions o;
+  o.path = c.source.path;
+  o.loop = c.source.loop;
+  o.width = c.camera.Nu;
+  o.height = c.camera.Nv;
+  return std::make_unique<VideoSource>(o);
 }
 
 CameraSettings camera_settings(const Config& c) {
@@ -58,6 +69,7 @@ const char* kind_name(SourceKind kind) {
     case SourceKind::frames: return "frames";
     case SourceKind::v4l2: return "v4l2";
     case SourceKind::aravis: return "aravis";
+    case SourceKind::video: return "video";
   }
   return "?";
 }
@@ -76,7 +88,8 @@ std::string frames_without_gyro(const Config& config) {
         return "";
       }
     case SourceKind::v4l2:
-    case SourceKind::aravis: break;
+    case SourceKind::aravis:
+    case SourceKind::video: break;
   }
   return std::string("source.kind: \"") + kind_name(config.source.kind) + "\" frames carry no gyro reading";
 }
@@ -87,6 +100,7 @@ std::unique_ptr<FrameSource> make_frame_source(const Config& config, std::functi
     case SourceKind::frames: return make_frames(config);
     case SourceKind::v4l2: return make_v4l2(config);
     case SourceKind::aravis: return make_aravis(config);
+    case SourceKind::video: return make_video(config);
   }
   throw std::logic_error("source.kind: not a kind the configuration loader accepts");  // a programmer's error
 }

@@ -22,8 +22,9 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
-# lcm-spy is a Swing program: a JRE with AWT (not -headless) runs `ccdlane spy`.
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre")
+# lcm-spy is a Swing program: a JRE with AWT (not -headless) runs `ccdlane spy`;
+# `ccdlane report` draws with Debian's matplotlib.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre, python3-matplotlib")
 # The configuration is the user's: dpkg keeps their edits on upgrade and asks before
 # replacing a changed file; `apt-get purge` removes it.
 set(ccdlane_conffiles "${CMAKE_BINARY_DIR}/debian/conffiles")

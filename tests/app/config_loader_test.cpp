@@ -156,6 +156,8 @@ TEST(ConfigLoader, ImpossibleValues) {
             "must be < 1)");
   EXPECT_EQ(error_of("[source]\nkind = \"frames\"\n"),
             "test.toml:1: source.path: a \"frames\" source needs path = the frame directory");
+  EXPECT_EQ(error_of("[source]\nkind = \"video\"\n"),
+            "test.toml:1: source.path: a \"video\" source needs path = the video file");
   EXPECT_EQ(error_of("[realtime]\ncapture_priority = 120\n"),
             "test.toml:2: realtime.capture_priority: must be a SCHED_FIFO priority 0..99");
 }
@@ -425,10 +427,12 @@ TEST(ConfigLoader, ConfigKeysListsWhatTheLoaderAccepts) {
 }  // namespace
 // Every named choice reads through one helper: four or more options are listed as "one of",
 // a value of the wrong type is a type error, not an unknown name.
-TEST(ConfigLoader, SourceKindIsOneOfFourAndATypeErrorIsSaidAsSuch) {
+TEST(ConfigLoader, SourceKindIsOneOfFiveAndATypeErrorIsSaidAsSuch) {
   EXPECT_EQ(parse_config("[source]\nkind = \"frames\"\npath = \"/tmp\"\n", "f.toml").source.kind, SourceKind::frames);
-  EXPECT_EQ(error_of("[source]\nkind = \"usb\"\n"),
-            "test.toml:2: source.kind: must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", got \"usb\"");
+  EXPECT_EQ(parse_config("[source]\nkind = \"video\"\npath = \"d.mp4\"\n", "f.toml").source.kind, SourceKind::video);
+  EXPECT_EQ(
+      error_of("[source]\nkind = \"usb\"\n"),
+      "test.toml:2: source.kind: must be one of \"synth\", \"frames\", \"v4l2\", \"aravis\", \"video\", got \"usb\"");
   EXPECT_EQ(error_of("[source]\nkind = 3\n"), "test.toml:2: source.kind: must be a string, got an integer");
 }
 

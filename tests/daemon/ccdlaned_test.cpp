@@ -30,6 +30,7 @@
 #include "tests/daemon/notify_socket.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
+#include "tests/support/test_video.hpp"
 
 namespace ccdlane {
 namespace {
@@ -408,6 +409,50 @@ TEST(Ccdlaned, SigtermDuringStartUpStopsWithinASecond) {
   EXPECT_TRUE(WIFEXITED(*exit_status));
   EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("stderr"));
   EXPECT_LT(took, std::chrono::milliseconds(1200)) << test::read_file(dir.file("stderr"));
+}
+
+// A recorded drive as the camera ([source] kind = "video"): one lane message per frame of
+// the file, stamped with the file's own times, at the file's rate (not faster), through
+// the same pipeline and status, and the end of the file ends the run.
+TEST(CcdlanedBus, AVideoSourcePlaysAtTheFilesRate) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  lcm::LCM bus(test::kBusUrl);
+  ASSERT_TRUE(bus.good());
+  BusCapture got(bus);
+  test::TempDir dir;
+  constexpr int kFrames = 30;  // 1.2 s at 25 fps
+  std::vector<std::int64_t> times;
+  for (int i = 0; i < kFrames; ++i) times.push_back(i * 40'000'000LL);
+  const std::string video = test::write_test_video(dir.file("drive.mp4"), 800, 600, times);  // the default camera
+  const std::string config =
+      dir.write("video.toml", "[source]\nkind = \"video\"\npath = \"" + video +
+                                  "\"\n[prior]\nphi_deg = [0.0, 1.0]\n[lcm]\nurl = \"" + test::kBusUrl + "\"\n");
+  const auto start = Clock::now();
+  test::ChildProcess child({kDaemon, "--config", config}, test::ChildOptions{{}, "", dir.file("stderr"), {}});
+  std::optional<int> exit_status;
+  for (const auto end = start + std::chrono::seconds(20); !exit_status && Clock::now() < end;) {
+    bus.handleTimeout(50);
+    exit_status = child.wait_exit(0);
+  }
+  const auto took = Clock::now() - start;
+  while (bus.handleTimeout(200) > 0) {
+  }
+  const std::string log = test::read_file(dir.file("stderr"));
+  ASSERT_TRUE(exit_status.has_value()) << "the end of the file stops the daemon: " << log;
+  EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << log;
+  ASSERT_EQ(got.lanes.size(), static_cast<std::size_t>(kFrames)) << log;
+  for (int i = 0; i < kFrames; ++i) {
+    EXPECT_EQ(got.lanes[static_cast<std::size_t>(i)].frame, i);
+    EXPECT_EQ(got.lanes[static_cast<std::size_t>(i)].t_ns, times[static_cast<std::size_t>(i)]);
+  }
+  // Paced: the last frame is due 1.16 s after the first.
+  const std::int64_t first = got.lanes.front().capture_utime, last = got.lanes.back().capture_utime;
+  EXPECT_GE(last - first, 1'100'000) << "played faster than the file's rate";
+  EXPECT_LT(last - first, 3'000'000);
+  EXPECT_GE(took, std::chrono::milliseconds(1100));
+  EXPECT_NE(log.find("video:" + video + " 800x600 h264 rgb8 25 fps"), std::string::npos) << log;
+  ASSERT_FALSE(got.statuses.empty()) << log;
+  EXPECT_EQ(got.statuses.back().allocations_since_ready, 0);
 }
 
 // [lcm] instance names the daemon in every message instead of "host:pid".

@@ -72,6 +72,9 @@ TEST(SourceFactory, EveryKindIsBuiltAndBadDevicesSayWhyOnOpen) {
   auto frames = make_frame_source(c);
   const std::string why = frames->open();
   EXPECT_NE(why.find("/nonexistent/frames"), std::string::npos) << why;
+  c.source.kind = SourceKind::video;
+  c.source.path = "/nonexistent/drive.mp4";
+  EXPECT_EQ(make_frame_source(c)->open(), "/nonexistent/drive.mp4: no such file");
   c.source.kind = SourceKind::v4l2;
   c.source.device = "/nonexistent/video9";
   auto v4l2 = make_frame_source(c);

@@ -127,3 +127,22 @@ TEST(CalibrateMount, ALaneWidthOutside2To5MetresIsRefused) {
 
 }  // namespace
 }  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// A video is a recording like any other: one of another size than the camera is refused
+// naming both, and nothing is written.
+TEST(CalibrateMountCommand, AVideoOfAnotherSizeIsRefusedNamingBoth) {
+  test::TempDir dir;
+  const std::string video = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives/project_video_segA.mp4";
+  const std::string camera = std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml";
+  const auto r =
+      test::run_process({CCDLANE_TOOL, "calibrate", "mount", camera, video, "--out", dir.file("mount.toml")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(r.err, "ccdlane: " + video + ": frames are 1280x720, the camera of " + camera + " is 800x600\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("mount.toml")));
+}
+
+}  // namespace
+}  // namespace ccdlane

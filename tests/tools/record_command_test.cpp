@@ -26,6 +26,7 @@
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/private_network.hpp"
 #include "tests/support/run_process.hpp"
+#include "tests/support/test_video.hpp"
 
 namespace ccdlane {
 namespace {
@@ -398,6 +399,41 @@ void record_into_a_full_disk(const std::string& out_name) {
 
 TEST(RecordCommand, AFullDiskKeepsTheLogWrittenSoFar) { record_into_a_full_disk("drive.lcmlog"); }
 TEST(RecordCommand, AFullDiskKeepsTheFrameDirectoryWrittenSoFar) { record_into_a_full_disk("drive"); }
+
+}  // namespace
+}  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+// A dashcam's video into a log: its frames at the container's times, no gyro, and the
+// constant --speed-kmh a dashcam cannot record, which replay of the log then drives with.
+TEST(RecordCommand, AVideoBecomesALogWithTheGivenSpeed) {
+  test::TempDir dir;
+  const std::vector<std::int64_t> times = {0, 40'000'000, 80'000'000, 200'000'000, 240'000'000};
+  const std::string video = test::write_test_video(dir.file("drive.mp4"), 800, 600, times);
+  const std::string config = dir.write("camera.toml", "[prior]\nphi_deg = [0.0, 1.0]\n");
+  const auto r = test::run_process(
+      {kTool, "record", "video:" + video, "--config", config, "--out", dir.file("drive.lcmlog"), "--speed-kmh", "90"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<FrameRecord> records = records_of(dir.file("drive.lcmlog"));
+  ASSERT_EQ(records.size(), times.size());
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    EXPECT_EQ(records[k].sequence, k);
+    EXPECT_EQ(records[k].t_ns, times[k]);
+    EXPECT_FALSE(records[k].gyro.has_value());
+    EXPECT_EQ(records[k].speed_kmh, 90.0);
+  }
+  for (const std::string& line : replay(config, dir.file("drive.lcmlog")))
+    EXPECT_NE(line.find("\"speed_mps\":25.0"), std::string::npos) << line;
+  // The camera of --config decides the size: a video of another is refused naming both.
+  const std::string small = test::write_test_video(dir.file("small.mp4"), 64, 48, times);
+  const auto refused =
+      test::run_process({kTool, "record", "video:" + small, "--config", config, "--out", dir.file("y.lcmlog")});
+  EXPECT_EQ(refused.exit_status, 2);
+  EXPECT_EQ(refused.err, "ccdlane: " + small + ": frames are 64x48, the camera of " + config + " is 800x600\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("y.lcmlog")));
+}
 
 }  // namespace
 }  // namespace ccdlane

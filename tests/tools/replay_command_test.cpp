@@ -17,10 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/png.hpp"
+#include "drivers/frames/video_reader.hpp"
+#include "drivers/frames/video_writer.hpp"
 #include "tests/support/run_process.hpp"
+#include "tests/support/test_video.hpp"
 
 namespace ccdlane {
 namespace {
@@ -590,6 +594,143 @@ TEST(ReplayCommand, OverlaysOnAFullDiskLeaveOnlyWholePictures) {
     ++iends;
   EXPECT_GT(pngs, 0u);
   EXPECT_EQ(iends, pngs) << r.out;
+}
+
+}  // namespace
+}  // namespace ccdlane
+
+namespace ccdlane {
+namespace {
+
+const std::string kSegA = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives/project_video_segA.mp4";
+const std::string kSegACamera = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives/camera.toml";
+
+std::string text_of(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A rendered drive (no gyro: a video carries none) as its PGM directory and as a lossless
+// H.264 MP4 of the same frames at the same times.
+struct RenderedDrive {
+  test::TempDir dir;
+  std::string frames = dir.file("road");
+  std::string video = dir.file("road.mp4");
+  std::string config;
+  explicit RenderedDrive(int count) {
+    const auto s = test::run_process(
+        {kTool, "synth", kReferenceCamera, "--out", frames, "--frames", std::to_string(count), "--no-gyro"});
+    EXPECT_EQ(s.exit_status, 0) << s.err;
+    config = dir.write("camera.toml", text_of(kReferenceCamera) + "\n[prior]\nphi_deg = [0.0, 1.0]\n");
+    FrameDirectory d(frames);
+    const ImageBuffer image(800, 600, PixelFormat::mono8, 8);
+    VideoWriter w(video, {.width = 800, .height = 600, .lossless = true});
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      EXPECT_EQ(d.read(i, image.view()), PgmFault::none);
+      w.write(image.view(), d.row(i).t_ns);
+    }
+    w.finish();
+  }
+};
+
+// The round trip: the MP4 replays to the same lines as the PNG/PGM directory, within the
+// codec's error (grey -> limited-range YUV -> RGB moves a pixel by 1 grey level).
+TEST(ReplayCommand, ALosslessMp4OfARenderedDriveReplaysToTheSameLines) {
+  constexpr int kFrames = 30;
+  const RenderedDrive drive(kFrames);
+  const auto from_dir = test::run_process({kTool, "replay", drive.config, drive.frames});
+  const std::string annotated = drive.dir.file("annotated.mp4");
+  const auto from_video = test::run_process({kTool, "replay", drive.config, drive.video, "--overlay-video", annotated});
+  ASSERT_EQ(from_dir.exit_status, 0) << from_dir.err;
+  ASSERT_EQ(from_video.exit_status, 0) << from_video.err;
+  const std::vector<Json> a = json_lines(from_dir.out), b = json_lines(from_video.out);
+  ASSERT_EQ(a.size(), static_cast<std::size_t>(kFrames));
+  ASSERT_EQ(b.size(), a.size());
+  int both_ok = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(b[i]["frame"], a[i]["frame"]);
+    EXPECT_EQ(b[i]["t_ns"], a[i]["t_ns"]) << "the container's times are the directory's";
+    if (!a[i]["ok"].get<bool>() || !b[i]["ok"].get<bool>()) continue;
+    ++both_ok;
+    EXPECT_NEAR(b[i]["lateral_offset_mm"].get<double>(), a[i]["lateral_offset_mm"].get<double>(), 20.0) << i;
+    EXPECT_NEAR(b[i]["lane_width_mm"].get<double>(), a[i]["lane_width_mm"].get<double>(), 20.0) << i;
+    EXPECT_NEAR(b[i]["psi_deg"].get<double>(), a[i]["psi_deg"].get<double>(), 0.05) << i;
+    EXPECT_NEAR(b[i]["theta_deg"].get<double>(), a[i]["theta_deg"].get<double>(), 0.05) << i;
+  }
+  EXPECT_GE(both_ok, kFrames - 2);
+  // The annotated video has the input's frames at the input's times.
+  VideoReader in(drive.video), out(annotated);
+  const ImageBuffer a_frame(800, 600, in.format(), 8), b_frame(800, 600, out.format(), 8);
+  std::int64_t t_in = 0, t_out = 0;
+  int frames = 0;
+  for (VideoRead r; (r = in.next(a_frame.view(), t_in)) == VideoRead::frame; ++frames) {
+    ASSERT_EQ(out.next(b_frame.view(), t_out), VideoRead::frame) << frames;
+    EXPECT_EQ(t_out, t_in);
+  }
+  EXPECT_EQ(frames, kFrames);
+  EXPECT_EQ(out.next(b_frame.view(), t_out), VideoRead::end);
+}
+
+TEST(ReplayCommand, TheRealDriveReplaysFromMp4) {
+  const auto r = test::run_process({kTool, "replay", kSegACamera, kSegA});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::vector<Json> out = json_lines(r.out);
+  ASSERT_EQ(out.size(), 211u);
+  int ok = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    EXPECT_EQ(out[i]["frame"].get<std::size_t>(), i);
+    EXPECT_EQ(out[i]["t_ns"].get<std::int64_t>(), static_cast<std::int64_t>(i) * 40'000'000);  // 25 fps
+    ok += out[i]["ok"].get<bool>();
+  }
+  EXPECT_GE(ok, 160) << "ccdlane finds 187 of 211 with the nominal mount";
+  EXPECT_NE(r.err.find("211 frames, " + std::to_string(ok) + " ok"), std::string::npos) << r.err;
+}
+
+// A copy cut short keeps the frames before the cut in the output, names the frame, exits 2.
+TEST(ReplayCommand, ACutVideoKeepsItsFirstFramesAndExitsTwo) {
+  test::TempDir dir;
+  const std::string cut = dir.file("cut.mp4");
+  std::filesystem::copy_file(kSegA, cut);
+  std::filesystem::resize_file(cut, 2'000'000);
+  const auto r = test::run_process({kTool, "replay", kSegACamera, cut, "--out", dir.file("o.jsonl")});
+  EXPECT_EQ(r.exit_status, 2);
+  const std::vector<Json> out = json_lines(text_of(dir.file("o.jsonl")));
+  ASSERT_GT(out.size(), 5u);
+  ASSERT_LT(out.size(), 211u);
+  const std::string line = "ccdlane: " + cut + ": frame " + std::to_string(out.size()) + ": cut short";
+  EXPECT_NE(r.err.find(line), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("; the " + std::to_string(out.size()) + " frames before it were processed\n"), std::string::npos)
+      << r.err;
+}
+
+TEST(ReplayCommand, BadVideosAreOneLineExitTwoAndNoOutputFile) {
+  test::TempDir dir;
+  const auto refused = [&](const std::string& config, const std::string& input, const std::string& line) {
+    const auto r = test::run_process({kTool, "replay", config, input, "--out", dir.file("o.jsonl")});
+    EXPECT_EQ(r.exit_status, 2) << input;
+    EXPECT_EQ(r.err, "ccdlane: " + line + "\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("o.jsonl")));
+  };
+  refused(kReferenceCamera, kSegA, kSegA + ": frames are 1280x720, the camera of " + kReferenceCamera + " is 800x600");
+  const std::string text = dir.write("notes.mkv", "not a video at all\n");
+  refused(kReferenceCamera, text,
+          text +
+              ": not a video, or cut short before its index (Invalid data found when "
+              "processing input)");
+  // Frames out of time: the rest is replayed and written, the line counts and names them.
+  const std::string repeated = std::string(CCDLANE_TEST_DATA_DIR) + "/video/repeated-time-mjpeg.mkv";
+  const std::string small = dir.write("small.toml", "[camera]\nNu = 64\nNv = 48\n[prior]\nphi_deg = [0.0, 1.0]\n");
+  const auto r = test::run_process({kTool, "replay", small, repeated, "--out", dir.file("r.jsonl")});
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.err.find("ccdlane: " + repeated +
+                       ": 1 frame(s) whose time does not come after the one before, skipped (the first: frame 3)\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(json_lines(text_of(dir.file("r.jsonl"))).size(), 5u);
+  const std::string ffv1 = test::write_test_video(dir.file("f.mkv"), 800, 600, {0, 40'000'000}, {.encoder = "ffv1"});
+  refused(kReferenceCamera, ffv1, ffv1 + ": unsupported codec ffv1 (ccdlane reads H.264, H.265 and MJPEG)");
 }
 
 }  // namespace

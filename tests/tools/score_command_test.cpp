@@ -15,9 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
 #include "core/geometry/camera_model.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/png.hpp"
+#include "drivers/frames/video_writer.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -120,6 +122,37 @@ TEST_F(ScoreCommand, MasksOfTheTruthAreAllFoundWithNoFalseLine) {
                           std::to_string(s["total"]["lanes"].get<int>()) + " found, 0 false lines"),
             std::string::npos)
       << text.out;
+}
+
+// The same drive as a lossless MP4 (no gyro: a roll prior instead), replayed and scored:
+// frame N's mask is NNNNNN.png, and the lanes are found as from the directory.
+TEST_F(ScoreCommand, AVideoIsScoredAgainstMasksNamedByFrameNumber) {
+  render_masks(dir_->file("road"), dir_->file("truth-video"), {});
+  const std::string video = dir_->file("road.mp4");
+  {
+    FrameDirectory d(dir_->file("road"));
+    const ImageBuffer image(800, 600, PixelFormat::mono8, 8);
+    VideoWriter w(video, {.width = 800, .height = 600, .lossless = true});
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      ASSERT_EQ(d.read(i, image.view()), PgmFault::none);
+      w.write(image.view(), d.row(i).t_ns);
+    }
+    w.finish();
+  }
+  std::ifstream camera(kReferenceCamera);
+  std::ostringstream config_text;
+  config_text << camera.rdbuf() << "\n[prior]\nphi_deg = [0.0, 1.0]\n";
+  const std::string config = dir_->write("video.toml", config_text.str());
+  const auto replay = test::run_process({kTool, "replay", config, video, "--out", dir_->file("rv.jsonl")});
+  ASSERT_EQ(replay.exit_status, 0) << replay.err;
+  const auto r =
+      test::run_process({kTool, "score", config, video, dir_->file("rv.jsonl"), dir_->file("truth-video"), "--json"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const Json s = Json::parse(r.out);
+  ASSERT_EQ(s["frames"].size(), 4u);
+  EXPECT_EQ(s["frames"][1]["file"], "000001");
+  EXPECT_EQ(s["total"]["found"], s["total"]["lanes"]) << r.out;
+  EXPECT_EQ(s["total"]["false_lines"], 0) << r.out;
 }
 
 TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {

@@ -17,6 +17,7 @@
 #include "tools/ccdlane/calibration_output.hpp"
 #include "tools/ccdlane/checked_output.hpp"
 #include "tools/ccdlane/command.hpp"
+#include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -48,7 +49,12 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
     frames.push_back(calibration::mount_frame(e, estimator.solution(), recorded.gyro, phi_deg, config.H_mm));
   };
   try {
-    if (std::filesystem::is_regular_file(args.recording)) {
+    if (is_video_recording(args.recording)) {
+      const auto video = open_video_recording(args.recording, config, args.config);
+      const std::string problem = read_video_recording(
+          *video, [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns) { one(image, index, t_ns, {}); });
+      if (!problem.empty()) throw UsageError(problem + "; nothing written");
+    } else if (std::filesystem::is_regular_file(args.recording)) {
       FrameLogReader log(args.recording, channel_name(config.lcm.prefix, Channel::frames));
       for (FrameLogReader::Next n; (n = log.next()) != FrameLogReader::Next::end;) {
         const ImageView& image = log.image();
@@ -138,8 +144,10 @@ int run_mount(const MountArgs& args) {
 CommandAction setup_calibrate_mount(CLI::App& sub) {
   auto args = std::make_shared<MountArgs>();
   sub.add_option("config", args->config, "configuration (TOML) with the nominal mount and the camera")->required();
-  sub.add_option("recording", args->recording,
-                 "frame directory (frames.csv + PGM frames) or LCM log of ccdlane.frame_t, of a drive on a marked road")
+  sub.add_option(
+         "recording", args->recording,
+         "frame directory (frames.csv + PGM frames), LCM log of ccdlane.frame_t, or video file (.mp4, .mkv, .mov, "
+         ".avi), of a drive on a marked road")
       ->required();
   sub.add_option("--out", args->out,
                  "write the [mount] and [attitude] tables here (atomically) instead of standard output");

@@ -21,6 +21,7 @@ CommandAction setup_record(CLI::App& sub);
 CommandAction setup_calibrate(CLI::App& sub);
 CommandAction setup_ldw_scenarios(CLI::App& sub);
 CommandAction setup_score(CLI::App& sub);
+CommandAction setup_report(CLI::App& sub);
 
 namespace {
 constexpr Command kCommands[] = {
@@ -35,6 +36,7 @@ constexpr Command kCommands[] = {
      setup_record},
     {"replay", "run detect, solve, track and lane metrics over recorded frames (JSON Lines)", setup_replay},
     {"score", "score replay's lines against lane annotations (PNG masks), TuSimple's rules", setup_score},
+    {"report", "a drive report from replay's output: plots over time and a summary, one HTML page", setup_report},
     {"gx1", "talk to a 3DM-GX1 gyro: firmware, serial number, then one line per sample", setup_gx1},
     {"calibrate", "calibrate the camera (chessboard pictures) or its mount (a recorded drive)", setup_calibrate},
     {"ldw-scenarios", "run the lane departure warning's ISO 17361 scenario set and print its summary table",

@@ -108,10 +108,7 @@ void Overlay::draw_road_line(const CameraModel& camera, const RoadLine& road, do
   }
 }
 
-void Overlay::write_png(const std::string& path) const {
-  const ImageView view{rgb_.data(), width_, height_, static_cast<std::ptrdiff_t>(width_) * 3, PixelFormat::rgb8, 8};
-  ccdlane::write_png(path, view, 3);
-}
+void Overlay::write_png(const std::string& path) const { ccdlane::write_png(path, view(), 3); }
 
 void write_paint_measure_png(const std::string& path, const ImageView& frame, int first_row, int last_row) {
   std::vector<std::uint8_t> grey(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height));

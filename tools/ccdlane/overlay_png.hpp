@@ -38,6 +38,9 @@ class Overlay {
   void write_png(const std::string& path) const;
 
   int width() const { return width_; }
+  ImageView view() const {
+    return {rgb_.data(), width_, height_, static_cast<std::ptrdiff_t>(width_) * 3, PixelFormat::rgb8, 8};
+  }
   int height() const { return height_; }
   std::array<std::uint8_t, 3> pixel(int x, int y) const;
 

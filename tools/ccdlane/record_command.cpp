@@ -31,6 +31,7 @@
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/frame_directory_writer.hpp"
 #include "tools/ccdlane/command.hpp"
+#include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -42,7 +43,8 @@ struct RecordArgs {
   std::optional<double> seconds;
   std::optional<int> count;
   double fps = 30.0;
-  bool vehicle_state = false;  // --vehicle-state
+  bool vehicle_state = false;       // --vehicle-state
+  std::optional<double> speed_kmh;  // --speed-kmh: a constant speed for a video (a dashcam has no CAN)
 };
 
 // `--vehicle-state`: the CAN gateway's vehicle_state_t on the [lcm] bus, taken between
@@ -275,6 +277,34 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
   out.finish("frames:" + path);
 }
 
+// A video file: its frames at their container times, with no gyro, and the constant
+// --speed-kmh when given (no indicator), so that the log replays as the drive was driven.
+void record_video(const RecordArgs& a, const Config& config, const std::string& path) {
+  // With --config the frames must be its camera's; without, the video's size is taken.
+  Config sized = config;
+  if (a.config.empty()) {
+    try {
+      const VideoReader probe(path);
+      sized.camera.Nu = probe.width(), sized.camera.Nv = probe.height();
+    } catch (const VideoError& e) {
+      throw UsageError(e.what());
+    }
+  }
+  const std::unique_ptr<VideoReader> video = open_video_recording(path, sized, a.config);
+  Recording out(a, config, false, std::nullopt, a.speed_kmh.has_value());
+  const std::int64_t start = realtime_us();
+  bool stopped = false;
+  const std::string problem =
+      read_video_recording(*video, [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns) {
+        if (stopped || (stopped = !out.wants(t_ns))) return;
+        FrameRecord record{index, t_ns, out.utime_of(t_ns, start), std::nullopt};
+        record.speed_kmh = a.speed_kmh;
+        out.write(image, record);
+      });
+  out.finish("video:" + path);
+  if (!problem.empty()) throw UsageError(problem);
+}
+
 void record_camera(const RecordArgs& a, const Config& config) {
   CameraSettings settings;
   settings.width = config.camera.Nu;
@@ -328,7 +358,7 @@ CommandAction setup_record(CLI::App& sub) {
   auto a = std::make_shared<RecordArgs>();
   sub.add_option("source", a->source,
                  "v4l2:/dev/videoN, aravis:ID (IP address, camera id or serial, Fake_1), synth (the [synth] road "
-                 "of --config) or frames:DIR (a frame directory)")
+                 "of --config), frames:DIR (a frame directory) or video:FILE (.mp4, .mkv, .mov, .avi)")
       ->required();
   sub.add_option("--out", a->out, "a frame directory to create, or FILE.lcmlog (an LCM log of ccdlane.frame_t)")
       ->required();
@@ -337,6 +367,10 @@ CommandAction setup_record(CLI::App& sub) {
   sub.add_option("--count", a->count, "stop after N frames")->check(CLI::Range(1, 100'000'000));
   sub.add_option("--fps", a->fps, "camera frame rate; 0 leaves the device's (default 30)")
       ->check(CLI::Range(0.0, 10000.0));
+  sub.add_option("--speed-kmh", a->speed_kmh,
+                 "video: the vehicle's speed at every frame (a dashcam records none); without it replay takes "
+                 "[vehicle] speed_kmh")
+      ->check(CLI::Range(0.0, 300.0));
   sub.add_flag("--vehicle-state", a->vehicle_state,
                "cameras: record each frame's speed, yaw rate and turn indicator from ccdlane.vehicle_state_t on the "
                "[lcm] bus (<[lcm] prefix>VEHICLE, as a CAN gateway publishes it for ccdlaned)");
@@ -353,6 +387,8 @@ CommandAction setup_record(CLI::App& sub) {
       record_synth(*a, config);
     else if (a->source.rfind("frames:", 0) == 0)
       record_frames(*a, config, a->source.substr(7));
+    else if (a->source.rfind("video:", 0) == 0)
+      record_video(*a, config, a->source.substr(6));
     else
       record_camera(*a, config);
     return 0;

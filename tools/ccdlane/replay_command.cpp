@@ -24,6 +24,8 @@
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
+#include "tools/ccdlane/overlay_video.hpp"
+#include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -33,6 +35,7 @@ struct ReplayArgs {
   std::string input;
   std::string out;
   std::string overlay;
+  std::string overlay_video;
   bool sigmas = false;
   bool stills = false;
 };
@@ -88,6 +91,7 @@ class Replay {
   void open_output();
   void replay_directory();
   void replay_log();
+  void replay_video();
   void replay_frame(const ImageView* image, const FrameMeta& meta);
   void check_observability(const FrameMeta& meta);
   void write_overlays(const ImageView& image, std::uint64_t index);
@@ -99,6 +103,9 @@ class Replay {
   const bool gyro_configured_;
   std::optional<FrameDirectory> dir_;
   std::optional<FrameLogReader> log_;
+  std::unique_ptr<VideoReader> video_;
+  std::string video_problem_;  // a damaged, cut or mistimed video: said after the output is kept
+  std::unique_ptr<OverlayVideo> overlay_video_;
   PixelFormat format_ = PixelFormat::mono8;  // of a frame directory's frames
   int bits_ = 8;
   std::unique_ptr<OutputFile> file_;
@@ -124,7 +131,9 @@ Replay::Replay(const ReplayArgs& args)
 
 void Replay::open_input() {
   try {
-    if (std::filesystem::is_regular_file(a_.input))
+    if (is_video_recording(a_.input))
+      video_ = open_video_recording(a_.input, config_, a_.config);
+    else if (std::filesystem::is_regular_file(a_.input))
       log_.emplace(a_.input, channel_name(config_.lcm.prefix, Channel::frames));
     else
       dir_.emplace(a_.input);
@@ -160,6 +169,15 @@ void Replay::open_output() {
     std::filesystem::create_directories(a_.overlay, ec);
     if (ec) throw UsageError(a_.overlay + ": cannot create the overlay directory: " + ec.message());
   }
+  if (!a_.overlay_video.empty()) {
+    try {  // in the input video's time base, so that the frames keep their times exactly
+      overlay_video_ = std::make_unique<OverlayVideo>(a_.overlay_video, config_.camera.Nu, config_.camera.Nv,
+                                                      video_ ? video_->time_base_num() : 1,
+                                                      video_ ? video_->time_base_den() : 90'000);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+  }
 }
 
 int Replay::run() {
@@ -168,6 +186,8 @@ int Replay::run() {
     for (const std::string& issue : dir_->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
     skipped_ = csv_issues_;
     replay_directory();
+  } else if (video_) {
+    replay_video();
   } else {
     replay_log();
   }
@@ -210,6 +230,16 @@ void Replay::replay_log() {
                      std::to_string(log_->other_events()) + " events on other channels)");
 }
 
+void Replay::replay_video() {
+  // A dashcam records no gyro, speed or indicator: [vehicle] speed_kmh, no indicator.
+  video_problem_ = read_video_recording(*video_, [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns) {
+    FrameMeta meta;
+    meta.sequence = index;
+    meta.t_ns = t_ns;
+    replay_frame(&image, meta);
+  });
+}
+
 void Replay::check_observability(const FrameMeta& meta) {
   // As the daemon does at start: refuse solves that cannot determine what they are asked
   // for. The roll is measured when the recording's first readable frame carries a gyro
@@ -246,6 +276,7 @@ void Replay::replay_frame(const ImageView* image, const FrameMeta& meta) {
   ok_ += e.ok;
   print_json_line(*out_, lane_estimate_json(e, a_.sigmas));
   check_written(*out_, out_name_);
+  if (overlay_video_) overlay_video_->add(*image, e, estimator_, config_);
   if (!a_.overlay.empty()) write_overlays(*image, meta.sequence);
 }
 
@@ -268,11 +299,15 @@ void Replay::write_overlays(const ImageView& image, std::uint64_t index) {
 int Replay::finish() {
   const std::size_t processed = frames_ - (skipped_ - csv_issues_);
   // Nothing replayed is bad input, not a result: no output file is left.
-  if (frames_ > 0 && processed == 0 && file_) file_.reset();
+  if (((frames_ > 0 && processed == 0) || (video_ && frames_ == 0)) && file_) file_.reset();
   if (file_)
     file_->commit();
   else
     flush_checked(std::cout, "standard output");
+  if (overlay_video_ && overlay_video_->frames() > 0) {  // the frames before a damaged one are kept too
+    overlay_video_->finish();
+    std::cerr << "ccdlane replay: " << overlay_video_->frames() << " annotated frames in " << a_.overlay_video << '\n';
+  }
   char summary[256];
   std::snprintf(summary, sizeof summary,
                 "ccdlane replay: %zu frames, %zu ok, %zu skipped; per frame %.3f ms mean, %.3f ms worst (frame %llu)",
@@ -288,6 +323,7 @@ int Replay::finish() {
                  log_->truncated() ? ", the last one cut short" : "");
     return 1;
   }
+  if (!video_problem_.empty()) throw UsageError(video_problem_);
   if (frames_ > 0 && processed == 0) throw UsageError(a_.input + ": none of the frames could be read");
   return 0;
 }
@@ -298,14 +334,18 @@ CommandAction setup_replay(CLI::App& sub) {
   auto a = std::make_shared<ReplayArgs>();
   sub.add_option("config", a->config, "configuration file (TOML)")->required();
   sub.add_option("input", a->input,
-                 "frame directory (frames.csv + PGM, PPM or PNG frames), or an LCM log of ccdlane.frame_t on <[lcm] "
-                 "prefix>FRAMES "
-                 "(ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames)")
+                 "frame directory (frames.csv + PGM, PPM, PNG or JPEG frames), an LCM log of ccdlane.frame_t on <[lcm] "
+                 "prefix>FRAMES (ccdlane record, or lcm-logger on a ccdlaned with [lcm] publish_frames), or a video "
+                 "(MP4, MKV, MOV, AVI: H.264, H.265, MJPEG)")
       ->required();
   sub.add_option("--out", a->out, "write the JSON Lines here instead of stdout");
   sub.add_option("--overlay", a->overlay,
                  "write here, per frame, a PNG with the marks, picks and fitted lines (NNNNNN.png) and one of the "
                  "lane-paint measure detection scanned (NNNNNN-paint.png)");
+  sub.add_option("--overlay-video", a->overlay_video,
+                 "write an annotated video here (H.264; .mp4, .mkv, .mov): each frame at its own time with the lines "
+                 "found, the own lane filled, the candidate marks faint, a strip with width, offset, heading, radius, "
+                 "state and LDW availability, and a departure warning on its side while it is held");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.add_flag("--stills", a->stills,
                "each frame on its own: no pose, line, mount or filter state carried from one frame to the next "
@@ -313,7 +353,9 @@ CommandAction setup_replay(CLI::App& sub) {
   sub.footer(
       "Runs detect -> solve (gyro roll/pitch from frames.csv as priors) -> track -> lane metrics on every "
       "frame, printing one JSON object per frame (docs/interfaces.md); from an LCM log, the gyro reading and "
-      "timestamp each frame_t carries, other channels ignored. Damaged frames are reported once each "
+      "timestamp each frame_t carries, other channels ignored; from a video, no gyro and [vehicle] speed_kmh. A "
+      "damaged or cut video, or one whose times go backwards, exits 2 after the frames before it are written. "
+      "Damaged frames are reported once each "
       "on stderr, counted, and give {\"ok\": false, \"reason\": \"no_frame\"}; a summary goes to stderr.");
   return [a] { return Replay(*a).run(); };
 }

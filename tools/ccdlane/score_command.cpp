@@ -17,6 +17,7 @@
 #include "tools/ccdlane/lane_score.hpp"
 #include "tools/ccdlane/replay_line.hpp"
 #include "tools/ccdlane/tusimple_labels.hpp"
+#include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -129,13 +130,46 @@ FrameScore score_replayed_frame(const ReplayLine& e, const std::vector<Annotated
   return score_frame(lanes, config.camera.Nu, CameraModel(config.camera, pose), reported, ScoreRules{});
 }
 
+// Each frame's name, which its annotation takes: a directory's file, a video's frame
+// number in six digits.
+std::map<std::uint64_t, std::string> frame_names(const ScoreArgs& args, const Config& config, std::string& index_name) {
+  std::map<std::uint64_t, std::string> file_of_frame;
+  if (is_video_recording(args.frames)) {
+    const auto video = open_video_recording(args.frames, config, args.config);
+    index_name = args.frames;
+    char name[32];
+    // A container that does not count its frames (MKV) is counted by reading it.
+    std::int64_t count = video->frames_in_index();
+    if (count == 0) {
+      (void)read_video_recording(*video, [](const ImageView&, std::uint64_t, std::int64_t) {});
+      count = static_cast<std::int64_t>(video->frame_index() + 1);
+    }
+    for (std::int64_t i = 0; i < count; ++i) {
+      std::snprintf(name, sizeof name, "%06lld", static_cast<long long>(i));
+      file_of_frame[static_cast<std::uint64_t>(i)] = name;
+    }
+    return file_of_frame;
+  }
+  try {
+    const FrameDirectory dir(args.frames);
+    index_name = dir.csv_path();
+    for (std::size_t i = 0; i < dir.size(); ++i) file_of_frame[dir.row(i).index] = dir.row(i).file;
+  } catch (const std::runtime_error& e) {
+    throw UsageError(e.what());
+  }
+  return file_of_frame;
+}
+
 }  // namespace
 
 CommandAction setup_score(CLI::App& sub) {
   auto a = std::make_shared<ScoreArgs>();
   sub.add_option("config", a->config, "the configuration replay ran with (TOML): its camera projects the lines")
       ->required();
-  sub.add_option("frames", a->frames, "the frame directory replayed (frames.csv names each frame's file)")->required();
+  sub.add_option("frames", a->frames,
+                 "the frame directory replayed (frames.csv names each frame's file), or the video (frame N's mask is "
+                 "NNNNNN.png, its number in six digits)")
+      ->required();
   sub.add_option("replay", a->replay, "replay's JSON Lines for it (ccdlane replay --out)")->required();
   sub.add_option("annotations", a->annotations,
                  "the lanes: a directory of lane masks (one 8-bit grey PNG per frame, named as the frame with .png, "
@@ -153,14 +187,8 @@ CommandAction setup_score(CLI::App& sub) {
       "without a mask are not scored.");
   return [a] {
     const Config config = load_config_file(a->config);
-    std::optional<FrameDirectory> dir;
-    try {
-      dir.emplace(a->frames);
-    } catch (const std::runtime_error& e) {
-      throw UsageError(e.what());
-    }
-    std::map<std::uint64_t, std::string> file_of_frame;
-    for (std::size_t i = 0; i < dir->size(); ++i) file_of_frame[dir->row(i).index] = dir->row(i).file;
+    std::string index_name;  // where the frame numbers come from, for errors
+    const std::map<std::uint64_t, std::string> file_of_frame = frame_names(*a, config, index_name);
     std::ifstream in(a->replay);
     if (!in) throw UsageError(a->replay + ": cannot read the replay output");
     const Annotations annotations(a->annotations, config);
@@ -182,7 +210,7 @@ CommandAction setup_score(CLI::App& sub) {
       const auto file = file_of_frame.find(frame);
       if (file == file_of_frame.end())
         throw UsageError(a->replay + ":" + std::to_string(line_number) + ": frame " + std::to_string(frame) +
-                         " is not in " + dir->csv_path());
+                         " is not in " + index_name);
       const std::optional<std::vector<AnnotatedLane>> lanes = annotations.lanes_of(file->second);
       if (!lanes) {
         ++unannotated;
