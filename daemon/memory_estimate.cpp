@@ -19,6 +19,7 @@ std::uint64_t frame_bytes_per_pixel(const Config& c) {
   switch (c.source.kind) {
     case SourceKind::synth: return c.synth.bits > 8 ? 2 : 1;
     case SourceKind::frames: return 3;  // PNG frames may be colour, PGM 16-bit
+    case SourceKind::video: return 3;   // colour, as decoded
     case SourceKind::v4l2:
     case SourceKind::aravis: return c.source.pixel_format == SourcePixels::grey ? 2 : 3;
   }

@@ -131,7 +131,7 @@ TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
     if (line.rfind("no lane messages", 0) == 0) continue;  // before the daemon's first frame
     EXPECT_EQ(line.rfind("frame ", 0), 0u) << line;
     EXPECT_NE(line.find(" ok | psi "), std::string::npos) << line;
-    EXPECT_NE(line.find("departure none"), std::string::npos) << line;
+    EXPECT_NE(line.find("departure none, tracking | "), std::string::npos) << "a steady road is tracked: " << line;
     EXPECT_NE(line.find(", radius "), std::string::npos) << line;
     EXPECT_NE(line.find(" | LDW "), std::string::npos) << line;
     saw_status = saw_status || line.find("| camera streaming, gyro none") != std::string::npos;

@@ -51,8 +51,13 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
   try {
     if (is_video_recording(args.recording)) {
       const auto video = open_video_recording(args.recording, config, args.config);
-      const std::string problem = read_video_recording(
-          *video, [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns) { one(image, index, t_ns, {}); });
+      const std::string problem =
+          read_video_recording(*video, [&](const ImageView& image, std::uint64_t index, std::int64_t t_ns) {
+            FrameMeta meta;
+            meta.sequence = index;
+            meta.t_ns = t_ns;
+            one(image, meta);
+          });
       if (!problem.empty()) throw UsageError(problem + "; nothing written");
     } else if (std::filesystem::is_regular_file(args.recording)) {
       FrameLogReader log(args.recording, channel_name(config.lcm.prefix, Channel::frames));

@@ -163,7 +163,8 @@ class Monitor {
   }
 
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
-  //  heading 0.07 deg, radius 850 m (straight at 10 km and beyond; - unsolved), departure none | 30 msg/s | LDW
+  //  heading 0.07 deg, radius 850 m (straight at 10 km and beyond; - unsolved), departure none, tracking (or
+  //  searching) | 30 msg/s | LDW
   //  available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera
   //  streaming, gyro ok, gyro reconnects 0, p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
   void print_line() {
@@ -177,10 +178,10 @@ class Monitor {
       const std::string radius = radius_text(last_lane_->radius_of_curvature_m);
       n = std::snprintf(text, sizeof text,
                         "frame %llu %s | psi %.2f theta %.2f phi %.2f deg | lane %.0f mm, offset %.0f mm, heading "
-                        "%.2f deg, radius %s, departure %s | %d msg/s",
+                        "%.2f deg, radius %s, departure %s, %s | %d msg/s",
                         static_cast<unsigned long long>(e.frame), e.ok ? "ok" : to_string(e.reason), e.psi_deg,
                         e.theta_deg, e.phi_deg, e.lane_width_mm, e.lateral_offset_mm, e.heading_deg, radius.c_str(),
-                        to_string(e.departure), lanes_in_second_);
+                        to_string(e.departure), to_string(e.state), lanes_in_second_);
       const LdwEstimate& l = e.ldw;
       if (n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
         // " | LDW available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s"

@@ -21,10 +21,10 @@ namespace {
 const cv::Scalar kLane(40, 220, 90), kMark(255, 255, 255), kText(255, 255, 255), kWarning(255, 30, 30);
 const cv::Scalar kLineColours[] = {{255, 200, 0}, {0, 200, 255}, {255, 90, 255}, {120, 255, 120}};
 
-std::vector<cv::Point> line_points(const CameraModel& camera, const LaneLine& l, const Config& config) {
+std::vector<cv::Point> line_points(const CameraModel& camera, const RoadLine& l, const Config& config) {
   std::vector<cv::Point> points;
-  for (const std::optional<Vec2>& p : road_line_pixels(
-           camera, {l.y0_mm, l.m, l.c_per_mm}, config.detection.min_range_mm, config.detection.max_range_mm, 40))
+  for (const std::optional<Vec2>& p :
+       road_line_pixels(camera, l, config.detection.min_range_mm, config.detection.max_range_mm, 40))
     if (p) points.emplace_back(static_cast<int>(std::lround(p->x() - 1)), static_cast<int>(std::lround(p->y() - 1)));
   return points;
 }
