@@ -97,6 +97,7 @@ void expect_interfaces_md_shape(const ordered_json& j) {
   for (const auto& [key, value] : j.items()) keys.push_back(key);
   std::vector<std::string> want = {"frame", "t_ns", "ok"};
   if (!j.value("ok", false)) want.push_back("reason");
+  want.push_back("state");
   for (const char* k :
        {"psi_deg", "theta_deg", "phi_deg", "lines", "lane_width_mm", "lateral_offset_mm", "heading_deg",
         "curvature_per_m", "radius_of_curvature_m", "departure", "rms_px", "iterations", "latency_us", "ldw"})

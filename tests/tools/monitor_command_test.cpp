@@ -78,6 +78,7 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
   const std::vector<std::string> fields = {"frame",
                                            "t_ns",
                                            "ok",
+                                           "state",
                                            "psi_deg",
                                            "theta_deg",
                                            "phi_deg",
