@@ -1,0 +1,104 @@
+// Floors on the real data in tests/data (the two Udacity drives as MP4 through the
+// project's video reader, the ten TuSimple stills with their labels), run through the
+// `ccdlane` tool as a user runs it. A floor is what the code reached when it was set,
+// less a margin from the data's own spread: for a share of n frames, three binomial
+// standard deviations, sqrt(p (1 - p) / n); for a count of lines, two Poisson ones,
+// sqrt(count); for a spread, three standard errors of an sd, sd / sqrt(2 n). They guard
+// against losing what works; the targets of docs/real-roads.md are far above them.
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/run_process.hpp"
+
+namespace ccdlane {
+namespace {
+
+using Json = nlohmann::json;
+const std::string kTool = CCDLANE_TOOL;
+const std::string kData = std::string(CCDLANE_TEST_DATA_DIR) + "/real";
+
+std::vector<Json> json_lines(const std::string& text) {
+  std::vector<Json> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) out.push_back(Json::parse(line));
+  return out;
+}
+
+// The share of a drive's frames that are ok, the lane width's spread relative to its
+// mean, and the warnings fired.
+struct DriveFigures {
+  int frames = 0, ok = 0, warnings = 0;
+  double width_sd = 0.0;
+};
+
+DriveFigures replay_drive(const std::string& video) {
+  const auto r = test::run_process({kTool, "replay", kData + "/udacity-drives/camera.toml", video});
+  EXPECT_EQ(r.exit_status, 0) << r.err;
+  DriveFigures f;
+  double sum = 0, sum2 = 0;
+  for (const Json& e : json_lines(r.out)) {
+    ++f.frames;
+    f.warnings += e["ldw"]["fired"] != "none";
+    if (!e["ok"].get<bool>()) continue;
+    ++f.ok;
+    const double w = e["lane_width_mm"].get<double>();
+    sum += w, sum2 += w * w;
+  }
+  const double mean = f.ok ? sum / f.ok : 0.0;
+  f.width_sd = f.ok > 1 ? std::sqrt(std::max(0.0, sum2 / f.ok - mean * mean)) / mean : 0.0;
+  return f;
+}
+
+double share_floor(double reached, int n) { return reached - 3.0 * std::sqrt(reached * (1.0 - reached) / n); }
+
+TEST(RealRoads, UdacityDrivesFromTheirVideos) {
+  struct Case {
+    const char* file;
+    int frames;
+    double ok_reached, width_sd_reached;
+  };
+  // Reached when the floors were set (nominal camera.toml, mount unknown): segA 187 of
+  // 211 ok, width sd 1.9 % of its mean; segB 115 of 186, 1.9 %.
+  for (const Case& c : {Case{"project_video_segA.mp4", 211, 187.0 / 211, 0.019},
+                        Case{"project_video_segB.mp4", 186, 115.0 / 186, 0.019}}) {
+    const DriveFigures f = replay_drive(kData + "/udacity-drives/" + c.file);
+    EXPECT_EQ(f.frames, c.frames) << c.file;
+    EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;
+    EXPECT_LE(f.width_sd, c.width_sd_reached * (1.0 + 3.0 / std::sqrt(2.0 * f.ok))) << c.file;
+    EXPECT_EQ(f.warnings, 0) << c.file << ": the car keeps its lane: a warning is never right";
+  }
+}
+
+TEST(RealRoads, TuSimpleStillsEachAlone) {
+  // The stills as frames of one directory, named by absolute path, each replayed alone.
+  test::TempDir dir, out;  // the output may not lie inside the input
+  std::string csv = "file,t_ns\n";
+  for (int i = 0; i < 10; ++i)
+    csv += kData + "/tusimple/images/000" + std::to_string(i) + ".jpg," + std::to_string(i) + "000000000\n";
+  dir.write("frames.csv", csv);
+  const std::string camera = kData + "/tusimple/camera.toml";
+  const auto replay =
+      test::run_process({kTool, "replay", camera, dir.path(), "--stills", "--out", out.file("r.jsonl")});
+  ASSERT_EQ(replay.exit_status, 0) << replay.err;
+  for (const Json& e : json_lines(test::run_process({"/bin/cat", out.file("r.jsonl")}).out))
+    EXPECT_EQ(e["state"], "searching") << "a still has no previous frame";
+  const auto score = test::run_process(
+      {kTool, "score", camera, dir.path(), out.file("r.jsonl"), kData + "/tusimple/labels.jsonl", "--json"});
+  ASSERT_EQ(score.exit_status, 0) << score.err;
+  const Json t = Json::parse(score.out)["total"];
+  EXPECT_EQ(t["frames"], 10);
+  EXPECT_EQ(t["ego_lanes"], 20) << "two own-lane lines labelled in each still";
+  // Reached when the floor was set: 6 of the 20 own-lane lines found, no false line of
+  // the 6 reported.
+  EXPECT_GE(t["ego_found"].get<double>(), 6.0 - 2.0 * std::sqrt(6.0));
+  EXPECT_LE(t["false_lines"].get<double>(), 0.0 + 2.0 * std::sqrt(1.0)) << "no false line reached; one or two is noise";
+}
+
+}  // namespace
+}  // namespace ccdlane
