@@ -70,7 +70,9 @@ void VanishingPointFinder::vote_row(const ImageView& image, int y) {
     const double gy = (r2[x - 1] + 2.0 * r2[x] + r2[x + 1]) - (r0[x - 1] + 2.0 * r0[x] + r0[x + 1]);
     const double g = std::hypot(gx, gy);
     if (g < threshold) continue;
-    // The edge's direction, and two points along it, undistorted.
+    // The edge's direction, and two points along it, undistorted: the division model of
+    // distortion.hpp written out, as GroundProjector does, because this loop also runs
+    // in unoptimised (sanitizer) builds, where Eigen's Vec2 costs ten times as much.
     const double tx = -gy / g, ty = gx / g;
     if (std::abs(ty) < kMinEdgeSlant) continue;
     auto ideal = [&](double px, double qy, double& ix, double& iy) {

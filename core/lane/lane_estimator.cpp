@@ -4,6 +4,8 @@
 // with. A fit whose picks do not fit well drops them and is solved again, once.
 #include "core/lane/lane_estimator.hpp"
 
+#include <cmath>
+
 #include "core/lane/observability.hpp"
 #include "core/ldw/lane_measurement.hpp"
 
@@ -35,27 +37,32 @@ void LaneEstimator::set_mount_correction(double psi_deg, double theta_deg) {
   if (!acquisition_.adopted) config_.nominal_pose.attitude = corrected_attitude_;
 }
 
+namespace {
+
+// Whether yaw or pitch differ by more than `deg`.
+bool off_by_more(const Attitude& a, const Attitude& b, double deg) {
+  return std::abs(rad_to_deg(a.psi - b.psi)) > deg || std::abs(rad_to_deg(a.theta - b.theta)) > deg;
+}
+
+}  // namespace
+
 Attitude LaneEstimator::mount_for(const Attitude& solved) const {
   // At the start of a run a mount that is clearly off is replaced by the picture's: one
   // frame's solve when it is off by more than twice kMountTrustDeg (one frame's yaw is
   // the mount's plus the vehicle's heading), then the mean of the first second's when
   // that is off by more than kMountTrustDeg (acquire_mount).
-  if (acquisition_.done || acquisition_.adopted) return config_.nominal_pose.attitude;
-  const Attitude& mount = corrected_attitude_;
-  if (std::abs(rad_to_deg(solved.psi - mount.psi)) <= 2 * kMountTrustDeg &&
-      std::abs(rad_to_deg(solved.theta - mount.theta)) <= 2 * kMountTrustDeg)
-    return mount;
-  Attitude a = mount;
+  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_attitude_, 2 * kMountTrustDeg))
+    return config_.nominal_pose.attitude;
+  Attitude a = corrected_attitude_;
   a.psi = solved.psi;
   a.theta = solved.theta;
   return a;
 }
 
 void LaneEstimator::adopt_mount(const Attitude& solved) {
-  if (acquisition_.done || acquisition_.adopted) return;
-  const Attitude a = mount_for(solved);
-  if (a.psi == corrected_attitude_.psi && a.theta == corrected_attitude_.theta) return;
-  config_.nominal_pose.attitude = a;
+  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_attitude_, 2 * kMountTrustDeg))
+    return;
+  config_.nominal_pose.attitude = mount_for(solved);
   acquisition_.adopted = true;
 }
 
@@ -67,16 +74,14 @@ void LaneEstimator::acquire_mount(const Attitude& solved) {
   ++q.frames;
   q.psi += solved.psi;
   q.theta += solved.theta;
-  const double psi = q.psi / q.frames, theta = q.theta / q.frames;
+  Attitude mean = corrected_attitude_;
+  mean.psi = q.psi / q.frames;
+  mean.theta = q.theta / q.frames;
   if (q.frames >= kMountAcquisitionFrames) {
     q.done = true;
-    q.adopted = q.adopted || std::abs(rad_to_deg(psi - corrected_attitude_.psi)) > kMountTrustDeg ||
-                std::abs(rad_to_deg(theta - corrected_attitude_.theta)) > kMountTrustDeg;
+    q.adopted = q.adopted || off_by_more(mean, corrected_attitude_, kMountTrustDeg);
   }
-  if (q.adopted) {
-    config_.nominal_pose.attitude.psi = psi;
-    config_.nominal_pose.attitude.theta = theta;
-  }
+  if (q.adopted) config_.nominal_pose.attitude = mean;
 }
 
 void LaneEstimator::reset_lines() {

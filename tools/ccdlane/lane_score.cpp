@@ -34,15 +34,31 @@ std::vector<AnnotatedLane> lanes_of_mask(const ImageView& mask) {
   return out;
 }
 
-double tusimple_threshold_scale(const AnnotatedLane& lane) {
-  const std::size_t n = lane.points.size();
-  if (n < 2) return 1.0;
+namespace {
+
+// The least-squares line x = mean_x + slope (y - mean_y) through points; slope 0 when
+// they all lie on one row.
+struct LineXOnY {
+  double mean_x = 0.0, mean_y = 0.0, slope = 0.0;
+  bool sloped = false;  // the points span more than one row
+};
+
+LineXOnY fit_x_on_y(std::span<const Vec2> points) {
+  const auto n = static_cast<double>(points.size());
   double sy = 0, sx = 0, syy = 0, sxy = 0;
-  for (const Vec2& p : lane.points) sy += p.y(), sx += p.x(), syy += p.y() * p.y(), sxy += p.x() * p.y();
-  const double var = syy - sy * sy / static_cast<double>(n);
-  if (!(var > 0.0)) return 1.0;
-  const double k = (sxy - sx * sy / static_cast<double>(n)) / var;
-  return 1.0 / std::cos(std::atan(k));
+  for (const Vec2& p : points) sy += p.y(), sx += p.x(), syy += p.y() * p.y(), sxy += p.x() * p.y();
+  LineXOnY l{sx / n, sy / n, 0.0, false};
+  const double var = syy - sy * sy / n;
+  if (var > 0.0) l.slope = (sxy - sx * sy / n) / var, l.sloped = true;
+  return l;
+}
+
+}  // namespace
+
+double tusimple_threshold_scale(const AnnotatedLane& lane) {
+  if (lane.points.size() < 2) return 1.0;
+  const LineXOnY l = fit_x_on_y(lane.points);
+  return l.sloped ? 1.0 / std::cos(std::atan(l.slope)) : 1.0;
 }
 
 void mark_ego_lanes(std::span<AnnotatedLane> lanes, int width, int height) {
@@ -56,13 +72,8 @@ void mark_ego_lanes(std::span<AnnotatedLane> lanes, int width, int height) {
     // A straight line through the lowest third of the lane's points (at least two).
     std::vector<Vec2> pts = lane.points;
     std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.y() > b.y(); });
-    const std::size_t n = std::max<std::size_t>(2, pts.size() / 3);
-    double sy = 0, sx = 0, syy = 0, sxy = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      sy += pts[i].y(), sx += pts[i].x(), syy += pts[i].y() * pts[i].y(), sxy += pts[i].x() * pts[i].y();
-    const double var = syy - sy * sy / static_cast<double>(n);
-    const double k_slope = var > 0.0 ? (sxy - sx * sy / static_cast<double>(n)) / var : 0.0;
-    const double x_bottom = sx / static_cast<double>(n) + k_slope * (height - sy / static_cast<double>(n));
+    const LineXOnY l = fit_x_on_y(std::span<const Vec2>(pts).first(std::max<std::size_t>(2, pts.size() / 3)));
+    const double x_bottom = l.mean_x + l.slope * (height - l.mean_y);
     if (x_bottom < centre && x_bottom > left_x) left_x = x_bottom, left = static_cast<int>(k);
     if (x_bottom >= centre && x_bottom < right_x) right_x = x_bottom, right = static_cast<int>(k);
   }
