@@ -22,6 +22,12 @@ constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and
 // is never reported and is not looked at.
 constexpr double kLateralReachMm = 12000.0;
 constexpr double kLateralReachPerMm = 0.05;
+// A Botts' dot or raised marker is about 10 cm long on the road; blur and a pose error
+// make it look longer. Anything that stands above its surroundings over less of the road
+// than this (plus a pixel or two of blur) is a blob, not a piece of a line.
+constexpr double kMaxDotLengthMm = 300.0;
+constexpr double kMaxDotWidthMm = 250.0;
+constexpr double kDotBlurPx = 2.0;
 
 // 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
 void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
@@ -106,6 +112,49 @@ bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkC
   return std::abs(gx * ex + gy * ey) / (gn * en) < kOrientationTolerance;
 }
 
+bool LaneDetector::is_dot(const ImageView& image, const MarkCandidate& c, float levels_per_grey) const {
+  const double X = c.X;
+  // How many rows the bar's centre column stays bright above and below the scanned row.
+  // A line (or a dash, 3 m long) stays bright over many rows; a dot only over its own few.
+  double X_below = 0.0, Y_below = 0.0, X_right = 0.0, Y_right = 0.0;
+  if (!projector_.ground(c.px(), c.py + 1.0, X_below, Y_below) ||
+      !projector_.ground(c.px() + 1.0, c.py, X_right, Y_right))
+    return false;
+  const double mm_per_px_down = std::max(1.0, X - X_below), mm_per_px_across = std::hypot(X_right - X, Y_right - c.Y);
+  // Farther, where a row spans more of the road than a dot is long, a dash is a few rows
+  // tall too: blobs are not told from paint there.
+  if (mm_per_px_down > kMaxDotLengthMm || c.width_px() * mm_per_px_across > kMaxDotWidthMm) return false;
+  const int limit = static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+  const int x = static_cast<int>(std::lround(c.px() - 1.0)), y = static_cast<int>(c.py) - 1;
+  const int xa = static_cast<int>(std::floor(c.left_px - 1.0)), xb = static_cast<int>(std::ceil(c.right_px - 1.0));
+  if (xa < 0 || xb >= image.width) return false;
+  const float centre = static_cast<float>(paint_measure_at(image, x, y));
+  const float threshold = centre - 0.5f * static_cast<float>(c.contrast) * levels_per_grey;
+  const auto bright = [&](int px, int py) { return static_cast<float>(paint_measure_at(image, px, py)) >= threshold; };
+  // The rows the centre column stays bright over, up and down; -1: beyond the limit or
+  // the picture.
+  const auto bright_rows = [&](int step) {
+    int n = 0;
+    for (int yy = y + step; n <= limit; yy += step, ++n) {
+      if (yy < 0 || yy >= image.height) return -1;
+      if (!bright(x, yy)) return n;
+    }
+    return -1;
+  };
+  const int up = bright_rows(-1), down = bright_rows(+1);
+  if (up < 0 || down < 0 || up + down + 1 > limit) return false;
+  // Beyond its ends a blob is dark but for a little of its tilt or blur; a bar crossing
+  // the row at a slant (a shadow's edge, a car's trim) goes on, as bright and as wide,
+  // beside the centre column.
+  const int w = xb - xa + 1;
+  for (const int yy : {y - up - 1, y + down + 1}) {
+    int lit = 0;
+    for (int xx = std::max(0, xa - w); xx <= std::min(image.width - 1, xb + w); ++xx) lit += bright(xx, yy);
+    if (2 * lit > w) return false;
+  }
+  return true;
+}
+
 void LaneDetector::choose_picks() {
   const int n = result_.num_lines;
   int count = 0;
@@ -114,13 +163,23 @@ void LaneDetector::choose_picks() {
   for (int j = 0; j < n; ++j) {
     DetectedLine& line = result_.lines[static_cast<std::size_t>(j)];
     line.first_pick = count;
+    // A line of paint hands on its paint only: the blobs grouped with it (a dash's end,
+    // a dot beside it) are not where its edges say the line is. A row of dots hands on
+    // its dots.
+    int paint = 0;
+    for (int i = 0; i < num_marks; ++i) {
+      const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];
+      paint += m.line == j && !m.dot;
+    }
+    const bool dots = 2 * paint < line.marks;
+    const int usable = dots ? line.marks - paint : paint;
     // Evenly spread over the line's marks (they come in row order, far to near).
-    const int take = std::min(line.marks, per_line);
+    const int take = std::min(usable, per_line);
     int seen = 0, next = 0;
     for (int i = 0; i < num_marks && next < take; ++i) {
       const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];
-      if (m.line != j) continue;
-      if (seen++ == static_cast<int>(static_cast<long>(2 * next + 1) * line.marks / (2 * take))) {
+      if (m.line != j || m.dot != dots) continue;
+      if (seen++ == static_cast<int>(static_cast<long>(2 * next + 1) * usable / (2 * take))) {
         picks_[static_cast<std::size_t>(count++)] = {j, m.px(), m.py};
         ++next;
       }
@@ -162,12 +221,18 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
       ++result_.counters.off_road;
       continue;
     }
-    if (!points_to_vanishing_point(image, c)) {
+    c.X = X;
+    c.Y = Y;
+    c.dot = is_dot(image, c, scale);
+    if (c.step_beside && !c.dot) {
+      ++result_.counters.step_beside;
+      continue;
+    }
+    if (!c.dot && !points_to_vanishing_point(image, c)) {
       ++result_.counters.wrong_orientation;
       continue;
     }
-    c.X = X;
-    c.Y = Y;
+    result_.counters.dots += c.dot;
     marks_[static_cast<std::size_t>(kept++)] = c;
   }
   const std::span<MarkCandidate> marks(marks_.data(), static_cast<std::size_t>(kept));

@@ -33,6 +33,9 @@ class LaneDetector {
  private:
   void plan_rows(const CameraPose& pose, double curvature_per_mm);
   bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
+  // Whether candidate c (on the road at c.X, c.Y) is a short blob: bright over no more of
+  // the road than a raised marker, and dark all around.
+  bool is_dot(const ImageView& image, const MarkCandidate& c, float levels_per_grey) const;
   void choose_picks();
 
   CameraSpec camera_;

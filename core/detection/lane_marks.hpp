@@ -19,6 +19,14 @@ struct MarkCandidate {
   double X = 0, Y = 0;               // where the centre lies on the road at the detection pose, mm
   std::int16_t line = -1;            // index of the line it was grouped into, -1 = none
   std::int16_t scan_row = 0;         // which scan row found it
+  // A short blob rather than a piece of a long bar: a Botts' dot or raised pavement
+  // marker (about 10 cm across, 1-3 m apart), or a dash's very end. Its edges are round,
+  // so they say nothing of the line's direction.
+  bool dot = false;
+  // Another step within the row filter's reach beside the bar (a shadow border, a patch,
+  // a dash's end, a raised marker's shadow): its edges may be pulled by up to half the
+  // filter's width.
+  bool step_beside = false;
 
   double px() const { return 0.5 * (left_px + right_px); }
   double width_px() const { return right_px - left_px; }
@@ -42,6 +50,8 @@ struct DetectionCounters {
   int candidates = 0;         // dark-bright-dark bars of a plausible width and contrast
   int off_road = 0;           // above the horizon or out of the searched range
   int wrong_orientation = 0;  // not running towards the road's vanishing point
+  int step_beside = 0;        // a bar (not a dot) whose edges a step beside it may bias
+  int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
   int grouped = 0;            // on a reported line
 };
 

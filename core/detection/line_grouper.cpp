@@ -34,12 +34,26 @@ constexpr int kNewLineAttempts = 16;       // voted cells tried for new lines
 constexpr int kDashAttempts = 8;           // y0 bins tried for single dashes
 constexpr double kCurvatureChange = 1e-8;  // a shared curvature that moved more re-casts the votes
 constexpr double kMinSlopeVariance = 1e6;  // mm^2 of the lines' y spread to fit slope against y
+// Dot marks this far apart along the road are separate dots (one dot spans a few rows,
+// dots are a metre or more apart).
+constexpr double kDotSeparationMm = 800.0;
 
 double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 
-// The lateral road distance the fit tolerance spans at distance X.
-double pixel_tolerance_mm(const GroupingParams& params, double X) {
-  return params.fit_tolerance_px * params.mm_per_px_per_mm * X;
+// Raised markers are set by hand and a dot's rows are chords of a small disc with its
+// own shadow: their centres scatter a few centimetres about the line, more than paint's
+// edges do near the camera, where a pixel is a few millimetres.
+constexpr double kDotScatterMm = 40.0;
+
+// The lateral road distance one pixel of the fit tolerance spans at a mark (more for a dot).
+double mm_per_tolerance_px(const GroupingParams& params, const MarkCandidate& m) {
+  const double paint = params.mm_per_px_per_mm * m.X;
+  return m.dot ? std::max(paint, kDotScatterMm / params.fit_tolerance_px) : paint;
+}
+
+// The lateral road distance the fit tolerance spans at a mark.
+double pixel_tolerance_mm(const GroupingParams& params, const MarkCandidate& m) {
+  return params.fit_tolerance_px * mm_per_tolerance_px(params, m);
 }
 
 // The road's line through a given y at the reference distance: the lines found give its
@@ -115,7 +129,7 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
     int count = 0;
     for (int k = 0; k < g; ++k) {
       const MarkCandidate& m = gated(k);
-      count += std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m.X);
+      count += std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m);
     }
     return count;
   };
@@ -172,9 +186,10 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   FitPass p;
   int first_row = 1 << 30, last_row = -1;
+  double last_dot_mm = -1e300;
   for (MarkCandidate& m : marks) {
     if (m.line != -1 && m.line != id) continue;
-    const double tol = tolerance * pixel_tolerance_mm(params, m.X);
+    const double tol = tolerance * pixel_tolerance_mm(params, m);
     if (std::abs(m.Y - model.y_at(m.X)) > tol) {
       m.line = -1;
       continue;
@@ -187,6 +202,8 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
     ++p.marks;
     p.near_mm = std::min(p.near_mm, m.X);
     p.far_mm = std::max(p.far_mm, m.X);
+    if (m.dot && std::abs(m.X - last_dot_mm) > kDotSeparationMm) ++p.dots;
+    if (m.dot) last_dot_mm = m.X;
     first_row = std::min<int>(first_row, m.scan_row);
     last_row = std::max<int>(last_row, m.scan_row);
   }
@@ -234,14 +251,16 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     const FitPass p = fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel);
     const int n = p.marks;
     if (n < min_marks || p.far_mm - p.near_mm < min_span_mm) return release();
-    if (n < params.min_coverage * p.rows) return release();  // sparse: clutter, not paint
+    // Sparse: clutter, not paint; unless it is a row of dots.
+    if (n < params.min_coverage * p.rows && p.dots < params.min_dots) return release();
     if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
     for (const MarkCandidate& m : marks) {
       if (m.line != id) continue;
       const double r = m.Y - model.y_at(m.X);
       sum2 += r * r;
-      sum2_px += r * r / (params.mm_per_px_per_mm * params.mm_per_px_per_mm * m.X * m.X);
+      const double mm_per_px = mm_per_tolerance_px(params, m);
+      sum2_px += r * r / (mm_per_px * mm_per_px);
     }
     out.fit = model;
     out.marks = n;

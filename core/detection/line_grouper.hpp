@@ -25,6 +25,9 @@ struct GroupingParams {
   double fit_tolerance_px = 2.0;
   double max_rms_px = 0.8;     // scatter about the final fit: paint is sharp, clutter is not
   double min_coverage = 0.12;  // marks per scan row over the rows a line spans (dashes ~0.25)
+  // A line of Botts' dots or raised markers (1-3 m apart, each seen on a row or three)
+  // covers fewer rows than paint: it counts when this many separate dots lie on it.
+  int min_dots = 6;
   // A line parallel to the lines found (the road's slope and curvature at its y0), or
   // continuing a previous frame's line, is found from less: one dash of a dashed line on
   // a bend, whose others are in the gaps or beyond the range (3 m dashes, 9 m gaps).
@@ -63,6 +66,7 @@ class LineGrouper {
     int marks = 0;
     double near_mm = 1e300, far_mm = 0.0;  // the road distances the marks span
     int rows = 0;                          // scan rows from the first mark's to the last's
+    int dots = 0;                          // separate dots among the marks
     bool finite = true;                    // the refit is a number
   };
   int gate_marks(std::span<const MarkCandidate> marks, const RoadLine& model, double gate_base_mm, std::int16_t id);

@@ -120,13 +120,13 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     if (!(inside - left >= min_contrast) || !(inside - right >= min_contrast)) continue;
     // The box derivative places an edge where the row is flat for h pixels beyond it; a
     // second step within that reach (a shadow border, a patch, a dash's end) pulls the
-    // peak towards it by up to h/2. Such a bar's centre is not where the paint is: drop it
-    // rather than hand the solver a biased pick.
+    // peak towards it by up to h/2. Such a bar's centre is not where the paint is: the
+    // detector drops it rather than hand the solver a biased pick, unless it is a dot
+    // (a raised marker's own shadow is such a step, and a dot is narrower than the bias).
     const float near_left = mean(ia - h, ia - 1), far_left = mean(ia - 2 * h, ia - h - 1);
     const float near_right = mean(ib + 2, ib + 1 + h), far_right = mean(ib + 2 + h, ib + 1 + 2 * h);
-    if (std::abs(near_left - far_left) > kStepInReach * (inside - near_left) ||
-        std::abs(near_right - far_right) > kStepInReach * (inside - near_right))
-      continue;
+    const bool step_beside = std::abs(near_left - far_left) > kStepInReach * (inside - near_left) ||
+                             std::abs(near_right - far_right) > kStepInReach * (inside - near_right);
     // The bar's own width: its area above the sides over its peak. Edge distance alone
     // cannot tell a thin bright line (a crack, a wire) from a mark, because the box
     // derivative spreads a thin line's edges to the box's width.
@@ -145,6 +145,8 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     c.contrast = static_cast<double>((inside - std::max(left, right)) * to_8bit);
     c.line = -1;
     c.scan_row = static_cast<std::int16_t>(scan_row_index);
+    c.step_beside = step_beside;
+    c.dot = false;
   }
   return count;
 }
