@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "core/lane/support_problem.hpp"
 #include "core/ldw/ldw_monitor.hpp"
 #include "core/solver/lane_solver.hpp"
 
@@ -51,6 +52,8 @@ struct LaneEstimate {
   bool ok = false;
   EstimateFailure reason = EstimateFailure::none;
   EstimatorState state = EstimatorState::searching;
+  // Why the lines found are not a lane (reason no_lane with lines on both sides).
+  SupportProblem support = SupportProblem::none;
   double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0;
   double sigma_psi_deg = kUndetermined, sigma_theta_deg = kUndetermined, sigma_phi_deg = kUndetermined;
   int num_lines = 0;  // ordered left to right as seen from the vehicle (largest y0 first)

@@ -297,6 +297,7 @@ void LaneEstimator::report(const FrameInputs& in) {
   const bool lane = tracked_.metrics.has_lane && support_ == SupportProblem::none;
   e.reason = failure_ != EstimateFailure::none ? failure_ : lane ? EstimateFailure::none : EstimateFailure::no_lane;
   e.ok = e.reason == EstimateFailure::none;
+  e.support = support_;
   if (!lane_solve_) return;
   const SolveResult& r = *lane_solve_;
   e.psi_deg = rad_to_deg(r.pose.attitude.psi);

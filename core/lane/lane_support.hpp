@@ -10,6 +10,7 @@
 #include "core/detection/line_grouper.hpp"
 #include "core/geometry/types.hpp"
 #include "core/lane/lane_metrics.hpp"
+#include "core/lane/support_problem.hpp"
 #include "core/solver/lane_solver.hpp"
 #include "core/solver/solver_options.hpp"
 
@@ -75,19 +76,6 @@ struct LineSupport {
 // pick, as SolveResult::points_mm).
 LineSupport line_support(std::span<const Pick> picks, std::span<const Vec2> points_mm, int line);
 
-enum class SupportProblem : std::uint8_t {
-  none,
-  too_few_marks,         // fewer than detection's min_marks
-  too_short,             // the marks cover less road than kMinLineSpanMm
-  out_of_range,          // marks solved far outside the searched range
-  not_paint,             // the marks do not narrow with distance as paint does
-  disagrees_with_prior,  // the solve is more than kPriorAgreementSigmas from a prior
-  heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
-  attitude_off_mount,    // pitch or roll without a prior more than kMaxBodyMotionDeg off the mounting
-  implausible_motion,    // a lateral speed or acceleration beyond kMaxLateralSpeedMps, kMaxLateralAccelerationMps2
-  cluttered_lane,        // marks inside the lane along more of it than kMaxClutterPerLineLength of its lines' length
-};
-const char* to_string(SupportProblem p);
 
 SupportProblem check_line_support(const LineSupport& line, const DetectionConfig& detection);
 

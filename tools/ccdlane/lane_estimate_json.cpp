@@ -46,6 +46,7 @@ Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
   j["t_ns"] = e.t_ns;
   j["ok"] = e.ok;
   if (!e.ok) j["reason"] = to_string(e.reason);
+  if (e.support != SupportProblem::none) j["support"] = to_string(e.support);
   j["state"] = to_string(e.state);
   j["psi_deg"] = solved ? json_number(e.psi_deg) : null;
   j["theta_deg"] = solved ? json_number(e.theta_deg) : null;
