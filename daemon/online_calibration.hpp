@@ -10,7 +10,7 @@
 #include <string>
 
 #include "app/config.hpp"
-#include "core/calibration/online_mount_refiner.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 #include "core/lane/lane_estimate.hpp"
 #include "core/lane/lane_estimator.hpp"
 
