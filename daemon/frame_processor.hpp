@@ -47,28 +47,28 @@ class FrameProcessor {
 class EstimatorProcessor final : public FrameProcessor {
  public:
   // Allocates the estimator's workspaces. Throws std::runtime_error when the (open)
-  // source's frames are not the camera's Nu x Nv.
-  EstimatorProcessor(const Config& config, const FrameSource& source);
-
-  // The online mount refinement sees every frame from now on (not owned; it must outlive
-  // the processor). Before the pipeline starts.
-  void attach(OnlineCalibration& calibration) { calibration_ = &calibration; }
+  // source's frames are not the camera's Nu x Nv. With `calibration` (not owned; it must
+  // outlive the processor) the estimator refines the mount online from where it left
+  // off, and it is given the refinement's result after every frame.
+  EstimatorProcessor(const Config& config, const FrameSource& source, OnlineCalibration* calibration = nullptr);
 
   LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
                        std::optional<Gx1Angles> attitude, const VehicleInputs& inputs) override {
-    FrameInputs in{frame, meta.sequence, meta.frame_t_ns(), image, attitude, attitude_source(meta, attitude), inputs};
-    if (calibration_) calibration_->before_frame(estimator_, in.vehicle);
-    const LaneEstimate& e = estimator_.estimate(in);
-    if (calibration_) calibration_->after_frame(e, in.vehicle);
-    return e;
+    return run(
+        FrameInputs{frame, meta.sequence, meta.frame_t_ns(), image, attitude, attitude_source(meta, attitude), inputs});
   }
   LaneEstimate no_frame(std::uint64_t frame, const FrameMeta& meta, const VehicleInputs& inputs) override {
-    FrameInputs in{frame, meta.sequence, meta.frame_t_ns(), std::nullopt, std::nullopt, AttitudeSource::none, inputs};
-    if (calibration_) calibration_->before_frame(estimator_, in.vehicle);
-    return estimator_.estimate(in);
+    return run(
+        FrameInputs{frame, meta.sequence, meta.frame_t_ns(), std::nullopt, std::nullopt, AttitudeSource::none, inputs});
   }
 
  private:
+  LaneEstimate run(const FrameInputs& in) {
+    const LaneEstimate& e = estimator_.estimate(in);
+    if (calibration_) calibration_->share(estimator_.mount_refinement());
+    return e;
+  }
+
   static AttitudeSource attitude_source(const FrameMeta& meta, const std::optional<Gx1Angles>& attitude) {
     if (!attitude) return AttitudeSource::none;
     return meta.gyro ? AttitudeSource::recorded : AttitudeSource::live;
