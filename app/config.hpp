@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bus/lcm_publisher.hpp"
-#include "core/calibration/online_mount_refiner.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 #include "core/detection/detection_config.hpp"
 #include "core/geometry/attitude.hpp"
 #include "core/geometry/camera_model.hpp"

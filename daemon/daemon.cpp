@@ -158,8 +158,8 @@ namespace {
 struct Devices {
   std::unique_ptr<FrameSource> source;
   std::unique_ptr<AttitudeProvider> gyro;
+  std::unique_ptr<OnlineCalibration> calibration;  // before the processor, which it outlives
   std::unique_ptr<EstimatorProcessor> processor;
-  std::unique_ptr<OnlineCalibration> calibration;
   std::unique_ptr<LcmPublisher> publisher;
   std::unique_ptr<VehicleStateListener> vehicle;
   bool source_open = false, gyro_open = false;
@@ -207,11 +207,11 @@ std::optional<int> open_devices(const Config& config, SignalWaiter& signals, Dev
   return std::nullopt;
 }
 
-// The processor, the online calibration and the bus.
+// The online calibration, the processor and the bus.
 void make_processing(const Config& config, Devices& d) {
-  d.processor = std::make_unique<EstimatorProcessor>(config, *d.source);
-  d.calibration = std::make_unique<OnlineCalibration>(config);
-  if (d.calibration->enabled()) d.processor->attach(*d.calibration);
+  d.calibration = std::make_unique<OnlineCalibration>(config);  // the estimator starts from its state file
+  d.processor =
+      std::make_unique<EstimatorProcessor>(config, *d.source, d.calibration->enabled() ? d.calibration.get() : nullptr);
   d.publisher = std::make_unique<LcmPublisher>(config.lcm);
   d.publisher->set_instance(config.lcm.instance.empty() ? instance_name() : config.lcm.instance);
   d.publisher->watch_for_other_instances();

@@ -15,9 +15,15 @@ const Config& with_source_size(const Config& config, const FrameSource& source) 
   return config;
 }
 
+LaneEstimatorOptions estimator_options(const Config& config, const OnlineCalibration* calibration) {
+  LaneEstimatorOptions options = config.estimator_options();
+  if (calibration) calibration->configure(options);
+  return options;
+}
+
 }  // namespace
 
-EstimatorProcessor::EstimatorProcessor(const Config& config, const FrameSource& source)
-    : estimator_(with_source_size(config, source).estimator_options()) {}
+EstimatorProcessor::EstimatorProcessor(const Config& config, const FrameSource& source, OnlineCalibration* calibration)
+    : estimator_(estimator_options(with_source_size(config, source), calibration)), calibration_(calibration) {}
 
 }  // namespace ccdlane

@@ -3,12 +3,8 @@
 // readings. An interface so that the pipeline's tests can run a frame checker instead.
 #pragma once
 
-#include <cstdint>
-#include <optional>
-
 #include "app/config.hpp"
-#include "base/gx1_angles.hpp"
-#include "base/image_view.hpp"
+#include "core/lane/frame_inputs.hpp"
 #include "core/lane/lane_estimate.hpp"
 #include "core/lane/lane_estimator.hpp"
 #include "daemon/online_calibration.hpp"
@@ -20,22 +16,22 @@ class FrameProcessor {
  public:
   virtual ~FrameProcessor() = default;
 
-  // One frame, one estimate, numbered `frame` (the pipeline's own count for the run: the
-  // source's id may wrap or restart) and timed by the frame (meta.frame_t_ns()); ok =
-  // false with a reason when the frame gives none. Runs on the
-  // real-time path: no allocation, no exceptions; every workspace was sized when the
-  // processor was built. `attitude` is the gyro reading at the frame's time (the frame's
-  // own recorded reading, else the live gyro's), if there is one; `vehicle` the
-  // vehicle's speed, yaw rate and indicator at it, and the devices' health.
-  virtual LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                               std::optional<Gx1Angles> attitude, const VehicleInputs& vehicle) = 0;
+  // One frame, one estimate; ok = false with a reason when the frame gives none. `in` is
+  // what the pipeline built once with app/frame_inputs.hpp's frame_inputs(), as replay
+  // and calibrate mount build theirs: the pixels, the pipeline's own frame number for the
+  // run (the source's id, which may wrap or restart, beside it), the frame's time, the
+  // gyro reading at it (the frame's own recorded one, else the live gyro's) and where it
+  // came from, the vehicle's speed, yaw rate and indicator and the devices' health. Runs
+  // on the real-time path: no allocation, no exceptions; every workspace was sized when
+  // the processor was built.
+  virtual LaneEstimate process(const FrameInputs& in) = 0;
 
-  // A frame the source could not deliver (ok = false, no_frame): the lane departure
-  // warning coasts through it. By default, only the failed estimate.
-  virtual LaneEstimate no_frame(std::uint64_t frame, const FrameMeta& meta, const VehicleInputs& /*vehicle*/) {
+  // A frame the source could not deliver (in.image empty; ok = false, no_frame): the lane
+  // departure warning coasts through it. By default, only the failed estimate.
+  virtual LaneEstimate no_frame(const FrameInputs& in) {
     LaneEstimate e;
-    e.frame = frame;
-    e.t_ns = meta.frame_t_ns();
+    e.frame = in.frame;
+    e.t_ns = in.t_ns;
     e.ok = false;
     e.reason = EstimateFailure::no_frame;
     return e;
@@ -47,31 +43,19 @@ class FrameProcessor {
 class EstimatorProcessor final : public FrameProcessor {
  public:
   // Allocates the estimator's workspaces. Throws std::runtime_error when the (open)
-  // source's frames are not the camera's Nu x Nv.
-  EstimatorProcessor(const Config& config, const FrameSource& source);
+  // source's frames are not the camera's Nu x Nv. With `calibration` (not owned; it must
+  // outlive the processor) the estimator refines the mount online from where it left
+  // off, and it is given the refinement's result after every frame.
+  EstimatorProcessor(const Config& config, const FrameSource& source, OnlineCalibration* calibration = nullptr);
 
-  // The online mount refinement sees every frame from now on (not owned; it must outlive
-  // the processor). Before the pipeline starts.
-  void attach(OnlineCalibration& calibration) { calibration_ = &calibration; }
-
-  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                       std::optional<Gx1Angles> attitude, const VehicleInputs& inputs) override {
-    FrameInputs in{frame, meta.sequence, meta.frame_t_ns(), image, attitude, attitude_source(meta, attitude), inputs};
-    if (calibration_) calibration_->before_frame(estimator_, in.vehicle);
-    const LaneEstimate& e = estimator_.estimate(in);
-    if (calibration_) calibration_->after_frame(e, in.vehicle);
-    return e;
-  }
-  LaneEstimate no_frame(std::uint64_t frame, const FrameMeta& meta, const VehicleInputs& inputs) override {
-    FrameInputs in{frame, meta.sequence, meta.frame_t_ns(), std::nullopt, std::nullopt, AttitudeSource::none, inputs};
-    if (calibration_) calibration_->before_frame(estimator_, in.vehicle);
-    return estimator_.estimate(in);
-  }
+  LaneEstimate process(const FrameInputs& in) override { return run(in); }
+  LaneEstimate no_frame(const FrameInputs& in) override { return run(in); }
 
  private:
-  static AttitudeSource attitude_source(const FrameMeta& meta, const std::optional<Gx1Angles>& attitude) {
-    if (!attitude) return AttitudeSource::none;
-    return meta.gyro ? AttitudeSource::recorded : AttitudeSource::live;
+  LaneEstimate run(const FrameInputs& in) {
+    const LaneEstimate& e = estimator_.estimate(in);
+    if (calibration_) calibration_->share(estimator_.mount_refinement());
+    return e;
   }
 
   LaneEstimator estimator_;

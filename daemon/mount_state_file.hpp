@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/calibration/online_mount_refiner.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 
 namespace ccdlane {
 

@@ -32,32 +32,25 @@ std::string state_file_path(const Config& config) {
   return dir + "/" + kMountStateFileName;
 }
 
-// The road's curvature at the vehicle (|1/R|, per metre) from the solved lines: the
-// curvature of y = y0 + m x + c x^2 at x = 0 is 2c; lines of one road share it.
-double road_curvature_per_m(const LaneEstimate& e) {
-  double sum = 0.0;
-  for (int j = 0; j < e.num_lines; ++j) sum += e.lines[static_cast<std::size_t>(j)].c_per_mm;
-  return e.num_lines > 0 ? std::abs(2.0 * sum / e.num_lines) * 1e3 : 0.0;
-}
-
 }  // namespace
 
 OnlineCalibration::OnlineCalibration(const Config& config)
     : enabled_(config.calibration.online),
       options_(config.online_mount_options()),
-      save_period_ns_(static_cast<std::int64_t>(config.calibration.save_period_s * 1e9)),
-      refiner_(options_) {
+      save_period_ns_(static_cast<std::int64_t>(config.calibration.save_period_s * 1e9)) {
   if (!enabled_) return;
   path_ = state_file_path(config);
-  load();
-  shared_status_ = refiner_.status();
-  shared_learned_ = refiner_.learned();
+  // Where the estimator's stage will start, to report before its first frame.
+  calibration::OnlineMountRefiner start(options_);
+  load(start);
+  latest_.status = shared_status_ = start.status();
+  latest_.learned = shared_learned_ = start.learned();
   logged_state_ = shared_status_.state;
   logged_applied_ = shared_status_.applied;
   saved_frames_ = shared_learned_.frames;
 }
 
-void OnlineCalibration::load() {
+void OnlineCalibration::load(calibration::OnlineMountRefiner& start) {
   if (path_.empty()) {
     log_line(LogLevel::notice, "calibration",
              "no [calibration] state_file and no $STATE_DIRECTORY: the mount learned online is not kept across "
@@ -87,36 +80,27 @@ void OnlineCalibration::load() {
     log_line(LogLevel::warning, "calibration", "%s: not used: %s; starting uncalibrated", path_.c_str(), why.c_str());
     return;
   }
-  refiner_.restore(learned);
+  loaded_ = learned;
+  start.restore(learned);
   log_line(LogLevel::info, "calibration",
            "%s: learned mount loaded: correction yaw %+.3f pitch %+.3f deg (estimate %+.3f %+.3f, %lld frames); %s",
            path_.c_str(), learned.applied.psi_deg, learned.applied.theta_deg, learned.estimate.psi_deg,
-           learned.estimate.theta_deg, static_cast<long long>(learned.frames), to_string(refiner_.state()));
+           learned.estimate.theta_deg, static_cast<long long>(learned.frames), to_string(start.state()));
 }
 
-void OnlineCalibration::before_frame(LaneEstimator& estimator, VehicleInputs& vehicle) {
+void OnlineCalibration::configure(LaneEstimatorOptions& options) const {
   if (!enabled_) return;
-  estimator.set_mount_correction(refiner_.applied().psi_deg, refiner_.applied().theta_deg);
-  vehicle.calibrated = refiner_.state() != OnlineMountState::out_of_range;
+  options.online_mount = options_;
+  options.learned_mount = loaded_;
 }
 
-void OnlineCalibration::after_frame(const LaneEstimate& e, const VehicleInputs& vehicle) {
+void OnlineCalibration::share(const MountRefinementResult& result) {
   if (!enabled_) return;
-  calibration::MountSample s;
-  s.t_ns = e.t_ns;
-  // ok: solved, with a line on each side of the vehicle; a roll that could not be
-  // observed leaves yaw and pitch in doubt too.
-  s.solved = e.ok && !e.roll_unobservable;
-  s.speed_kmh = e.ldw.speed_mps * 3.6;  // the speed LDW used: the vehicle's, else [vehicle] speed_kmh
-  s.curvature_per_m = road_curvature_per_m(e);
-  if (vehicle.yaw_rate_radps) s.yaw_rate_deg_s = *vehicle.yaw_rate_radps * 180.0 / 3.14159265358979323846;
-  s.psi_deg = e.psi_deg;
-  s.theta_deg = e.theta_deg;
-  refiner_.add(s);
+  latest_ = result;
   std::unique_lock lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return;
-  shared_status_ = refiner_.status();
-  shared_learned_ = refiner_.learned();
+  shared_status_ = result.status;
+  shared_learned_ = result.learned;
 }
 
 OnlineMountStatus OnlineCalibration::status() const {
@@ -170,10 +154,10 @@ void OnlineCalibration::tick(std::int64_t now_ns) {
 
 void OnlineCalibration::stop() {
   if (!enabled_) return;
-  // The processing thread has ended: its refiner is ours now, complete to the last frame.
-  const OnlineMountStatus s = refiner_.status();
+  // The processing thread has ended: its last result is ours now, complete to the last frame.
+  const OnlineMountStatus& s = latest_.status;
   log_changes(s, logged_change_ns_ + kChangeLogPeriodNs);
-  if (s.state == OnlineMountState::calibrated && refiner_.learned().frames != saved_frames_) save(refiner_.learned());
+  if (s.state == OnlineMountState::calibrated && latest_.learned.frames != saved_frames_) save(latest_.learned);
 }
 
 void OnlineCalibration::save(const LearnedMount& learned) {

@@ -1,5 +1,6 @@
-// ccdlaned's online mount refinement: the processing thread feeds every frame's solve to
-// an OnlineMountRefiner and hands the correction in use to the estimator; the status
+// ccdlaned's side of the online mount refinement, which the lane estimator runs as a stage
+// of its own (core/lane/mount_refinement.hpp): this finds and loads the state file the
+// estimator starts from, takes the stage's result after each frame, and on the status
 // thread reports it, logs its changes (rate-limited) and keeps it in the state file.
 // The two threads share one snapshot under a mutex the processing thread only ever
 // try-locks, so the real-time path never waits.
@@ -7,12 +8,13 @@
 
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "app/config.hpp"
-#include "core/calibration/online_mount_refiner.hpp"
-#include "core/lane/lane_estimate.hpp"
-#include "core/lane/lane_estimator.hpp"
+#include "core/lane/lane_estimator_options.hpp"
+#include "core/lane/mount_refinement.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 
 namespace ccdlane {
 
@@ -30,9 +32,13 @@ class OnlineCalibration {
   bool enabled() const { return enabled_; }
   const std::string& state_file() const { return path_; }  // "" when not kept
 
-  // Processing thread, around each frame's estimate. No allocation, no waiting.
-  void before_frame(LaneEstimator& estimator, VehicleInputs& vehicle);
-  void after_frame(const LaneEstimate& estimate, const VehicleInputs& vehicle);
+  // Start-up: turns the estimator's online refinement on in `options`, to start from the
+  // mount loaded (leaves them as they are when not enabled).
+  void configure(LaneEstimatorOptions& options) const;
+
+  // Processing thread, after each frame's estimate: the refinement stage's result, for
+  // the status thread. No allocation, no waiting.
+  void share(const MountRefinementResult& result);
 
   // Status thread.
   calibration::OnlineMountStatus status() const;
@@ -43,7 +49,7 @@ class OnlineCalibration {
   void stop();
 
  private:
-  void load();
+  void load(calibration::OnlineMountRefiner& start);
   void save(const calibration::LearnedMount& learned);
   void log_changes(const calibration::OnlineMountStatus& s, std::int64_t now_ns);
 
@@ -51,8 +57,9 @@ class OnlineCalibration {
   calibration::OnlineMountOptions options_;
   std::int64_t save_period_ns_ = 0;
   std::string path_;
+  std::optional<calibration::LearnedMount> loaded_;  // from the state file
 
-  calibration::OnlineMountRefiner refiner_;  // the processing thread's
+  MountRefinementResult latest_;  // the processing thread's: the stage's last result
 
   mutable std::mutex mutex_;  // guards the two below
   calibration::OnlineMountStatus shared_status_;

@@ -273,7 +273,7 @@ void Pipeline::process_one(std::uint32_t index) {
   if (slot.bad) {
     if (!returned_.try_push(index)) std::terminate();  // holds the whole pool: cannot be full
     // The lane departure warning coasts through it, and says the camera failed.
-    LaneEstimate estimate = processor_.no_frame(slot.frame, slot.meta, in.vehicle);
+    LaneEstimate estimate = processor_.no_frame(in);
     estimate.source_frame = slot.meta.sequence;  // for processors other than the estimator
     publish(estimate, slot.received_ns);
     return;
@@ -281,7 +281,7 @@ void Pipeline::process_one(std::uint32_t index) {
   const VehicleInputs& vehicle = in.vehicle;
   // The source's id may wrap (a 16-bit block id) or restart with the camera: messages go
   // out under the run's own count, with the source's id beside it.
-  LaneEstimate estimate = processor_.process(image, slot.frame, slot.meta, in.gyro, vehicle);
+  LaneEstimate estimate = processor_.process(in);
   estimate.source_frame = slot.meta.sequence;  // for processors other than the estimator
   if (sink_.publishes_frames()) {
     // Only processed frames go out, in processing order (after any drop), keyed as the

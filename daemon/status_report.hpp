@@ -10,7 +10,7 @@
 
 #include "app/attitude_provider.hpp"
 #include "bus/vehicle_state_check.hpp"
-#include "core/calibration/online_mount_refiner.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 #include "daemon/latency_window.hpp"
 #include "daemon/pipeline_totals.hpp"
 

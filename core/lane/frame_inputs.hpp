@@ -22,7 +22,9 @@ struct VehicleInputs {
   bool camera_ok = true;   // false: the camera stalled or failed (LDW "camera_fault")
   bool gyro_ok = true;     // false: a configured gyro is not delivering ("gyro_fault")
   bool vehicle_ok = true;  // false: the gateway sends only refused states or stopped ("vehicle_fault")
-  bool calibrated = true;  // false: the mount is outside its allowed bounds (LDW "not_calibrated")
+  // false: the caller knows the mount is not to be trusted (LDW "not_calibrated"); the
+  // estimator's own online refinement says so too when the mount it learned is out of range.
+  bool calibrated = true;
 };
 
 // Where a frame's gyro attitude came from.

@@ -1,10 +1,10 @@
 // The sequencer: each stage's result stays a member until report() makes the estimate of
 // them. Cold starts (no previous frame) detect and fit twice: the pose the first solve
 // finds is a far better guess than the nominal mounting to plan rows and project marks
-// with. A fit whose picks do not fit well drops them and is solved again, once.
+// with. A fit whose picks do not fit well drops them and is solved again, once. The mount
+// is mount_'s alone: the stages read it, the search and track stages tell it what they
+// solved at the start of a run, and its own stage, last, learns from the frame's estimate.
 #include "core/lane/lane_estimator.hpp"
-
-#include <cmath>
 
 #include "core/lane/observability.hpp"
 #include "core/ldw/lane_measurement.hpp"
@@ -13,81 +13,32 @@ namespace ccdlane {
 
 LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
     : config_(config),
-      configured_attitude_(config.nominal_pose.attitude),
-      corrected_attitude_(config.nominal_pose.attitude),
       roll_needs_gyro_(ccdlane::roll_needs_gyro(config)),
       detector_(config.camera, config.detection),
       fit_(config_),
       ldw_(config.ldw),
+      mount_(config),
       last_pose_(config.nominal_pose),
       vp_finder_(config.camera, config.detection) {
   reset();
 }
 
 void LaneEstimator::reset() {
-  config_.nominal_pose.attitude = corrected_attitude_;
-  acquisition_ = MountAcquisition{};
+  mount_.reset();
   reset_lines();
   ldw_.reset();
 }
 
-void LaneEstimator::set_mount_correction(double psi_deg, double theta_deg) {
-  corrected_attitude_.psi = configured_attitude_.psi + deg_to_rad(psi_deg);
-  corrected_attitude_.theta = configured_attitude_.theta + deg_to_rad(theta_deg);
-  if (!acquisition_.adopted) config_.nominal_pose.attitude = corrected_attitude_;
-}
-
-namespace {
-
-// Whether yaw or pitch differ by more than `deg`.
-bool off_by_more(const Attitude& a, const Attitude& b, double deg) {
-  return std::abs(rad_to_deg(a.psi - b.psi)) > deg || std::abs(rad_to_deg(a.theta - b.theta)) > deg;
-}
-
-}  // namespace
-
-Attitude LaneEstimator::mount_for(const Attitude& solved) const {
-  // At the start of a run a mount that is clearly off is replaced by the picture's: one
-  // frame's solve when it is off by more than twice kMountTrustDeg (one frame's yaw is
-  // the mount's plus the vehicle's heading), then the mean of the first second's when
-  // that is off by more than kMountTrustDeg (acquire_mount).
-  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_attitude_, 2 * kMountTrustDeg))
-    return config_.nominal_pose.attitude;
-  Attitude a = corrected_attitude_;
-  a.psi = solved.psi;
-  a.theta = solved.theta;
-  return a;
-}
-
-void LaneEstimator::adopt_mount(const Attitude& solved) {
-  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_attitude_, 2 * kMountTrustDeg))
-    return;
-  config_.nominal_pose.attitude = mount_for(solved);
-  acquisition_.adopted = true;
-}
-
-void LaneEstimator::acquire_mount(const Attitude& solved) {
-  // Along a lane the vehicle's heading and pitch average out: the mean of the first ok
-  // frames' camera yaw and pitch is the mount (online refinement follows it later, slowly).
-  MountAcquisition& q = acquisition_;
-  if (q.done) return;
-  ++q.frames;
-  q.psi += solved.psi;
-  q.theta += solved.theta;
-  Attitude mean = corrected_attitude_;
-  mean.psi = q.psi / q.frames;
-  mean.theta = q.theta / q.frames;
-  if (q.frames >= kMountAcquisitionFrames) {
-    q.done = true;
-    q.adopted = q.adopted || off_by_more(mean, corrected_attitude_, kMountTrustDeg);
-  }
-  if (q.adopted) config_.nominal_pose.attitude = mean;
+CameraPose LaneEstimator::nominal_pose() const {
+  CameraPose pose = config_.nominal_pose;
+  pose.attitude = mount_.mount();
+  return pose;
 }
 
 void LaneEstimator::reset_lines() {
   have_last_ = false;
   misses_ = 0;
-  last_pose_ = config_.nominal_pose;
+  last_pose_ = nominal_pose();
   tracker_.reset();
 }
 
@@ -125,11 +76,12 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
   }
   warn(in);
   report(in);
+  mount_.refine(estimate_, in.vehicle);
   return estimate_;
 }
 
 CameraPose LaneEstimator::guess_pose(const std::optional<Gx1Angles>& gyro) const {
-  CameraPose pose = have_last_ ? last_pose_ : config_.nominal_pose;
+  CameraPose pose = have_last_ ? last_pose_ : nominal_pose();
   if (gyro) {  // the gyro knows this frame's roll and pitch better than the last frame does
     const Attitude a = camera_attitude_from_gx1(*gyro);
     pose.attitude.theta = a.theta;
@@ -205,7 +157,7 @@ int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1A
 bool LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle) const {
   // Whether this solve is a lane, judged as the track stage would judge it, on a copy of
   // the tracker (nothing is committed) and against the mount acquisition would take.
-  const Attitude mount = mount_for(r.pose.attitude);
+  const Attitude mount = mount_.mount_for(r.pose.attitude);
   LaneTracker scratch = tracker_;
   const TrackedLines t = track_lines(scratch, r, fit_, rad_to_deg(mount.psi), config_.detection.departure_mm);
   return t.metrics.has_lane && fit_.lane_support_problem(r, t.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
@@ -223,7 +175,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
     if (a.why == EstimateFailure::none && supported(*a.solve, vehicle)) {
-      adopt_mount(a.solve->pose.attitude);
+      mount_.adopt(a.solve->pose.attitude);
       return a;
     }
     if (k == 0) first = a;
@@ -249,18 +201,17 @@ const SolveResult* LaneEstimator::detect_and_fit(const ImageView& image, const s
 
 void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
   lane_solve_ = &r;
-  tracked_ =
-      track_lines(tracker_, r, fit_, rad_to_deg(config_.nominal_pose.attitude.psi), config_.detection.departure_mm);
+  tracked_ = track_lines(tracker_, r, fit_, rad_to_deg(mount_.mount().psi), config_.detection.departure_mm);
   last_pose_ = r.pose;
   have_last_ = true;
   misses_ = 0;
   // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
   // lane is one only with the support a real one gives (lane_support.hpp).
   if (tracked_.metrics.has_lane)
-    support_ = fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
-                                         config_.nominal_pose.attitude);
+    support_ =
+        fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount());
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)
-    acquire_mount(r.pose.attitude);
+    mount_.acquire(r.pose.attitude);
 }
 
 void LaneEstimator::warn(const FrameInputs& in) {
@@ -271,7 +222,7 @@ void LaneEstimator::warn(const FrameInputs& in) {
                         support_ == SupportProblem::none && own.left >= 0 && own.right >= 0;
   ldw::LaneMeasurement measurement;
   if (measured)
-    measurement = ldw::measurement_from_solve(*lane_solve_, own.left, own.right, config_.nominal_pose.attitude.psi,
+    measurement = ldw::measurement_from_solve(*lane_solve_, own.left, own.right, mount_.mount().psi,
                                               config_.ldw.filter.track_roll);
   ldw::LdwFrameInput ldw_in;
   ldw_in.t_s = static_cast<double>(in.t_ns) * 1e-9;
@@ -282,7 +233,8 @@ void LaneEstimator::warn(const FrameInputs& in) {
   ldw_in.camera_ok = in.vehicle.camera_ok;
   ldw_in.gyro_ok = in.vehicle.gyro_ok;
   ldw_in.vehicle_ok = in.vehicle.vehicle_ok;
-  ldw_in.calibrated = in.vehicle.calibrated;
+  // The caller may know the mount is not to be trusted; the mount's refinement may too.
+  ldw_in.calibrated = in.vehicle.calibrated && mount_.calibrated();
   ldw_.step(ldw_in);
 }
 

@@ -4,7 +4,8 @@
 // (lane_fit.hpp: solve with gyro roll/pitch as priors, drop outliers), track the lines
 // (tracked_lines.hpp: ids, order, lane metrics), check the lane's support
 // (lane_fit.hpp), and run the lane departure warning (core/ldw/ldw_monitor.hpp), into a
-// LaneEstimate every field of which is set in one place (report()).
+// LaneEstimate every field of which is set in one place (report()); then refine the
+// mount from that estimate for the frames after it (mount_refinement.hpp).
 #pragma once
 
 #include <array>
@@ -22,6 +23,7 @@
 #include "core/lane/lane_fit.hpp"
 #include "core/lane/lane_support.hpp"
 #include "core/lane/lane_tracker.hpp"
+#include "core/lane/mount_refinement.hpp"
 #include "core/lane/tracked_lines.hpp"
 #include "core/ldw/ldw_monitor.hpp"
 #include "core/solver/lane_solver.hpp"
@@ -47,13 +49,8 @@ class LaneEstimator {
                                const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle = {});
   const LaneEstimate& no_frame(std::uint64_t frame, std::int64_t t_ns, const VehicleInputs& vehicle = {});
 
-  // The online refinement's correction to the configured mount's yaw and pitch
-  // (degrees): the pose the heading is measured from and cold starts begin at becomes
-  // the configured one plus this. Allocation-free; takes effect from the next frame.
-  void set_mount_correction(double psi_deg, double theta_deg);
-
-  // Forgets the previous frames (their pose and lines, and the lane departure warning's
-  // track and state).
+  // Forgets the previous frames (their pose and lines, the lane departure warning's track
+  // and state, and the start's mount acquisition; not the online refinement's correction).
   void reset();
 
   // What the last estimate() was made of, for overlays and diagnostics.
@@ -66,12 +63,12 @@ class LaneEstimator {
   const VanishingPoint* vanishing_point() const { return vanishing_point_; }
   // The mount the estimator goes by: the configured one (with the online correction), or
   // what the road showed when that was more than kMountTrustDeg off.
-  const Attitude& mount() const { return config_.nominal_pose.attitude; }
-  // How far the mount the picture shows may lie from the configured one before the
-  // picture's is taken: a configured mount is a measurement too, within a degree or two.
-  static constexpr double kMountTrustDeg = 2.0;
-  // The ok frames whose solved yaw and pitch settle the mount at the start (1 s at 25 fps).
-  static constexpr int kMountAcquisitionFrames = 25;
+  const Attitude& mount() const { return mount_.mount(); }
+  // The online mount refinement after the last estimate(): what the daemon reports and
+  // keeps in its state file (status off when not configured).
+  const MountRefinementResult& mount_refinement() const { return mount_.result(); }
+  static constexpr double kMountTrustDeg = MountRefinement::kMountTrustDeg;
+  static constexpr int kMountAcquisitionFrames = MountRefinement::kMountAcquisitionFrames;
   // A search without a previous frame also starts from the mount pitched by these steps,
   // out to this bound: detection finds lines from a pose within about 4 degrees.
   static constexpr double kSearchPitchStepDeg = 3.0;
@@ -97,27 +94,25 @@ class LaneEstimator {
                    std::array<CameraPose, kMaxSearchPoses>& poses);
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   bool supported(const SolveResult& r, const VehicleInputs& vehicle) const;
-  Attitude mount_for(const Attitude& solved) const;
-  void adopt_mount(const Attitude& solved);
-  void acquire_mount(const Attitude& solved);
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   void track(const SolveResult& r, const VehicleInputs& vehicle);
   void warn(const FrameInputs& in);
   void report(const FrameInputs& in);
+  // Then mount_.refine(): the mount learns from the estimate, for the frames after it.
 
   const SolveResult* fail(EstimateFailure why);
   CameraPose guess_pose(const std::optional<Gx1Angles>& gyro) const;
+  CameraPose nominal_pose() const;  // the configured position with the mount in use
   void reset_lines();
   void miss();
 
-  LaneEstimatorOptions config_;
-  Attitude configured_attitude_;  // config_.nominal_pose's before any mount correction
-  Attitude corrected_attitude_;   // configured plus the online correction: what reset() returns to
-  bool roll_needs_gyro_;          // observability.hpp: a frame without a gyro reading is roll_unobservable
+  LaneEstimatorOptions config_;  // nominal_pose.attitude: the configured mount (mount_ has the one in use)
+  bool roll_needs_gyro_;         // observability.hpp: a frame without a gyro reading is roll_unobservable
   LaneDetector detector_;
   LaneFit fit_;
   LaneTracker tracker_;
   ldw::LdwMonitor ldw_;
+  MountRefinement mount_;
   CameraPose last_pose_;
   bool have_last_ = false;
   int misses_ = 0;  // frames in a row without an estimate
@@ -132,14 +127,6 @@ class LaneEstimator {
   LaneEstimate estimate_;
 
   // The search without a previous frame (docs/real-roads.md).
-  // The mount's acquisition at the start of a run: the solved yaw and pitch of its first
-  // ok frames, summed (docs/real-roads.md "The mount, settled at the start").
-  struct MountAcquisition {
-    int frames = 0;
-    double psi = 0.0, theta = 0.0;
-    bool adopted = false;  // the picture's mount is in use
-    bool done = false;
-  } acquisition_;
   VanishingPointFinder vp_finder_;
   const VanishingPoint* vanishing_point_ = nullptr;
   EstimatorState state_ = EstimatorState::searching;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/frame_inputs.hpp"
 #include "app/gyro_factory.hpp"
 #include "app/source_factory.hpp"
 #include "base/clock.hpp"
@@ -48,7 +49,8 @@ TEST(SourceFactory, SynthRendersTheConfiguredCameraAndFeedsTheEstimator) {
   EXPECT_GT(m.frame_t_ns(), 0);
 
   // And the estimator finds the lane it shows.
-  const LaneEstimate e = processor.process(va, 0, m0, m0.gyro, {});
+  const ImageView frame0 = va;
+  const LaneEstimate e = processor.process(frame_inputs(&frame0, 0, m0, {}, false));
   EXPECT_TRUE(e.ok);
 }
 

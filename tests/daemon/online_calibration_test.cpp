@@ -1,8 +1,8 @@
-// The daemon's refinement glue on estimates made up with a known mount: off unless asked,
-// the state file found through $STATE_DIRECTORY, saved once calibrated and at stop,
-// loaded calibrated at once, a bad file one log line and uncalibrated, the correction
-// handed to the estimator and "not calibrated" to LDW out of range, and frames and
-// status seconds that allocate nothing.
+// The daemon's refinement glue on estimates made up with a known mount, fed to the
+// estimator's refinement stage as ccdlaned configures it: off unless asked, the state
+// file found through $STATE_DIRECTORY, saved once calibrated and at stop, loaded
+// calibrated at once, a bad file one log line and uncalibrated, "not calibrated" for LDW
+// out of range, and frames and status seconds that allocate nothing.
 #include "daemon/online_calibration.hpp"
 
 #include <fcntl.h>
@@ -64,19 +64,21 @@ struct Frames {
   }
 };
 
-void drive(OnlineCalibration& k, LaneEstimator& estimator, Frames& f, int frames) {
-  for (int i = 0; i < frames; ++i) {
-    VehicleInputs vehicle;
-    k.before_frame(estimator, vehicle);
-    k.after_frame(f.next(), vehicle);
-  }
+// The estimator's refinement stage as ccdlaned builds it for k.
+MountRefinement stage_of(const OnlineCalibration& k) {
+  LaneEstimatorOptions options = default_config().estimator_options();
+  k.configure(options);
+  return MountRefinement(options);
+}
+
+void drive(OnlineCalibration& k, MountRefinement& stage, Frames& f, int frames) {
+  for (int i = 0; i < frames; ++i) k.share(stage.refine(f.next(), VehicleInputs{}));
 }
 
 class OnlineCalibrationTest : public ::testing::Test {
  protected:
   test::TempDir dir_;
   std::string path_ = dir_.file("mount-refinement.toml");
-  LaneEstimator estimator_{default_config().estimator_options()};
 };
 
 TEST_F(OnlineCalibrationTest, OffUnlessAsked) {
@@ -99,20 +101,21 @@ TEST_F(OnlineCalibrationTest, LearnsSavesAndStartsCalibratedNextTime) {
   LogCapture log;
   {
     OnlineCalibration k(online_config(path_));
+    MountRefinement stage = stage_of(k);
     EXPECT_EQ(count_of(log.text(), "no mount learned yet"), 1);
     EXPECT_EQ(k.status().state, OnlineMountState::uncalibrated);
     Frames f;
-    drive(k, estimator_, f, 50);
+    drive(k, stage, f, 50);
     k.tick(1 * kSecond);
     EXPECT_EQ(k.status().state, OnlineMountState::calibrating);
     EXPECT_DOUBLE_EQ(k.status().progress, 0.5);
-    drive(k, estimator_, f, 250);
+    drive(k, stage, f, 250);
     k.tick(3 * kSecond);  // calibrated, a save period after the first tick: saved
     EXPECT_EQ(k.status().state, OnlineMountState::calibrated);
     EXPECT_TRUE(std::filesystem::exists(path_));
     EXPECT_NEAR(k.status().applied.psi_deg, 1.5, 4 * 0.2 / std::sqrt(300.0));
     EXPECT_NEAR(k.status().applied.theta_deg, -2.0, 4 * 0.2 / std::sqrt(300.0));
-    drive(k, estimator_, f, 30);
+    drive(k, stage, f, 30);
     k.stop();  // the last frames are saved too
   }
   const std::string text = log.text();
@@ -155,11 +158,10 @@ TEST_F(OnlineCalibrationTest, OutOfRangeMakesLdwNotCalibratedAndIsNotSaved) {
   Config c = online_config(path_);
   c.calibration.max_correction_deg = 1.0;  // the frames say 1.5 and 2 degrees
   OnlineCalibration k(c);
+  MountRefinement stage = stage_of(k);
   Frames f;
-  drive(k, estimator_, f, 200);
-  VehicleInputs vehicle;
-  k.before_frame(estimator_, vehicle);
-  EXPECT_FALSE(vehicle.calibrated);
+  drive(k, stage, f, 200);
+  EXPECT_FALSE(stage.calibrated());
   k.tick(5 * kSecond);
   k.stop();
   EXPECT_EQ(k.status().state, OnlineMountState::out_of_range);
@@ -168,22 +170,24 @@ TEST_F(OnlineCalibrationTest, OutOfRangeMakesLdwNotCalibratedAndIsNotSaved) {
 
 TEST_F(OnlineCalibrationTest, SlowFramesAreNotUsed) {
   OnlineCalibration k(online_config(path_));
+  MountRefinement stage = stage_of(k);
   Frames f;
   for (int i = 0; i < 200; ++i) {
     LaneEstimate e = f.next();
     e.ldw.speed_mps = 10.0;  // 36 km/h
     VehicleInputs vehicle;
-    k.after_frame(e, vehicle);
+    k.share(stage.refine(e, vehicle));
   }
   EXPECT_EQ(k.status().frames, 0);
 }
 
 TEST_F(OnlineCalibrationTest, FramesAndStatusSecondsAllocateNothing) {
   OnlineCalibration k(online_config(path_));
+  MountRefinement stage = stage_of(k);
   Frames f;
-  drive(k, estimator_, f, 10);
+  drive(k, stage, f, 10);
   const std::uint64_t before = allocation_counter::in_this_thread();
-  drive(k, estimator_, f, 300);
+  drive(k, stage, f, 300);
   k.tick(1 * kSecond);
   k.tick(3 * kSecond);  // with a save
   k.stop();

@@ -186,10 +186,9 @@ TEST(Pipeline, TheGyroAttitudeReachesTheProcessorOrIsCountedMissing) {
 class VehicleInputsProcessor : public TestPatternProcessor {
  public:
   explicit VehicleInputsProcessor(std::size_t capacity) { given_.reserve(capacity); }
-  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                       std::optional<Gx1Angles> attitude, const VehicleInputs& vehicle) override {
-    if (given_.size() < given_.capacity()) given_.push_back(vehicle);
-    return TestPatternProcessor::process(image, frame, meta, attitude, vehicle);
+  LaneEstimate process(const FrameInputs& in) override {
+    if (given_.size() < given_.capacity()) given_.push_back(in.vehicle);
+    return TestPatternProcessor::process(in);
   }
   const std::vector<VehicleInputs>& given() const { return given_; }
 
@@ -407,11 +406,10 @@ TEST(Pipeline, FrameNumbersStayUniqueWhenTheCamerasIdWrapsOrRestarts) {
 // Accepts every frame it is given: whatever is not ok was found bad before processing.
 class AcceptingProcessor : public FrameProcessor {
  public:
-  LaneEstimate process(const ImageView&, std::uint64_t frame, const FrameMeta& meta, std::optional<Gx1Angles>,
-                       const VehicleInputs&) override {
+  LaneEstimate process(const FrameInputs& in) override {
     LaneEstimate e;
-    e.frame = frame;
-    e.t_ns = meta.frame_t_ns();
+    e.frame = in.frame;
+    e.t_ns = in.t_ns;
     e.ok = true;
     return e;
   }

@@ -55,13 +55,12 @@ bool is_fake_camera_frame(const ImageView& image, std::uint64_t id) {
 class FakeCameraFrameChecker : public FrameProcessor {
  public:
   explicit FakeCameraFrameChecker(std::int64_t work_us) : work_us_(work_us) {}
-  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta, std::optional<Gx1Angles>,
-                       const VehicleInputs&) override {
+  LaneEstimate process(const FrameInputs& in) override {
     const std::int64_t until = monotonic_ns() + work_us_ * 1000;
     LaneEstimate e;
-    e.frame = frame;
-    e.t_ns = meta.frame_t_ns();
-    e.ok = is_fake_camera_frame(image, meta.sequence);
+    e.frame = in.frame;
+    e.t_ns = in.t_ns;
+    e.ok = in.image && is_fake_camera_frame(*in.image, in.source_frame);
     if (!e.ok) {
       e.reason = EstimateFailure::no_frame;
       damaged_.fetch_add(1, std::memory_order_relaxed);

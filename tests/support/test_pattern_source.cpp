@@ -85,8 +85,7 @@ SourceCounters TestPatternSource::counters() const {
   return c;
 }
 
-LaneEstimate TestPatternProcessor::process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                                           std::optional<Gx1Angles> attitude, const VehicleInputs&) {
+LaneEstimate TestPatternProcessor::process(const FrameInputs& in) {
   const std::int64_t work_us = work_us_.load(std::memory_order_relaxed);
   if (work_us > 0) {  // busy, like an estimator, rather than sleeping
     const std::int64_t until = monotonic_ns() + work_us * 1000;
@@ -94,17 +93,17 @@ LaneEstimate TestPatternProcessor::process(const ImageView& image, std::uint64_t
     }
   }
   LaneEstimate e;
-  e.frame = frame;
-  e.t_ns = meta.frame_t_ns();
-  if (!test_pattern_intact(image, meta.sequence)) {
+  e.frame = in.frame;
+  e.t_ns = in.t_ns;
+  if (!in.image || !test_pattern_intact(*in.image, in.source_frame)) {
     damaged_.fetch_add(1, std::memory_order_relaxed);
     e.ok = false;
     e.reason = EstimateFailure::no_frame;
     return e;
   }
   e.ok = true;
-  if (attitude) {
-    const Attitude a = camera_attitude_from_gx1(*attitude);
+  if (in.gyro) {
+    const Attitude a = camera_attitude_from_gx1(*in.gyro);
     e.theta_deg = rad_to_deg(a.theta);
     e.phi_deg = rad_to_deg(a.phi);
   }

@@ -58,8 +58,7 @@ class TestPatternProcessor : public FrameProcessor {
   // `work_us`: busy time per frame, to play a slow estimator.
   explicit TestPatternProcessor(std::int64_t work_us = 0) : work_us_(work_us) {}
 
-  LaneEstimate process(const ImageView& image, std::uint64_t frame, const FrameMeta& meta,
-                       std::optional<Gx1Angles> attitude, const VehicleInputs& vehicle) override;
+  LaneEstimate process(const FrameInputs& in) override;
 
   std::uint64_t damaged_frames() const { return damaged_.load(std::memory_order_relaxed); }
   void set_work_us(std::int64_t us) { work_us_.store(us, std::memory_order_relaxed); }

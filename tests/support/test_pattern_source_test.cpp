@@ -82,7 +82,8 @@ TEST(TestPatternProcessor, IntactFramesAreOkDamagedOnesAreNot) {
   meta.sequence = 9;
   meta.t_ns = 123;
   TestPatternProcessor processor;
-  const LaneEstimate good = processor.process(f.view, 4, meta, Gx1Angles{2.0, -1.5, 30.0}, {});
+  const LaneEstimate good = processor.process(
+      FrameInputs{4, meta.sequence, meta.frame_t_ns(), f.view, Gx1Angles{2.0, -1.5, 30.0}, AttitudeSource::live, {}});
   EXPECT_TRUE(good.ok);
   EXPECT_EQ(good.frame, 4u);  // the pipeline's count, not the source's id
   EXPECT_EQ(good.t_ns, 123);
@@ -92,7 +93,8 @@ TEST(TestPatternProcessor, IntactFramesAreOkDamagedOnesAreNot) {
   EXPECT_EQ(processor.damaged_frames(), 0u);
 
   meta.sequence = 10;  // the pixels say 9
-  const LaneEstimate bad = processor.process(f.view, 5, meta, std::nullopt, {});
+  const LaneEstimate bad = processor.process(
+      FrameInputs{5, meta.sequence, meta.frame_t_ns(), f.view, std::nullopt, AttitudeSource::none, {}});
   EXPECT_FALSE(bad.ok);
   EXPECT_EQ(bad.reason, EstimateFailure::no_frame);
   EXPECT_EQ(processor.damaged_frames(), 1u);

@@ -271,8 +271,9 @@ TEST(LaneEstimator, DamagedAndEmptyFramesAndRecovery) {
 }
 
 // A camera mounted 1.5 degrees off the configured yaw shows that much heading bias; the
-// online refinement's correction moves the reference the heading is measured from, and
-// the bias goes (3 of the solver's sigmas). An uncalibrated mount makes LDW unavailable.
+// online refinement's correction (here one learned before) moves the reference the
+// heading is measured from, and the bias goes (3 of the solver's sigmas). An
+// uncalibrated mount makes LDW unavailable.
 TEST(LaneEstimator, AMountCorrectionMovesTheHeadingReferenceAndUncalibratedStopsLdw) {
   Config truth = small_camera();
   truth.attitude.psi_deg += 1.5;
@@ -283,11 +284,15 @@ TEST(LaneEstimator, AMountCorrectionMovesTheHeadingReferenceAndUncalibratedStops
   const LaneEstimate& off = est.estimate(d.view, 0, f0.t_ns, f0.gyro);
   ASSERT_TRUE(off.ok);
   EXPECT_NEAR(off.heading_deg - f0.heading_deg, 1.5, 3 * off.sigma_psi_deg) << "the mis-mount is a heading bias";
-  est.set_mount_correction(1.5, 0.0);
+  LaneEstimatorOptions learned = configured.estimator_options();
+  learned.online_mount = configured.online_mount_options();
+  learned.learned_mount = calibration::LearnedMount{{1.5, 0.0}, {1.5, 0.0}, {}, 0};
+  LaneEstimator with_correction(learned);
+  with_correction.estimate(d.view, 0, f0.t_ns, f0.gyro);
   VehicleInputs vehicle;
   vehicle.calibrated = false;
   const SynthFrame f1 = d.render(1);
-  const LaneEstimate& corrected = est.estimate(d.view, 1, f1.t_ns, f1.gyro, vehicle);
+  const LaneEstimate& corrected = with_correction.estimate(d.view, 1, f1.t_ns, f1.gyro, vehicle);
   ASSERT_TRUE(corrected.ok);
   EXPECT_NEAR(corrected.heading_deg, f1.heading_deg, 3 * corrected.sigma_psi_deg);
   EXPECT_FALSE(corrected.ldw.available);
@@ -338,7 +343,9 @@ TEST(LaneEstimator, AMountFiveDegreesOffIsFoundFromThePicture) {
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
-  LaneEstimator est(c.estimator_options());
+  LaneEstimatorOptions options = c.estimator_options();
+  options.online_mount = c.online_mount_options();  // the mount's online refinement runs in every frame too
+  LaneEstimator est(options);
   std::vector<SynthFrame> frames;
   std::vector<std::vector<std::uint8_t>> images;
   for (std::uint64_t k = 0; k < 4; ++k) {
@@ -360,7 +367,6 @@ TEST(LaneEstimator, EstimatingAllocatesNothing) {
   est.reset();                                           // the cold-start path (detect twice) too
   EXPECT_TRUE(est.estimate(view(1), 1, frames[1].t_ns, frames[1].gyro).ok);
   est.no_frame(2, 0);
-  est.set_mount_correction(0.5, -0.5);
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_TRUE(ldw_tracked) << "the LDW chain ran on the solves";
 }

@@ -7,6 +7,10 @@
 // lane and its pitch over bumps average out to zero, so what the camera's solved yaw and
 // pitch keep on average is how the camera sits on the vehicle (calibrate mount uses the
 // same fact offline, with blocks and sigmas; openpilot learns its mount so too).
+//
+// In lane/ rather than calibration/, which builds on the lane estimator: the estimator's
+// own mount is to be refined by it. Its names keep to namespace calibration, beside the
+// mount's offline estimate.
 #pragma once
 
 #include <cstdint>

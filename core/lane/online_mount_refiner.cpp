@@ -1,7 +1,7 @@
 // The running mean forgets exponentially once it holds memory_frames frames (weight 1/n
 // until then: the plain mean), and its variance follows the same weights (West's
 // incremental form), so both cost O(1) per frame and nothing is stored per frame.
-#include "core/calibration/online_mount_refiner.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 
 #include <algorithm>
 #include <cmath>

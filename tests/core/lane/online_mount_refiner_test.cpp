@@ -1,7 +1,7 @@
 // OnlineMountRefiner against synthetic truth: per-frame angles drawn as the true mount
 // plus Gaussian noise of a known sigma, so every tolerance follows from that sigma and
 // the number of frames used (the mean's sigma is sigma / sqrt(n)).
-#include "core/calibration/online_mount_refiner.hpp"
+#include "core/lane/online_mount_refiner.hpp"
 
 #include <cmath>
 #include <random>

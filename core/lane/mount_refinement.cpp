@@ -1,0 +1,117 @@
+// Two refinements of one mount, at two time scales: the start's is a second of frames and
+// replaces a mount that is clearly off; the online one is minutes of straight, fast road
+// and moves the mount by a bounded correction. While the start's replacement is in use
+// the online correction is learned but not applied: the picture has spoken for the run.
+#include "core/lane/mount_refinement.hpp"
+
+#include <cmath>
+
+#include "core/geometry/types.hpp"
+
+namespace ccdlane {
+namespace {
+
+// Whether yaw or pitch differ by more than `deg`.
+bool off_by_more(const Attitude& a, const Attitude& b, double deg) {
+  return std::abs(rad_to_deg(a.psi - b.psi)) > deg || std::abs(rad_to_deg(a.theta - b.theta)) > deg;
+}
+
+// The road's curvature at the vehicle (|1/R|, per metre) from the solved lines: the
+// curvature of y = y0 + m x + c x^2 at x = 0 is 2c; lines of one road share it.
+double road_curvature_per_m(const LaneEstimate& e) {
+  double sum = 0.0;
+  for (int j = 0; j < e.num_lines; ++j) sum += e.lines[static_cast<std::size_t>(j)].c_per_mm;
+  return e.num_lines > 0 ? std::abs(2.0 * sum / e.num_lines) * 1e3 : 0.0;
+}
+
+calibration::MountSample mount_sample(const LaneEstimate& e, const VehicleInputs& vehicle) {
+  calibration::MountSample s;
+  s.t_ns = e.t_ns;
+  // ok: solved, with a line on each side of the vehicle; a roll that could not be
+  // observed leaves yaw and pitch in doubt too.
+  s.solved = e.ok && !e.roll_unobservable;
+  s.speed_kmh = e.ldw.speed_mps * 3.6;  // the speed LDW used: the vehicle's, else [vehicle] speed_kmh
+  s.curvature_per_m = road_curvature_per_m(e);
+  if (vehicle.yaw_rate_radps) s.yaw_rate_deg_s = *vehicle.yaw_rate_radps * 180.0 / kPi;
+  s.psi_deg = e.psi_deg;
+  s.theta_deg = e.theta_deg;
+  return s;
+}
+
+}  // namespace
+
+MountRefinement::MountRefinement(const LaneEstimatorOptions& options)
+    : configured_(options.nominal_pose.attitude), corrected_(configured_), mount_(configured_) {
+  if (!options.online_mount) return;
+  online_.emplace(*options.online_mount);
+  if (options.learned_mount) online_->restore(*options.learned_mount);
+  result_.status = online_->status();
+  result_.learned = online_->learned();
+  apply_correction();
+}
+
+void MountRefinement::reset() {
+  mount_ = corrected_;
+  acquisition_ = Acquisition{};
+}
+
+Attitude MountRefinement::mount_for(const Attitude& solved) const {
+  // At the start of a run a mount that is clearly off is replaced by the picture's: one
+  // frame's solve when it is off by more than twice kMountTrustDeg (one frame's yaw is
+  // the mount's plus the vehicle's heading), then the mean of the first second's when
+  // that is off by more than kMountTrustDeg (acquire).
+  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_, 2 * kMountTrustDeg)) return mount_;
+  Attitude a = corrected_;
+  a.psi = solved.psi;
+  a.theta = solved.theta;
+  return a;
+}
+
+void MountRefinement::adopt(const Attitude& solved) {
+  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_, 2 * kMountTrustDeg)) return;
+  mount_ = mount_for(solved);
+  acquisition_.adopted = true;
+}
+
+void MountRefinement::acquire(const Attitude& solved) {
+  // Along a lane the vehicle's heading and pitch average out: the mean of the first ok
+  // frames' camera yaw and pitch is the mount (online refinement follows it later, slowly).
+  Acquisition& q = acquisition_;
+  if (q.done) return;
+  ++q.frames;
+  q.psi += solved.psi;
+  q.theta += solved.theta;
+  Attitude mean = corrected_;
+  mean.psi = q.psi / q.frames;
+  mean.theta = q.theta / q.frames;
+  if (q.frames >= kMountAcquisitionFrames) {
+    q.done = true;
+    q.adopted = q.adopted || off_by_more(mean, corrected_, kMountTrustDeg);
+  }
+  if (q.adopted) mount_ = mean;
+}
+
+const MountRefinementResult& MountRefinement::refine(const LaneEstimate& e, const VehicleInputs& vehicle) {
+  if (!online_) return result_;
+  if (e.reason == EstimateFailure::no_frame) {
+    result_.used = false;
+    return result_;
+  }
+  result_.used = online_->add(mount_sample(e, vehicle));
+  result_.status = online_->status();
+  result_.learned = online_->learned();
+  apply_correction();
+  return result_;
+}
+
+bool MountRefinement::calibrated() const {
+  return !online_ || online_->state() != calibration::OnlineMountState::out_of_range;
+}
+
+void MountRefinement::apply_correction() {
+  corrected_.psi = configured_.psi + deg_to_rad(online_->applied().psi_deg);
+  corrected_.theta = configured_.theta + deg_to_rad(online_->applied().theta_deg);
+  if (!acquisition_.adopted) mount_ = corrected_;
+}
+
+}  // namespace ccdlane

@@ -1,0 +1,80 @@
+// The mount the lane estimator goes by, and the stage that refines it: the one place that
+// owns it. It starts as the configured mount (plus a correction learned before), is
+// replaced by what the road shows when that is clearly off at the start of a run
+// (docs/real-roads.md "The mount, settled at the start"), and, with online refinement
+// configured, follows what the frames' solves say while driving (online_mount_refiner.hpp).
+// The estimator runs refine() as the last stage of each frame: what a frame teaches
+// applies from the next one, so nothing outside writes into the estimator mid-run.
+#pragma once
+
+#include <optional>
+
+#include "core/geometry/attitude.hpp"
+#include "core/lane/frame_inputs.hpp"
+#include "core/lane/lane_estimate.hpp"
+#include "core/lane/lane_estimator_options.hpp"
+#include "core/lane/online_mount_refiner.hpp"
+
+namespace ccdlane {
+
+// What the online refinement made of the last frame, and where it stands after it.
+struct MountRefinementResult {
+  bool used = false;                      // this frame counted toward the estimate
+  calibration::OnlineMountStatus status;  // state off when online refinement is not configured
+  calibration::LearnedMount learned;      // what a state file keeps, to start from next time
+};
+
+class MountRefinement {
+ public:
+  // How far the mount the picture shows may lie from the configured one before the
+  // picture's is taken: a configured mount is a measurement too, within a degree or two.
+  static constexpr double kMountTrustDeg = 2.0;
+  // The ok frames whose solved yaw and pitch settle the mount at the start (1 s at 25 fps).
+  static constexpr int kMountAcquisitionFrames = 25;
+
+  // options.nominal_pose.attitude is the configured mount; online_mount and learned_mount
+  // say whether it is refined online and from what. Allocation-free from here on.
+  explicit MountRefinement(const LaneEstimatorOptions& options);
+
+  // The mount in use: the one the heading is measured from and cold starts begin at.
+  const Attitude& mount() const { return mount_; }
+
+  // The start of a run. What the mount would be for a frame whose solve is `solved`, were
+  // it the run's first supported lane (a search judges its candidates against this).
+  Attitude mount_for(const Attitude& solved) const;
+  // The search found a supported lane solved at `solved`.
+  void adopt(const Attitude& solved);
+  // An ok frame with a supported lane, solved at `solved`: one of the first second's.
+  void acquire(const Attitude& solved);
+
+  // The online stage, after the frame's estimate: a frame with a picture is a sample
+  // (one without says nothing of the mount, and its time must not move the correction),
+  // and the correction it leaves applies from the next frame.
+  const MountRefinementResult& refine(const LaneEstimate& estimate, const VehicleInputs& vehicle);
+  const MountRefinementResult& result() const { return result_; }
+  // False while the mount learned lies beyond the correction's bounds: the lane departure
+  // warning is then unavailable ("not_calibrated").
+  bool calibrated() const;
+
+  // A new run: the start's acquisition again, from the configured mount and the online
+  // correction (which is the vehicle's, not the run's, and is kept).
+  void reset();
+
+ private:
+  void apply_correction();
+
+  Attitude configured_;  // the configuration's
+  Attitude corrected_;   // configured plus the online correction: what reset() returns to
+  Attitude mount_;       // in use
+  // The solved yaw and pitch of the run's first ok frames, summed.
+  struct Acquisition {
+    int frames = 0;
+    double psi = 0.0, theta = 0.0;
+    bool adopted = false;  // the picture's mount is in use
+    bool done = false;
+  } acquisition_;
+  std::optional<calibration::OnlineMountRefiner> online_;
+  MountRefinementResult result_;
+};
+
+}  // namespace ccdlane

@@ -1,0 +1,113 @@
+// The mount stage on made-up solves: without online refinement it only settles the start
+// (a mount 5 degrees off is replaced by the first second's mean, one within 2 degrees
+// stands, reset() starts over); with it, a frame's correction applies from the next
+// refine() on, frames without a picture neither count nor move it, a mount learned
+// before is where it starts, and one beyond the bounds is "not calibrated".
+#include "core/lane/mount_refinement.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/geometry/types.hpp"
+
+namespace ccdlane {
+namespace {
+
+using calibration::OnlineMountState;
+
+constexpr std::int64_t kFrameNs = 1'000'000'000 / 25;
+
+LaneEstimatorOptions options(bool online) {
+  LaneEstimatorOptions o;
+  o.nominal_pose.attitude = {deg_to_rad(1.0), deg_to_rad(3.0), 0.0};  // psi, theta, phi
+  if (online) {
+    calibration::OnlineMountOptions m;
+    m.configured_psi_deg = 1.0;
+    m.configured_theta_deg = 3.0;
+    m.frames_needed = 10;
+    m.max_change_deg_per_min = 60.0;  // a degree a second
+    o.online_mount = m;
+  }
+  return o;
+}
+
+Attitude solved(double psi_deg, double theta_deg) { return {deg_to_rad(psi_deg), deg_to_rad(theta_deg), 0.0}; }
+
+// An ok frame at 90 km/h on straight road solved at (psi_deg, theta_deg).
+LaneEstimate frame(int n, double psi_deg, double theta_deg) {
+  LaneEstimate e;
+  e.t_ns = n * kFrameNs;
+  e.ok = true;
+  e.num_lines = 2;
+  e.psi_deg = psi_deg;
+  e.theta_deg = theta_deg;
+  e.ldw.speed_mps = 25.0;
+  return e;
+}
+
+TEST(MountRefinement, AMountClearlyOffIsTheFirstSecondsMeanAndResetStartsOver) {
+  MountRefinement m(options(false));
+  EXPECT_EQ(m.mount_for(solved(1.5, 3.5)).psi, deg_to_rad(1.0)) << "within the trust: the configured mount";
+  m.adopt(solved(1.5, 3.5));
+  EXPECT_EQ(m.mount().psi, deg_to_rad(1.0));
+  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) m.acquire(solved(1.5, 3.5));
+  EXPECT_EQ(m.mount().psi, deg_to_rad(1.0)) << "half a degree off stands";
+
+  MountRefinement off(options(false));
+  off.adopt(solved(6.0, 3.0));  // the search's first supported lane, 5 degrees off
+  EXPECT_NEAR(rad_to_deg(off.mount().psi), 6.0, 1e-12);
+  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) off.acquire(solved(k % 2 ? 5.0 : 7.0, 3.0));
+  EXPECT_NEAR(rad_to_deg(off.mount().psi), (13 * 7.0 + 12 * 5.0) / 25, 1e-9) << "the mean of the first 25 solves";
+  EXPECT_TRUE(off.calibrated());
+  EXPECT_EQ(off.refine(frame(0, 6.0, 3.0), {}).status.state, OnlineMountState::off);
+  off.reset();
+  EXPECT_EQ(off.mount().psi, deg_to_rad(1.0));
+}
+
+TEST(MountRefinement, TheCorrectionAFrameBringsAppliesFromTheNextFrameAndFramesWithoutAPictureDoNotCount) {
+  MountRefinement m(options(true));
+  EXPECT_EQ(m.result().status.state, OnlineMountState::uncalibrated);
+  int n = 0;
+  for (; n < 10; ++n) EXPECT_TRUE(m.refine(frame(n, 2.0, 2.5), {}).used);
+  EXPECT_EQ(m.result().status.state, OnlineMountState::calibrated);
+  EXPECT_NEAR(m.result().status.estimate.psi_deg, 1.0, 1e-12);
+  EXPECT_NEAR(m.result().status.applied.psi_deg, 0.04, 1e-12) << "a degree a second, one frame's 40 ms";
+  EXPECT_NEAR(rad_to_deg(m.mount().psi), 1.0 + m.result().status.applied.psi_deg, 1e-12);
+  EXPECT_NEAR(rad_to_deg(m.mount().theta), 3.0 + m.result().status.applied.theta_deg, 1e-12);
+
+  LaneEstimate none = frame(n + 10, 2.0, 2.5);  // ten frames later, with no picture
+  none.ok = false;
+  none.reason = EstimateFailure::no_frame;
+  const calibration::MountAngles before = m.result().status.applied;
+  EXPECT_FALSE(m.refine(none, {}).used);
+  EXPECT_EQ(m.result().status.applied, before);
+  EXPECT_EQ(m.result().status.frames, 10);
+
+  LaneEstimate slow = frame(n + 11, 2.0, 2.5);
+  slow.ldw.speed_mps = 10.0;
+  EXPECT_FALSE(m.refine(slow, {}).used);
+  VehicleInputs turning;
+  turning.yaw_rate_radps = 0.1;  // 5.7 degrees a second
+  EXPECT_FALSE(m.refine(frame(n + 12, 2.0, 2.5), turning).used);
+  EXPECT_EQ(m.result().status.frames, 10);
+
+  m.reset();  // a new run keeps the vehicle's correction
+  EXPECT_NEAR(rad_to_deg(m.mount().psi), 1.0 + m.result().status.applied.psi_deg, 1e-12);
+}
+
+TEST(MountRefinement, AMountLearnedBeforeIsWhereItStartsAndOneBeyondTheBoundsIsNotCalibrated) {
+  LaneEstimatorOptions o = options(true);
+  o.learned_mount = calibration::LearnedMount{{0.5, -0.25}, {0.5, -0.25}, {0.1, 0.1}, 500};
+  const MountRefinement learned(o);
+  EXPECT_EQ(learned.result().status.state, OnlineMountState::calibrated);
+  EXPECT_NEAR(rad_to_deg(learned.mount().psi), 1.5, 1e-12);
+  EXPECT_NEAR(rad_to_deg(learned.mount().theta), 2.75, 1e-12);
+
+  MountRefinement far(options(true));
+  for (int n = 0; n < 10; ++n) far.refine(frame(n, 5.0, 3.0), {});  // 4 degrees off: beyond the 3 allowed
+  EXPECT_EQ(far.result().status.state, OnlineMountState::out_of_range);
+  EXPECT_FALSE(far.calibrated());
+  EXPECT_LE(far.result().status.applied.psi_deg, 3.0);
+}
+
+}  // namespace
+}  // namespace ccdlane
