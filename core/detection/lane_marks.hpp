@@ -42,6 +42,7 @@ struct DetectedLine {
   double rms_mm = 0.0;    // lateral scatter of its marks about the fit
   int prior_index = -1;   // the prior line it continues, -1 = newly found
   bool parallel = false;  // fitted as a parallel of the road's other lines (y0 alone)
+  bool dots = false;      // most of its marks are dots (a row of raised markers)
 };
 
 // Counts of what the row filter found and why candidates were dropped.

@@ -37,6 +37,10 @@ constexpr double kMinSlopeVariance = 1e6;  // mm^2 of the lines' y spread to fit
 // Dot marks this far apart along the road are separate dots (one dot spans a few rows,
 // dots are a metre or more apart).
 constexpr double kDotSeparationMm = 800.0;
+// Paint is better evidence of a line than blobs are (a barrier's or a kerb's texture makes
+// rows of blobs too): it votes twice, so that lines of paint are tried first, and a row of
+// blobs beside one is then too near it to be a line of its own.
+constexpr int kPaintVotes = 2;
 
 double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 
@@ -90,9 +94,9 @@ void release_line(std::span<MarkCandidate> marks, int line) {
 
 LineGrouper::LineGrouper(int max_marks)
     : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {
-  // A mark votes once per slope: a cell holds at most max_marks votes, and the search's
-  // 16-bit sums of three cells must not wrap.
-  assert(3 * max_marks <= 65535);
+  // A mark votes once per slope (paint twice): a cell holds at most 2 max_marks votes,
+  // and the search's 16-bit sums of three cells must not wrap.
+  assert(3 * kPaintVotes * max_marks <= 65535);
 }
 
 void LineGrouper::vote(const MarkCandidate& mark, int delta) {
@@ -100,12 +104,13 @@ void LineGrouper::vote(const MarkCandidate& mark, int delta) {
   // floor per cell (truncation is the floor where the bin exists, u >= 0).
   const double u0 = (mark.Y - curvature_ * mark.X * mark.X - kSlopeMin * mark.X - kY0MinMm) / kY0BinMm;
   const double du = kSlopeStep * mark.X / kY0BinMm;
+  const int weight = mark.dot ? 1 : kPaintVotes;
   for (int j = 0; j < kSlopeBins; ++j) {
     const double u = u0 - j * du;
     if (!(u >= 0.0 && u < kY0Bins)) continue;
     const int i = static_cast<int>(u);
     std::uint16_t& v = votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)];
-    v = static_cast<std::uint16_t>(delta > 0 ? std::min(v + 1, 65535) : std::max(v - 1, 0));
+    v = static_cast<std::uint16_t>(delta > 0 ? std::min(v + weight, 65535) : std::max(v - weight, 0));
   }
 }
 
@@ -255,8 +260,10 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     if (n < params.min_coverage * p.rows && p.dots < params.min_dots) return release();
     if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
+    int dot_marks = 0;
     for (const MarkCandidate& m : marks) {
       if (m.line != id) continue;
+      dot_marks += m.dot;
       const double r = m.Y - model.y_at(m.X);
       sum2 += r * r;
       const double mm_per_px = mm_per_tolerance_px(params, m);
@@ -267,16 +274,30 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     out.near_mm = p.near_mm;
     out.far_mm = p.far_mm;
     out.rms_mm = std::sqrt(sum2 / n);
+    out.dots = 2 * dot_marks > n;
     if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
   }
   return true;
 }
 
-bool LineGrouper::separated(const DetectedLine& l, int n, const GroupingParams& params) const {
+bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, int& n, const GroupingParams& params) {
+  int conflicts = 0, conflict = -1;
   for (int k = 0; k < n; ++k)
     if (std::abs(found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) <
         params.min_separation_mm)
-      return false;
+      ++conflicts, conflict = k;
+  if (conflicts == 0) {
+    found_[static_cast<std::size_t>(n++)] = l;
+    return true;
+  }
+  if (conflicts > 1 || l.dots || !found_[static_cast<std::size_t>(conflict)].dots) {
+    release_line(marks, n);
+    return false;
+  }
+  release_line(marks, conflict);
+  for (MarkCandidate& m : marks)
+    if (m.line == n) m.line = static_cast<std::int16_t>(conflict);
+  found_[static_cast<std::size_t>(conflict)] = l;
   return true;
 }
 
@@ -286,12 +307,8 @@ int LineGrouper::continue_priors(std::span<MarkCandidate> marks, std::span<const
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
     DetectedLine l;
     if (!fit_line(marks, priors[k], kPriorGateMm, n, params, l)) continue;
-    if (!separated(l, n, params)) {
-      release_line(marks, n);
-      continue;
-    }
     l.prior_index = static_cast<int>(k);
-    found_[static_cast<std::size_t>(n++)] = l;
+    admit(marks, l, n, params);
   }
   return n;
 }
@@ -346,10 +363,10 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
     if (strongest_cell(bi, bj) < params.min_marks) break;
     const RoadLine model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
     DetectedLine l;
-    if (fit_line(marks, model, kNewLineGateMm, n, params, l) && separated(l, n, params)) {
-      found_[static_cast<std::size_t>(n++)] = l;
+    const int before = n;
+    if (fit_line(marks, model, kNewLineGateMm, n, params, l) && admit(marks, l, n, params)) {
       const double c = shared_curvature(priors, n);
-      if (std::abs(c - curvature_) > kCurvatureChange) {
+      if (std::abs(c - curvature_) > kCurvatureChange || n == before) {  // moved, or put in a row of dots' place
         curvature_ = c;
         revote(marks);
       } else {
@@ -373,13 +390,13 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
   const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
   auto add_parallel = [&](double y_ref_mm, int prior_index) {
     DetectedLine l;
-    if (fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true) && separated(l, n, params)) {
-      l.prior_index = prior_index;
-      l.parallel = true;
-      found_[static_cast<std::size_t>(n++)] = l;
+    if (!fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true)) {
+      release_line(marks, n);
       return;
     }
-    release_line(marks, n);
+    l.prior_index = prior_index;
+    l.parallel = true;
+    admit(marks, l, n, params);
   };
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
     bool continued = false;

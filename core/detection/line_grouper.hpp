@@ -83,8 +83,11 @@ class LineGrouper {
                   int n);
   int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
                    std::array<DetectedLine, kMaxDetectedLines>& out) const;
-  // Whether `l` is min_separation_mm from each of the first n lines found.
-  bool separated(const DetectedLine& l, int n, const GroupingParams& params) const;
+  // Adds `l` (its marks assigned to line n) to the n lines found when it is
+  // min_separation_mm from each; or puts it in the place of the one row of dots it is too
+  // near when it is paint (paint is the better evidence: a barrier's foot or a kerb makes
+  // rows of blobs too). Otherwise releases its marks. Whether it was taken.
+  bool admit(std::span<MarkCandidate> marks, const DetectedLine& l, int& n, const GroupingParams& params);
   // The curvature the lines found so far share (weighted by marks), else the priors' mean.
   double shared_curvature(std::span<const RoadLine> priors, int n) const;
   // The votes' strongest cell (bi, bj) and its votes.

@@ -32,6 +32,7 @@ void LaneEstimator::reset() {
 CameraPose LaneEstimator::nominal_pose() const {
   CameraPose pose = config_.nominal_pose;
   pose.attitude = mount_.mount();
+  pose.H_mm = mount_.height_mm();
   return pose;
 }
 
@@ -77,6 +78,13 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
   warn(in);
   report(in);
   mount_.refine(estimate_, in.vehicle);
+  if (rescaled_) {
+    // The height changed: the lines, their filters and the warning's state are at the old
+    // scale. The next frame searches from the new height (once per run, after a second).
+    rescaled_ = false;
+    reset_lines();
+    ldw_.reset();
+  }
   return estimate_;
 }
 
@@ -211,7 +219,7 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
     support_ =
         fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount());
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)
-    mount_.acquire(r.pose.attitude);
+    rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm);
 }
 
 void LaneEstimator::warn(const FrameInputs& in) {

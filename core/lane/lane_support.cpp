@@ -61,11 +61,22 @@ bool check_dash_support(const LineSupport& line, const DetectionConfig& detectio
          line.near_mm >= detection.min_range_mm / kRangeSlack && line.far_mm <= detection.max_range_mm * kRangeSlack;
 }
 
+bool mostly_dots(std::span<const MarkCandidate> marks, int detection_line) {
+  int dots = 0, all = 0;
+  for (const MarkCandidate& m : marks) {
+    if (m.line != detection_line) continue;
+    ++all;
+    dots += m.dot;
+  }
+  return 2 * dots > all;
+}
+
 double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line) {
+  const bool dots = mostly_dots(marks, detection_line);
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;
   for (const MarkCandidate& m : marks) {
-    if (m.line != detection_line || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
+    if (m.line != detection_line || m.dot != dots || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
     const double lx = std::log(m.X), ly = std::log(m.width_px());
     sx += lx;
     sy += ly;
@@ -88,7 +99,7 @@ double paint_width_spread(std::span<const MarkCandidate> marks, int detection_li
   double s = 0, ss = 0;
   int n = 0;
   for (const MarkCandidate& m : marks) {
-    if (m.line != detection_line || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
+    if (m.line != detection_line || m.dot || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
     const double v = std::log(m.width_px() * m.X);
     s += v;
     ss += v * v;

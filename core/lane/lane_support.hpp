@@ -92,8 +92,13 @@ bool check_dash_support(const LineSupport& line, const DetectionConfig& detectio
 constexpr double kMinDashLaneWidthMm = kMinLaneWidthMm;
 constexpr double kMaxDashLaneWidthMm = 5000.0;
 
+// Whether most of detection line `detection_line`'s marks are dots (Botts' dots, raised
+// markers: lane_marks.hpp): a line is judged by its majority kind, as its picks are.
+bool mostly_dots(std::span<const MarkCandidate> marks, int detection_line);
+
 // The slope of log(width px) against log(road distance) over the mark candidates of
-// detection line `detection_line`; NaN with fewer than 3 or all at one distance.
+// detection line `detection_line` of its majority kind (dots of one size narrow as paint
+// does); NaN with fewer than 3 or all at one distance.
 double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line);
 SupportProblem check_paint_width(double slope);
 
@@ -102,6 +107,8 @@ SupportProblem check_paint_width(double slope);
 // deviation 0.26 at most). Marks of bars of several widths spread as far as detection's
 // width gate lets them, which for widths uniform over [min, max] is ln(max / min) / sqrt(12)
 // (0.32 for 100-300 mm): a line spreading that much is a mix of bars, not one paint.
+// Over the line's paint marks only: a dot's rows are chords of it, whose widths spread by
+// nature (lane_fit does not ask it of a line of dots).
 double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line);  // NaN with < 3 marks
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection);
 

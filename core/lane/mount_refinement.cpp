@@ -41,7 +41,12 @@ calibration::MountSample mount_sample(const LaneEstimate& e, const VehicleInputs
 }  // namespace
 
 MountRefinement::MountRefinement(const LaneEstimatorOptions& options)
-    : configured_(options.nominal_pose.attitude), corrected_(configured_), mount_(configured_) {
+    : configured_(options.nominal_pose.attitude),
+      corrected_(configured_),
+      mount_(configured_),
+      lane_width_prior_(options.priors.lane_width_mm),
+      configured_height_mm_(options.nominal_pose.H_mm),
+      height_mm_(configured_height_mm_) {
   if (!options.online_mount) return;
   online_.emplace(*options.online_mount);
   if (options.learned_mount) online_->restore(*options.learned_mount);
@@ -52,6 +57,7 @@ MountRefinement::MountRefinement(const LaneEstimatorOptions& options)
 
 void MountRefinement::reset() {
   mount_ = corrected_;
+  height_mm_ = configured_height_mm_;
   acquisition_ = Acquisition{};
 }
 
@@ -73,22 +79,33 @@ void MountRefinement::adopt(const Attitude& solved) {
   acquisition_.adopted = true;
 }
 
-void MountRefinement::acquire(const Attitude& solved) {
+bool MountRefinement::acquire(const Attitude& solved, double lane_width_mm) {
   // Along a lane the vehicle's heading and pitch average out: the mean of the first ok
   // frames' camera yaw and pitch is the mount (online refinement follows it later, slowly).
   Acquisition& q = acquisition_;
-  if (q.done) return;
+  if (q.done) return false;
   ++q.frames;
   q.psi += solved.psi;
   q.theta += solved.theta;
+  q.lane_width_mm += lane_width_mm;
   Attitude mean = corrected_;
   mean.psi = q.psi / q.frames;
   mean.theta = q.theta / q.frames;
+  bool rescaled = false;
   if (q.frames >= kMountAcquisitionFrames) {
     q.done = true;
     q.adopted = q.adopted || off_by_more(mean, corrected_, kMountTrustDeg);
+    // On a flat road every distance the picture gives scales with the height: a mean
+    // width that is clearly not a lane's says the height is off, by their ratio.
+    const double width = q.lane_width_mm / q.frames;
+    const std::optional<Prior>& prior = lane_width_prior_;
+    if (prior && width > 0.0 && std::abs(width - prior->mean) > kHeightTrustSigmas * prior->sigma) {
+      height_mm_ *= prior->mean / width;
+      rescaled = true;
+    }
   }
   if (q.adopted) mount_ = mean;
+  return rescaled;
 }
 
 const MountRefinementResult& MountRefinement::refine(const LaneEstimate& e, const VehicleInputs& vehicle) {

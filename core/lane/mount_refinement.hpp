@@ -31,6 +31,10 @@ class MountRefinement {
   static constexpr double kMountTrustDeg = 2.0;
   // The ok frames whose solved yaw and pitch settle the mount at the start (1 s at 25 fps).
   static constexpr int kMountAcquisitionFrames = 25;
+  // How many of the lane-width prior's sigmas the first second's mean lane width may lie
+  // from the prior's mean before the height is taken from it: lanes differ from their
+  // nominal width by a sigma or so; a height 25 % off makes them 25 % off.
+  static constexpr double kHeightTrustSigmas = 2.0;
 
   // options.nominal_pose.attitude is the configured mount; online_mount and learned_mount
   // say whether it is refined online and from what. Allocation-free from here on.
@@ -38,14 +42,19 @@ class MountRefinement {
 
   // The mount in use: the one the heading is measured from and cold starts begin at.
   const Attitude& mount() const { return mount_; }
+  // The mount's height in use: the configured one, or the one the first second's lane
+  // widths gave when the lane-width prior disagreed with it (acquire).
+  double height_mm() const { return height_mm_; }
 
   // The start of a run. What the mount would be for a frame whose solve is `solved`, were
   // it the run's first supported lane (a search judges its candidates against this).
   Attitude mount_for(const Attitude& solved) const;
   // The search found a supported lane solved at `solved`.
   void adopt(const Attitude& solved);
-  // An ok frame with a supported lane, solved at `solved`: one of the first second's.
-  void acquire(const Attitude& solved);
+  // An ok frame with a supported lane, solved at `solved` with this lane width: one of
+  // the first second's. True when it changed the height: every road distance the
+  // estimator holds is then at the old scale.
+  bool acquire(const Attitude& solved, double lane_width_mm);
 
   // The online stage, after the frame's estimate: a frame with a picture is a sample
   // (one without says nothing of the mount, and its time must not move the correction),
@@ -66,10 +75,13 @@ class MountRefinement {
   Attitude configured_;  // the configuration's
   Attitude corrected_;   // configured plus the online correction: what reset() returns to
   Attitude mount_;       // in use
+  std::optional<Prior> lane_width_prior_;
+  double configured_height_mm_ = 0.0;
+  double height_mm_ = 0.0;  // in use
   // The solved yaw and pitch of the run's first ok frames, summed.
   struct Acquisition {
     int frames = 0;
-    double psi = 0.0, theta = 0.0;
+    double psi = 0.0, theta = 0.0, lane_width_mm = 0.0;
     bool adopted = false;  // the picture's mount is in use
     bool done = false;
   } acquisition_;

@@ -4,6 +4,8 @@
 // no allocation per frame.
 #include "core/detection/lane_detector.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -158,6 +160,79 @@ TEST(LaneDetector, RejectsBarsThatAreNotOnTheRoadOrNotAlongIt) {
   EXPECT_EQ(r.num_lines, 0);
   EXPECT_GT(r.counters.wrong_orientation, 50);
   for (const MarkCandidate& m : r.marks) EXPECT_GT(m.py, 270);  // nothing above the horizon
+}
+
+// Botts' dots: a road marked only by round raised markers, 10 cm across, in groups of four
+// 1.2 m apart with 4.8 m gaps (a Californian pattern), on textured concrete. Each line of
+// dots is found where it is, from its dots; the same dots scattered at random make no line.
+void draw_dot(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X, double Y,
+              std::uint8_t grey) {
+  constexpr double kRadiusMm = 50.0;
+  const auto centre = model.pixel_from_point(Vec3(X, Y, 0.0));
+  if (!centre) return;
+  const int cx = static_cast<int>(centre->x()) - 1, cy = static_cast<int>(centre->y()) - 1;
+  constexpr int kSamples = 4;  // per pixel side: a far dot covers part of a pixel, as a lens blurs it
+  for (int y = std::max(0, cy - 20); y <= std::min(im.height - 1, cy + 20); ++y)
+    for (int x = std::max(0, cx - 40); x <= std::min(im.width - 1, cx + 40); ++x) {
+      int inside = 0;
+      for (int sy = 0; sy < kSamples; ++sy)
+        for (int sx = 0; sx < kSamples; ++sx) {
+          double gx = 0, gy = 0;
+          inside += ground.ground(x + 0.5 + (sx + 0.5) / kSamples, y + 0.5 + (sy + 0.5) / kSamples, gx, gy) &&
+                    std::hypot(gx - X, gy - Y) <= kRadiusMm;
+        }
+      std::uint8_t& p = im.row(y)[x];
+      p = static_cast<std::uint8_t>(p + (grey - p) * inside / (kSamples * kSamples));
+    }
+}
+
+void concrete(const MutableImageView& im, std::uint32_t seed) {
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      seed = seed * 1664525u + 1013904223u;
+      im.row(y)[x] = static_cast<std::uint8_t>(150 + static_cast<int>((seed >> 24) % 9) - 4);
+    }
+}
+
+TEST(LaneDetector, ALineOfBottsDotsIsALine) {
+  const Config c = highway();
+  const CameraPose pose = c.nominal_pose();
+  const GroundProjector ground(c.camera, pose);
+  const CameraModel model(c.camera, pose);
+  const std::array<double, 2> lines_mm = {1800.0, -1800.0};
+  Frame frame(c.camera), scattered(c.camera);
+  concrete(frame.view, 7);
+  concrete(scattered.view, 7);
+  std::uint32_t seed = 11;
+  int near_dots = 0;  // where a row spans less road than a dot is long: told from paint
+  for (const double Y : lines_mm)
+    for (double X0 = 4000.0; X0 < 40000.0; X0 += 8400.0)
+      for (int k = 0; k < 4; ++k) {
+        draw_dot(frame.view, ground, model, X0 + 1200.0 * k, Y, 230);
+        near_dots += X0 + 1200.0 * k <= 20000.0;
+        seed = seed * 1664525u + 1013904223u;
+        const double X = 4000.0 + (seed >> 8) % 36000, Yr = -6000.0 + static_cast<double>((seed >> 3) % 12000);
+        draw_dot(scattered.view, ground, model, X, Yr, 230);
+      }
+  LaneDetector det(c.camera, c.detection);
+  const DetectionResult& r = det.detect(frame.view, pose, {});
+  ASSERT_EQ(r.num_lines, 2) << "dots " << r.counters.dots << " of " << r.counters.candidates << " candidates";
+  for (int j = 0; j < 2; ++j) {
+    const DetectedLine& l = r.lines[static_cast<std::size_t>(j)];
+    // Within the dots' radius at the nearest dot and along the range.
+    EXPECT_NEAR(l.fit.y_at(5000.0), lines_mm[static_cast<std::size_t>(j)], 50.0) << "line " << j;
+    EXPECT_NEAR(l.fit.y_at(20000.0), lines_mm[static_cast<std::size_t>(j)], 50.0) << "line " << j;
+    EXPECT_GE(l.num_picks, c.detection.min_marks);
+    for (int p = l.first_pick; p < l.first_pick + l.num_picks; ++p) {
+      double X = 0, Y = 0;
+      ASSERT_TRUE(ground.ground(r.picks[static_cast<std::size_t>(p)].px, r.picks[static_cast<std::size_t>(p)].py, X, Y));
+      EXPECT_NEAR(Y, lines_mm[static_cast<std::size_t>(j)], 50.0) << "a pick at " << X << " mm";
+    }
+  }
+  EXPECT_GE(r.counters.dots, near_dots / 2);
+
+  LaneDetector det2(c.camera, c.detection);
+  EXPECT_EQ(det2.detect(scattered.view, pose, {}).num_lines, 0);
 }
 
 TEST(LaneDetector, SixteenBitFramesGiveTheSameLines) {

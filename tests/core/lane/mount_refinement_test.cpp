@@ -49,18 +49,45 @@ TEST(MountRefinement, AMountClearlyOffIsTheFirstSecondsMeanAndResetStartsOver) {
   EXPECT_EQ(m.mount_for(solved(1.5, 3.5)).psi, deg_to_rad(1.0)) << "within the trust: the configured mount";
   m.adopt(solved(1.5, 3.5));
   EXPECT_EQ(m.mount().psi, deg_to_rad(1.0));
-  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) m.acquire(solved(1.5, 3.5));
+  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) m.acquire(solved(1.5, 3.5), 3600.0);
   EXPECT_EQ(m.mount().psi, deg_to_rad(1.0)) << "half a degree off stands";
 
   MountRefinement off(options(false));
   off.adopt(solved(6.0, 3.0));  // the search's first supported lane, 5 degrees off
   EXPECT_NEAR(rad_to_deg(off.mount().psi), 6.0, 1e-12);
-  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) off.acquire(solved(k % 2 ? 5.0 : 7.0, 3.0));
+  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) off.acquire(solved(k % 2 ? 5.0 : 7.0, 3.0), 3600.0);
   EXPECT_NEAR(rad_to_deg(off.mount().psi), (13 * 7.0 + 12 * 5.0) / 25, 1e-9) << "the mean of the first 25 solves";
   EXPECT_TRUE(off.calibrated());
   EXPECT_EQ(off.refine(frame(0, 6.0, 3.0), {}).status.state, OnlineMountState::off);
   off.reset();
   EXPECT_EQ(off.mount().psi, deg_to_rad(1.0));
+}
+
+// The height: a lane-width prior of 3.66 +- 0.3 m, a camera configured at 1.2 m. Lanes
+// solved 25 % narrow (a camera 1.6 m up, configured at 1.2) make the height the one that
+// gives the prior's width, once, at the end of the first second; lanes within two sigmas
+// of the prior leave the configured height; without a prior nothing changes; reset()
+// returns to the configured height.
+TEST(MountRefinement, AHeightWhoseLanesAreClearlyNotALanesWidthIsTheOneThatGivesThePriorsWidth) {
+  LaneEstimatorOptions o = options(false);
+  o.nominal_pose.H_mm = 1200.0;
+  o.priors.lane_width_mm = Prior{3660.0, 300.0};
+  MountRefinement low(o), near(o), unknown(options(false));
+  const int n = MountRefinement::kMountAcquisitionFrames;
+  for (int k = 0; k < n; ++k) {
+    // The true width 3660 seen at 3/4 of the height, +-100 mm of frame-to-frame noise.
+    const double width = 0.75 * 3660.0 + (k % 2 ? 100.0 : -100.0) * (k + 1 < n);
+    EXPECT_EQ(low.acquire(solved(1.0, 3.0), width), k + 1 == n) << "frame " << k;
+    EXPECT_FALSE(near.acquire(solved(1.0, 3.0), 3660.0 - 550.0));
+    EXPECT_FALSE(unknown.acquire(solved(1.0, 3.0), 2000.0));
+  }
+  // The noise cancels over the 24 frames that have it: the mean is 2745 mm, 3/4 of 3660.
+  EXPECT_NEAR(low.height_mm(), 1600.0, 1e-9);
+  EXPECT_FALSE(low.acquire(solved(1.0, 3.0), 2745.0)) << "once per run";
+  EXPECT_EQ(near.height_mm(), 1200.0);
+  EXPECT_EQ(unknown.height_mm(), options(false).nominal_pose.H_mm);
+  low.reset();
+  EXPECT_EQ(low.height_mm(), 1200.0);
 }
 
 TEST(MountRefinement, TheCorrectionAFrameBringsAppliesFromTheNextFrameAndFramesWithoutAPictureDoNotCount) {
