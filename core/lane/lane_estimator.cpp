@@ -169,7 +169,7 @@ bool LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle
   LaneTracker scratch = tracker_;
   const TrackedLines t = track_lines(scratch, r, fit_, rad_to_deg(mount.psi), config_.detection.departure_mm);
   return t.metrics.has_lane && fit_.lane_support_problem(r, t.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
-                                                         mount) == SupportProblem::none;
+                                                         mount, mount_.height_settled()) == SupportProblem::none;
 }
 
 LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::optional<Gx1Angles>& gyro,
@@ -217,7 +217,8 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
   // lane is one only with the support a real one gives (lane_support.hpp).
   if (tracked_.metrics.has_lane)
     support_ =
-        fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount());
+        fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount(),
+                                  mount_.height_settled());
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)
     rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm);
 }

@@ -195,7 +195,7 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
 }
 
 SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
-                                             const Attitude& mount) const {
+                                             const Attitude& mount, bool height_settled) const {
   if (const SupportProblem p = line_support_problem(r, own.left, own.right, own.lane_width_mm);
       p != SupportProblem::none)
     return p;
@@ -210,6 +210,12 @@ SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane
   // span several lanes); the attitude against the priors this solve had (the gyro's).
   SolverPriors priors = solve_priors_;
   priors.lane_width_mm = options_.priors.lane_width_mm;
+  // Until the start of the run has settled the height (mount_refinement.hpp), widths scale
+  // with its error: a lane is one over as wide a range as the height's bound allows.
+  if (!height_settled && priors.lane_width_mm)
+    priors.lane_width_mm->sigma = std::max(priors.lane_width_mm->sigma, kUnsettledHeightError *
+                                                                            priors.lane_width_mm->mean /
+                                                                            kPriorAgreementSigmas);
   if (const SupportProblem p = check_priors(priors, r.pose, own.lane_width_mm); p != SupportProblem::none) return p;
   if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, mount); p != SupportProblem::none) return p;
   if (const SupportProblem p = check_heading(own.heading_deg); p != SupportProblem::none) return p;

@@ -45,9 +45,11 @@ class LaneFit {
   bool enough_picks() const { return num_picks_ >= min_marks_; }
 
   // Why the solved lines `own` names are not a lane a car can drive at `speed_mps`
-  // (lane_support.hpp); none when they are.
+  // (lane_support.hpp); none when they are. Widths are judged loosely while the height
+  // is not settled (mount_refinement.hpp).
   SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
-                                      const Attitude& mount) const;
+                                      const Attitude& mount,
+                                      bool height_settled = true) const;
 
   // The current problem, for the track stage and for overlays and diagnostics.
   const DetectionResult& detection() const { return *detection_; }

@@ -34,6 +34,10 @@ constexpr double kPaintWidthSlopeTolerance = 0.75;
 // A solve farther than this many of a prior's sigmas from it did not find what the
 // prior describes (chi-square, 1 degree of freedom: p = 6e-5 for a real lane).
 constexpr double kPriorAgreementSigmas = 4.0;
+// How far off a configured height may be (a fraction): a user knows roughly where the
+// camera is mounted. Until the height is settled, lane widths within this of the prior's
+// mean agree with it.
+constexpr double kUnsettledHeightError = 0.35;
 
 // The lane a vehicle is in runs within this of its heading (a lane change at motorway
 // speed takes a few degrees; the test drives reach 3.4). Lines that cross the vehicle's

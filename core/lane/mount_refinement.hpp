@@ -45,6 +45,9 @@ class MountRefinement {
   // The mount's height in use: the configured one, or the one the first second's lane
   // widths gave when the lane-width prior disagreed with it (acquire).
   double height_mm() const { return height_mm_; }
+  // Whether the height is settled: the first second's lanes have said (or there is no
+  // lane-width prior to say anything). Until then lane widths are judged loosely.
+  bool height_settled() const { return !lane_width_prior_ || acquisition_.done; }
 
   // The start of a run. What the mount would be for a frame whose solve is `solved`, were
   // it the run's first supported lane (a search judges its candidates against this).
