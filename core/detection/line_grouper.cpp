@@ -41,6 +41,10 @@ constexpr double kDotSeparationMm = 800.0;
 // rows of blobs too): it votes twice, so that lines of paint are tried first, and a row of
 // blobs beside one is then too near it to be a line of its own.
 constexpr int kPaintVotes = 2;
+// Of two lines of paint too near each other to be two lane lines, the first found stands
+// (a previous frame's line, the most votes) unless the other has this many times its
+// marks: a solid line beside a barrier's foot that a previous frame took.
+constexpr int kReplacingMarks = 2;
 
 double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 
@@ -83,6 +87,24 @@ RoadDirection road_direction(std::span<const DetectedLine> lines, double curvatu
   const double var = syy / d.sw - (d.sy / d.sw) * (d.sy / d.sw);
   d.slope_per_mm = lines.size() >= 2 && var > kMinSlopeVariance ? (sym / d.sw - d.sy / d.sw * d.sm / d.sw) / var : 0.0;
   return d;
+}
+
+// Whether the dots of line `line` narrow with distance as things of one size on the road
+// do (width in pixels about 1 / distance): blobs along a streak on the windscreen, a pole's
+// shadow or a car's edge keep their width.
+constexpr double kDotWidthSlope = -1.0, kDotWidthSlopeTolerance = 0.5;
+bool narrows_with_distance(std::span<const MarkCandidate> marks, int line) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (const MarkCandidate& m : marks) {
+    if (m.line != line || !m.dot || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
+    const double lx = std::log(m.X), ly = std::log(m.width_px());
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+    ++n;
+  }
+  const double spread = n * sxx - sx * sx;
+  if (n < 3 || !(spread > 1e-9 * n * n)) return false;
+  return std::abs((n * sxy - sx * sy) / spread - kDotWidthSlope) <= kDotWidthSlopeTolerance;
 }
 
 void release_line(std::span<MarkCandidate> marks, int line) {
@@ -276,28 +298,40 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     out.rms_mm = std::sqrt(sum2 / n);
     out.dots = 2 * dot_marks > n;
     if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
+    if (pass == kFitPasses - 1 && out.dots && !narrows_with_distance(marks, id)) return release();
   }
   return true;
 }
 
 bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, int& n, const GroupingParams& params) {
-  int conflicts = 0, conflict = -1;
-  for (int k = 0; k < n; ++k)
-    if (std::abs(found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) <
-        params.min_separation_mm)
-      ++conflicts, conflict = k;
-  if (conflicts == 0) {
-    found_[static_cast<std::size_t>(n++)] = l;
-    return true;
+  // The lines `l` is too near to be a lane line beside; it replaces them all or none.
+  std::array<bool, kMaxFoundLines> conflict{};
+  bool any = false;
+  for (int k = 0; k < n; ++k) {
+    const DetectedLine& other = found_[static_cast<std::size_t>(k)];
+    if (std::abs(other.fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) >= params.min_separation_mm) continue;
+    if (l.dots || !(other.dots || l.marks >= kReplacingMarks * other.marks)) {
+      release_line(marks, n);
+      return false;
+    }
+    conflict[static_cast<std::size_t>(k)] = any = true;
   }
-  if (conflicts > 1 || l.dots || !found_[static_cast<std::size_t>(conflict)].dots) {
-    release_line(marks, n);
-    return false;
+  if (any) {  // drop the replaced lines, keep the others in order, renumber their marks
+    std::array<std::int16_t, kMaxFoundLines + 1> index{};
+    int kept = 0;
+    for (int k = 0; k <= n; ++k) {
+      if (k < n && conflict[static_cast<std::size_t>(k)]) {
+        index[static_cast<std::size_t>(k)] = -1;
+        continue;
+      }
+      if (k < n) found_[static_cast<std::size_t>(kept)] = found_[static_cast<std::size_t>(k)];
+      index[static_cast<std::size_t>(k)] = static_cast<std::int16_t>(kept++);
+    }
+    for (MarkCandidate& m : marks)
+      if (m.line >= 0 && m.line <= n) m.line = index[static_cast<std::size_t>(m.line)];
+    n = kept - 1;
   }
-  release_line(marks, conflict);
-  for (MarkCandidate& m : marks)
-    if (m.line == n) m.line = static_cast<std::int16_t>(conflict);
-  found_[static_cast<std::size_t>(conflict)] = l;
+  found_[static_cast<std::size_t>(n++)] = l;
   return true;
 }
 
@@ -317,7 +351,8 @@ double LineGrouper::shared_curvature(std::span<const RoadLine> priors, int n) co
   double sum = 0.0, weight = 0.0;
   for (int k = 0; k < n; ++k) {
     const DetectedLine& l = found_[static_cast<std::size_t>(k)];
-    if (l.far_mm - l.near_mm < kCurvatureSpanMm) continue;  // too short to show curvature
+    // Too short to show curvature, or a row of blobs (set by hand, a few centimetres off).
+    if (l.far_mm - l.near_mm < kCurvatureSpanMm || l.dots) continue;
     sum += l.fit.c_per_mm * l.marks;
     weight += l.marks;
   }
@@ -366,7 +401,7 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
     const int before = n;
     if (fit_line(marks, model, kNewLineGateMm, n, params, l) && admit(marks, l, n, params)) {
       const double c = shared_curvature(priors, n);
-      if (std::abs(c - curvature_) > kCurvatureChange || n == before) {  // moved, or put in a row of dots' place
+      if (std::abs(c - curvature_) > kCurvatureChange || n <= before) {  // moved, or in the place of others
         curvature_ = c;
         revote(marks);
       } else {
