@@ -53,15 +53,17 @@ double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 // edges do near the camera, where a pixel is a few millimetres.
 constexpr double kDotScatterMm = 40.0;
 
-// The lateral road distance one pixel of the fit tolerance spans at a mark (more for a dot).
-double mm_per_tolerance_px(const GroupingParams& params, const MarkCandidate& m) {
+// The lateral road distance one pixel of the fit tolerance spans at a mark: more for a
+// dot of a row of dots (`dot_line`). A paint line holds the blobs beside it (its dash
+// ends) to paint's tolerance, or they would pull its fit off its near paint.
+double mm_per_tolerance_px(const GroupingParams& params, const MarkCandidate& m, bool dot_line) {
   const double paint = params.mm_per_px_per_mm * m.X;
-  return m.dot ? std::max(paint, kDotScatterMm / params.fit_tolerance_px) : paint;
+  return m.dot && dot_line ? std::max(paint, kDotScatterMm / params.fit_tolerance_px) : paint;
 }
 
 // The lateral road distance the fit tolerance spans at a mark.
-double pixel_tolerance_mm(const GroupingParams& params, const MarkCandidate& m) {
-  return params.fit_tolerance_px * mm_per_tolerance_px(params, m);
+double pixel_tolerance_mm(const GroupingParams& params, const MarkCandidate& m, bool dot_line) {
+  return params.fit_tolerance_px * mm_per_tolerance_px(params, m, dot_line);
 }
 
 // The road's line through a given y at the reference distance: the lines found give its
@@ -156,7 +158,7 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
     int count = 0;
     for (int k = 0; k < g; ++k) {
       const MarkCandidate& m = gated(k);
-      count += std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m);
+      count += std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m, true);
     }
     return count;
   };
@@ -208,7 +210,8 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
 }
 
 LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id,
-                                           const GroupingParams& params, double tolerance, bool parallel) {
+                                           const GroupingParams& params, double tolerance, bool parallel,
+                                           bool dot_line) {
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   FitPass p;
@@ -216,7 +219,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   double last_dot_mm = -1e300;
   for (MarkCandidate& m : marks) {
     if (m.line != -1 && m.line != id) continue;
-    const double tol = tolerance * pixel_tolerance_mm(params, m);
+    const double tol = tolerance * pixel_tolerance_mm(params, m, dot_line);
     if (std::abs(m.Y - model.y_at(m.X)) > tol) {
       m.line = -1;
       continue;
@@ -274,8 +277,9 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
 
   // 3. Least squares on the consensus, then more passes on every free mark within the
   // pixel tolerance of the fit (the line may reach beyond the gate once it is known).
+  bool dot_line = true;  // until the first pass says which kind the line's marks mostly are
   for (int pass = 0; pass < kFitPasses; ++pass) {
-    const FitPass p = fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel);
+    const FitPass p = fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel, dot_line);
     const int n = p.marks;
     if (n < min_marks || p.far_mm - p.near_mm < min_span_mm) return release();
     // Sparse: clutter, not paint; unless it is a row of dots.
@@ -288,7 +292,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
       dot_marks += m.dot;
       const double r = m.Y - model.y_at(m.X);
       sum2 += r * r;
-      const double mm_per_px = mm_per_tolerance_px(params, m);
+      const double mm_per_px = mm_per_tolerance_px(params, m, dot_line);
       sum2_px += r * r / (mm_per_px * mm_per_px);
     }
     out.fit = model;
@@ -296,7 +300,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     out.near_mm = p.near_mm;
     out.far_mm = p.far_mm;
     out.rms_mm = std::sqrt(sum2 / n);
-    out.dots = 2 * dot_marks > n;
+    out.dots = dot_line = 2 * dot_marks > n;
     if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
     if (pass == kFitPasses - 1 && out.dots && !narrows_with_distance(marks, id)) return release();
   }

@@ -73,7 +73,7 @@ class LineGrouper {
   RoadLine consensus_line(std::span<const MarkCandidate> marks, int gated, const RoadLine& model, int line,
                           const GroupingParams& params, bool parallel) const;
   FitPass fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id, const GroupingParams& params,
-                   double tolerance, bool parallel);
+                   double tolerance, bool parallel, bool dot_line);
 
   // group()'s steps, each taking and returning how many lines found_ holds.
   int continue_priors(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params);
