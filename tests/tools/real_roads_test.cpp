@@ -64,10 +64,10 @@ TEST(RealRoads, UdacityDrivesFromTheirVideos) {
     double ok_reached, width_sd_reached;
   };
   // Reached when the floors were set (nominal camera.toml, mount unknown; Botts' dots
-  // taken as lines, which cost segB a few frames of its concrete): segA 193 of 211 ok,
-  // width sd 1.8 % of its mean; segB 106 of 186, 2.0 %.
-  for (const Case& c : {Case{"project_video_segA.mp4", 211, 193.0 / 211, 0.018},
-                        Case{"project_video_segB.mp4", 186, 106.0 / 186, 0.020}}) {
+  // taken as lines, which cost segB a few frames of its concrete): segA 195 of 211 ok,
+  // width sd 1.8 % of its mean; segB 108 of 186, 2.1 %.
+  for (const Case& c : {Case{"project_video_segA.mp4", 211, 195.0 / 211, 0.018},
+                        Case{"project_video_segB.mp4", 186, 108.0 / 186, 0.021}}) {
     const DriveFigures f = replay_drive(kData + "/udacity-drives/" + c.file);
     EXPECT_EQ(f.frames, c.frames) << c.file;
     EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;
@@ -95,10 +95,10 @@ TEST(RealRoads, TuSimpleStillsEachAlone) {
   const Json t = Json::parse(score.out)["total"];
   EXPECT_EQ(t["frames"], 10);
   EXPECT_EQ(t["ego_lanes"], 20) << "two own-lane lines labelled in each still";
-  // Reached when the floor was set: 6 of the 20 own-lane lines found, 2 false lines of
-  // the 10 reported (Poisson margins).
+  // Reached when the floor was set: 6 of the 20 own-lane lines found, no false line of
+  // the 8 reported (the rule before the last one gave 2 of 10: Poisson margins).
   EXPECT_GE(t["ego_found"].get<double>(), 6.0 - 2.0 * std::sqrt(6.0));
-  EXPECT_LE(t["false_lines"].get<double>(), 2.0 + 2.0 * std::sqrt(2.0));
+  EXPECT_LE(t["false_lines"].get<double>(), 0.0 + 2.0 * std::sqrt(2.0));
 }
 
 }  // namespace
