@@ -12,6 +12,7 @@
 #include "core/lane/lane_estimator.hpp"
 #include "core/synth/road_renderer.hpp"
 #include "drivers/frames/frame_directory.hpp"
+#include "drivers/frames/jpeg.hpp"
 #include "tests/support/png_image.hpp"
 
 namespace ccdlane {
@@ -149,6 +150,54 @@ void BM_DetectionRealColourPictures(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_DetectionRealColourPictures)->Unit(benchmark::kMicrosecond);
+
+// Real freeway stills in colour (the ten TuSimple pictures of tests/data/real/tusimple:
+// pale concrete, Botts' dots, trucks), with their nominal camera.
+struct TuSimpleStills {
+  Config config;
+  std::vector<std::vector<std::uint8_t>> pixels;
+
+  TuSimpleStills() : config(load_config_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/camera.toml")) {
+    JpegReader reader;
+    for (int k = 0; k < 10; ++k) {
+      pixels.emplace_back(static_cast<std::size_t>(1280 * 720 * 3));
+      const std::string path = std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/images/000" + std::to_string(k) + ".jpg";
+      if (reader.read(path.c_str(), view(static_cast<std::size_t>(k))) != PgmFault::none) pixels.pop_back();
+    }
+  }
+  MutableImageView view(std::size_t i) { return {pixels[i].data(), 1280, 720, 1280 * 3, PixelFormat::rgb8, 8}; }
+};
+
+// Detection on them from the pose the solver finds for them (pitch about 7 degrees), no
+// prior: a tracking frame's cost on concrete with dots.
+void BM_DetectionTuSimpleStills(benchmark::State& state) {
+  TuSimpleStills s;
+  LaneDetector detector(s.config.camera, s.config.detection);
+  CameraPose pose = s.config.nominal_pose();
+  pose.attitude.theta = deg_to_rad(7.3);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(detector.detect(s.view(i), pose, {}).picks.data());
+    i = (i + 1) % s.pixels.size();
+  }
+}
+BENCHMARK(BM_DetectionTuSimpleStills)->Unit(benchmark::kMicrosecond);
+
+// The whole estimate of each still alone (replay --stills): a search, which detects and
+// solves from up to eight starting poses; what a lost lane costs.
+void BM_EstimateTuSimpleStillSearch(benchmark::State& state) {
+  TuSimpleStills s;
+  LaneEstimator estimator(s.config.estimator_options());
+  std::size_t i = 0;
+  int ok = 0;
+  for (auto _ : state) {
+    estimator.reset();
+    ok += estimator.estimate(s.view(i), i, static_cast<std::int64_t>(i) * 1000000000, std::nullopt).ok;
+    i = (i + 1) % s.pixels.size();
+  }
+  state.counters["ok"] = benchmark::Counter(ok, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_EstimateTuSimpleStillSearch)->Unit(benchmark::kMillisecond);
 
 void BM_RenderSyntheticFrame(benchmark::State& state) {
   const Config c = camera(static_cast<int>(state.range(0)));
