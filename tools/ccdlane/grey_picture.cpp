@@ -31,39 +31,55 @@ void on_jpeg_error(j_common_ptr info) {
   std::longjmp(error->jump, 1);
 }
 
-// libjpeg reports errors by longjmp: nothing with a destructor is created between
-// setjmp and the calls that may jump, the output buffer is sized before.
-bool decode_jpeg(const std::vector<unsigned char>& bytes, GreyPicture& out, std::string& why) {
+// libjpeg's part, in a frame of its own: nothing with a destructor lives here (a longjmp
+// skips destructors; std::string work beside a setjmp is what -Wclobbered flags at -O1).
+// Reads the picture's size from its header; with `pixels` (sized width x height by the
+// caller) decodes it as grey into them. False with error.message when libjpeg fails.
+bool run_libjpeg(const std::vector<unsigned char>& bytes, JpegError& error, int& width, int& height,
+                 std::uint8_t* pixels) {
   jpeg_decompress_struct info{};
-  JpegError error{};
   info.err = jpeg_std_error(&error.manager);
   error.manager.error_exit = on_jpeg_error;
   if (setjmp(error.jump)) {
     jpeg_destroy_decompress(&info);
-    why = error.message;
     return false;
   }
   jpeg_create_decompress(&info);
   jpeg_mem_src(&info, bytes.data(), static_cast<unsigned long>(bytes.size()));
   jpeg_read_header(&info, TRUE);
-  // A 221-byte JPEG may claim 20000x20000 pixels: bounded before the output is sized.
-  why = picture_size_problem(info.image_width, info.image_height);
-  if (!why.empty()) {
-    jpeg_destroy_decompress(&info);
+  width = static_cast<int>(info.image_width);
+  height = static_cast<int>(info.image_height);
+  if (pixels) {
+    info.out_color_space = JCS_GRAYSCALE;
+    jpeg_start_decompress(&info);
+    while (info.output_scanline < info.output_height) {
+      JSAMPROW row = pixels + static_cast<std::size_t>(info.output_scanline) * static_cast<std::size_t>(width);
+      jpeg_read_scanlines(&info, &row, 1);
+    }
+    jpeg_finish_decompress(&info);
+  }
+  jpeg_destroy_decompress(&info);
+  return true;
+}
+
+// The header first: a 221-byte JPEG may claim 20000x20000 pixels, so the size is bounded
+// before the output is sized; then the pixels, in a second pass over the bytes.
+bool decode_jpeg(const std::vector<unsigned char>& bytes, GreyPicture& out, std::string& why) {
+  JpegError error{};
+  int width = 0, height = 0;
+  if (!run_libjpeg(bytes, error, width, height, nullptr)) {
+    why = error.message;
     return false;
   }
-  info.out_color_space = JCS_GRAYSCALE;
-  jpeg_start_decompress(&info);
-  out.width = static_cast<int>(info.output_width);
-  out.height = static_cast<int>(info.output_height);
-  out.pixels.resize(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height));
-  while (info.output_scanline < info.output_height) {
-    JSAMPROW row =
-        out.pixels.data() + static_cast<std::size_t>(info.output_scanline) * static_cast<std::size_t>(out.width);
-    jpeg_read_scanlines(&info, &row, 1);
+  why = picture_size_problem(width, height);
+  if (!why.empty()) return false;
+  out.width = width;
+  out.height = height;
+  out.pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  if (!run_libjpeg(bytes, error, width, height, out.pixels.data())) {
+    why = error.message;
+    return false;
   }
-  jpeg_finish_decompress(&info);
-  jpeg_destroy_decompress(&info);
   return true;
 }
 

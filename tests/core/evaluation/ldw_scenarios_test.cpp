@@ -17,9 +17,9 @@ namespace ccdlane::ldw {
 namespace {
 
 // 20 noise seeds per case and three 5-minute normal drives, as the issue asks. Debug
-// builds (CI's sanitizer stage, there for memory errors and undefined behaviour, running
-// Eigen at -O0 some 300 times slower) take 3 seeds and one drive: every code path, not
-// the statistics.
+// builds (CI's sanitizer stage, there for memory errors and undefined behaviour: at -O1
+// and instrumented some 40 times slower per seed, at -O0 several hundred) take 3 seeds
+// and one drive: every code path, not the statistics.
 #ifdef NDEBUG
 constexpr int kSeeds = 20;
 constexpr int kNormalDrives = 3;

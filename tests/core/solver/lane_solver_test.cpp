@@ -92,8 +92,8 @@ void expect_truth_recovered(const SolveResult& res, const SyntheticScene& scene,
   EXPECT_LT(res.rms_px, 1e-6) << what;
 }
 
-// Sanitizer builds (unoptimised, instrumented: ~100x slower per solve) draw fewer
-// scenes; every bound below is derived from the number of draws actually made.
+// Sanitizer builds (instrumented, at -O1 or unoptimised: ~100x slower per solve) draw
+// fewer scenes; every bound below is derived from the number of draws actually made.
 #ifdef CCDLANE_SOLVER_FEW_DRAWS
 constexpr int kDraws = 25, kTruthDraws = 3;
 #else
