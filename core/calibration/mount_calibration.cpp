@@ -140,6 +140,7 @@ std::vector<bool> straight_frames(std::span<const MountFrame> frames, const Moun
   const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
   std::vector<bool> keep(frames.size(), false);
   int last_lane = -1;
+  int window_start = -1;  // the first lane frame within the lateral speed's window, since the last crossing
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const MountFrame& f = frames[i];
     if (!f.lane) continue;
@@ -156,9 +157,21 @@ std::vector<bool> straight_frames(std::span<const MountFrame> frames, const Moun
       // The own lane's centre jumps by about a lane width when the vehicle crosses a line.
       if (std::abs(jump) > 0.5 * f.lane_width_mm) {
         lane_change_t.push_back(seconds(f.t_ns));
-      } else if (dt > 0.0 && std::abs(jump) / dt > o.max_lateral_speed_mm_s) {
-        ++r.frames_lane_change;  // moving sideways: changing lanes or swerving
-        ok = false;
+        window_start = static_cast<int>(i);
+      } else {
+        // Moving sideways (changing lanes or swerving): the offset's change over the
+        // window (since the last crossing or the first lane frame, when that is nearer,
+        // over the whole window: a few frames' noise is no speed).
+        while (seconds(f.t_ns - frames[static_cast<std::size_t>(window_start)].t_ns) > o.lateral_speed_window_s) {
+          ++window_start;
+          while (!frames[static_cast<std::size_t>(window_start)].lane) ++window_start;
+        }
+        const MountFrame& w = frames[static_cast<std::size_t>(window_start)];
+        const double span = std::max(seconds(f.t_ns - w.t_ns), o.lateral_speed_window_s);
+        if (std::abs(f.lateral_offset_mm - w.lateral_offset_mm) / span > o.max_lateral_speed_mm_s) {
+          ++r.frames_lane_change;
+          ok = false;
+        }
       }
       if (ok && f.gyro_yaw_deg && p.gyro_yaw_deg && dt > 0.0 &&
           std::abs(wrap_deg(*f.gyro_yaw_deg - *p.gyro_yaw_deg)) / dt > o.max_yaw_rate_deg_s) {
@@ -167,6 +180,7 @@ std::vector<bool> straight_frames(std::span<const MountFrame> frames, const Moun
       }
     }
     keep[i] = ok;
+    if (last_lane < 0) window_start = static_cast<int>(i);
     last_lane = static_cast<int>(i);
   }
   return keep;
@@ -239,28 +253,53 @@ void add_stretch(std::span<const MountFrame> frames, std::size_t i, std::size_t 
   }
 }
 
-// Stretches: runs of kept frames without a long gap; each cut into equal blocks.
+// Stretches: kept frames without a long gap between them (a frame now and then without
+// lines, or left out, does not end one); each cut into equal blocks.
 Blocks straight_blocks(std::span<const MountFrame> frames, const std::vector<bool>& keep, const MountOptions& o,
                        MountCalibration& r) {
+  std::vector<MountFrame> kept;
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    if (keep[i]) kept.push_back(frames[i]);
   Blocks blocks;
-  const std::size_t n = frames.size();
+  const std::size_t n = kept.size();
   for (std::size_t i = 0; i < n;) {
-    if (!keep[i]) {
-      ++i;
-      continue;
-    }
     std::size_t end = i + 1;
-    while (end < n && keep[end] && seconds(frames[end].t_ns - frames[end - 1].t_ns) <= o.max_gap_s) ++end;
-    add_stretch(frames, i, end, o.block_s, blocks, r);
+    while (end < n && seconds(kept[end].t_ns - kept[end - 1].t_ns) <= o.max_gap_s) ++end;
+    add_stretch(kept, i, end, o.block_s, blocks, r);
     i = end;
   }
   blocks.drop_empty();
   return blocks;
 }
 
+// Stills: every still kept is a block of its own (they are independent samples).
+Blocks still_blocks(std::span<const MountFrame> frames, const MountOptions& o, MountCalibration& r) {
+  const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
+  Blocks blocks;
+  for (const MountFrame& f : frames) {
+    if (!f.lane) continue;
+    ++r.frames_with_lane;
+    if (!(std::abs(f.c_per_mm) <= max_c)) {
+      ++r.frames_curved;
+      continue;
+    }
+    blocks.add(1);
+    blocks.psi.back() = f.psi_deg, blocks.theta.back() = f.theta_deg, blocks.width.back() = f.lane_width_mm;
+    blocks.frames.back() = 1;
+    if (f.phi_deg) blocks.phi.back() = *f.phi_deg, blocks.phi_frames.back() = 1;
+    blocks.var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
+    blocks.var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
+    blocks.var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
+    ++r.frames_kept;
+  }
+  return blocks;
+}
+
 // Why the drive gives no calibration, when it is too little: the status and message.
 bool too_little(const MountOptions& o, MountCalibration& r) {
-  if (r.straight_s >= o.min_straight_s && r.blocks >= kMinBlocks) return false;
+  if (o.stills ? r.frames_kept >= std::max(o.min_stills, kMinBlocks)
+               : r.straight_s >= o.min_straight_s && r.blocks >= kMinBlocks)
+    return false;
   char text[256];
   if (r.frames_with_lane == 0) {
     r.status = MountStatus::no_lines;
@@ -271,6 +310,10 @@ bool too_little(const MountOptions& o, MountCalibration& r) {
                   "%d of the %d frames with lane lines are on bends (radius under %.0f m): a bend's heading is "
                   "not the road's direction; drive a straight road",
                   r.frames_curved, r.frames_with_lane, o.min_radius_m);
+  } else if (o.stills) {
+    r.status = MountStatus::too_short;
+    std::snprintf(text, sizeof text, "only %d of the %d stills show lane lines on both sides on a straight road, at least %d needed",
+                  r.frames_kept, r.frames, std::max(o.min_stills, kMinBlocks));
   } else {
     r.status = MountStatus::too_short;
     std::snprintf(text, sizeof text,
@@ -287,10 +330,15 @@ bool too_little(const MountOptions& o, MountCalibration& r) {
 MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& o, double reference_phi_deg) {
   MountCalibration r;
   r.frames = static_cast<int>(frames.size());
-  std::vector<double> lane_change_t;
-  std::vector<bool> keep = straight_frames(frames, o, r, lane_change_t);
-  drop_lane_changes(frames, lane_change_t, o, keep, r);
-  Blocks blocks = straight_blocks(frames, keep, o, r);
+  Blocks blocks;
+  if (o.stills) {
+    blocks = still_blocks(frames, o, r);
+  } else {
+    std::vector<double> lane_change_t;
+    std::vector<bool> keep = straight_frames(frames, o, r, lane_change_t);
+    drop_lane_changes(frames, lane_change_t, o, keep, r);
+    blocks = straight_blocks(frames, keep, o, r);
+  }
 
   // Roll from the blocks that saw three lines often enough to count.
   std::vector<double> phi_means;

@@ -59,18 +59,30 @@ struct MountOptions {
   // The true lane width: sigma 0 for a known width, else a prior (3.6 +- 0.2 m is the
   // usual spread of motorway lanes).
   Prior lane_width_mm{3600.0, 200.0};
-  // Straight: |c| below 1/(2 R) of this radius (c of y = y0 + c x^2).
-  double min_radius_m = 1500.0;
+  // Straight enough: |c| below 1/(2 R) of this radius (c of y = y0 + c x^2). The frames
+  // are solved with the road's curvature, and the lane's direction at the camera is the
+  // vehicle's on a bend as on a straight (freeway bends are 500 m or wider); sharper
+  // bends are left out because the parabola is a poorer model of them.
+  double min_radius_m = 500.0;
   // Turning (gyro yaw rate) or moving sideways faster than this: a lane change or a
-  // swerve, not a drive along the lane.
+  // swerve, not a drive along the lane. The lateral speed is taken over a window: frame
+  // to frame, a few centimetres of offset noise at 25 frames/s is as fast as this.
   double max_yaw_rate_deg_s = 2.0;
   double max_lateral_speed_mm_s = 600.0;
+  double lateral_speed_window_s = 1.0;
   double lane_change_guard_s = 2.0;  // frames this close to a lane change are dropped
   double max_gap_s = 0.5;            // a longer gap between kept frames ends a stretch
   // Stretches are cut into blocks this long; the blocks' spread gives the sigmas (the
   // heading wanders over seconds, so single frames are not independent samples).
-  double block_s = 2.0;
-  double min_straight_s = 6.0;  // less straight driving than this determines nothing
+  double block_s = 1.0;
+  // Less straight driving than this determines nothing. A dashcam clip of a freeway is
+  // often only a few seconds long, and misses lines in some of them.
+  double min_straight_s = 4.0;
+  // The frames are stills of one camera, each solved alone (a benchmark's pictures, from
+  // unrelated clips): no time, no stretches; every still with lines on both sides, not
+  // on a sharp bend, is one independent sample, and at least min_stills are needed.
+  bool stills = false;
+  int min_stills = 10;
 };
 
 enum class MountStatus {
@@ -85,7 +97,7 @@ struct MountCalibration {
   std::string message;  // why, for anything but ok
   double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0, H_mm = 0.0;
   double sigma_psi_deg = 0.0, sigma_theta_deg = 0.0, sigma_phi_deg = 0.0, sigma_H_mm = 0.0;
-  bool phi_determined = false;     // false: no stretch showed three lines (phi_deg is then the reference)
+  bool phi_determined = false;     // false: no stretch (or too few stills) showed three lines (phi_deg is then the reference)
   double measured_width_mm = 0.0;  // the lane width at the nominal H
   double sigma_measured_width_mm = 0.0;
   double straight_s = 0.0;  // time on the kept stretches
@@ -94,7 +106,8 @@ struct MountCalibration {
   int frames_curved = 0, frames_turning = 0, frames_lane_change = 0;
 };
 
-// `frames` in time order, solved with roll fixed at `reference_phi_deg`.
+// `frames` in time order (or stills, options.stills), solved with roll fixed at
+// `reference_phi_deg`.
 MountCalibration calibrate_mount(std::span<const MountFrame> frames, const MountOptions& options = {},
                                  double reference_phi_deg = 0.0);
 

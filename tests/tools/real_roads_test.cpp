@@ -5,7 +5,9 @@
 // standard deviations, sqrt(p (1 - p) / n); for a count of lines, two Poisson ones,
 // sqrt(count); for a spread, three standard errors of an sd, sd / sqrt(2 n). They guard
 // against losing what works; the targets of docs/real-roads.md are far above them.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -74,6 +76,32 @@ TEST(RealRoads, UdacityDrivesFromTheirVideos) {
     EXPECT_LE(f.width_sd, c.width_sd_reached * (1.0 + 3.0 / std::sqrt(2.0 * f.ok))) << c.file;
     EXPECT_EQ(f.warnings, 0) << c.file << ": the car keeps its lane: a warning is never right";
   }
+}
+
+// `calibrate mount` on a drive: its pitch and sigma from the printed summary.
+struct Pitch {
+  double deg = 0.0, sigma_deg = 0.0;
+};
+
+Pitch calibrated_pitch(const std::string& video) {
+  const auto r = test::run_process({kTool, "calibrate", "mount", kData + "/udacity-drives/camera.toml", video});
+  EXPECT_EQ(r.exit_status, 0) << r.err;
+  Pitch p;
+  const auto at = r.err.find("theta = ");
+  EXPECT_NE(at, std::string::npos) << r.err;
+  if (at != std::string::npos) std::sscanf(r.err.c_str() + at, "theta = %lf +/- %lf", &p.deg, &p.sigma_deg);
+  return p;
+}
+
+TEST(RealRoads, TheMountCalibratedOnEitherDriveOfOneCarHasOnePitch) {
+  // segA (asphalt, a bend of about 1 km, dashes) and segB (a concrete bridge) come from the
+  // same car and camera: their pitches agree within three sigmas of their difference (and
+  // within the 0.3 degrees; they reached -1.64 and -1.58).
+  const Pitch a = calibrated_pitch(kData + "/udacity-drives/project_video_segA.mp4");
+  const Pitch b = calibrated_pitch(kData + "/udacity-drives/project_video_segB.mp4");
+  EXPECT_GT(a.sigma_deg, 0.0);
+  EXPECT_GT(b.sigma_deg, 0.0);
+  EXPECT_NEAR(a.deg, b.deg, std::min(0.3, 3.0 * std::hypot(a.sigma_deg, b.sigma_deg)));
 }
 
 TEST(RealRoads, TuSimpleStillsEachAlone) {

@@ -32,6 +32,7 @@ struct MountArgs {
   std::string recording;
   std::string out;
   double lane_width_mm = 0.0;  // 0: the [prior] lane width, else 3.6 +- 0.2 m
+  bool stills = false;         // every frame alone (a benchmark's pictures)
 };
 
 // One pass over the recording: every frame solved with roll fixed at phi_deg.
@@ -45,6 +46,7 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
     FrameMeta meta;
     meta.sequence = recorded.sequence;
     meta.t_ns = recorded.t_ns;
+    if (args.stills) estimator.reset();
     const LaneEstimate& e = estimator.estimate(frame_inputs(&image, meta.sequence, meta, {}, false));
     frames.push_back(calibration::mount_frame(e, estimator.solution(), recorded.gyro, phi_deg, config.H_mm));
   };
@@ -88,8 +90,13 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
 
 std::string mount_tables(const MountCalibration& m, const Config& config, const MountOptions& o) {
   std::ostringstream t;
-  t << "# ccdlane calibrate mount: " << fixed(m.straight_s, 1) << " s of straight driving in " << m.stretches
-    << " stretches (" << m.frames_kept << " of " << m.frames << " frames); sigmas in the comments\n"
+  if (o.stills)
+    t << "# ccdlane calibrate mount: " << m.frames_kept << " of " << m.frames
+      << " stills, each solved alone; sigmas in the comments\n";
+  else
+    t << "# ccdlane calibrate mount: " << fixed(m.straight_s, 1) << " s of straight driving in " << m.stretches
+      << " stretches (" << m.frames_kept << " of " << m.frames << " frames); sigmas in the comments\n";
+  t
     << "[mount]\n"
     << "H_mm = " << toml_float(m.H_mm) << "  # sigma " << toml_float(m.sigma_H_mm) << "; lane measured "
     << fixed(m.measured_width_mm, 0) << " +/- " << fixed(m.sigma_measured_width_mm, 0) << " mm wide at H "
@@ -113,15 +120,17 @@ int run_mount(const MountArgs& args) {
   const Config config = load_config_file(args.config);
   MountOptions o;
   o.nominal_H_mm = config.H_mm;
+  o.stills = args.stills;
   if (args.lane_width_mm > 0.0)
     o.lane_width_mm = {args.lane_width_mm, 0.0};
   else if (config.prior.lane_width_mm)
     o.lane_width_mm = *config.prior.lane_width_mm;
   const MountCalibration m = calibration::run_mount_passes(
       [&](double phi_deg) { return solve_recording(args, config, phi_deg); }, config.attitude.phi_deg, o);
-  std::cerr << "frames " << m.frames << ", with lane lines on both sides " << m.frames_with_lane << ", on bends "
-            << m.frames_curved << ", turning " << m.frames_turning << ", changing lanes " << m.frames_lane_change
-            << ", kept " << m.frames_kept << "\n";
+  std::cerr << (o.stills ? "stills " : "frames ") << m.frames << ", with lane lines on both sides "
+            << m.frames_with_lane << ", on bends " << m.frames_curved;
+  if (!o.stills) std::cerr << ", turning " << m.frames_turning << ", changing lanes " << m.frames_lane_change;
+  std::cerr << ", " << (o.stills ? "used " : "kept ") << m.frames_kept << "\n";
   if (m.status != MountStatus::ok)
     throw UsageError(args.recording + ": cannot calibrate the mount (" + calibration::to_string(m.status) +
                      "): " + m.message + "; nothing written");
@@ -161,11 +170,14 @@ CommandAction setup_calibrate_mount(CLI::App& sub) {
   sub.add_option("--lane-width-mm", args->lane_width_mm,
                  "the road's true lane width, if known (else [prior] lane_width_mm, else 3600 +/- 200)")
       ->check(number_from_to(2000.0, 5000.0));
+  sub.add_flag("--stills", args->stills,
+               "every frame on its own (pictures of one camera from unrelated clips, such as a benchmark's): "
+               "each still with lines on both sides is one sample, at least 10 needed");
   sub.footer(
       "Solves every frame with H and roll fixed at the configured values, keeps straight stretches (no bend, no "
       "gyro turn, no lane change) with lines on both sides, and averages: yaw and pitch from the solves, roll from "
       "equal lane widths (three or more lines), H from the lane width measured against the true one. Sigmas from "
-      "the spread of 2 s blocks. A recording too short, without lines or only on bends is refused (exit 2), and "
+      "the spread of 1 s blocks (of the stills, with --stills). A recording too short, without lines or only on bends is refused (exit 2), and "
       "nothing is written.");
   return [args] { return run_mount(*args); };
 }

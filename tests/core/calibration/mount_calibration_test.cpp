@@ -161,6 +161,19 @@ TEST(MountCalibration, RefusesADriveOnlyOnABend) {
   EXPECT_GT(m.frames_curved, m.frames_with_lane / 2);
 }
 
+TEST(MountCalibration, ABendOf800MetresCounts) {
+  // The frames are solved with the road's curvature: on a freeway bend the lane's
+  // direction at the camera is still the vehicle's, and the mount comes out as on a
+  // straight road.
+  const Config nominal = nominal_config();
+  Config truth = true_config(nominal);
+  truth.synth.curvature_per_mm = 1.0 / (2 * 800e3);
+  const MountCalibration m = calibrate(nominal, truth, 10.0);
+  print(m, truth, "10 s on a bend of 800 m");
+  expect_within_3_sigma(m, truth, "800 m bend");
+  EXPECT_EQ(m.frames_curved, 0);
+}
+
 // Hand-made frames: straight road, the heading wandering by +-1 degree with a 6 s period.
 std::vector<MountFrame> steady_frames(double seconds, double psi_deg) {
   std::vector<MountFrame> frames;
@@ -184,15 +197,72 @@ std::vector<MountFrame> steady_frames(double seconds, double psi_deg) {
 TEST(MountCalibration, SigmaIsTheBlockSpreadNotTheFramesOwn) {
   const MountCalibration m = calibrate_mount(steady_frames(24.0, 1.0));
   ASSERT_EQ(m.status, MountStatus::ok) << m.message;
-  EXPECT_EQ(m.blocks, 12);
+  EXPECT_EQ(m.blocks, 24);
   EXPECT_NEAR(m.psi_deg, 1.0, 3 * m.sigma_psi_deg);
-  // Blocks of 2 s through a 1-degree wave scatter by tenths of a degree: more than the
-  // frames' own 0.05 over 12 blocks.
+  // Blocks of 1 s through a 1-degree wave scatter by tenths of a degree: more than the
+  // frames' own 0.05 over 24 blocks.
   EXPECT_GT(m.sigma_psi_deg, 0.05);
   // Theta never moves: its sigma is the frames' own, once per block.
-  EXPECT_NEAR(m.sigma_theta_deg, 0.05 / std::sqrt(12.0), 1e-9);
+  EXPECT_NEAR(m.sigma_theta_deg, 0.05 / std::sqrt(24.0), 1e-9);
   EXPECT_NEAR(m.H_mm, 1400.0, 1e-9);
-  EXPECT_NEAR(m.sigma_H_mm, 1400.0 * std::hypot(200.0, 10.0 / std::sqrt(12.0)) / 3600.0, 1e-6);
+  EXPECT_NEAR(m.sigma_H_mm, 1400.0 * std::hypot(200.0, 10.0 / std::sqrt(24.0)) / 3600.0, 1e-6);
+}
+
+TEST(MountCalibration, OffsetNoiseAt25FramesASecondIsNoLaneChange) {
+  // A lateral offset measured to +-3 cm each frame changes by up to 6 cm in 40 ms, 1.5 m/s
+  // taken frame to frame; over the 1 s window it is no speed at all. A real lane change
+  // (3.6 m in 4 s) is still caught.
+  std::vector<MountFrame> frames;
+  for (int k = 0; k < 250; ++k) {
+    MountFrame f;
+    f.t_ns = 40'000'000LL * k;
+    f.lane = true;
+    f.theta_deg = 3.0;
+    f.sigma_psi_deg = f.sigma_theta_deg = 0.05;
+    f.lane_width_mm = 3600.0;
+    f.sigma_lane_width_mm = 10.0;
+    f.lateral_offset_mm = (k % 2 == 0 ? 30.0 : -30.0);
+    frames.push_back(f);
+  }
+  MountCalibration m = calibrate_mount(frames);
+  ASSERT_EQ(m.status, MountStatus::ok) << m.message;
+  EXPECT_EQ(m.frames_lane_change, 0);
+  EXPECT_EQ(m.frames_kept, 250);
+  for (int k = 100; k < 150; ++k) frames[static_cast<std::size_t>(k)].lateral_offset_mm += 900.0 * (k - 100) * 0.04;
+  for (int k = 150; k < 250; ++k) frames[static_cast<std::size_t>(k)].lateral_offset_mm += 1800.0;
+  m = calibrate_mount(frames);
+  EXPECT_GT(m.frames_lane_change, 20);
+}
+
+TEST(MountCalibration, AFrameWithoutLinesNowAndThenDoesNotEndAStretch) {
+  std::vector<MountFrame> frames = steady_frames(10.0, 0.0);
+  for (std::size_t k = 3; k < frames.size(); k += 7) frames[k].lane = false;
+  const MountCalibration m = calibrate_mount(frames);
+  ASSERT_EQ(m.status, MountStatus::ok) << m.message;
+  EXPECT_EQ(m.stretches, 1);
+  EXPECT_NEAR(m.straight_s, 10.0, 0.2);
+}
+
+TEST(MountCalibration, StillsAreEachOneSample) {
+  // Stills of unrelated clips: no times, each its own heading. The mean of the stills and
+  // its standard error; fewer than min_stills are refused.
+  std::vector<MountFrame> frames = steady_frames(2.0, 0.5);  // 20 stills, headings 0.5 +- 1 degree
+  for (MountFrame& f : frames) f.t_ns = 0;
+  MountOptions o;
+  o.stills = true;
+  MountCalibration m = calibrate_mount(frames, o);
+  ASSERT_EQ(m.status, MountStatus::ok) << m.message;
+  EXPECT_EQ(m.frames_kept, 20);
+  EXPECT_EQ(m.blocks, 20);
+  double mean = 0.0, sum2 = 0.0;
+  for (const MountFrame& f : frames) mean += f.psi_deg / 20.0;
+  for (const MountFrame& f : frames) sum2 += (f.psi_deg - mean) * (f.psi_deg - mean);
+  EXPECT_NEAR(m.psi_deg, mean, 1e-9);
+  EXPECT_NEAR(m.sigma_psi_deg, std::sqrt(sum2 / 19.0 / 20.0), 1e-9);
+  frames.resize(9);
+  m = calibrate_mount(frames, o);
+  EXPECT_EQ(m.status, MountStatus::too_short);
+  EXPECT_NE(m.message.find("only 9 of the 9 stills"), std::string::npos) << m.message;
 }
 
 TEST(MountCalibration, TurnsSeenByTheGyroAreDropped) {
@@ -221,12 +291,12 @@ TEST(MountCalibration, RefusalsSayWhy) {
   for (MountFrame& f : frames) f.lane = false;
   EXPECT_EQ(calibrate_mount(frames).status, MountStatus::no_lines);
   frames = steady_frames(20.0, 0.0);
-  for (MountFrame& f : frames) f.c_per_mm = 1e-6;
+  for (MountFrame& f : frames) f.c_per_mm = 2e-6;  // radius 250 m
   EXPECT_EQ(calibrate_mount(frames).status, MountStatus::only_curves);
-  frames = steady_frames(5.0, 0.0);
+  frames = steady_frames(3.5, 0.0);
   const MountCalibration m = calibrate_mount(frames);
   EXPECT_EQ(m.status, MountStatus::too_short);
-  EXPECT_NE(m.message.find("only 5.0 s"), std::string::npos) << m.message;
+  EXPECT_NE(m.message.find("only 3.5 s"), std::string::npos) << m.message;
 }
 
 }  // namespace
