@@ -27,6 +27,9 @@ constexpr double kLateralReachPerMm = 0.05;
 // than this (plus a pixel or two of blur) is a blob, not a piece of a line.
 constexpr double kMaxDotLengthMm = 300.0;
 constexpr double kMaxDotWidthMm = 250.0;
+// A marker is a dome: in sunlight only its lit side stands out, about half of its
+// 10 cm, the other half is its shadow. Bars that narrow are kept as possible dots.
+constexpr double kMinDotLitWidthMm = 40.0;
 constexpr double kDotBlurPx = 2.0;
 
 // 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
@@ -75,6 +78,7 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     // kerb's top, text, arrows, patches, cars.
     r.min_width_px = static_cast<float>(std::max(0.8, 0.5 * min_px - 1.0));
     r.max_width_px = static_cast<float>(1.15 * max_px + 2.0);
+    r.min_dot_width_px = static_cast<float>(std::max(1.0, kMinDotLitWidthMm / mm_per_px - 1.0));
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
@@ -112,7 +116,7 @@ bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkC
   return std::abs(gx * ex + gy * ey) / (gn * en) < kOrientationTolerance;
 }
 
-bool LaneDetector::is_dot(const ImageView& image, const MarkCandidate& c, float levels_per_grey) const {
+bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const {
   const double X = c.X;
   // How many rows the bar's centre column stays bright above and below the scanned row.
   // A line (or a dash, 3 m long) stays bright over many rows; a dot only over its own few.
@@ -152,6 +156,8 @@ bool LaneDetector::is_dot(const ImageView& image, const MarkCandidate& c, float 
     for (int xx = std::max(0, xa - w); xx <= std::min(image.width - 1, xb + w); ++xx) lit += bright(xx, yy);
     if (2 * lit > w) return false;
   }
+  c.dot_top = static_cast<std::int16_t>(y + 1 - up);
+  c.dot_bottom = static_cast<std::int16_t>(y + 1 + down);
   return true;
 }
 
@@ -224,6 +230,10 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     c.X = X;
     c.Y = Y;
     c.dot = is_dot(image, c, scale);
+    if (c.narrow && !c.dot) {
+      ++result_.counters.narrow;
+      continue;
+    }
     if (c.step_beside && !c.dot) {
       ++result_.counters.step_beside;
       continue;

@@ -35,7 +35,8 @@ class LaneDetector {
   bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
   // Whether candidate c (on the road at c.X, c.Y) is a short blob: bright over no more of
   // the road than a raised marker, and dark all around.
-  bool is_dot(const ImageView& image, const MarkCandidate& c, float levels_per_grey) const;
+  // Whether c is a dot; if so, sets its dot_top and dot_bottom.
+  bool is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
   void choose_picks();
 
   CameraSpec camera_;

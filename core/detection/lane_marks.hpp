@@ -23,10 +23,16 @@ struct MarkCandidate {
   // marker (about 10 cm across, 1-3 m apart), or a dash's very end. Its edges are round,
   // so they say nothing of the line's direction.
   bool dot = false;
+  // A dot's own rows (1-based, first and last lit along its centre column): marks of
+  // one dot found on several scan rows share them.
+  std::int16_t dot_top = 0, dot_bottom = 0;
   // Another step within the row filter's reach beside the bar (a shadow border, a patch,
   // a dash's end, a raised marker's shadow): its edges may be pulled by up to half the
   // filter's width.
   bool step_beside = false;
+  // Narrower than paint (ScanRow::min_dot_width_px): taken only if it is a dot; a long
+  // bar that narrow is a crack's edge, a wire or a seam's lip.
+  bool narrow = false;
 
   double px() const { return 0.5 * (left_px + right_px); }
   double width_px() const { return right_px - left_px; }
@@ -52,6 +58,7 @@ struct DetectionCounters {
   int off_road = 0;           // above the horizon or out of the searched range
   int wrong_orientation = 0;  // not running towards the road's vanishing point
   int step_beside = 0;        // a bar (not a dot) whose edges a step beside it may bias
+  int narrow = 0;             // a bar (not a dot) narrower than paint
   int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
   int grouped = 0;            // on a reported line
 };

@@ -34,9 +34,6 @@ constexpr int kNewLineAttempts = 16;       // voted cells tried for new lines
 constexpr int kDashAttempts = 8;           // y0 bins tried for single dashes
 constexpr double kCurvatureChange = 1e-8;  // a shared curvature that moved more re-casts the votes
 constexpr double kMinSlopeVariance = 1e6;  // mm^2 of the lines' y spread to fit slope against y
-// Dot marks this far apart along the road are separate dots (one dot spans a few rows,
-// dots are a metre or more apart).
-constexpr double kDotSeparationMm = 800.0;
 // Paint is better evidence of a line than blobs are (a barrier's or a kerb's texture makes
 // rows of blobs too): it votes twice, so that lines of paint are tried first, and a row of
 // blobs beside one is then too near it to be a line of its own.
@@ -216,7 +213,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   FitPass p;
   int first_row = 1 << 30, last_row = -1;
-  double last_dot_mm = -1e300;
+  int last_dot_bottom = -1;
   for (MarkCandidate& m : marks) {
     if (m.line != -1 && m.line != id) continue;
     const double tol = tolerance * pixel_tolerance_mm(params, m, dot_line);
@@ -232,8 +229,11 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
     ++p.marks;
     p.near_mm = std::min(p.near_mm, m.X);
     p.far_mm = std::max(p.far_mm, m.X);
-    if (m.dot && std::abs(m.X - last_dot_mm) > kDotSeparationMm) ++p.dots;
-    if (m.dot) last_dot_mm = m.X;
+    // Marks come in row order (far to near): a dot below the last one's rows is another.
+    if (m.dot && m.dot_top > last_dot_bottom) {
+      ++p.dots;
+      last_dot_bottom = m.dot_bottom;
+    }
     first_row = std::min<int>(first_row, m.scan_row);
     last_row = std::max<int>(last_row, m.scan_row);
   }

@@ -111,7 +111,8 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     if (last < 0) continue;
     const float a = rising[last].x;
     const float w = b - a;
-    if (w < r.min_width_px || w > r.max_width_px) continue;
+    const float min_width = std::min(r.min_width_px, r.min_dot_width_px);
+    if (w < min_width || w > r.max_width_px) continue;
     // Dark-bright-dark: the bar against each side, skipping the transition pixel.
     const int ia = static_cast<int>(std::floor(a)), ib = static_cast<int>(std::floor(b));
     const int flank = std::max(2, static_cast<int>(std::lround(r.mark_px)));
@@ -137,7 +138,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     const float area = static_cast<float>(P[std::min(ib + 2, width)] - P[std::max(ia, 0)]) -
                        background * static_cast<float>(std::min(ib + 2, width) - std::max(ia, 0));
     const float bar_width = area / (static_cast<float>(peak) - background);
-    if (bar_width < r.min_width_px) continue;
+    if (bar_width < min_width) continue;
     MarkCandidate& c = out[count++];
     c.left_px = static_cast<double>(a) + 1.0 + x_begin;  // to the picture's 1-based columns
     c.right_px = static_cast<double>(b) + 1.0 + x_begin;
@@ -146,6 +147,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     c.line = -1;
     c.scan_row = static_cast<std::int16_t>(scan_row_index);
     c.step_beside = step_beside;
+    c.narrow = w < r.min_width_px || bar_width < r.min_width_px;
     c.dot = false;
   }
   return count;

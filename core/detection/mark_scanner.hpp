@@ -17,6 +17,10 @@ struct ScanRow {
   float mark_px = 1.0f;    // expected mark width along this row, pixels
   float min_width_px = 1;  // accepted bar widths
   float max_width_px = 4;
+  // Narrower bars, down to this, are kept flagged `narrow`: the lit cap of a raised
+  // marker is narrower than paint, and only a short blob may be that narrow (the
+  // detector's test). By default none.
+  float min_dot_width_px = 1e30f;
   int half_width = 1;  // of the box derivative (noise averaging at the mark's scale)
   // The columns scanned, 0-based [x_begin, x_end) (clipped to the picture): where the
   // road searched lies on this row. Pixels outside are never read, nor is their paint

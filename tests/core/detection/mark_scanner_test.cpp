@@ -107,6 +107,26 @@ TEST(MarkScanner, RejectsWhatIsNotAMarkOfThisWidth) {
   EXPECT_TRUE(scan(narrow.bytes8(), row_for(8.0f)).empty());
 }
 
+TEST(MarkScanner, BarsNarrowerThanPaintAreKeptFlaggedWhereADotMayBe) {
+  // The lit cap of a raised marker: 2 px where paint would be 8 px wide (min 2.2 px).
+  Row cap, paint;
+  cap.bar(50, 52.0, 200);
+  paint.bar(50, 58, 200);
+  ScanRow r = row_for(8.0f);
+  EXPECT_TRUE(scan(cap.bytes8(), r).empty()) << "no dots asked for: paint's widths only";
+  r.min_dot_width_px = 1.5f;
+  const auto c = scan(cap.bytes8(), r);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_TRUE(c[0].narrow);
+  EXPECT_NEAR(c[0].px(), 51.0 + 1.0, 0.3);  // 1-based columns
+  const auto p = scan(paint.bytes8(), r);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_FALSE(p[0].narrow);
+  Row hair;
+  hair.bar(50, 50.7, 250);  // a pixel's line: narrower than a dot's cap
+  EXPECT_TRUE(scan(hair.bytes8(), r).empty());
+}
+
 TEST(MarkScanner, SixteenBitRowsGiveTheSameBars) {
   Row row;
   row.bar(70.4, 75.9, 210);
