@@ -133,11 +133,15 @@ constexpr int kMinBlocks = 3;  // fewer give no spread worth the name
 
 double seconds(std::int64_t t_ns) { return 1e-9 * static_cast<double>(t_ns); }
 
+// A bend sharper than min_radius_m (or a curvature the solve could not tell).
+bool on_bend(const MountFrame& f, const MountOptions& o) {
+  return !(std::abs(f.c_per_mm) <= 1.0 / (2.0 * o.min_radius_m * 1000.0));
+}
+
 // Which frames show the lane on straight road with the vehicle neither turning nor moving
 // sideways, counted into `r`; and, apart, the times the vehicle crossed a line.
 std::vector<bool> straight_frames(std::span<const MountFrame> frames, const MountOptions& o, MountCalibration& r,
                                   std::vector<double>& lane_change_t) {
-  const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
   std::vector<bool> keep(frames.size(), false);
   int last_lane = -1;
   int window_start = -1;  // the first lane frame within the lateral speed's window, since the last crossing
@@ -146,7 +150,7 @@ std::vector<bool> straight_frames(std::span<const MountFrame> frames, const Moun
     if (!f.lane) continue;
     ++r.frames_with_lane;
     bool ok = true;
-    if (!(std::abs(f.c_per_mm) <= max_c)) {
+    if (on_bend(f, o)) {
       ++r.frames_curved;
       ok = false;
     }
@@ -215,6 +219,15 @@ struct Blocks {
       phi_frames.push_back(0);
     }
   }
+  // One kept frame into block b.
+  void add_frame(std::size_t b, const MountFrame& f) {
+    psi[b] += f.psi_deg, theta[b] += f.theta_deg, width[b] += f.lane_width_mm;
+    ++frames[b];
+    if (f.phi_deg) phi[b] += *f.phi_deg, ++phi_frames[b];
+    var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
+    var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
+    var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
+  }
   // Empty blocks (a stretch with uneven frame times) carry nothing.
   void drop_empty() {
     for (std::size_t b = frames.size(); b-- > 0;)
@@ -242,13 +255,7 @@ void add_stretch(std::span<const MountFrame> frames, std::size_t i, std::size_t 
   for (std::size_t k = i; k < end; ++k) {
     const MountFrame& f = frames[k];
     const double t = seconds(f.t_ns) - t0;
-    const auto b = first_block + static_cast<std::size_t>(std::min(n - 1, static_cast<int>(t / (duration / n))));
-    blocks.psi[b] += f.psi_deg, blocks.theta[b] += f.theta_deg, blocks.width[b] += f.lane_width_mm;
-    ++blocks.frames[b];
-    if (f.phi_deg) blocks.phi[b] += *f.phi_deg, ++blocks.phi_frames[b];
-    blocks.var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
-    blocks.var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
-    blocks.var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
+    blocks.add_frame(first_block + static_cast<std::size_t>(std::min(n - 1, static_cast<int>(t / (duration / n)))), f);
     ++r.frames_kept;
   }
 }
@@ -274,22 +281,16 @@ Blocks straight_blocks(std::span<const MountFrame> frames, const std::vector<boo
 
 // Stills: every still kept is a block of its own (they are independent samples).
 Blocks still_blocks(std::span<const MountFrame> frames, const MountOptions& o, MountCalibration& r) {
-  const double max_c = 1.0 / (2.0 * o.min_radius_m * 1000.0);
   Blocks blocks;
   for (const MountFrame& f : frames) {
     if (!f.lane) continue;
     ++r.frames_with_lane;
-    if (!(std::abs(f.c_per_mm) <= max_c)) {
+    if (on_bend(f, o)) {
       ++r.frames_curved;
       continue;
     }
     blocks.add(1);
-    blocks.psi.back() = f.psi_deg, blocks.theta.back() = f.theta_deg, blocks.width.back() = f.lane_width_mm;
-    blocks.frames.back() = 1;
-    if (f.phi_deg) blocks.phi.back() = *f.phi_deg, blocks.phi_frames.back() = 1;
-    blocks.var_psi += f.sigma_psi_deg * f.sigma_psi_deg;
-    blocks.var_theta += f.sigma_theta_deg * f.sigma_theta_deg;
-    blocks.var_width += f.sigma_lane_width_mm * f.sigma_lane_width_mm;
+    blocks.add_frame(blocks.frames.size() - 1, f);
     ++r.frames_kept;
   }
   return blocks;

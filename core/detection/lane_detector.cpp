@@ -170,15 +170,14 @@ void LaneDetector::choose_picks() {
     DetectedLine& line = result_.lines[static_cast<std::size_t>(j)];
     line.first_pick = count;
     // A line of paint hands on its paint only: the blobs grouped with it (a dash's end,
-    // a dot beside it) are not where its edges say the line is. A row of dots hands on
-    // its dots.
-    int paint = 0;
+    // a dot beside it) are not where its edges say the line is. A row of dots (its
+    // majority kind, as the grouping found) hands on its dots.
+    const bool dots = line.dots;
+    int usable = 0;
     for (int i = 0; i < num_marks; ++i) {
       const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];
-      paint += m.line == j && !m.dot;
+      usable += m.line == j && m.dot == dots;
     }
-    const bool dots = 2 * paint < line.marks;
-    const int usable = dots ? line.marks - paint : paint;
     // Evenly spread over the line's marks (they come in row order, far to near).
     const int take = std::min(usable, per_line);
     int seen = 0, next = 0;

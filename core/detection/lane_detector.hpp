@@ -34,8 +34,8 @@ class LaneDetector {
   void plan_rows(const CameraPose& pose, double curvature_per_mm);
   bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
   // Whether candidate c (on the road at c.X, c.Y) is a short blob: bright over no more of
-  // the road than a raised marker, and dark all around.
-  // Whether c is a dot; if so, sets its dot_top and dot_bottom.
+  // the road than a raised marker, and dark all around. If so, sets its dot_top and
+  // dot_bottom (the rows it is lit over).
   bool is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
   void choose_picks();
 

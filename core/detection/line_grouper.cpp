@@ -93,17 +93,7 @@ RoadDirection road_direction(std::span<const DetectedLine> lines, double curvatu
 // shadow or a car's edge keep their width.
 constexpr double kDotWidthSlope = -1.0, kDotWidthSlopeTolerance = 0.5;
 bool narrows_with_distance(std::span<const MarkCandidate> marks, int line) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int n = 0;
-  for (const MarkCandidate& m : marks) {
-    if (m.line != line || !m.dot || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
-    const double lx = std::log(m.X), ly = std::log(m.width_px());
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-    ++n;
-  }
-  const double spread = n * sxx - sx * sx;
-  if (n < 3 || !(spread > 1e-9 * n * n)) return false;
-  return std::abs((n * sxy - sx * sy) / spread - kDotWidthSlope) <= kDotWidthSlopeTolerance;
+  return std::abs(width_distance_slope(marks, line, true) - kDotWidthSlope) <= kDotWidthSlopeTolerance;
 }
 
 void release_line(std::span<MarkCandidate> marks, int line) {
@@ -112,6 +102,21 @@ void release_line(std::span<MarkCandidate> marks, int line) {
 }
 
 }  // namespace
+
+double width_distance_slope(std::span<const MarkCandidate> marks, int line, bool dots) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (const MarkCandidate& m : marks) {
+    if (m.line != line || m.dot != dots || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
+    const double lx = std::log(m.X), ly = std::log(m.width_px());
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+    ++n;
+  }
+  if (n < 3) return std::nan("");
+  const double spread = n * sxx - sx * sx;
+  if (!(spread > 1e-9 * n * n)) return std::nan("");
+  return (n * sxy - sx * sy) / spread;
+}
 
 LineGrouper::LineGrouper(int max_marks)
     : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {

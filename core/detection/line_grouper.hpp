@@ -35,6 +35,11 @@ struct GroupingParams {
   double min_dash_span_mm = 1000.0;
 };
 
+// The slope of log(width px) against log(road distance) over the marks of line `line`
+// that are dots (`dots`) or paint: about -1 for things of one size on the road, which
+// narrow with distance. NaN with fewer than 3 such marks or all at one distance.
+double width_distance_slope(std::span<const MarkCandidate> marks, int line, bool dots);
+
 class LineGrouper {
  public:
   // The Hough accumulator and index buffers for up to max_marks candidates are allocated

@@ -102,7 +102,9 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
   };
 
-  // Pair each falling edge with the last rising edge before it.
+  // Pair each falling edge with the last rising edge before it. Bars narrower than paint
+  // are kept (flagged) down to a dot's lit cap when the row asks for dots.
+  const float min_width = std::min(r.min_width_px, r.min_dot_width_px);
   int ri = 0;
   for (int fi = 0; fi < n_falling && count < capacity; ++fi) {
     const float b = falling[fi].x;
@@ -111,7 +113,6 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     if (last < 0) continue;
     const float a = rising[last].x;
     const float w = b - a;
-    const float min_width = std::min(r.min_width_px, r.min_dot_width_px);
     if (w < min_width || w > r.max_width_px) continue;
     // Dark-bright-dark: the bar against each side, skipping the transition pixel.
     const int ia = static_cast<int>(std::floor(a)), ib = static_cast<int>(std::floor(b));

@@ -62,13 +62,11 @@ class LaneEstimator {
   // from the previous frame.
   const VanishingPoint* vanishing_point() const { return vanishing_point_; }
   // The mount the estimator goes by: the configured one (with the online correction), or
-  // what the road showed when that was more than kMountTrustDeg off.
+  // what the road showed when that was more than MountRefinement::kMountTrustDeg off.
   const Attitude& mount() const { return mount_.mount(); }
   // The online mount refinement after the last estimate(): what the daemon reports and
   // keeps in its state file (status off when not configured).
   const MountRefinementResult& mount_refinement() const { return mount_.result(); }
-  static constexpr double kMountTrustDeg = MountRefinement::kMountTrustDeg;
-  static constexpr int kMountAcquisitionFrames = MountRefinement::kMountAcquisitionFrames;
   // A search without a previous frame also starts from the mount pitched by these steps,
   // out to this bound: detection finds lines from a pose within about 4 degrees.
   static constexpr double kSearchPitchStepDeg = 3.0;

@@ -185,7 +185,7 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
     if (const SupportProblem p = check_paint_width(paint_width_slope(detection_->marks, detection_line_[line]));
         p != SupportProblem::none)
       return p;
-    if (mostly_dots(detection_->marks, detection_line_[line])) continue;
+    if (detection_->lines[static_cast<std::size_t>(detection_line_[line])].dots) continue;
     if (const SupportProblem p =
             check_paint_width_spread(paint_width_spread(detection_->marks, detection_line_[line]), options_.detection);
         p != SupportProblem::none)

@@ -72,22 +72,7 @@ bool mostly_dots(std::span<const MarkCandidate> marks, int detection_line) {
 }
 
 double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line) {
-  const bool dots = mostly_dots(marks, detection_line);
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int n = 0;
-  for (const MarkCandidate& m : marks) {
-    if (m.line != detection_line || m.dot != dots || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
-    const double lx = std::log(m.X), ly = std::log(m.width_px());
-    sx += lx;
-    sy += ly;
-    sxx += lx * lx;
-    sxy += lx * ly;
-    ++n;
-  }
-  if (n < 3) return std::nan("");
-  const double spread = n * sxx - sx * sx;
-  if (!(spread > 1e-9 * n * n)) return std::nan("");
-  return (n * sxy - sx * sy) / spread;
+  return width_distance_slope(marks, detection_line, mostly_dots(marks, detection_line));
 }
 
 SupportProblem check_paint_width(double slope) {

@@ -66,15 +66,19 @@ Attitude MountRefinement::mount_for(const Attitude& solved) const {
   // frame's solve when it is off by more than twice kMountTrustDeg (one frame's yaw is
   // the mount's plus the vehicle's heading), then the mean of the first second's when
   // that is off by more than kMountTrustDeg (acquire).
-  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_, 2 * kMountTrustDeg)) return mount_;
+  if (!replaced_by(solved)) return mount_;
   Attitude a = corrected_;
   a.psi = solved.psi;
   a.theta = solved.theta;
   return a;
 }
 
+bool MountRefinement::replaced_by(const Attitude& solved) const {
+  return !acquisition_.done && !acquisition_.adopted && off_by_more(solved, corrected_, 2 * kMountTrustDeg);
+}
+
 void MountRefinement::adopt(const Attitude& solved) {
-  if (acquisition_.done || acquisition_.adopted || !off_by_more(solved, corrected_, 2 * kMountTrustDeg)) return;
+  if (!replaced_by(solved)) return;
   mount_ = mount_for(solved);
   acquisition_.adopted = true;
 }

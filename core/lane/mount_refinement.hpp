@@ -73,6 +73,9 @@ class MountRefinement {
   void reset();
 
  private:
+  // Whether one frame's solve replaces the mount (mount_for, adopt): the start's
+  // acquisition has not decided yet and the solve is clearly off the mount.
+  bool replaced_by(const Attitude& solved) const;
   void apply_correction();
 
   Attitude configured_;  // the configuration's

@@ -313,7 +313,7 @@ TEST(LaneEstimator, AMountFiveDegreesOffIsFoundFromThePicture) {
     configured.attitude.psi_deg += off.psi_deg;
     configured.attitude.theta_deg += off.theta_deg;
     LaneEstimator est(configured.estimator_options());
-    const int n = LaneEstimator::kMountAcquisitionFrames;
+    const int n = MountRefinement::kMountAcquisitionFrames;
     double heading_sum = 0.0, pitch_sum = 0.0, sigma_psi = 0.0, sigma_theta = 0.0;
     for (std::uint64_t k = 0; k < 40; ++k) {
       const SynthFrame f = d.render(k);
