@@ -31,6 +31,11 @@ constexpr double kMaxDotWidthMm = 250.0;
 // 10 cm, the other half is its shadow. Bars that narrow are kept as possible dots.
 constexpr double kMinDotLitWidthMm = 40.0;
 constexpr double kDotBlurPx = 2.0;
+// Yellow paint stands above the road mostly by its colour (on pale concrete, by its
+// colour alone): its yellowness is at least this fraction of its contrast, and above
+// the tint of grey surfaces (a few levels) by this much. White paint's is near 0.
+constexpr double kYellowShareOfContrast = 0.5;
+constexpr int kMinYellowness = 20;
 
 // 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
 void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
@@ -161,6 +166,16 @@ bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels
   return true;
 }
 
+bool LaneDetector::is_yellow(const ImageView& image, const MarkCandidate& c) {
+  // The bar's centre and its two neighbours along the row: one pixel may be a JPEG or
+  // chroma-subsampling artefact.
+  const int x = static_cast<int>(std::lround(c.px() - 1.0)), y = static_cast<int>(c.py) - 1;
+  if (x < 1 || x + 1 >= image.width || y < 0 || y >= image.height) return false;
+  const int yellowness =
+      paint_yellowness_at(image, x - 1, y) + paint_yellowness_at(image, x, y) + paint_yellowness_at(image, x + 1, y);
+  return yellowness >= 3 * kMinYellowness && yellowness >= 3.0 * kYellowShareOfContrast * c.contrast;
+}
+
 void LaneDetector::choose_picks() {
   const int n = result_.num_lines;
   int count = 0;
@@ -241,7 +256,9 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
       ++result_.counters.wrong_orientation;
       continue;
     }
+    c.yellow = !c.dot && is_yellow(image, c);
     result_.counters.dots += c.dot;
+    result_.counters.yellow += c.yellow;
     marks_[static_cast<std::size_t>(kept++)] = c;
   }
   const std::span<MarkCandidate> marks(marks_.data(), static_cast<std::size_t>(kept));

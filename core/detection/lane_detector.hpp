@@ -37,6 +37,8 @@ class LaneDetector {
   // the road than a raised marker, and dark all around. If so, sets its dot_top and
   // dot_bottom (the rows it is lit over).
   bool is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
+  // Whether candidate c is yellow paint (colour frames only).
+  static bool is_yellow(const ImageView& image, const MarkCandidate& c);
   void choose_picks();
 
   CameraSpec camera_;

@@ -33,6 +33,9 @@ struct MarkCandidate {
   // Narrower than paint (ScanRow::min_dot_width_px): taken only if it is a dot; a long
   // bar that narrow is a crack's edge, a wire or a seam's lip.
   bool narrow = false;
+  // Yellow paint: its colour is most of what it stands above the road by. Barrier feet,
+  // kerbs, seams and concrete are grey; a yellow line is paint.
+  bool yellow = false;
 
   double px() const { return 0.5 * (left_px + right_px); }
   double width_px() const { return right_px - left_px; }
@@ -49,6 +52,7 @@ struct DetectedLine {
   int prior_index = -1;   // the prior line it continues, -1 = newly found
   bool parallel = false;  // fitted as a parallel of the road's other lines (y0 alone)
   bool dots = false;      // most of its marks are dots (a row of raised markers)
+  bool yellow = false;    // most of its marks are yellow paint
 };
 
 // Counts of what the row filter found and why candidates were dropped.
@@ -60,6 +64,7 @@ struct DetectionCounters {
   int step_beside = 0;        // a bar (not a dot) whose edges a step beside it may bias
   int narrow = 0;             // a bar (not a dot) narrower than paint
   int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
+  int yellow = 0;             // yellow paint among those kept
   int grouped = 0;            // on a reported line
 };
 

@@ -43,6 +43,19 @@ constexpr int kPaintVotes = 2;
 // marks: a solid line beside a barrier's foot that a previous frame took.
 constexpr int kReplacingMarks = 2;
 
+// Whether line `l`, found after `other` and too near it, takes its place. Paint is better
+// evidence than a row of blobs (a barrier's or a kerb's texture makes those too), yellow
+// paint better than grey bars (barrier feet, kerbs, seams and slab edges are grey, and
+// a yellow line's colour bleeds into its sides, so fewer of its bars pass the row
+// filter's step test than a grey bar's do), and then the first found unless the other
+// has far more marks.
+bool replaces(const DetectedLine& l, const DetectedLine& other) {
+  if (l.dots) return false;
+  if (other.dots) return true;
+  if (l.yellow != other.yellow) return l.yellow;
+  return l.marks >= kReplacingMarks * other.marks;
+}
+
 double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 
 // Raised markers are set by hand and a dot's rows are chords of a small disc with its
@@ -291,10 +304,11 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     if (n < params.min_coverage * p.rows && p.dots < params.min_dots) return release();
     if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
-    int dot_marks = 0;
+    int dot_marks = 0, yellow_marks = 0;
     for (const MarkCandidate& m : marks) {
       if (m.line != id) continue;
       dot_marks += m.dot;
+      yellow_marks += m.yellow;
       const double r = m.Y - model.y_at(m.X);
       sum2 += r * r;
       const double mm_per_px = mm_per_tolerance_px(params, m, dot_line);
@@ -306,6 +320,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     out.far_mm = p.far_mm;
     out.rms_mm = std::sqrt(sum2 / n);
     out.dots = dot_line = 2 * dot_marks > n;
+    out.yellow = 2 * yellow_marks > n;
     if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
     if (pass == kFitPasses - 1 && out.dots && !narrows_with_distance(marks, id)) return release();
   }
@@ -319,7 +334,7 @@ bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, i
   for (int k = 0; k < n; ++k) {
     const DetectedLine& other = found_[static_cast<std::size_t>(k)];
     if (std::abs(other.fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) >= params.min_separation_mm) continue;
-    if (l.dots || !(other.dots || l.marks >= kReplacingMarks * other.marks)) {
+    if (!replaces(l, other)) {
       release_line(marks, n);
       return false;
     }

@@ -89,10 +89,10 @@ class LineGrouper {
   int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
                    std::array<DetectedLine, kMaxDetectedLines>& out) const;
   // Adds `l` (its marks assigned to line n) to the n lines found when it is
-  // min_separation_mm from each; or puts it in the place of the one line it is too near
-  // when it is paint and that one is a row of dots (paint is the better evidence: a
-  // barrier's foot or a kerb makes rows of blobs too) or has far fewer marks. Otherwise
-  // releases its marks. Whether it was taken.
+  // min_separation_mm from each; or puts it in the place of the lines it is too near when
+  // it is the better evidence of a line than each (paint over a row of dots, yellow paint
+  // over grey bars, or far more marks). Otherwise releases its marks. Whether it was
+  // taken.
   bool admit(std::span<MarkCandidate> marks, const DetectedLine& l, int& n, const GroupingParams& params);
   // The curvature the lines found so far share (weighted by marks), else the priors' mean.
   double shared_curvature(std::span<const RoadLine> priors, int n) const;

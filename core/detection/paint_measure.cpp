@@ -32,6 +32,15 @@ void paint_measure_row(const ImageView& image, int y, int x0, int x1, std::uint1
   }
 }
 
+int paint_yellowness_at(const ImageView& image, int x, int y) {
+  const std::uint8_t* p = image.row(y) + static_cast<std::ptrdiff_t>(bytes_per_pixel(image.format)) * x;
+  switch (image.format) {
+    case PixelFormat::rgb8: return yellowness8(p[0], p[1], p[2]);
+    case PixelFormat::bgr8: return yellowness8(p[2], p[1], p[0]);
+    default: return 0;
+  }
+}
+
 int paint_measure_at(const ImageView& image, int x, int y) {
   const std::uint8_t* p = image.row(y) + static_cast<std::ptrdiff_t>(bytes_per_pixel(image.format)) * x;
   switch (image.format) {

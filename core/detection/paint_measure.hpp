@@ -30,6 +30,9 @@ float paint_measure_levels_per_grey(const ImageView& image);
 // The measure of pixels x0..x1-1 of 0-based row y, into out[x0 .. x1).
 void paint_measure_row(const ImageView& image, int y, int x0, int x1, std::uint16_t* out);
 
+// The yellowness8 of one 0-based pixel; 0 for grey frames.
+int paint_yellowness_at(const ImageView& image, int x, int y);
+
 // The measure of one 0-based pixel.
 int paint_measure_at(const ImageView& image, int x, int y);
 

@@ -111,20 +111,29 @@ SupportProblem check_motion(double speed_mps, double heading_deg, double curvatu
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
                          const RoadLine& right, int right_line, double margin_mm) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
+  LaneClutter c;
   for (const MarkCandidate& m : marks) {
     if (!(m.X >= 0.0)) continue;
     const std::uint64_t bin = std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
-    if (m.line == left_line || m.line == right_line)
+    if (m.line == left_line || m.line == right_line) {
       on_lines |= bin;
-    else if (m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm)
+      ++c.line_marks;
+    } else if (m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm) {
       inside |= bin;
+      ++c.inside_marks;
+    }
   }
-  return {std::popcount(inside), std::popcount(on_lines)};
+  c.inside_bins = std::popcount(inside);
+  c.line_bins = std::popcount(on_lines);
+  return c;
 }
 
 SupportProblem check_clutter(const LaneClutter& clutter) {
-  return clutter.inside_bins > kMaxClutterPerLineLength * clutter.line_bins ? SupportProblem::cluttered_lane
-                                                                            : SupportProblem::none;
+  // Along much of the lane and as dense as its lines: a field of bars.
+  return clutter.inside_bins > kMaxClutterPerLineLength * clutter.line_bins &&
+                 clutter.inside_marks > kMaxClutterMarksPerLineMark * clutter.line_marks
+             ? SupportProblem::cluttered_lane
+             : SupportProblem::none;
 }
 
 SupportProblem check_priors(const SolverPriors& priors, const CameraPose& pose, double lane_width_mm) {

@@ -73,6 +73,8 @@ double expect_every_line_and_nothing_else(const Config& c, std::uint64_t k, cons
     EXPECT_EQ(t, j) << scene << " frame " << k << ": left to right, each line once";
     EXPECT_NEAR(r.lines[j].fit.y0_mm, f.y0_mm[static_cast<std::size_t>(t)], kOnPaintMm)
         << scene << " frame " << k << " line " << j;
+    // The yellow edge line (the leftmost) is told from white paint by its colour.
+    EXPECT_EQ(r.lines[j].yellow, c.synth.yellow_left_edge && t == 0) << scene << " frame " << k << " line " << j;
   }
   const test::PickErrors e = test::pick_errors(r, f, CameraModel(c.camera, f.pose), truth);
   EXPECT_GT(e.n, 25 * f.num_lines) << scene << " frame " << k;

@@ -1,5 +1,6 @@
 // Grouping marks into lines on the road: lines among clutter, continuation of the
-// previous frame's lines, separation, the nearest lines kept, sparse clutter refused.
+// previous frame's lines, separation (and which of two lines too near each other
+// stands), the nearest lines kept, sparse clutter refused.
 #include "core/detection/line_grouper.hpp"
 
 #include <random>
@@ -17,13 +18,14 @@ struct Scene {
   std::mt19937 rng{7};
   // A mark on every scan row from near to far (`every` > 1: dashes), with lateral noise
   // of noise_px pixels (a pixel spans X / 630 mm at distance X).
-  void line(double y0, double m, double c, double noise_px = 0.3, int every = 1) {
+  void line(double y0, double m, double c, double noise_px = 0.3, int every = 1, bool yellow = false) {
     std::normal_distribution<double> n(0.0, 1.0);
     for (int row = 0; row < 150; ++row) {
       if ((row / 4) % every) continue;
       const double X = 5000.0 + 35000.0 * row / 149.0;
       MarkCandidate mk;
       mk.X = X;
+      mk.yellow = yellow;
       mk.Y = y0 + m * X + c * X * X + noise_px * X / 630.0 * n(rng);
       mk.scan_row = static_cast<std::int16_t>(row);
       marks.push_back(mk);
@@ -132,6 +134,32 @@ TEST(LineGrouper, ContinuesThePreviousFramesLines) {
   EXPECT_EQ(lines[1].prior_index, 3);
   EXPECT_EQ(lines[2].prior_index, 0);
   EXPECT_NEAR(lines[1].fit.y0_mm, -1950, 30);
+}
+
+// A previous frame took a barrier's foot (grey bars 3.4 m left) for the left line; the
+// yellow edge line 1.6 m nearer, too near it to be a lane line of its own, is seen on
+// half the rows (its other bars failed the row filter's step test). Yellow paint takes
+// the foot's place; the same line in grey would not (it has fewer marks than the line
+// it would replace).
+TEST(LineGrouper, YellowPaintTakesThePlaceOfAGreyLineTooNearIt) {
+  const RoadLine priors[] = {{3400, 0, 0}, {-1800, 0, 0}};
+  for (const bool yellow : {true, false}) {
+    Scene s;
+    s.line(3400, 0.0, 0.0);
+    s.line(1800, 0.0, 0.0, 0.3, 2, yellow);
+    s.line(-1800, 0.0, 0.0);
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    ASSERT_EQ(group(s, lines, priors), 2) << "yellow " << yellow;
+    EXPECT_NEAR(lines[0].fit.y0_mm, yellow ? 1800.0 : 3400.0, 30.0) << "yellow " << yellow;
+    EXPECT_EQ(lines[0].yellow, yellow);
+    EXPECT_FALSE(lines[1].yellow);
+    EXPECT_NEAR(lines[1].fit.y0_mm, -1800.0, 30.0);
+    for (const MarkCandidate& m : s.marks) {
+      if (m.line == 0) {
+        EXPECT_NEAR(m.Y, yellow ? 1800.0 : 3400.0, 300.0);
+      }
+    }
+  }
 }
 
 TEST(LineGrouper, KeepsTheNearestLinesAndMergesNeighbours) {

@@ -181,7 +181,37 @@ TEST(LaneSupport, ALaneFullOfMarksAlongItsLengthIsNotARoad) {
   marks.push_back(at(-1, 30500.0, 900.0));
   c = lane_clutter(marks, left, 0, right, 1, 300.0);
   EXPECT_EQ(c.inside_bins, 10);
+  EXPECT_EQ(c.inside_marks, 105);  // the arrow's 98 among them
+  EXPECT_EQ(c.line_marks, 144);
   EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
+}
+
+// Patched concrete: a bar or two every couple of metres along the whole lane (slab edges,
+// tar) is marked along as much road as the lines are, but sparsely; a field of bars as
+// dense as the lines is not a road.
+TEST(LaneSupport, SparseBarsAlongTheLaneAreARoadDenseOnesAreNot) {
+  const RoadLine left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
+  std::vector<MarkCandidate> marks;
+  const auto add = [&marks](int line, double X, double Y) {
+    MarkCandidate m;
+    m.line = static_cast<std::int16_t>(line);
+    m.X = X;
+    m.Y = Y;
+    marks.push_back(m);
+  };
+  for (double x = 4000.0; x < 40000.0; x += 500.0) {  // 18 bins, 144 marks
+    add(0, x, 1800.0);
+    add(1, x, -1800.0);
+  }
+  for (double x = 4100.0; x < 40000.0; x += 1000.0) add(-1, x, 400.0 * std::sin(x));  // 36 bars in 18 bins
+  LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.inside_bins, 18);
+  EXPECT_EQ(c.inside_marks, 36);
+  EXPECT_EQ(check_clutter(c), SupportProblem::none);
+  for (double x = 4300.0; x < 40000.0; x += 1000.0) add(-1, x, -400.0);  // 36 more: 72 of 144
+  EXPECT_EQ(check_clutter(lane_clutter(marks, left, 0, right, 1, 300.0)), SupportProblem::none);
+  add(-1, 20000.0, 0.0);  // one more than half the lines' marks
+  EXPECT_EQ(check_clutter(lane_clutter(marks, left, 0, right, 1, 300.0)), SupportProblem::cluttered_lane);
 }
 
 // A car's lateral speed and acceleration bound what heading and curvature a lane it
