@@ -66,10 +66,11 @@ TEST(RealRoads, UdacityDrivesFromTheirVideos) {
     double ok_reached, width_sd_reached;
   };
   // Reached when the floors were set (nominal camera.toml, mount unknown; Botts' dots,
-  // down to their lit caps, taken as lines, which costs a few frames near the barrier):
-  // segA 189 of 211 ok, width sd 1.8 % of its mean; segB 107 of 186, 1.9 %.
-  for (const Case& c : {Case{"project_video_segA.mp4", 211, 189.0 / 211, 0.018},
-                        Case{"project_video_segB.mp4", 186, 107.0 / 186, 0.019}}) {
+  // down to their lit caps, taken as lines; patched concrete a road, yellow paint over a
+  // barrier's foot): segA 196 of 211 ok, width sd 2.0 % of its mean; segB 125 of 186,
+  // 2.3 % (more frames of the bridge, whose widths spread more).
+  for (const Case& c : {Case{"project_video_segA.mp4", 211, 196.0 / 211, 0.0203},
+                        Case{"project_video_segB.mp4", 186, 125.0 / 186, 0.0226}}) {
     const DriveFigures f = replay_drive(kData + "/udacity-drives/" + c.file);
     EXPECT_EQ(f.frames, c.frames) << c.file;
     EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;
