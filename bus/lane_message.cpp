@@ -136,6 +136,7 @@ void to_message(const LaneEstimate& e, std::int64_t capture_utime, std::int64_t 
   out.sigma_psi_deg = e.sigma_psi_deg;
   out.sigma_theta_deg = e.sigma_theta_deg;
   out.sigma_phi_deg = e.sigma_phi_deg;
+  out.H_mm = e.H_mm;
   const int n = std::clamp(e.num_lines, 0, kMaxLaneLines);
   out.num_lines = static_cast<std::int8_t>(n);
   for (int i = 0; i < kMaxLaneLines; ++i) {
@@ -178,6 +179,7 @@ LaneEstimate from_message(const lane_estimate_t& m) {
   e.sigma_psi_deg = m.sigma_psi_deg;
   e.sigma_theta_deg = m.sigma_theta_deg;
   e.sigma_phi_deg = m.sigma_phi_deg;
+  e.H_mm = m.H_mm;
   e.num_lines = std::clamp(static_cast<int>(m.num_lines), 0, kMaxLaneLines);
   for (int i = 0; i < e.num_lines; ++i) copy_line(m.lines[i], e.lines[static_cast<std::size_t>(i)]);
   e.lane_width_mm = m.lane_width_mm;

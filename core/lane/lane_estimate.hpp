@@ -56,6 +56,9 @@ struct LaneEstimate {
   SupportProblem support = SupportProblem::none;
   double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0;
   double sigma_psi_deg = kUndetermined, sigma_theta_deg = kUndetermined, sigma_phi_deg = kUndetermined;
+  // The camera's height above the road the lines and every distance are at: the mount's,
+  // or what a cold start took from the lane-width prior (set whenever lines were solved).
+  double H_mm = 0.0;
   int num_lines = 0;  // ordered left to right as seen from the vehicle (largest y0 first)
   std::array<EstimatedLine, kMaxLaneLines> lines{};
   double lane_width_mm = 0.0;

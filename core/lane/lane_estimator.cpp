@@ -117,8 +117,11 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
 
   if (cold && r->converged && !r->rank_deficient) {
     // Cold start: look again from where the first solve put the camera, along its lines
-    // (this frame's own, which no line of the detection continues).
+    // (this frame's own, which no line of the detection continues), and at the height
+    // the lane's width says. Every road distance detection gates by (mark and dot
+    // widths, ranges) scales with the height; a still has no second to settle it.
     detection_pose_ = r->pose;
+    detection_pose_.H_mm *= height_scale(*r);
     const std::span<const RoadLine> solved(r->lines.data(), static_cast<std::size_t>(r->num_lines));
     if (!fit_.take(detector_.detect(image, detection_pose_, solved), true))
       return {nullptr, EstimateFailure::too_few_marks};
@@ -134,6 +137,24 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   if (!r->converged)
     return {nullptr, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed};
   return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none};
+}
+
+double LaneEstimator::height_scale(const SolveResult& r) const {
+  const std::optional<Prior>& prior = config_.priors.lane_width_mm;
+  if (!prior || mount_.height_settled()) return 1.0;
+  double left = 1e300, right = -1e300;  // the nearest line each side of the vehicle
+  for (int j = 0; j < r.num_lines; ++j) {
+    const double y0 = r.lines[static_cast<std::size_t>(j)].y0_mm;
+    if (y0 > 0.0) left = std::min(left, y0);
+    else right = std::max(right, y0);
+  }
+  if (left == 1e300 || right == -1e300) return 1.0;
+  const double width = left - right;
+  // The same trust in the configured height as the start of a drive gives it
+  // (MountRefinement::acquire), and no more error than a configured height may have.
+  if (std::abs(width - prior->mean) <= MountRefinement::kHeightTrustSigmas * prior->sigma) return 1.0;
+  const double scale = prior->mean / width;
+  return scale >= 1.0 / (1.0 + kUnsettledHeightError) && scale <= 1.0 / (1.0 - kUnsettledHeightError) ? scale : 1.0;
 }
 
 int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
@@ -219,8 +240,10 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
     support_ =
         fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount(),
                                   mount_.height_settled());
+  // The mount's height learns from widths at its own scale (a cold start may have looked
+  // from another: height_scale).
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)
-    rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm);
+    rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm * mount_.height_mm() / r.pose.H_mm);
 }
 
 void LaneEstimator::warn(const FrameInputs& in) {
@@ -264,6 +287,7 @@ void LaneEstimator::report(const FrameInputs& in) {
   e.psi_deg = rad_to_deg(r.pose.attitude.psi);
   e.theta_deg = rad_to_deg(r.pose.attitude.theta);
   e.phi_deg = rad_to_deg(r.pose.attitude.phi);
+  e.H_mm = r.pose.H_mm;
   e.sigma_psi_deg = r.sigma.psi_deg;
   e.sigma_theta_deg = r.sigma.theta_deg;
   e.sigma_phi_deg = r.sigma.phi_deg;

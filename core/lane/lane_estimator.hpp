@@ -93,6 +93,10 @@ class LaneEstimator {
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   bool supported(const SolveResult& r, const VehicleInputs& vehicle) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
+  // By how much a cold start's first solve says the height is off, while the mount's
+  // height is not settled: the lane-width prior's mean over the width of the lane it
+  // found, when that is clearly not a lane's width; 1 otherwise.
+  double height_scale(const SolveResult& r) const;
   void track(const SolveResult& r, const VehicleInputs& vehicle);
   void warn(const FrameInputs& in);
   void report(const FrameInputs& in);

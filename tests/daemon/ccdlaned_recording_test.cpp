@@ -99,7 +99,7 @@ void expect_interfaces_md_shape(const ordered_json& j) {
   if (!j.value("ok", false)) want.push_back("reason");
   want.push_back("state");
   for (const char* k :
-       {"psi_deg", "theta_deg", "phi_deg", "lines", "lane_width_mm", "lateral_offset_mm", "heading_deg",
+       {"psi_deg", "theta_deg", "phi_deg", "H_mm", "lines", "lane_width_mm", "lateral_offset_mm", "heading_deg",
         "curvature_per_m", "radius_of_curvature_m", "departure", "rms_px", "iterations", "latency_us", "ldw"})
     want.push_back(k);
   EXPECT_EQ(keys, want) << j;

@@ -15,6 +15,7 @@ LaneEstimate sample() {
   e.psi_deg = 1.05;
   e.theta_deg = 0.71;
   e.phi_deg = -2.7;
+  e.H_mm = 1400.0;
   e.sigma_psi_deg = 0.04;
   e.num_lines = 2;
   e.lines[0] = {3, 1751.0, 0.0012, 0.0, 9, 0.97, 22.0};
@@ -34,7 +35,7 @@ LaneEstimate sample() {
 TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
   const Json j = lane_estimate_json(sample());
   EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"state":"tracking","psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
-                      R"("lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
+                      R"("H_mm":1400.0,"lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
                       R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
                       R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"curvature_per_m":0.002,)"
                       R"("radius_of_curvature_m":500.0,"departure":"left",)"
@@ -107,8 +108,11 @@ TEST(LaneEstimateJson, FailedFramesSayWhyAndHaveNullsForWhatTheyLack) {
   EXPECT_TRUE(j["radius_of_curvature_m"].is_null());
   EXPECT_EQ(j.begin().key(), "frame");
   EXPECT_EQ(std::next(j.begin(), 3).key(), "reason");  // right after ok
+  EXPECT_TRUE(j["H_mm"].is_null());
   for (EstimateFailure f : {EstimateFailure::no_frame, EstimateFailure::too_few_marks, EstimateFailure::rank_deficient})
     EXPECT_EQ(lane_estimate_json(LaneEstimate{.reason = f})["reason"], to_string(f));
+  // A rank-deficient frame whose solve did not converge has no height to project at.
+  EXPECT_TRUE(lane_estimate_json(LaneEstimate{.reason = EstimateFailure::rank_deficient})["H_mm"].is_null());
 }
 
 TEST(LaneEstimateJson, SigmasOnRequest) {

@@ -82,6 +82,7 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
                                            "psi_deg",
                                            "theta_deg",
                                            "phi_deg",
+                                           "H_mm",
                                            "lines",
                                            "lane_width_mm",
                                            "lateral_offset_mm",

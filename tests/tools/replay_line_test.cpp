@@ -16,9 +16,21 @@ TEST(ReplayLine, ReadsASolvedFrame) {
   EXPECT_EQ(r.frame, 7u);
   ASSERT_TRUE(r.attitude);
   EXPECT_EQ(r.attitude->theta_deg, 0.5);
+  EXPECT_FALSE(r.attitude->H_mm) << "written before the height was: the configuration's";
   ASSERT_EQ(r.lines.size(), 1u);
   EXPECT_EQ(r.lines[0].y0_mm, -1800.0);
   EXPECT_EQ(r.lines[0].c_per_mm, 1e-7);
+}
+
+TEST(ReplayLine, ReadsTheHeightTheLinesAreAt) {
+  ReplayLine r;
+  ASSERT_EQ(parse_replay_line(R"({"frame": 7, "psi_deg": 1.5, "theta_deg": 0.5, "phi_deg": -0.25, "H_mm": 1680.5})", r),
+            "");
+  ASSERT_TRUE(r.attitude && r.attitude->H_mm);
+  EXPECT_EQ(*r.attitude->H_mm, 1680.5);
+  ASSERT_EQ(parse_replay_line(R"({"frame": 7, "psi_deg": 1.5, "theta_deg": 0.5, "phi_deg": -0.25, "H_mm": null})", r),
+            "");
+  EXPECT_FALSE(r.attitude->H_mm);
 }
 
 TEST(ReplayLine, AnUnsolvedFrameHasNoAttitude) {
@@ -41,6 +53,8 @@ TEST(ReplayLine, DamageIsOneMessageNamingTheField) {
       {R"({"frame": 1, "psi_deg": "x"})", "psi_deg: not a number"},
       {R"({"frame": 1, "psi_deg": 1})", "theta_deg: not a number"},
       {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": true})", "phi_deg: not a number"},
+      {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1, "H_mm": "high"})", "H_mm: not a height"},
+      {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1, "H_mm": -1300})", "H_mm: not a height"},
       {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1, "lines": 5})", "lines: not an array"},
       {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1, "lines": [{}]})", "lines[0].y0_mm: not a number"},
       {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1, "lines": [{"y0_mm": 1, "m": 0, "c_per_mm": 0}, 3]})",

@@ -51,6 +51,7 @@ Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
   j["psi_deg"] = solved ? json_number(e.psi_deg) : null;
   j["theta_deg"] = solved ? json_number(e.theta_deg) : null;
   j["phi_deg"] = solved ? json_number(e.phi_deg) : null;
+  j["H_mm"] = solved && e.H_mm > 0.0 ? json_number(e.H_mm) : null;  // 0: no solve gave one
   Json lines = Json::array();
   for (int k = 0; solved && k < e.num_lines; ++k) {
     const EstimatedLine& l = e.lines[static_cast<std::size_t>(k)];

@@ -34,6 +34,11 @@ std::string parse_replay_line(std::string_view text, ReplayLine& out) {
   if (!number_at(e, "psi_deg", a.psi_deg)) return "psi_deg: not a number";
   if (!number_at(e, "theta_deg", a.theta_deg)) return "theta_deg: not a number";
   if (!number_at(e, "phi_deg", a.phi_deg)) return "phi_deg: not a number";
+  if (const auto h = e.find("H_mm"); h != e.end() && !h->is_null()) {
+    double H = 0.0;
+    if (!number_at(e, "H_mm", H) || !(H > 0.0)) return "H_mm: not a height";
+    a.H_mm = H;
+  }
   out.attitude = a;
   const auto lines = e.find("lines");
   if (lines == e.end()) return "";

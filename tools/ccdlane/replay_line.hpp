@@ -16,6 +16,7 @@ namespace ccdlane::cli {
 
 struct ReplayAttitude {
   double psi_deg = 0.0, theta_deg = 0.0, phi_deg = 0.0;
+  std::optional<double> H_mm;  // the height the lines are at; empty: the configuration's
 };
 
 struct ReplayLine {

@@ -125,6 +125,7 @@ FrameScore score_replayed_frame(const ReplayLine& e, const std::vector<Annotated
   if (e.attitude) {
     pose.attitude = {deg_to_rad(e.attitude->psi_deg), deg_to_rad(e.attitude->theta_deg),
                      deg_to_rad(e.attitude->phi_deg)};
+    if (e.attitude->H_mm) pose.H_mm = *e.attitude->H_mm;
     reported = e.lines;
   }
   return score_frame(lanes, config.camera.Nu, CameraModel(config.camera, pose), reported, ScoreRules{});
@@ -192,10 +193,10 @@ CommandAction setup_score(CLI::App& sub) {
     std::ifstream in(a->replay);
     if (!in) throw UsageError(a->replay + ": cannot read the replay output");
     const Annotations annotations(a->annotations, config);
-    if (config.solver.free.has(FreeParam::H) || config.solver.free.has(FreeParam::f))
+    if (config.solver.free.has(FreeParam::f))
       std::cerr << "ccdlane score: " << a->config
-                << ": H or f is solved per frame, but replay's output has only the attitude: lines are projected "
-                   "with the configuration's H_mm and f_mm\n";
+                << ": f is solved per frame, but replay's output has only the attitude and height: lines are "
+                   "projected with the configuration's f_mm\n";
 
     FrameScore total;
     int scored = 0, unannotated = 0;

@@ -340,6 +340,32 @@ TEST(LaneEstimator, AMountFiveDegreesOffIsFoundFromThePicture) {
   }
 }
 
+// A height known only roughly: configured a quarter off, with a lane-width prior. Each
+// frame alone (a still: reset before it) searches; the first solve's lane is a quarter
+// too narrow or too wide, and the look again is from the height the prior's width says.
+// On this road (lanes of the prior's mean width) that is the true height, within what
+// the solve's width is known to; the lines and width are reported at it.
+TEST(LaneEstimator, AHeightAQuarterOffIsTakenFromTheLaneWidthOnEachStill) {
+  for (const double factor : {0.75, 1.25}) {
+    const Config truth = small_camera();
+    Drive d(truth);
+    Config configured = truth;
+    configured.H_mm *= factor;
+    configured.prior.lane_width_mm = Prior{3600.0, 300.0};
+    LaneEstimator est(configured.estimator_options());
+    for (std::uint64_t k = 0; k < 30; k += 3) {
+      est.reset();
+      const SynthFrame f = d.render(k);
+      const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+      ASSERT_TRUE(e.ok) << "height x" << factor << " frame " << k << ": " << to_string(e.reason);
+      EXPECT_EQ(e.state, EstimatorState::searching);
+      const double sigma_width = std::hypot(e.lines[1].sigma_y0_mm, e.lines[2].sigma_y0_mm);
+      EXPECT_NEAR(e.H_mm, truth.H_mm, 3.0 * sigma_width / 3600.0 * truth.H_mm) << "x" << factor << " frame " << k;
+      EXPECT_NEAR(e.lane_width_mm, 3600.0, 3.0 * sigma_width) << "x" << factor << " frame " << k;
+    }
+  }
+}
+
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
