@@ -10,16 +10,16 @@
 namespace ccdlane {
 namespace {
 
-struct FormatChoice {
+struct GenicamFormatChoice {
   const char* name;
   ArvPixelFormat code;
   WirePixels wire;
   int significant_bits;
 };
-constexpr FormatChoice kMono8Choices[] = {{"Mono8", ARV_PIXEL_FORMAT_MONO_8, WirePixels::mono8, 8}};
+constexpr GenicamFormatChoice kGenicamMono8Choices[] = {{"Mono8", ARV_PIXEL_FORMAT_MONO_8, WirePixels::mono8, 8}};
 // Full-resolution colour first; the 2x2 demosaic of Bayer after. PFNC names Bayer by the
 // top-left cell: BayerRG8 is R G / G B.
-constexpr FormatChoice kColourChoices[] = {
+constexpr GenicamFormatChoice kGenicamColourChoices[] = {
     {"RGB8", ARV_PIXEL_FORMAT_RGB_8_PACKED, WirePixels::rgb24, 8},
     {"BGR8", ARV_PIXEL_FORMAT_BGR_8_PACKED, WirePixels::bgr24, 8},
     {"BayerRG8", ARV_PIXEL_FORMAT_BAYER_RG_8, WirePixels::bayer_rggb, 8},
@@ -31,16 +31,16 @@ constexpr FormatChoice kColourChoices[] = {
 // The first of `choices` among the camera's `available` names (only `only` when that is
 // not empty), or null.
 template <std::size_t N>
-const FormatChoice* first_available(const FormatChoice (&choices)[N], const char* const* available, guint n,
+const GenicamFormatChoice* first_available(const GenicamFormatChoice (&choices)[N], const char* const* available, guint n,
                                     const std::string& only) {
-  for (const FormatChoice& c : choices)
+  for (const GenicamFormatChoice& c : choices)
     if (only.empty() || only == c.name)
       for (guint i = 0; i < n; ++i)
         if (available[i] && std::strcmp(available[i], c.name) == 0) return &c;
   return nullptr;
 }
 // Unpacked 16-bit containers, little endian on the wire (GenICam PFNC).
-constexpr FormatChoice kMono16Choices[] = {
+constexpr GenicamFormatChoice kGenicamMono16Choices[] = {
     {"Mono16", ARV_PIXEL_FORMAT_MONO_16, WirePixels::mono16_le, 16},
     {"Mono12", ARV_PIXEL_FORMAT_MONO_12, WirePixels::mono16_le, 12},
     {"Mono10", ARV_PIXEL_FORMAT_MONO_10, WirePixels::mono16_le, 10},
@@ -181,13 +181,13 @@ bool AravisCamera::configure() {
       settings_.colour != ColourCapture::colour && (!format_locked_ || format_ == PixelFormat::mono8);
   guint n_available = 0;
   const char** available = arv_camera_dup_available_pixel_formats_as_strings(camera_, &n_available, nullptr);
-  const FormatChoice* chosen = nullptr;
+  const GenicamFormatChoice* chosen = nullptr;
   if (mono16) {
-    chosen = first_available(kMono16Choices, available, n_available, settings_.device_format);
+    chosen = first_available(kGenicamMono16Choices, available, n_available, settings_.device_format);
   } else {
-    if (colour_allowed) chosen = first_available(kColourChoices, available, n_available, settings_.device_format);
+    if (colour_allowed) chosen = first_available(kGenicamColourChoices, available, n_available, settings_.device_format);
     if (!chosen && grey_allowed)
-      chosen = first_available(kMono8Choices, available, n_available, settings_.device_format);
+      chosen = first_available(kGenicamMono8Choices, available, n_available, settings_.device_format);
   }
   const char* wanted = !settings_.device_format.empty() ? settings_.device_format.c_str()
                        : mono16                         ? "Mono16, Mono12 or Mono10"

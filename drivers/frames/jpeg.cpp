@@ -15,11 +15,11 @@
 #include <cstring>
 
 #include "base/unique_fd.hpp"
+#include "drivers/frames/picture_bounds.hpp"
 
 namespace ccdlane {
 namespace {
 
-constexpr int kMaxDimension = 65535;  // as for PGM and PNG frames
 // A frame's JPEG is a few hundred kB; a file larger than this is not a frame.
 constexpr off_t kMaxFileBytes = off_t{64} << 20;
 
@@ -43,10 +43,10 @@ void on_warning(j_common_ptr info, int level) {
   if (info->err->msg_code == JWRN_JPEG_EOF) e->manager.num_warnings = -1;  // the data ended early
 }
 
-enum class Step { ok, header_error, wrong_size, wrong_format, decode_error };
+enum class JpegStep { ok, header_error, wrong_size, wrong_format, decode_error };
 
 // libjpeg's part: nothing with a destructor lives here (a longjmp skips destructors).
-Step run_libjpeg(const std::uint8_t* data, std::size_t size, const MutableImageView* target, PgmHeader& header,
+JpegStep run_libjpeg(const std::uint8_t* data, std::size_t size, const MutableImageView* target, PgmHeader& header,
                  ErrorManager& error, int& rows_read) {
   jpeg_decompress_struct info{};
   info.err = jpeg_std_error(&error.manager);
@@ -57,7 +57,7 @@ Step run_libjpeg(const std::uint8_t* data, std::size_t size, const MutableImageV
   if (setjmp(error.jump)) {
     const bool in_header = info.global_state < 202;  // before DSTATE_READY: still in the header
     jpeg_destroy_decompress(&info);
-    return in_header ? Step::header_error : Step::decode_error;
+    return in_header ? JpegStep::header_error : JpegStep::decode_error;
   }
   jpeg_create_decompress(&info);
   jpeg_mem_src(&info, data, static_cast<unsigned long>(size));
@@ -68,21 +68,21 @@ Step run_libjpeg(const std::uint8_t* data, std::size_t size, const MutableImageV
   header.channels = info.num_components == 1 ? 1 : 3;
   if (info.num_components != 1 && info.num_components != 3) {
     jpeg_destroy_decompress(&info);
-    return Step::wrong_format;
+    return JpegStep::wrong_format;
   }
   if (!target) {
     jpeg_destroy_decompress(&info);
-    return Step::ok;
+    return JpegStep::ok;
   }
   const MutableImageView& into = *target;
   if (header.width != into.width || header.height != into.height) {
     jpeg_destroy_decompress(&info);
-    return Step::wrong_size;
+    return JpegStep::wrong_size;
   }
   const bool grey_frames = into.format == PixelFormat::mono8;
   if (!grey_frames && header.channels == 1) {  // colour frames from a grey picture: not the same camera
     jpeg_destroy_decompress(&info);
-    return Step::wrong_format;
+    return JpegStep::wrong_format;
   }
   info.out_color_space = grey_frames ? JCS_GRAYSCALE : JCS_RGB;  // libjpeg converts colour to grey exactly
   jpeg_start_decompress(&info);
@@ -93,7 +93,7 @@ Step run_libjpeg(const std::uint8_t* data, std::size_t size, const MutableImageV
   }
   jpeg_finish_decompress(&info);
   jpeg_destroy_decompress(&info);
-  return Step::ok;
+  return JpegStep::ok;
 }
 
 }  // namespace
@@ -136,20 +136,20 @@ PgmFault JpegReader::decode(const char* path, const MutableImageView* into, PgmH
   if (const PgmFault f = load(path); f != PgmFault::none) return f;
   ErrorManager error{};
   int rows = 0;
-  const Step step = run_libjpeg(file_.data(), file_bytes_, into, header, error, rows);
+  const JpegStep step = run_libjpeg(file_.data(), file_bytes_, into, header, error, rows);
   switch (step) {
-    case Step::ok: break;
-    case Step::header_error: return fail(PgmFault::bad_header, path, "bad header: %s", error.message);
-    case Step::wrong_size:
+    case JpegStep::ok: break;
+    case JpegStep::header_error: return fail(PgmFault::bad_header, path, "bad header: %s", error.message);
+    case JpegStep::wrong_size:
       return fail(PgmFault::wrong_size, path, "wrong size: %dx%d, frames are %dx%d", header.width, header.height,
                   into->width, into->height);
-    case Step::wrong_format:
+    case JpegStep::wrong_format:
       return fail(PgmFault::wrong_depth, path, "wrong format: %d channels, frames are %s", header.channels,
                   into ? (into->format == PixelFormat::mono8 ? "grey" : "colour") : "grey or colour");
-    case Step::decode_error:
+    case JpegStep::decode_error:
       return fail(PgmFault::corrupt, path, "corrupt: %s (after %d of %d rows)", error.message, rows, header.height);
   }
-  if (header.width > kMaxDimension || header.height > kMaxDimension)
+  if (header.width > kMaxPictureDimension || header.height > kMaxPictureDimension)
     return fail(PgmFault::bad_header, path, "bad header: %dx%d is not a frame", header.width, header.height);
   if (error.manager.num_warnings < 0)
     return fail(PgmFault::truncated, path, "truncated: the data ends before the last row");

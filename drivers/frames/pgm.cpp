@@ -17,12 +17,12 @@
 
 #include "base/temp_file.hpp"
 #include "base/unique_fd.hpp"
+#include "drivers/frames/picture_bounds.hpp"
 
 namespace ccdlane {
 namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 4096;  // room for generous comments
-constexpr int kMaxDimension = 65535;
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
@@ -67,7 +67,7 @@ struct HeaderCursor {
     long long v = 0;
     while (pos < bytes.size() && bytes[pos] >= '0' && bytes[pos] <= '9') {
       v = v * 10 + (bytes[pos] - '0');
-      if (v > kMaxDimension) return Field::too_large;
+      if (v > kMaxPictureDimension) return Field::too_large;
       ++pos;
     }
     if (pos >= bytes.size()) return Field::end;  // the number may go on past what we have

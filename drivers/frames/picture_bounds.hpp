@@ -8,6 +8,10 @@
 
 namespace ccdlane {
 
+// The widest and tallest frame file (PGM, PNG, JPEG) read: 16-bit sizes, as cameras and
+// the codecs' own limits have them. A header claiming more is damage.
+inline constexpr int kMaxPictureDimension = 65535;
+
 // 40 million pixels: an 8K frame (33 MP) with margin; grey it is 40 MB, colour 120 MB.
 inline constexpr std::int64_t kMaxPicturePixels = 40'000'000;
 

@@ -25,7 +25,6 @@
 namespace ccdlane {
 namespace {
 
-constexpr png_uint_32 kMaxDimension = 65535;  // as for PGM frames
 // libpng's structures, zlib's inflate state and 32 KiB window, and two rows of at most
 // 65535 RGBA pixels (libpng sizes its row buffers for the widest step of a transform).
 constexpr std::size_t kArenaBytes = std::size_t{1} << 20;
@@ -121,20 +120,20 @@ void read_from_file(png_structp png, png_bytep out, png_size_t n) {
 }
 
 // What the libpng part of a decode came to.
-enum class Step { ok, libpng_error, sixteen_bit, wrong_size, wrong_format, unexpected_layout };
+enum class PngStep { ok, libpng_error, sixteen_bit, wrong_size, wrong_format, unexpected_layout };
 
 // All of libpng's work on one file. It may longjmp back into this frame: everything
 // here is plain data, set before setjmp or not used after a jump.
-Step run_libpng(Decoder& d, const MutableImageView* into, PgmHeader& header, int& bit_depth) {
+PngStep run_libpng(Decoder& d, const MutableImageView* into, PgmHeader& header, int& bit_depth) {
   png_structp png =
       png_create_read_struct_2(PNG_LIBPNG_VER_STRING, &d, on_error, on_warning, &d, arena_malloc, arena_free);
-  if (!png) return Step::libpng_error;
+  if (!png) return PngStep::libpng_error;
   png_infop info = png_create_info_struct(png);
   if (!info || setjmp(png_jmpbuf(png))) {
     png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
-    return Step::libpng_error;
+    return PngStep::libpng_error;
   }
-  png_set_user_limits(png, kMaxDimension, kMaxDimension);
+  png_set_user_limits(png, kMaxPictureDimension, kMaxPictureDimension);
   png_set_chunk_malloc_max(png, 256 * 1024);
   png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, nullptr, 0);
   png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, kIgnoredChunks,
@@ -150,14 +149,14 @@ Step run_libpng(Decoder& d, const MutableImageView* into, PgmHeader& header, int
   header.maxval = 255;
   header.offset = 0;
   header.channels = (colour_type & PNG_COLOR_MASK_COLOR) != 0 ? 3 : 1;
-  Step step = Step::ok;
+  PngStep step = PngStep::ok;
   if (bit_depth > 8)
-    step = Step::sixteen_bit;
+    step = PngStep::sixteen_bit;
   else if (into && (into->width != header.width || into->height != header.height))
-    step = Step::wrong_size;
+    step = PngStep::wrong_size;
   else if (into && into->format != header.format())
-    step = Step::wrong_format;
-  if (step != Step::ok || !into) {
+    step = PngStep::wrong_format;
+  if (step != PngStep::ok || !into) {
     png_destroy_read_struct(&png, &info, nullptr);
     return step;
   }
@@ -169,7 +168,7 @@ Step run_libpng(Decoder& d, const MutableImageView* into, PgmHeader& header, int
   png_read_update_info(png, info);
   if (png_get_rowbytes(png, info) != static_cast<png_size_t>(header.width) * static_cast<png_size_t>(header.channels)) {
     png_destroy_read_struct(&png, &info, nullptr);
-    return Step::unexpected_layout;
+    return PngStep::unexpected_layout;
   }
   for (int pass = 0; pass < passes; ++pass)
     for (int y = 0; y < header.height; ++y) {
@@ -179,7 +178,7 @@ Step run_libpng(Decoder& d, const MutableImageView* into, PgmHeader& header, int
   d.row = header.height;  // what follows the rows: the last checksums, IEND
   png_read_end(png, nullptr);
   png_destroy_read_struct(&png, &info, nullptr);
-  return Step::ok;
+  return PngStep::ok;
 }
 
 struct WriteTarget {
@@ -274,24 +273,24 @@ PgmFault PngReader::decode(const char* path, const MutableImageView* into, PgmHe
   d.consumed = 8;
 
   int bit_depth = 8;
-  const Step step = run_libpng(d, into, header, bit_depth);
+  const PngStep step = run_libpng(d, into, header, bit_depth);
   switch (step) {
-    case Step::ok: clear_problem(); return PgmFault::none;
-    case Step::sixteen_bit:
+    case PngStep::ok: clear_problem(); return PgmFault::none;
+    case PngStep::sixteen_bit:
       return fail(PgmFault::wrong_depth, path,
                   "wrong depth: %d-bit PNG; only 8-bit PNG frames are read (16-bit frames are PGM)", bit_depth);
-    case Step::wrong_size:
+    case PngStep::wrong_size:
       return fail(PgmFault::wrong_size, path, "wrong size: %dx%d, expected %dx%d", header.width, header.height,
                   into->width, into->height);
-    case Step::wrong_format:
+    case PngStep::wrong_format:
       return fail(PgmFault::wrong_depth, path, "wrong depth: %s PNG, expected %s frames",
                   header.channels == 3 ? "colour" : "8-bit grey",
                   into->format == PixelFormat::mono16 ? "16-bit grey"
                   : is_colour(into->format)           ? "colour"
                                                       : "8-bit grey");
-    case Step::unexpected_layout:
+    case PngStep::unexpected_layout:
       return fail(PgmFault::bad_header, path, "bad header: a PNG layout this reader cannot decode");
-    case Step::libpng_error: break;
+    case PngStep::libpng_error: break;
   }
   if (d.read_errno != 0) return fail(PgmFault::unreadable, path, "read error: %s", std::strerror(d.read_errno));
   if (d.ended) {

@@ -17,7 +17,7 @@ namespace {
 
 // A straight highway: the vanishing point of the road's direction at the camera is the
 // one its lines run to (on a bend the far lines run elsewhere).
-Config highway() {
+Config vp_highway() {
   Config c = default_config();
   c.attitude = {0.0, 3.0, 0.0};
   c.synth.curvature_per_mm = 0.0;
@@ -32,7 +32,7 @@ Vec2 true_point(const Config& c, const CameraPose& pose) {
 }
 
 TEST(VanishingPointFinder, FindsTheRoadsDirectionWhateverTheNominalPitchAndYaw) {
-  test::RenderedRoad road(highway());
+  test::RenderedRoad road(vp_highway());
   const Config& c = road.config;
   VanishingPointFinder finder(c.camera, c.detection);
   const double f_px = c.camera.pitch_u() > 0 ? c.nominal_pose().f_mm / c.camera.pitch_u() : 0.0;
@@ -65,7 +65,7 @@ TEST(VanishingPointFinder, FindsTheRoadsDirectionWhateverTheNominalPitchAndYaw) 
 }
 
 TEST(VanishingPointFinder, AttitudeFromThePointRoundTrips) {
-  const Config c = highway();
+  const Config c = vp_highway();
   for (const double theta : {-4.0, 0.0, 3.0, 9.0})
     for (const double psi : {-6.0, 0.0, 2.5}) {
       CameraPose truth = c.nominal_pose();
@@ -82,7 +82,7 @@ TEST(VanishingPointFinder, AttitudeFromThePointRoundTrips) {
 }
 
 TEST(VanishingPointFinder, NoRoadNoPointAndNoAllocation) {
-  const Config c = highway();
+  const Config c = vp_highway();
   VanishingPointFinder finder(c.camera, c.detection);
   std::vector<std::uint8_t> flat(static_cast<std::size_t>(c.camera.Nu * c.camera.Nv), 90);
   const ImageView view{flat.data(), c.camera.Nu, c.camera.Nv, c.camera.Nu, PixelFormat::mono8, 8};

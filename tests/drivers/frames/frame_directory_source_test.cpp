@@ -38,7 +38,7 @@ struct Recording {
   }
 };
 
-struct Buffer {
+struct Frame16x8 {
   std::vector<std::uint8_t> px = std::vector<std::uint8_t>(16 * 8, 0xFF);
   MutableImageView view{px.data(), 16, 8, 16, PixelFormat::mono8, 8};
 };
@@ -50,7 +50,7 @@ TEST(FrameDirectorySource, DeliversEveryFrameThenEndsAndReportsDamage) {
   ASSERT_EQ(src.open(), "");
   EXPECT_EQ(src.width(), 16);
   EXPECT_EQ(src.format(), PixelFormat::mono8);
-  Buffer b;
+  Frame16x8 b;
   FrameMeta meta;
   std::vector<CaptureStatus> st;
   std::vector<std::uint64_t> seq;
@@ -95,7 +95,7 @@ TEST(FrameDirectorySource, GivesBackTheVehicleColumnsTheWriterRecorded) {
   }
   FrameDirectorySource src({path, 10'000.0, false, 16, 8});
   ASSERT_EQ(src.open(), "");
-  Buffer b;
+  Frame16x8 b;
   for (const FrameVehicle& v : written) {
     FrameMeta meta;
     ASSERT_EQ(src.capture(b.view, meta, 1000), CaptureStatus::frame);
@@ -108,7 +108,7 @@ TEST(FrameDirectorySource, ARecordingWithoutVehicleColumnsGivesNoVehicleValues) 
   Recording rec(2, 1'000'000);
   FrameDirectorySource src({rec.path, 10'000.0, false, 16, 8});
   ASSERT_EQ(src.open(), "");
-  Buffer b;
+  Frame16x8 b;
   FrameMeta meta;
   ASSERT_EQ(src.capture(b.view, meta, 1000), CaptureStatus::frame);
   EXPECT_FALSE(meta.speed_kmh);
@@ -119,7 +119,7 @@ TEST(FrameDirectorySource, LoopsWithIncreasingSequenceNumbersAndFrameTimes) {
   Recording rec(3, 1'000'000);
   FrameDirectorySource src({rec.path, 10'000.0, true, 0, 0});
   ASSERT_EQ(src.open(), "");
-  Buffer b;
+  Frame16x8 b;
   FrameMeta meta;
   std::int64_t last_t = 0;
   for (std::uint64_t k = 0; k < 8; ++k) {
@@ -135,7 +135,7 @@ TEST(FrameDirectorySource, LoopsWithIncreasingSequenceNumbersAndFrameTimes) {
 
 TEST(FrameDirectorySource, PacesAtTheRecordedTimesOrTheGivenRate) {
   Recording rec(5, 10'000'000);  // 10 ms apart
-  Buffer b;
+  Frame16x8 b;
   FrameMeta meta;
   for (double rate : {0.0, 50.0}) {  // as recorded: 4 gaps of 10 ms; 50 Hz: 4 gaps of 20 ms
     FrameDirectorySource src({rec.path, rate, false, 16, 8});
@@ -150,7 +150,7 @@ TEST(FrameDirectorySource, TimesOutWhenTheNextFrameIsNotDueYet) {
   Recording rec(2, 5'000'000'000);  // the second frame 5 s after the first
   FrameDirectorySource src({rec.path, 0.0, false, 16, 8});
   ASSERT_EQ(src.open(), "");
-  Buffer b;
+  Frame16x8 b;
   FrameMeta meta;
   ASSERT_EQ(src.capture(b.view, meta, 20), CaptureStatus::frame);
   const std::int64_t t0 = now_ns();
@@ -176,7 +176,7 @@ TEST(FrameDirectorySource, CaptureAllocatesNothing) {
   std::filesystem::remove(rec.path + "/000001.pgm");
   FrameDirectorySource src({rec.path, 100'000.0, true, 16, 8});
   ASSERT_EQ(src.open(), "");
-  Buffer b;
+  Frame16x8 b;
   FrameMeta meta;
   int frames = 0, errors = 0;
   test::AllocationScope scope;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/allocation_counter.hpp"
+#include "tests/support/image_buffer.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -24,16 +25,7 @@ std::string slurp(const std::string& path) {
   return s.str();
 }
 
-struct Buffer {
-  std::vector<std::uint8_t> bytes;
-  MutableImageView view;
-  Buffer(int w, int h, PixelFormat f = PixelFormat::mono8, int stride_extra = 0) {
-    const int bpp = bytes_per_pixel(f);
-    const std::ptrdiff_t stride = w * bpp + stride_extra;
-    bytes.assign(static_cast<std::size_t>(stride * h), 0xEE);
-    view = {bytes.data(), w, h, stride, f, f == PixelFormat::mono16 ? 16 : 8};
-  }
-};
+using Buffer = test::ImageBuffer;
 
 TEST(Pgm, Writes8BitExactlyAndReadsItBack) {
   test::TempDir dir;

@@ -14,20 +14,13 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/allocation_counter.hpp"
+#include "tests/support/image_buffer.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
 namespace {
 
-struct Buffer {
-  std::vector<std::uint8_t> bytes;
-  MutableImageView view;
-  Buffer(int w, int h, PixelFormat f = PixelFormat::mono8, int stride_extra = 0) {
-    const std::ptrdiff_t stride = w * bytes_per_pixel(f) + stride_extra;
-    bytes.assign(static_cast<std::size_t>(stride * h), 0xEE);
-    view = {bytes.data(), w, h, stride, f, 8};
-  }
-};
+using Buffer = test::ImageBuffer;
 
 // A picture with texture (so that compression has work and damage lands in real data).
 void fill_pattern(Buffer& b, unsigned seed) {
