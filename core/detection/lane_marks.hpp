@@ -50,7 +50,8 @@ struct DetectedLine {
   double far_mm = 0.0;
   double rms_mm = 0.0;    // lateral scatter of its marks about the fit
   int prior_index = -1;   // the prior line it continues, -1 = newly found
-  bool parallel = false;  // fitted as a parallel of the road's other lines (y0 alone)
+  bool parallel = false;  // found as a parallel of the road's other lines (y0 alone fitted,
+                          // and its slope when its marks span 6 m)
   bool dots = false;      // most of its marks are dots (a row of raised markers)
   bool yellow = false;    // most of its marks are yellow paint
 };

@@ -28,6 +28,11 @@ constexpr int kCurvatureMarks = 15;
 // RANSAC samples: marks this far apart along the road for a line (two) or a parabola (three).
 constexpr double kMinPairSpanMm = 2000.0;
 constexpr double kMinTripleSpanMm = 3000.0;
+// A row of dots found as a parallel of the others fits its own slope (not its curvature)
+// when its marks span this much road: two of its groups. Paint found so does not: the
+// dashes of one line and an arrow's or a word's strokes beside it, each parallel to the
+// road, would make a slanted line together.
+constexpr double kParallelSlopeSpanMm = 6000.0;
 constexpr double kConsensusTolerance = 1.5;  // pixel tolerances: the consensus, and the first pass of the fit
 constexpr int kFitPasses = 4;
 constexpr int kNewLineAttempts = 16;       // voted cells tried for new lines
@@ -232,6 +237,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   FitPass p;
   int first_row = 1 << 30, last_row = -1;
   int last_dot_bottom = -1;
+  int dot_marks = 0;
   for (MarkCandidate& m : marks) {
     if (m.line != -1 && m.line != id) continue;
     const double tol = tolerance * pixel_tolerance_mm(params, m, dot_line);
@@ -247,6 +253,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
     ++p.marks;
     p.near_mm = std::min(p.near_mm, m.X);
     p.far_mm = std::max(p.far_mm, m.X);
+    dot_marks += m.dot;
     // Marks come in row order (far to near): a dot below the last one's rows is another.
     if (m.dot && m.dot_top > last_dot_bottom) {
       ++p.dots;
@@ -260,7 +267,14 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
   Eigen::Vector3d coef = Eigen::Vector3d::Zero();
   if (p.marks == 0) return p;
-  if (parallel) {  // y - m x - c x^2 = y0
+  if (parallel && 2 * dot_marks > p.marks && p.far_mm - p.near_mm >= kParallelSlopeSpanMm) {
+    // Found along the road's direction, but long enough to show its own: the direction
+    // the lines found give is only as good as the pose (a pitch error tilts lines in
+    // proportion to their offset, and one line alone says nothing of it), and a row of
+    // dots 9 m long was 45 mm off it at its near end.
+    coef[2] = model.c_per_mm * 1e6;
+    coef.head<2>() = A.topLeftCorner<2, 2>().ldlt().solve(b.head<2>() - A.topRightCorner<2, 1>() * coef[2]);
+  } else if (parallel) {  // y - m x - c x^2 = y0
     coef[1] = model.m * 1e3;
     coef[2] = model.c_per_mm * 1e6;
     coef[0] = (b[0] - A(0, 1) * coef[1] - A(0, 2) * coef[2]) / A(0, 0);
@@ -301,7 +315,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     const int n = p.marks;
     if (n < min_marks || p.far_mm - p.near_mm < min_span_mm) return release();
     // Sparse: clutter, not paint; unless it is a row of dots.
-    if (n < params.min_coverage * p.rows && p.dots < params.min_dots) return release();
+    if (n < params.min_coverage * p.rows && p.dots < (parallel ? params.min_parallel_dots : params.min_dots))
+      return release();
     if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
     int dot_marks = 0, yellow_marks = 0;
@@ -443,6 +458,16 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
   return n;
 }
 
+bool LineGrouper::beyond_a_yellow_line(const DetectedLine& l, int n) const {
+  const double y = l.fit.y_at(kReferenceMm);
+  for (int k = 0; k < n; ++k) {
+    const DetectedLine& other = found_[static_cast<std::size_t>(k)];
+    const double y_other = other.fit.y_at(kReferenceMm);
+    if (other.yellow && y * y_other > 0.0 && std::abs(y) > std::abs(y_other)) return true;
+  }
+  return false;
+}
+
 int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
                              const GroupingParams& params, int n) {
   if (n == 0) return n;
@@ -455,6 +480,10 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
     }
     l.prior_index = prior_index;
     l.parallel = true;
+    if (l.dots && beyond_a_yellow_line(l, n)) {
+      release_line(marks, n);
+      return;
+    }
     admit(marks, l, n, params);
   };
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {

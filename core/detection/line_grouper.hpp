@@ -28,6 +28,10 @@ struct GroupingParams {
   // A line of Botts' dots or raised markers (1-3 m apart, each seen on a row or three)
   // covers fewer rows than paint: it counts when this many separate dots lie on it.
   int min_dots = 6;
+  // A row of dots parallel to the lines found (their slope and curvature, y0 alone
+  // fitted) counts with fewer: the road's lines say where it runs, and the near and far
+  // ends of the searched range often hold a group or two of a few dots each.
+  int min_parallel_dots = 4;
   // A line parallel to the lines found (the road's slope and curvature at its y0), or
   // continuing a previous frame's line, is found from less: one dash of a dashed line on
   // a bend, whose others are in the gaps or beyond the range (3 m dashes, 9 m gaps).
@@ -61,7 +65,8 @@ class LineGrouper {
   // Gathers the free (or `line`-assigned) marks in the gate around `model`, finds their
   // consensus line (RANSAC), refits by least squares; assigns the marks to `line`.
   // `parallel`: keep the model's slope and curvature (those of the road's other lines, or
-  // of the line's previous frame), fit y0 alone, and accept a single dash.
+  // of the line's previous frame), fit y0 alone (and the slope when the marks span 6 m),
+  // and accept a single dash or a few dots.
   bool fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
                 const GroupingParams& params, DetectedLine& out, bool parallel = false);
   // fit_line's steps: the marks in the gate (indices in gated_), their consensus line,
@@ -94,6 +99,11 @@ class LineGrouper {
   // over grey bars, or far more marks). Otherwise releases its marks. Whether it was
   // taken.
   bool admit(std::span<MarkCandidate> marks, const DetectedLine& l, int& n, const GroupingParams& params);
+  // Whether `l` lies beyond a yellow line found among the first n, on the same side of
+  // the vehicle. A yellow line is the travelled way's edge (its left edge on divided
+  // roads): beyond it lie a shoulder, a barrier's foot and its blobs, no lane. Only a row
+  // of dots found from a few of them along the road's direction is refused for it.
+  bool beyond_a_yellow_line(const DetectedLine& l, int n) const;
   // The curvature the lines found so far share (weighted by marks), else the priors' mean.
   double shared_curvature(std::span<const RoadLine> priors, int n) const;
   // The votes' strongest cell (bi, bj) and its votes.

@@ -162,6 +162,68 @@ TEST(LineGrouper, YellowPaintTakesThePlaceOfAGreyLineTooNearIt) {
   }
 }
 
+// A row of five raised markers 2.5 m apart beside a solid line, too few for a line of its
+// own (GroupingParams::min_dots) and covering few of the rows it spans, found along the
+// road's direction (min_parallel_dots); its marks span 10 m, and it runs at a slope of its own (a pitch error tilts lines in proportion to their
+// offset): the fit takes its slope, and keeps every dot within the dots' tolerance.
+TEST(LineGrouper, AFewDotsParallelToALineFitTheirOwnSlopeWhenTheySpanEnough) {
+  Scene s;
+  s.line(1800, 0.0, 0.0);
+  const double slope = 0.010;  // 50 mm either side of the solid line's direction over 10 m
+  for (int k = 0; k < 5; ++k) {
+    MarkCandidate mk;
+    mk.X = 15000.0 - 2500.0 * k;  // far to near, as rows come
+    mk.Y = -1800.0 + slope * mk.X;
+    const double width_px = 630.0 * 100.0 / mk.X;  // 10 cm across: narrower with distance
+    mk.left_px = 600.0 - 0.5 * width_px;
+    mk.right_px = 600.0 + 0.5 * width_px;
+    mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);  // one of the 30 rows to the next dot
+    mk.dot = true;
+    mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
+    mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
+    s.marks.push_back(mk);
+  }
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines), 2);
+  EXPECT_TRUE(lines[1].parallel);
+  EXPECT_TRUE(lines[1].dots);
+  EXPECT_EQ(lines[1].marks, 5);
+  EXPECT_NEAR(lines[1].fit.m, slope, 1e-6);
+  EXPECT_NEAR(lines[1].fit.y0_mm, -1800.0, 0.1);
+}
+
+// The same kind of row of blobs 2.6 m beyond the left line: a line of dots beyond white
+// paint (the next lane's), none beyond a yellow edge line (a barrier's foot).
+TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
+  for (const bool yellow : {false, true}) {
+    Scene s;
+    s.line(1800, 0.0, 0.0, 0.3, 1, yellow);
+    s.line(-1800, 0.0, 0.0);
+    for (int k = 0; k < 5; ++k) {
+      MarkCandidate mk;
+      mk.X = 15000.0 - 2500.0 * k;
+      mk.Y = 4400.0;
+      const double width_px = 630.0 * 100.0 / mk.X;
+      mk.left_px = 600.0 - 0.5 * width_px;
+      mk.right_px = 600.0 + 0.5 * width_px;
+      mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);
+      mk.dot = true;
+      mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
+      mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
+      s.marks.push_back(mk);
+    }
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines);
+    ASSERT_EQ(n, yellow ? 2 : 3) << "yellow " << yellow;
+    if (!yellow) {
+      EXPECT_NEAR(lines[0].fit.y0_mm, 4400.0, 1.0);
+      EXPECT_TRUE(lines[0].dots);
+    }
+    EXPECT_NEAR(lines[n - 2].fit.y0_mm, 1800.0, 30.0);
+    EXPECT_EQ(lines[n - 2].yellow, yellow);
+  }
+}
+
 TEST(LineGrouper, KeepsTheNearestLinesAndMergesNeighbours) {
   Scene s;
   for (double y0 : {9000.0, 5000.0, 1800.0, -1800.0, -5800.0}) s.line(y0, 0.0, 0.0);
