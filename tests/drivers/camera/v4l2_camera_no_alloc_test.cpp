@@ -72,7 +72,10 @@ TEST(V4l2CameraNoAlloc, CapturePathIncludingRecoveryNeverAllocates) {
   EXPECT_EQ(capture(pool.view(0), meta, 100), CaptureStatus::recovering);
   fake.replug();
   ASSERT_EQ(capture.until_frame(pool.view(0), meta, 20), CaptureStatus::frame) << cam.last_problem();
-  EXPECT_EQ(cam.counters().reconnects, 2u);  // the stall restart and the reopen
+  // The stall restart and the reopen, at least: a machine loaded enough to hold the fake
+  // device's thread past the 200 ms stall timeout adds a restart of its own, and that
+  // path must not allocate either.
+  EXPECT_GE(cam.counters().reconnects, 2u);
   EXPECT_EQ(capture.mallocs, 0u);
 }
 
