@@ -237,7 +237,6 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   FitPass p;
   int first_row = 1 << 30, last_row = -1;
   int last_dot_bottom = -1;
-  int dot_marks = 0;
   for (MarkCandidate& m : marks) {
     if (m.line != -1 && m.line != id) continue;
     const double tol = tolerance * pixel_tolerance_mm(params, m, dot_line);
@@ -253,7 +252,8 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
     ++p.marks;
     p.near_mm = std::min(p.near_mm, m.X);
     p.far_mm = std::max(p.far_mm, m.X);
-    dot_marks += m.dot;
+    p.dot_marks += m.dot;
+    p.yellow_marks += m.yellow;
     // Marks come in row order (far to near): a dot below the last one's rows is another.
     if (m.dot && m.dot_top > last_dot_bottom) {
       ++p.dots;
@@ -267,7 +267,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
   Eigen::Vector3d coef = Eigen::Vector3d::Zero();
   if (p.marks == 0) return p;
-  if (parallel && 2 * dot_marks > p.marks && p.far_mm - p.near_mm >= kParallelSlopeSpanMm) {
+  if (parallel && 2 * p.dot_marks > p.marks && p.far_mm - p.near_mm >= kParallelSlopeSpanMm) {
     // Found along the road's direction, but long enough to show its own: the direction
     // the lines found give is only as good as the pose (a pitch error tilts lines in
     // proportion to their offset, and one line alone says nothing of it), and a row of
@@ -319,11 +319,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
       return release();
     if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
-    int dot_marks = 0, yellow_marks = 0;
     for (const MarkCandidate& m : marks) {
       if (m.line != id) continue;
-      dot_marks += m.dot;
-      yellow_marks += m.yellow;
       const double r = m.Y - model.y_at(m.X);
       sum2 += r * r;
       const double mm_per_px = mm_per_tolerance_px(params, m, dot_line);
@@ -334,8 +331,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     out.near_mm = p.near_mm;
     out.far_mm = p.far_mm;
     out.rms_mm = std::sqrt(sum2 / n);
-    out.dots = dot_line = 2 * dot_marks > n;
-    out.yellow = 2 * yellow_marks > n;
+    out.dots = dot_line = 2 * p.dot_marks > n;
+    out.yellow = 2 * p.yellow_marks > n;
     if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
     if (pass == kFitPasses - 1 && out.dots && !narrows_with_distance(marks, id)) return release();
   }

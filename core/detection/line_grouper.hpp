@@ -77,6 +77,7 @@ class LineGrouper {
     double near_mm = 1e300, far_mm = 0.0;  // the road distances the marks span
     int rows = 0;                          // scan rows from the first mark's to the last's
     int dots = 0;                          // separate dots among the marks
+    int dot_marks = 0, yellow_marks = 0;   // marks that are dots, yellow paint
     bool finite = true;                    // the refit is a number
   };
   int gate_marks(std::span<const MarkCandidate> marks, const RoadLine& model, double gate_base_mm, std::int16_t id);

@@ -6,6 +6,7 @@
 // solved at the start of a run, and its own stage, last, learns from the frame's estimate.
 #include "core/lane/lane_estimator.hpp"
 
+#include "core/lane/lane_metrics.hpp"
 #include "core/lane/observability.hpp"
 #include "core/ldw/lane_measurement.hpp"
 
@@ -142,14 +143,11 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
 double LaneEstimator::height_scale(const SolveResult& r) const {
   const std::optional<Prior>& prior = config_.priors.lane_width_mm;
   if (!prior || mount_.height_settled()) return 1.0;
-  double left = 1e300, right = -1e300;  // the nearest line each side of the vehicle
-  for (int j = 0; j < r.num_lines; ++j) {
-    const double y0 = r.lines[static_cast<std::size_t>(j)].y0_mm;
-    if (y0 > 0.0) left = std::min(left, y0);
-    else right = std::max(right, y0);
-  }
-  if (left == 1e300 || right == -1e300) return 1.0;
-  const double width = left - right;
+  const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
+  const OwnLaneLines own = own_lane_lines(lines);
+  if (own.left < 0 || own.right < 0) return 1.0;
+  const double width =
+      lines[static_cast<std::size_t>(own.left)].y0_mm - lines[static_cast<std::size_t>(own.right)].y0_mm;
   // The same trust in the configured height as the start of a drive gives it
   // (MountRefinement::acquire), and no more error than a configured height may have.
   if (std::abs(width - prior->mean) <= MountRefinement::kHeightTrustSigmas * prior->sigma) return 1.0;

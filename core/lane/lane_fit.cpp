@@ -181,13 +181,14 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
         return problem[k];
       continue;
     }
-    const int line = k == 0 ? left : right;
-    if (const SupportProblem p = check_paint_width(paint_width_slope(detection_->marks, detection_line_[line]));
+    const int line = detection_line_[k == 0 ? left : right];
+    const bool dots = detection_->lines[static_cast<std::size_t>(line)].dots;
+    if (const SupportProblem p = check_paint_width(width_distance_slope(detection_->marks, line, dots));
         p != SupportProblem::none)
       return p;
-    if (detection_->lines[static_cast<std::size_t>(detection_line_[line])].dots) continue;
+    if (dots) continue;
     if (const SupportProblem p =
-            check_paint_width_spread(paint_width_spread(detection_->marks, detection_line_[line]), options_.detection);
+            check_paint_width_spread(paint_width_spread(detection_->marks, line), options_.detection);
         p != SupportProblem::none)
       return p;
   }

@@ -10,13 +10,9 @@ namespace ccdlane {
 LaneMetrics lane_metrics(std::span<const EstimatedLine> lines, double psi_deg, double mount_psi_deg,
                          double departure_mm) {
   LaneMetrics out;
-  for (std::size_t j = 0; j < lines.size(); ++j) {
-    const double y0 = lines[j].y0_mm;
-    if (y0 > 0.0 && (out.left < 0 || y0 < lines[static_cast<std::size_t>(out.left)].y0_mm))
-      out.left = static_cast<int>(j);
-    if (y0 <= 0.0 && (out.right < 0 || y0 > lines[static_cast<std::size_t>(out.right)].y0_mm))
-      out.right = static_cast<int>(j);
-  }
+  const OwnLaneLines own = own_lane_lines(lines);
+  out.left = own.left;
+  out.right = own.right;
   double slope = 0.0, c = 0.0;
   int sides = 0;
   for (const int k : {out.left, out.right})

@@ -61,20 +61,6 @@ bool check_dash_support(const LineSupport& line, const DetectionConfig& detectio
          line.near_mm >= detection.min_range_mm / kRangeSlack && line.far_mm <= detection.max_range_mm * kRangeSlack;
 }
 
-bool mostly_dots(std::span<const MarkCandidate> marks, int detection_line) {
-  int dots = 0, all = 0;
-  for (const MarkCandidate& m : marks) {
-    if (m.line != detection_line) continue;
-    ++all;
-    dots += m.dot;
-  }
-  return 2 * dots > all;
-}
-
-double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line) {
-  return width_distance_slope(marks, detection_line, mostly_dots(marks, detection_line));
-}
-
 SupportProblem check_paint_width(double slope) {
   return std::abs(slope - kPaintWidthSlope) <= kPaintWidthSlopeTolerance ? SupportProblem::none
                                                                          : SupportProblem::not_paint;

@@ -103,14 +103,9 @@ bool check_dash_support(const LineSupport& line, const DetectionConfig& detectio
 constexpr double kMinDashLaneWidthMm = kMinLaneWidthMm;
 constexpr double kMaxDashLaneWidthMm = 5000.0;
 
-// Whether most of detection line `detection_line`'s marks are dots (Botts' dots, raised
-// markers: lane_marks.hpp): a line is judged by its majority kind, as its picks are.
-bool mostly_dots(std::span<const MarkCandidate> marks, int detection_line);
-
-// The slope of log(width px) against log(road distance) over the mark candidates of
-// detection line `detection_line` of its majority kind (dots of one size narrow as paint
-// does); NaN with fewer than 3 or all at one distance.
-double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line);
+// The slope of log(width px) against log(road distance) over a detection line's marks of
+// its majority kind (DetectedLine::dots: a line is judged by that kind, as its picks are;
+// dots of one size narrow as paint does) is line_grouper.hpp's width_distance_slope.
 SupportProblem check_paint_width(double slope);
 
 // One line's paint has one width on the road: log(width px x distance) is the same for

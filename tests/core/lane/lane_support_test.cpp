@@ -28,17 +28,17 @@ TEST(LaneSupport, PaintOfOneRoadWidthSlopesMinusOneAndBarsOfOnePixelWidthZero) {
     marks.push_back(mark(1, x, 6.0));                 // a bar: the same pixels at every distance
     marks.push_back(mark(-1, x, 50.0));               // ungrouped: ignored
   }
-  EXPECT_NEAR(paint_width_slope(marks, 0), -1.0, 1e-12);
-  EXPECT_NEAR(paint_width_slope(marks, 1), 0.0, 1e-12);
-  EXPECT_EQ(check_paint_width(paint_width_slope(marks, 0)), SupportProblem::none);
-  EXPECT_EQ(check_paint_width(paint_width_slope(marks, 1)), SupportProblem::not_paint);
+  EXPECT_NEAR(width_distance_slope(marks, 0, false), -1.0, 1e-12);
+  EXPECT_NEAR(width_distance_slope(marks, 1, false), 0.0, 1e-12);
+  EXPECT_EQ(check_paint_width(width_distance_slope(marks, 0, false)), SupportProblem::none);
+  EXPECT_EQ(check_paint_width(width_distance_slope(marks, 1, false)), SupportProblem::not_paint);
   EXPECT_EQ(check_paint_width(-1.0 + kPaintWidthSlopeTolerance * 0.99), SupportProblem::none);
   EXPECT_EQ(check_paint_width(-1.0 + kPaintWidthSlopeTolerance * 1.01), SupportProblem::not_paint);
   EXPECT_EQ(check_paint_width(-1.0 - kPaintWidthSlopeTolerance * 1.01), SupportProblem::not_paint);
   // Undetermined slopes are no support: too few marks, or all at one distance.
-  EXPECT_TRUE(std::isnan(paint_width_slope({marks.data(), 2}, 0)));
+  EXPECT_TRUE(std::isnan(width_distance_slope({marks.data(), 2}, 0, false)));
   const std::vector<MarkCandidate> one_distance{mark(0, 9000, 5), mark(0, 9000, 6), mark(0, 9000, 7)};
-  EXPECT_TRUE(std::isnan(paint_width_slope(one_distance, 0)));
+  EXPECT_TRUE(std::isnan(width_distance_slope(one_distance, 0, false)));
   EXPECT_EQ(check_paint_width(std::nan("")), SupportProblem::not_paint);
 }
 
