@@ -32,7 +32,7 @@ calibration::MountSample mount_sample(const LaneEstimate& e, const VehicleInputs
   s.solved = e.ok && !e.roll_unobservable;
   s.speed_kmh = e.ldw.speed_mps * 3.6;  // the speed LDW used: the vehicle's, else [vehicle] speed_kmh
   s.curvature_per_m = road_curvature_per_m(e);
-  if (vehicle.yaw_rate_radps) s.yaw_rate_deg_s = *vehicle.yaw_rate_radps * 180.0 / kPi;
+  if (vehicle.yaw_rate_radps) s.yaw_rate_deg_s = rad_to_deg(*vehicle.yaw_rate_radps);
   s.psi_deg = e.psi_deg;
   s.theta_deg = e.theta_deg;
   return s;
