@@ -4,6 +4,10 @@
 namespace ccdlane {
 
 constexpr int kMaxDetectedLines = 4;  // = kMaxLaneLines of the solver
+// How far off in pitch a pose detection is given without lines to go on may be: a search
+// tries poses this far apart (LaneEstimator::kSearchPitchStepDeg) and the vanishing point
+// is found to a degree or two.
+constexpr double kSearchPitchErrorDeg = 4.0;
 
 struct DetectionConfig {
   double mark_width_mm = 130.0;      // expected lane-mark width on the road

@@ -266,6 +266,9 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   params.min_marks = config_.min_marks;
   params.max_lines = config_.max_lines;
   params.mm_per_px_per_mm = camera_.pitch_u() / pose.f_mm;
+  params.height_mm = pose.H_mm;
+  // Without lines to go on, the pose is a search's guess (detection_config.hpp).
+  if (priors.empty()) params.max_pitch_error_rad = deg_to_rad(kSearchPitchErrorDeg);
   result_.num_lines = grouper_.group(marks, priors, params, result_.lines);
   result_.marks = marks;
   for (const MarkCandidate& m : marks) result_.counters.grouped += m.line >= 0;

@@ -9,6 +9,8 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
+#include <cstdio>
+#include <cstdlib>
 
 namespace ccdlane {
 namespace {
@@ -20,6 +22,10 @@ constexpr double kGateGrowth = 0.02;      // gate widening per mm of distance (p
 constexpr double kMaxCurvature = 1e-5;    // c of a 50 m radius: anything sharper is not a lane
 
 constexpr double kPriorGateMm = 350.0;    // gate about a previous frame's line at 0 m
+// A road's curvature changes slowly along it (clothoids between arcs): from one frame to
+// the next a line's own curvature moves by far less than this (a 500 m radius). A fit
+// that bends more has taken an arrow's, a word's or a car's strokes beside the line.
+constexpr double kMaxPriorCurvatureChange = 1e-6;
 constexpr double kNewLineGateMm = 400.0;  // about a voted or parallel line: less known
 // A line's own curvature is fitted only from marks this far apart, and this many: nearer
 // ones keep the road's (shared, or the prior's).
@@ -63,6 +69,18 @@ bool replaces(const DetectedLine& l, const DetectedLine& other) {
 
 double gate(double base_mm, double X) { return base_mm + kGateGrowth * X; }
 
+// Whether `fit` keeps within the gate about the line it was looked for along (a previous
+// frame's line, a voted cell, the road's direction) over the road its marks span. A
+// line's marks and an arrow's, a word's or a car's strokes beside it, each within the
+// gate somewhere, fit a slanted line through both that leaves it; the line itself, once
+// fitted, reaches beyond the gate only where it goes on along it.
+bool stays_in_gate(const RoadLine& fit, const RoadLine& looked_for, double gate_base_mm, double near_mm,
+                   double far_mm) {
+  for (const double X : {near_mm, far_mm})
+    if (std::abs(fit.y_at(X) - looked_for.y_at(X)) > gate(gate_base_mm, X)) return false;
+  return true;
+}
+
 // Raised markers are set by hand and a dot's rows are chords of a small disc with its
 // own shadow: their centres scatter a few centimetres about the line, more than paint's
 // edges do near the camera, where a pixel is a few millimetres.
@@ -93,6 +111,10 @@ struct RoadDirection {
   }
 };
 
+// Whether line `l` runs along the road the lines found give, within what a pitch error of
+// the detection pose makes of their slopes (GroupingParams::max_pitch_error_rad).
+bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, const GroupingParams& params);
+
 RoadDirection road_direction(std::span<const DetectedLine> lines, double curvature) {
   RoadDirection d;
   d.c = curvature;
@@ -106,6 +128,19 @@ RoadDirection road_direction(std::span<const DetectedLine> lines, double curvatu
   return d;
 }
 
+bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, const GroupingParams& params) {
+  if (lines.empty()) return true;
+  const double y = l.fit.y_at(kReferenceMm);
+  const RoadDirection road = road_direction(lines, l.fit.c_per_mm);
+  // Two lines or more give the road's direction with the pitch error's tilt in it (their
+  // slope against y): the new line's slope is that, but for edge noise. One line alone
+  // leaves the whole tilt between the two open.
+  double tilt = 0.0;
+  if (lines.size() == 1)
+    tilt = std::abs(lines[0].fit.y_at(kReferenceMm) - y) * std::tan(params.max_pitch_error_rad) / params.height_mm;
+  return std::abs(l.fit.m - road.through(y).m) <= 2.0 * params.slope_noise + tilt;
+}
+
 // Whether the dots of line `line` narrow with distance as things of one size on the road
 // do (width in pixels about 1 / distance): blobs along a streak on the windscreen, a pole's
 // shadow or a car's edge keep their width.
@@ -117,6 +152,18 @@ bool narrows_with_distance(std::span<const MarkCandidate> marks, int line) {
 void release_line(std::span<MarkCandidate> marks, int line) {
   for (MarkCandidate& m : marks)
     if (m.line == line) m.line = -1;
+}
+
+// The marks of a line that was found but refused beside a better one (the other edge of
+// a double line, a seam beside a line of dots): for the rest of this frame's search they
+// are neither free nor any line's. Left free, they would vote for the same line again in
+// the next cells and use up the new-line attempts before the road's other lines are
+// tried. group() frees them at its end.
+constexpr std::int16_t kSpentLine = -2;
+
+void spend_line(std::span<MarkCandidate> marks, int line) {
+  for (MarkCandidate& m : marks)
+    if (m.line == line) m.line = kSpentLine;
 }
 
 }  // namespace
@@ -305,6 +352,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
   // 2. RANSAC among them: the model, or a straight line through two gated marks, that
   // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
   // a plain least-squares fit off the line; the consensus does not care about it.
+  const RoadLine looked_for = model;
   model = consensus_line(marks, g, model, line, params, parallel);
 
   // 3. Least squares on the consensus, then more passes on every free mark within the
@@ -335,6 +383,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     out.yellow = 2 * p.yellow_marks > n;
     if (pass == kFitPasses - 1 && std::sqrt(sum2_px / n) > params.max_rms_px) return release();
     if (pass == kFitPasses - 1 && out.dots && !narrows_with_distance(marks, id)) return release();
+    if (pass == kFitPasses - 1 && !stays_in_gate(model, looked_for, gate_base_mm, p.near_mm, p.far_mm))
+      return release();
   }
   return true;
 }
@@ -346,8 +396,9 @@ bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, i
   for (int k = 0; k < n; ++k) {
     const DetectedLine& other = found_[static_cast<std::size_t>(k)];
     if (std::abs(other.fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) >= params.min_separation_mm) continue;
+    if (std::getenv("DIAG")) std::printf("conflict y10=%.0f marks=%d vs %.0f marks=%d\n", l.fit.y_at(10000), l.marks, other.fit.y_at(10000), other.marks);
     if (!replaces(l, other)) {
-      release_line(marks, n);
+      spend_line(marks, n);
       return false;
     }
     conflict[static_cast<std::size_t>(k)] = any = true;
@@ -367,6 +418,7 @@ bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, i
       if (m.line >= 0 && m.line <= n) m.line = index[static_cast<std::size_t>(m.line)];
     n = kept - 1;
   }
+  if (std::getenv("DIAG")) std::printf("admitted y10=%.0f m=%.4f c=%.2e marks=%d\n", l.fit.y_at(10000), l.fit.m, l.fit.c_per_mm, l.marks);
   found_[static_cast<std::size_t>(n++)] = l;
   return true;
 }
@@ -377,6 +429,10 @@ int LineGrouper::continue_priors(std::span<MarkCandidate> marks, std::span<const
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
     DetectedLine l;
     if (!fit_line(marks, priors[k], kPriorGateMm, n, params, l)) continue;
+    if (std::abs(l.fit.c_per_mm - priors[k].c_per_mm) > kMaxPriorCurvatureChange) {
+      release_line(marks, n);
+      continue;
+    }
     l.prior_index = static_cast<int>(k);
     admit(marks, l, n, params);
   }
@@ -435,7 +491,13 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
     const RoadLine model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
     DetectedLine l;
     const int before = n;
-    if (fit_line(marks, model, kNewLineGateMm, n, params, l) && admit(marks, l, n, params)) {
+    if (std::getenv("DIAG")) std::printf("attempt %d cell y0=%.0f m=%.4f votes=%d\n", attempt, model.y0_mm, model.m, strongest_cell(bi, bj));
+    if (fit_line(marks, model, kNewLineGateMm, n, params, l) &&
+        along_the_road(l, {found_.data(), static_cast<std::size_t>(n)}, params)) {
+      if (!admit(marks, l, n, params)) {  // its marks are spent: they vote no more
+        revote(marks);
+        continue;
+      }
       const double c = shared_curvature(priors, n);
       if (std::abs(c - curvature_) > kCurvatureChange || n <= before) {  // moved, or in the place of others
         curvature_ = c;
@@ -553,6 +615,8 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine>
   // at its y0, and only its y0 is fitted. First where the previous frame's lines that were
   // not found again were, then wherever free marks agree on one y0.
   n = find_dashes(marks, priors, params, n);
+  for (MarkCandidate& m : marks)
+    if (m.line == kSpentLine) m.line = -1;
   // 4. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
   return keep_nearest(marks, params, n, out);
 }

@@ -23,7 +23,7 @@ struct GroupingParams {
   // final fits keep marks within fit_tolerance_px of the line.
   double mm_per_px_per_mm = 1.0 / 600.0;
   double fit_tolerance_px = 2.0;
-  double max_rms_px = 0.8;     // scatter about the final fit: paint is sharp, clutter is not
+  double max_rms_px = 1.1;     // scatter about the final fit: paint is sharp, clutter is not
   double min_coverage = 0.12;  // marks per scan row over the rows a line spans (dashes ~0.25)
   // A line of Botts' dots or raised markers (1-3 m apart, each seen on a row or three)
   // covers fewer rows than paint: it counts when this many separate dots lie on it.
@@ -37,6 +37,14 @@ struct GroupingParams {
   // a bend, whose others are in the gaps or beyond the range (3 m dashes, 9 m gaps).
   int min_dash_marks = 5;
   double min_dash_span_mm = 1000.0;
+  // The lines of one road meet at one vanishing point: on the road, as the detection pose
+  // projects them, their slopes differ only as much as a pitch error tilts them (by their
+  // lateral distance times the error over the camera's height). A new line whose slope
+  // is farther from the road's direction at its place than that, plus a little for
+  // edge noise, is a car's side, an arrow's stroke or a shadow, not a lane line.
+  double max_pitch_error_rad = 0.026;  // 1.5 degrees: tracking; a search is less sure
+  double height_mm = 1200.0;           // the detection pose's
+  double slope_noise = 0.01;
 };
 
 // The slope of log(width px) against log(road distance) over the marks of line `line`

@@ -224,6 +224,57 @@ TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
   }
 }
 
+// The previous frame's line with, 600 mm beside it over the nearest 8 m, a run of bars
+// too near it to be a lane line (a gore's edge, a barrier's foot, a seam): the run is
+// refused. Near marks vote for the same y0 at every slope, so its marks, were they left
+// free, would win cell after cell and use up the attempts for new lines; the dashed
+// line on the other side must still be found.
+TEST(LineGrouper, ARunRefusedBesideALineDoesNotHideTheRoadsOtherLines) {
+  Scene s;
+  s.line(1800, 0.0, 0.0);
+  for (int row = 0; row < 240; ++row) {  // a mark on every row: near rows are dense
+    MarkCandidate mk;
+    mk.X = 12000.0 - 8000.0 * row / 239.0;
+    mk.Y = 2400.0;
+    mk.scan_row = static_cast<std::int16_t>(150 + row);
+    s.marks.push_back(mk);
+  }
+  // Tilted by a pitch error (by 3.6 m x 1 degree / 1.2 m): the road's direction the
+  // first line gives misses its far end.
+  s.line(-2300, 0.05, 0.0, 0.3, 4);
+  const RoadLine prior[] = {{1800, 0, 0}};
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines, prior), 2);
+  EXPECT_NEAR(lines[0].fit.y0_mm, 1800.0, 30.0);
+  EXPECT_NEAR(lines[1].fit.y0_mm, -2300.0, 30.0);
+  EXPECT_NEAR(lines[1].fit.m, 0.05, 0.002);
+  EXPECT_FALSE(lines[1].parallel);
+  // The refused run's marks are free again once grouping ends.
+  for (const MarkCandidate& m : s.marks) EXPECT_GE(m.line, -1);
+}
+
+// Beside the own lane's two lines, a car's lower edge seen from behind makes a dense run
+// of bars over 12 m of road that, projected at the pose, slants 0.12 off the road's
+// direction: the lines of a road meet at one vanishing point, and it is no lane line.
+// Along the road, the same run is a line.
+TEST(LineGrouper, ALineSlantedAcrossTheRoadsDirectionIsNoLaneLine) {
+  for (const double slant : {0.12, 0.0}) {
+    Scene s;
+    s.line(1800, 0.0, 0.0);
+    s.line(-1800, 0.0, 0.0);
+    for (int row = 0; row < 60; ++row) {
+      const double X = 20000.0 - 12000.0 * row / 59.0;
+      MarkCandidate mk;
+      mk.X = X;
+      mk.Y = -5400.0 + slant * (X - 8000.0);
+      mk.scan_row = static_cast<std::int16_t>(60 + row);
+      s.marks.push_back(mk);
+    }
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    EXPECT_EQ(group(s, lines), slant == 0.0 ? 3 : 2) << "slant " << slant;
+  }
+}
+
 TEST(LineGrouper, KeepsTheNearestLinesAndMergesNeighbours) {
   Scene s;
   for (double y0 : {9000.0, 5000.0, 1800.0, -1800.0, -5800.0}) s.line(y0, 0.0, 0.0);
