@@ -23,7 +23,10 @@ struct GroupingParams {
   // final fits keep marks within fit_tolerance_px of the line.
   double mm_per_px_per_mm = 1.0 / 600.0;
   double fit_tolerance_px = 2.0;
-  double max_rms_px = 1.1;     // scatter about the final fit: paint is sharp, clutter is not
+  // Scatter about the final fit: paint is sharp, clutter is not. Uniform clutter within
+  // the tolerance scatters 1.15; worn paint, yellow on concrete and rows of raised
+  // markers seen far away as bars scatter up to about 1 (segB, TuSimple).
+  double max_rms_px = 1.1;
   double min_coverage = 0.12;  // marks per scan row over the rows a line spans (dashes ~0.25)
   // A line of Botts' dots or raised markers (1-3 m apart, each seen on a row or three)
   // covers fewer rows than paint: it counts when this many separate dots lie on it.
