@@ -112,6 +112,7 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
 
 LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
   const bool cold = !have_last_;
+  bool rescaled = false;
   const std::span<const RoadLine> priors = cold ? std::span<const RoadLine>{} : tracker_.priors();
   if (!fit_.take(detector_.detect(image, detection_pose_, priors))) return {nullptr, EstimateFailure::too_few_marks};
   const SolveResult* r = &solve(detection_pose_, gyro);
@@ -122,7 +123,9 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
     // the lane's width says. Every road distance detection gates by (mark and dot
     // widths, ranges) scales with the height; a still has no second to settle it.
     detection_pose_ = r->pose;
-    detection_pose_.H_mm *= height_scale(*r);
+    const double scale = height_scale(*r);
+    detection_pose_.H_mm *= scale;
+    rescaled = scale != 1.0;
     const std::span<const RoadLine> solved(r->lines.data(), static_cast<std::size_t>(r->num_lines));
     if (!fit_.take(detector_.detect(image, detection_pose_, solved), true))
       return {nullptr, EstimateFailure::too_few_marks};
@@ -137,21 +140,33 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   // wander there without converging: the reason is then that, not the solver.
   if (!r->converged)
     return {nullptr, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed};
-  return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none};
+  return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none, rescaled};
+}
+
+bool LaneEstimator::height_unsettled() const {
+  return config_.priors.lane_width_mm && !mount_.height_settled();
+}
+
+std::optional<double> LaneEstimator::own_lane_width(const SolveResult& r) {
+  const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
+  const OwnLaneLines own = own_lane_lines(lines);
+  if (own.left < 0 || own.right < 0) return std::nullopt;
+  return lines[static_cast<std::size_t>(own.left)].y0_mm - lines[static_cast<std::size_t>(own.right)].y0_mm;
+}
+
+bool LaneEstimator::width_agrees_with_height(const SolveResult& r) const {
+  if (!height_unsettled()) return true;
+  const std::optional<double> width = own_lane_width(r);
+  const Prior& prior = *config_.priors.lane_width_mm;
+  // The same trust in the configured height as the start of a drive gives it
+  // (MountRefinement::acquire).
+  return !width || std::abs(*width - prior.mean) <= MountRefinement::kHeightTrustSigmas * prior.sigma;
 }
 
 double LaneEstimator::height_scale(const SolveResult& r) const {
-  const std::optional<Prior>& prior = config_.priors.lane_width_mm;
-  if (!prior || mount_.height_settled()) return 1.0;
-  const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
-  const OwnLaneLines own = own_lane_lines(lines);
-  if (own.left < 0 || own.right < 0) return 1.0;
-  const double width =
-      lines[static_cast<std::size_t>(own.left)].y0_mm - lines[static_cast<std::size_t>(own.right)].y0_mm;
-  // The same trust in the configured height as the start of a drive gives it
-  // (MountRefinement::acquire), and no more error than a configured height may have.
-  if (std::abs(width - prior->mean) <= MountRefinement::kHeightTrustSigmas * prior->sigma) return 1.0;
-  const double scale = prior->mean / width;
+  if (width_agrees_with_height(r)) return 1.0;
+  const double scale = config_.priors.lane_width_mm->mean / *own_lane_width(r);
+  // No more error than a configured height may have.
   return scale >= 1.0 / (1.0 + kUnsettledHeightError) && scale <= 1.0 / (1.0 - kUnsettledHeightError) ? scale : 1.0;
 }
 
@@ -159,24 +174,37 @@ int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1A
                                 std::array<CameraPose, kMaxSearchPoses>& poses) {
   // Where to start when no previous frame says: the road's vanishing point in the
   // picture, then the mount, then the mount pitched by steps that detection's tolerance
-  // (about 4 degrees) covers, out to the search's bound. Roll stays the gyro's (or the
-  // mount's); with a gyro the pitch is measured, and the steps are not needed.
+  // covers, out to the search's bound. Roll stays the gyro's (or the mount's); with a
+  // gyro the pitch is measured, and the steps are not needed.
   const CameraPose base = guess_pose(gyro);
-  int n = 0;
+  std::array<Attitude, kMaxSearchAttitudes> attitudes{};
+  int a = 0;
   vanishing_point_ = &vp_finder_.find(image, base);
   if (vanishing_point_->found)
-    if (const std::optional<Attitude> a =
+    if (const std::optional<Attitude> seen =
             attitude_from_vanishing_point(config_.camera, base, vanishing_point_->x, vanishing_point_->y)) {
-      poses[n] = base;
-      poses[n].attitude.psi = a->psi;
-      if (!gyro) poses[n].attitude.theta = a->theta;
-      ++n;
+      attitudes[a] = base.attitude;
+      attitudes[a].psi = seen->psi;
+      if (!gyro) attitudes[a].theta = seen->theta;
+      ++a;
     }
-  poses[n++] = base;
-  for (int k = 1; !gyro && n + 1 < kMaxSearchPoses && k * kSearchPitchStepDeg <= kSearchPitchDeg; ++k)
+  attitudes[a++] = base.attitude;
+  for (int k = 1; !gyro && a + 1 < kMaxSearchAttitudes && k * kSearchPitchStepDeg <= kSearchPitchDeg; ++k)
     for (const double sign : {+1.0, -1.0}) {
+      attitudes[a] = base.attitude;
+      attitudes[a++].theta += deg_to_rad(sign * k * kSearchPitchStepDeg);
+    }
+  // Then each of them at a height a step higher and lower, while the mount's height is
+  // not settled: detection measures marks, dots and gaps in millimetres on the road, and
+  // a height a quarter off puts every one of them a quarter off (the lit cap of a
+  // raised marker falls below the narrowest taken, lines fall outside their gates).
+  const int heights = height_unsettled() ? 3 : 1;
+  int n = 0;
+  for (int h = 0; h < heights; ++h)
+    for (int k = 0; k < a; ++k) {
       poses[n] = base;
-      poses[n++].attitude.theta += deg_to_rad(sign * k * kSearchPitchStepDeg);
+      poses[n].attitude = attitudes[k];
+      poses[n++].H_mm *= h == 0 ? 1.0 : h == 1 ? kSearchHeightStep : 1.0 / kSearchHeightStep;
     }
   return n;
 }
@@ -193,19 +221,35 @@ bool LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle
 
 LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                              const VehicleInputs& vehicle) {
-  // The first starting pose whose solve is a supported lane, else the first pose's
-  // outcome (its reason is the frame's).
+  // The first starting pose whose solve is a supported lane of a lane's width at its own
+  // height, else the first supported one whose width needed (or needs) another height,
+  // else the first pose's outcome (its reason is the frame's). A lane of a lane's width
+  // only at another height is the weaker evidence: from a pose a quarter too low, the own
+  // lane's line beside a solid one is too near it to be taken, and the line beyond makes
+  // a lane twice as wide with it that a height three quarters as high turns into one of
+  // a lane's width; from a pose a quarter too high, the own lane is a third too wide,
+  // which the unsettled height's tolerance still takes.
   std::array<CameraPose, kMaxSearchPoses> poses{};
   const int n = search_poses(image, gyro, poses);
   Attempt first;
+  int rescaled = -1;
   for (int k = 0; k < n; ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
     if (a.why == EstimateFailure::none && supported(*a.solve, vehicle)) {
-      mount_.adopt(a.solve->pose.attitude);
-      return a;
+      if (!a.rescaled && width_agrees_with_height(*a.solve)) {
+        mount_.adopt(a.solve->pose.attitude);
+        return a;
+      }
+      if (rescaled < 0) rescaled = k;
     }
     if (k == 0) first = a;
+  }
+  if (rescaled >= 0) {
+    detection_pose_ = poses[rescaled];
+    const Attempt a = attempt(image, gyro);
+    mount_.adopt(a.solve->pose.attitude);
+    return a;
   }
   if (n == 1) return first;
   detection_pose_ = poses[0];  // the fit's buffers hold the last pose's: look again

@@ -71,6 +71,9 @@ class LaneEstimator {
   // out to this bound: detection finds lines from a pose within about 4 degrees.
   static constexpr double kSearchPitchStepDeg = 3.0;
   static constexpr double kSearchPitchDeg = 9.0;
+  // And, while the mount's height is not settled, at the configured height times and
+  // over this (a configured height may be a third off: kUnsettledHeightError).
+  static constexpr double kSearchHeightStep = 1.3;
   const ldw::LdwMonitor& ldw_monitor() const { return ldw_; }
   // Why the last estimate()'s lines were not taken for a lane (reason no_lane) although
   // a line lay on each side the right distance apart; none otherwise.
@@ -85,9 +88,11 @@ class LaneEstimator {
   struct Attempt {
     const SolveResult* solve = nullptr;
     EstimateFailure why = EstimateFailure::none;
+    bool rescaled = false;  // the first solve's lane width moved the height (height_scale)
   };
   Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro);
-  static constexpr int kMaxSearchPoses = 8;
+  static constexpr int kMaxSearchAttitudes = 8;
+  static constexpr int kMaxSearchPoses = 3 * kMaxSearchAttitudes;
   int search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                    std::array<CameraPose, kMaxSearchPoses>& poses);
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
@@ -97,6 +102,12 @@ class LaneEstimator {
   // height is not settled: the lane-width prior's mean over the width of the lane it
   // found, when that is clearly not a lane's width; 1 otherwise.
   double height_scale(const SolveResult& r) const;
+  // Whether the mount's height is still to be settled from the lanes' width (a lane-width
+  // prior and not settled), and whether r's own lane is of the prior's width at r's
+  // height (always, when the height is not to be settled or r has no own lane).
+  bool height_unsettled() const;
+  bool width_agrees_with_height(const SolveResult& r) const;
+  static std::optional<double> own_lane_width(const SolveResult& r);
   void track(const SolveResult& r, const VehicleInputs& vehicle);
   void warn(const FrameInputs& in);
   void report(const FrameInputs& in);

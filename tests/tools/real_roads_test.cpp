@@ -125,10 +125,12 @@ TEST(RealRoads, TuSimpleStillsEachAlone) {
   const Json t = Json::parse(score.out)["total"];
   EXPECT_EQ(t["frames"], 10);
   EXPECT_EQ(t["ego_lanes"], 20) << "two own-lane lines labelled in each still";
-  // Reached when the floor was set: 6 of the 20 own-lane lines found, no false line of
-  // the 8 reported (the rule before the last one gave 2 of 10: Poisson margins).
-  EXPECT_GE(t["ego_found"].get<double>(), 6.0 - 2.0 * std::sqrt(6.0));
-  EXPECT_LE(t["false_lines"].get<double>(), 0.0 + 2.0 * std::sqrt(2.0));
+  // Reached when the floor was set (the search trying heights a step either side of the
+  // configured one): 9 of the 20 own-lane lines found, 3 false lines of the 14 reported
+  // (one of them a real line TuSimple does not label, a yellow edge line beyond the next
+  // lane's): Poisson margins.
+  EXPECT_GE(t["ego_found"].get<double>(), 9.0 - 2.0 * std::sqrt(9.0));
+  EXPECT_LE(t["false_lines"].get<double>(), 3.0 + 2.0 * std::sqrt(3.0));
 }
 
 }  // namespace
