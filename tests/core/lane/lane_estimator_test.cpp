@@ -366,6 +366,37 @@ TEST(LaneEstimator, AHeightAQuarterOffIsTakenFromTheLaneWidthOnEachStill) {
   }
 }
 
+// The same with the own lane's lines dashed and the next lanes' solid, configured up to a
+// third too low: lanes look a third narrower, too narrow for two lines (a dash and the
+// solid line beyond) to be taken as a lane's, and dashes give few marks at a detection
+// pose that low. The search also starts from the height a step higher
+// (kSearchHeightStep), and takes the lane it finds there: the true one, at a height
+// within a tenth of the truth's (its own lane is the prior's width at it).
+TEST(LaneEstimator, ASearchFindsTheOwnLaneBetweenDashesFromAHeightAThirdOff) {
+  for (const double factor : {0.68, 0.75}) {
+    Config truth = small_camera();
+    truth.synth.dashed = DashedLines::inner;
+    Drive d(truth);
+    Config configured = truth;
+    configured.H_mm *= factor;
+    configured.prior.lane_width_mm = Prior{3600.0, 300.0};
+    LaneEstimator est(configured.estimator_options());
+    int ok = 0;
+    for (std::uint64_t k = 0; k < 30; k += 3) {
+      est.reset();
+      const SynthFrame f = d.render(k);
+      const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+      if (!e.ok) continue;  // a dash may be between the searched range's ends
+      ++ok;
+      const double sigma_width = std::hypot(e.lines[1].sigma_y0_mm, e.lines[2].sigma_y0_mm);
+      EXPECT_NEAR(e.lane_width_mm * truth.H_mm / e.H_mm, 3600.0, 3.0 * sigma_width + 0.1 * 3600.0)
+          << "x" << factor << " frame " << k << ": the lane is at the height it was found at";
+      EXPECT_NEAR(e.lateral_offset_mm, f.lateral_offset_mm, 300.0) << "x" << factor << " frame " << k;
+    }
+    EXPECT_GE(ok, 5) << "x" << factor;
+  }
+}
+
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
