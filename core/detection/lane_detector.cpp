@@ -209,6 +209,32 @@ void LaneDetector::choose_picks() {
   result_.picks = std::span<const Pick>(picks_.data(), static_cast<std::size_t>(count));
 }
 
+int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm) {
+  plan_rows(pose, curvature_per_mm);
+  const float scale = paint_measure_levels_per_grey(image);
+  const float min_contrast = static_cast<float>(config_.min_contrast) * scale;
+  const int capacity = static_cast<int>(marks_.size());
+  int count = 0;
+  for (int r = 0; r < num_rows_ && count < capacity; ++r)
+    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, min_contrast, 1.0f / scale, marks_.data(),
+                          count, capacity);
+  return count;
+}
+
+bool LaneDetector::on_the_road(MarkCandidate& c) const {
+  double X = 0, Y = 0;
+  if (!projector_.ground(c.px(), c.py, X, Y) || X < 0.8 * config_.min_range_mm || X > 1.25 * config_.max_range_mm)
+    return false;
+  c.X = X;
+  c.Y = Y;
+  return true;
+}
+
+std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const CameraPose& pose) {
+  if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return {};
+  return {marks_.data(), static_cast<std::size_t>(scan(image, pose, 0.0))};
+}
+
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
                                             std::span<const RoadLine> priors) {
   result_ = DetectionResult{};
@@ -218,16 +244,9 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     mean_m += p.m / static_cast<double>(priors.size());
     mean_c += p.c_per_mm / static_cast<double>(priors.size());
   }
-  plan_rows(pose, mean_c);
+  const int count = scan(image, pose, mean_c);
   have_vp_ = projector_.vanishing_point(mean_m, vp_x_, vp_y_);
-
   const float scale = paint_measure_levels_per_grey(image);
-  const float min_contrast = static_cast<float>(config_.min_contrast) * scale;
-  const int capacity = static_cast<int>(marks_.size());
-  int count = 0;
-  for (int r = 0; r < num_rows_ && count < capacity; ++r)
-    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, min_contrast, 1.0f / scale, marks_.data(),
-                          count, capacity);
   result_.counters.scan_rows = num_rows_;
   result_.counters.candidates = count;
 
@@ -236,13 +255,10 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   int kept = 0;
   for (int i = 0; i < count; ++i) {
     MarkCandidate c = marks_[static_cast<std::size_t>(i)];
-    double X = 0, Y = 0;
-    if (!projector_.ground(c.px(), c.py, X, Y) || X < 0.8 * config_.min_range_mm || X > 1.25 * config_.max_range_mm) {
+    if (!on_the_road(c)) {
       ++result_.counters.off_road;
       continue;
     }
-    c.X = X;
-    c.Y = Y;
     c.dot = is_dot(image, c, scale);
     if (c.narrow && !c.dot) {
       ++result_.counters.narrow;

@@ -27,11 +27,22 @@ class LaneDetector {
   // after a loss). The result stays valid until the next call.
   const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> priors);
 
+  // The bars the row filter finds on the rows of the searched range seen from `pose`,
+  // without the road-plane, width, orientation and step tests or any grouping (a raised
+  // marker's lit cap is narrower than paint, and the widths a guessed pose expects are
+  // off): for the vanishing point of a search (vanishing_lines.hpp). Their px, py,
+  // widths and contrast are set, nothing else. Valid until the next call.
+  std::span<const MarkCandidate> bars(const ImageView& image, const CameraPose& pose);
+
   int max_picks() const { return config_.max_picks; }
   int max_candidates() const { return static_cast<int>(marks_.size()); }
 
  private:
   void plan_rows(const CameraPose& pose, double curvature_per_mm);
+  // Plans the rows and runs the row filter over them into marks_; how many it found.
+  int scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm);
+  // Sets c.X, c.Y where c lies on the road; false off the road or the searched range.
+  bool on_the_road(MarkCandidate& c) const;
   bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
   // Whether candidate c (on the road at c.X, c.Y) is a short blob: bright over no more of
   // the road than a raised marker, and dark all around. If so, sets its dot_top and

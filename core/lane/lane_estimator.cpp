@@ -20,6 +20,7 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
       ldw_(config.ldw),
       mount_(config),
       last_pose_(config.nominal_pose),
+      line_finder_(config.camera, 2 * detector_.max_candidates()),
       vp_finder_(config.camera, config.detection) {
   reset();
 }
@@ -170,6 +171,26 @@ double LaneEstimator::height_scale(const SolveResult& r) const {
   return scale >= 1.0 / (1.0 + kUnsettledHeightError) && scale <= 1.0 / (1.0 - kUnsettledHeightError) ? scale : 1.0;
 }
 
+std::optional<Attitude> LaneEstimator::attitude_from_picture(const ImageView& image, const CameraPose& base) {
+  // The lines of bars first: the bars of the searched range's rows at the mount; where
+  // they make no point, with those at the mount pitched down by a search's expected
+  // error added, which reach farther up should the camera look down more than configured
+  // (were it not, they would reach above the horizon, where cars' and the far road's
+  // bars make lines of their own). Then, where they make none either, the edges' vote.
+  line_finder_.clear();
+  line_finder_.add(detector_.bars(image, base));
+  vanishing_point_ = &line_finder_.find(base);
+  if (!vanishing_point_->found) {
+    CameraPose down = base;
+    down.attitude.theta += deg_to_rad(kSearchPitchErrorDeg);
+    line_finder_.add(detector_.bars(image, down));
+    vanishing_point_ = &line_finder_.find(base);
+  }
+  if (!vanishing_point_->found) vanishing_point_ = &vp_finder_.find(image, base);
+  if (!vanishing_point_->found) return std::nullopt;
+  return attitude_from_vanishing_point(config_.camera, base, vanishing_point_->x, vanishing_point_->y);
+}
+
 int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                 std::array<CameraPose, kMaxSearchPoses>& poses) {
   // Where to start when no previous frame says: the road's vanishing point in the
@@ -179,15 +200,12 @@ int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1A
   const CameraPose base = guess_pose(gyro);
   std::array<Attitude, kMaxSearchAttitudes> attitudes{};
   int a = 0;
-  vanishing_point_ = &vp_finder_.find(image, base);
-  if (vanishing_point_->found)
-    if (const std::optional<Attitude> seen =
-            attitude_from_vanishing_point(config_.camera, base, vanishing_point_->x, vanishing_point_->y)) {
-      attitudes[a] = base.attitude;
-      attitudes[a].psi = seen->psi;
-      if (!gyro) attitudes[a].theta = seen->theta;
-      ++a;
-    }
+  if (const std::optional<Attitude> seen = attitude_from_picture(image, base)) {
+    attitudes[a] = base.attitude;
+    attitudes[a].psi = seen->psi;
+    if (!gyro) attitudes[a].theta = seen->theta;
+    ++a;
+  }
   attitudes[a++] = base.attitude;
   for (int k = 1; !gyro && a + 1 < kMaxSearchAttitudes && k * kSearchPitchStepDeg <= kSearchPitchDeg; ++k)
     for (const double sign : {+1.0, -1.0}) {

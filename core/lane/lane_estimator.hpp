@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/detection/lane_detector.hpp"
+#include "core/detection/vanishing_lines.hpp"
 #include "core/detection/vanishing_point.hpp"
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/lane/frame_inputs.hpp"
@@ -93,6 +94,9 @@ class LaneEstimator {
   Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro);
   static constexpr int kMaxSearchAttitudes = 8;
   static constexpr int kMaxSearchPoses = 3 * kMaxSearchAttitudes;
+  // Yaw and pitch from the road's vanishing point in the picture (roll and the rest are
+  // base's); empty when none is found.
+  std::optional<Attitude> attitude_from_picture(const ImageView& image, const CameraPose& base);
   int search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                    std::array<CameraPose, kMaxSearchPoses>& poses);
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
@@ -141,6 +145,7 @@ class LaneEstimator {
   LaneEstimate estimate_;
 
   // The search without a previous frame (docs/real-roads.md).
+  VanishingLineFinder line_finder_;
   VanishingPointFinder vp_finder_;
   const VanishingPoint* vanishing_point_ = nullptr;
   EstimatorState state_ = EstimatorState::searching;

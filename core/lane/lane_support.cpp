@@ -33,15 +33,22 @@ const char* to_string(SupportProblem p) {
 }
 
 LineSupport line_support(std::span<const Pick> picks, std::span<const Vec2> points_mm, int line) {
+  // The nearest and farthest two: an end mark far from all others is left out.
   LineSupport s;
+  double near[2] = {1e300, 1e300}, far[2] = {-1e300, -1e300};
   const std::size_t n = std::min(picks.size(), points_mm.size());
   for (std::size_t i = 0; i < n; ++i) {
     if (picks[i].line != line) continue;
     const double x = points_mm[i].x();
-    if (s.marks++ == 0) s.near_mm = s.far_mm = x;
-    s.near_mm = std::min(s.near_mm, x);
-    s.far_mm = std::max(s.far_mm, x);
+    ++s.marks;
+    if (x < near[0]) near[1] = near[0], near[0] = x;
+    else if (x < near[1]) near[1] = x;
+    if (x > far[0]) far[1] = far[0], far[0] = x;
+    else if (x > far[1]) far[1] = x;
   }
+  if (s.marks == 0) return s;
+  s.near_mm = s.marks >= 2 && near[1] - near[0] > kIsolatedMarkGapMm ? near[1] : near[0];
+  s.far_mm = s.marks >= 2 && far[0] - far[1] > kIsolatedMarkGapMm ? far[1] : far[0];
   return s;
 }
 

@@ -77,10 +77,14 @@ constexpr double kClutterBinMm = 2000.0;
 constexpr double kMaxClutterPerLineLength = 0.5;
 constexpr double kMaxClutterMarksPerLineMark = 0.5;
 
-// What the marks of one solved line cover.
+// What the marks of one solved line cover. One mark alone does not make a line long: a
+// bar of noise far beyond a short run of bars lies on the line through them wherever it
+// is, so an end mark farther than this from every other mark is not counted (the gaps
+// of dashed lines are 9 m in the US, 12 m on German motorways).
+constexpr double kIsolatedMarkGapMm = 15000.0;
 struct LineSupport {
   int marks = 0;
-  double near_mm = 0.0, far_mm = 0.0;  // nearest and farthest solved mark (road x)
+  double near_mm = 0.0, far_mm = 0.0;  // nearest and farthest solved mark (road x), isolated ends left out
 };
 
 // Line `line`'s picks among `picks`, with their solved mark positions `points_mm` (one per

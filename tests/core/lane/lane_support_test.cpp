@@ -68,6 +68,27 @@ TEST(LaneSupport, ALineNeedsMarksOverEnoughRoadInsideTheSearchedRange) {
   EXPECT_EQ(check_line_support({8, 5000.0, 9400.0}, near), SupportProblem::too_short);
 }
 
+// A run of bars 5..9 m ahead and one bar far beyond it, on the line through them by
+// chance (a bright bar of noise near the vanishing point): the lone bar does not make
+// the line long. One a dash's gap beyond the run does.
+TEST(LaneSupport, AnIsolatedEndMarkDoesNotLengthenALine) {
+  const DetectionConfig d;
+  for (const double lone_mm : {30000.0, 20000.0}) {
+    std::vector<Pick> picks;
+    std::vector<Vec2> points;
+    for (int i = 0; i < 10; ++i) {
+      picks.push_back({0, 0.0, 0.0});
+      points.emplace_back(5000.0 + 450.0 * i, 1800.0);
+    }
+    picks.push_back({0, 0.0, 0.0});
+    points.emplace_back(lone_mm, 1800.0);
+    const LineSupport s = line_support(picks, points, 0);
+    EXPECT_EQ(s.marks, 11);
+    EXPECT_DOUBLE_EQ(s.far_mm, lone_mm == 30000.0 ? 9050.0 : lone_mm);
+    EXPECT_EQ(check_line_support(s, d), lone_mm == 30000.0 ? SupportProblem::too_short : SupportProblem::none);
+  }
+}
+
 // One side of a lane may be a single dash (detection's min_dash_marks over
 // min_dash_span_mm) beside a full line, in a lane of a common lane's width.
 TEST(LaneSupport, ASingleDashNeedsItsMarksItsMetreTheRangeAndALanesWidth) {
