@@ -264,7 +264,13 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
       ++result_.counters.narrow;
       continue;
     }
-    if (c.step_beside && !c.dot) {
+    c.yellow = !c.dot && is_yellow(image, c);
+    // A step beside a bar biases its edges, unless the bar is yellow paint: on pale
+    // concrete the step beside yellow paint is its own colour bled into its sides (colour
+    // is sampled at half the resolution and blurred again by video codecs), the same on
+    // either side, and the bar's centre stays where the paint is. Barrier feet, kerbs,
+    // seams and slab edges, whose steps do bias, are grey.
+    if (c.step_beside && !c.dot && !c.yellow) {
       ++result_.counters.step_beside;
       continue;
     }
@@ -272,7 +278,6 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
       ++result_.counters.wrong_orientation;
       continue;
     }
-    c.yellow = !c.dot && is_yellow(image, c);
     result_.counters.dots += c.dot;
     result_.counters.yellow += c.yellow;
     marks_[static_cast<std::size_t>(kept++)] = c;
