@@ -20,7 +20,7 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
       ldw_(config.ldw),
       mount_(config),
       last_pose_(config.nominal_pose),
-      line_finder_(config.camera, 2 * detector_.max_candidates()),
+      line_finder_(config.camera, 2 * detector_.max_candidates(), kLineSearch),
       vp_finder_(config.camera, config.detection) {
   reset();
 }
@@ -175,16 +175,17 @@ std::optional<Attitude> LaneEstimator::attitude_from_picture(const ImageView& im
   // The lines of bars first: the bars of the searched range's rows at the mount; where
   // they make no point, with those at the mount pitched down by a search's expected
   // error added, which reach farther up should the camera look down more than configured
-  // (were it not, they would reach above the horizon, where cars' and the far road's
-  // bars make lines of their own). Then, where they make none either, the edges' vote.
+  // (scanned always, they would reach above the horizon when it does not, where the far
+  // road's and cars' bars make lines of their own). Then, where they make none either,
+  // the edges' vote. A mount configured looking down much more than the camera does is
+  // not helped by either: its rows lie above the road (docs/real-roads.md).
   line_finder_.clear();
-  line_finder_.add(detector_.bars(image, base));
-  vanishing_point_ = &line_finder_.find(base);
-  if (!vanishing_point_->found) {
-    CameraPose down = base;
-    down.attitude.theta += deg_to_rad(kSearchPitchErrorDeg);
-    line_finder_.add(detector_.bars(image, down));
+  for (const double pitch : {0.0, kSearchPitchErrorDeg}) {
+    CameraPose scan = base;
+    scan.attitude.theta += deg_to_rad(pitch);
+    line_finder_.add(detector_.bars(image, scan));
     vanishing_point_ = &line_finder_.find(base);
+    if (vanishing_point_->found) break;
   }
   if (!vanishing_point_->found) vanishing_point_ = &vp_finder_.find(image, base);
   if (!vanishing_point_->found) return std::nullopt;

@@ -75,6 +75,11 @@ class LaneEstimator {
   // And, while the mount's height is not settled, at the configured height times and
   // over this (a configured height may be a third off: kUnsettledHeightError).
   static constexpr double kSearchHeightStep = 1.3;
+  // Where the lines of bars may cross: 15 degrees either side of the mount in pitch and
+  // yaw (the edge vote, easier fooled, looks within 10). A camera whose mount a user
+  // knows to 5 degrees on a car that pitches a few, with a picture whose own tilt (a
+  // TuSimple still's 7 degrees) nobody wrote down.
+  static constexpr VanishingPointSearch kLineSearch{15.0, 15.0};
   const ldw::LdwMonitor& ldw_monitor() const { return ldw_; }
   // Why the last estimate()'s lines were not taken for a lane (reason no_lane) although
   // a line lay on each side the right distance apart; none otherwise.
