@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/detection/ground_projector.hpp"
 
 namespace ccdlane {
 namespace {
@@ -211,18 +210,7 @@ void VanishingLineFinder::add(std::span<const MarkCandidate> bars) {
 const VanishingPoint& VanishingLineFinder::find(const CameraPose& nominal) {
   result_ = VanishingPoint{};
   num_lines_ = 0;
-  result_.x_lo = result_.y_lo = 1e300;
-  result_.x_hi = result_.y_hi = -1e300;
-  for (const double dpsi : {-search_.max_yaw_error_deg, 0.0, search_.max_yaw_error_deg})
-    for (const double dtheta : {-search_.max_pitch_error_deg, 0.0, search_.max_pitch_error_deg}) {
-      CameraPose p = nominal;
-      p.attitude.psi += deg_to_rad(dpsi);
-      p.attitude.theta += deg_to_rad(dtheta);
-      double x = 0, y = 0;
-      if (!GroundProjector(camera_, p).vanishing_point(0.0, x, y)) continue;
-      result_.x_lo = std::min(result_.x_lo, x), result_.x_hi = std::max(result_.x_hi, x);
-      result_.y_lo = std::min(result_.y_lo, y), result_.y_hi = std::max(result_.y_hi, y);
-    }
+  set_search_region(camera_, nominal, search_, result_);
   std::fill(used_.begin(), used_.end(), 0);
   result_.edges = n_;
   // Each row's bars share its vote beyond kBarsPerRow of them: near the horizon, cars, the

@@ -37,21 +37,26 @@ VanishingPointFinder::VanishingPointFinder(const CameraSpec& camera, const Detec
   votes_right_.resize(votes_.size());
 }
 
-void VanishingPointFinder::set_region(const CameraPose& nominal) {
+void set_search_region(const CameraSpec& camera, const CameraPose& nominal, const VanishingPointSearch& search,
+                       VanishingPoint& r) {
   // Where the road's direction may appear: the yaw and pitch bounds' corners.
-  VanishingPoint& r = result_;
   r.x_lo = r.y_lo = 1e300;
   r.x_hi = r.y_hi = -1e300;
-  for (const double dpsi : {-search_.max_yaw_error_deg, 0.0, search_.max_yaw_error_deg})
-    for (const double dtheta : {-search_.max_pitch_error_deg, 0.0, search_.max_pitch_error_deg}) {
+  for (const double dpsi : {-search.max_yaw_error_deg, 0.0, search.max_yaw_error_deg})
+    for (const double dtheta : {-search.max_pitch_error_deg, 0.0, search.max_pitch_error_deg}) {
       CameraPose p = nominal;
       p.attitude.psi += deg_to_rad(dpsi);
       p.attitude.theta += deg_to_rad(dtheta);
       double x = 0, y = 0;
-      if (!GroundProjector(camera_, p).vanishing_point(0.0, x, y)) continue;
+      if (!GroundProjector(camera, p).vanishing_point(0.0, x, y)) continue;
       r.x_lo = std::min(r.x_lo, x), r.x_hi = std::max(r.x_hi, x), r.y_lo = std::min(r.y_lo, y),
       r.y_hi = std::max(r.y_hi, y);
     }
+}
+
+void VanishingPointFinder::set_region(const CameraPose& nominal) {
+  VanishingPoint& r = result_;
+  set_search_region(camera_, nominal, search_, r);
   const int max_bins = static_cast<int>(std::ceil(kMaxRegionPx / bin_px_)) + 2;
   const double span = std::max(r.x_hi - r.x_lo, r.y_hi - r.y_lo);
   const double bin = std::max(bin_px_, span / (max_bins - 2));

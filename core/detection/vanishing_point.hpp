@@ -37,6 +37,11 @@ struct VanishingPointSearch {
   double max_yaw_error_deg = 10.0;
 };
 
+// Sets r's region (x_lo .. y_hi, ideal pixels) to where the road's direction appears for
+// a camera mounted within `search`'s bounds of `nominal`.
+void set_search_region(const CameraSpec& camera, const CameraPose& nominal, const VanishingPointSearch& search,
+                       VanishingPoint& r);
+
 class VanishingPointFinder {
  public:
   // Sizes every buffer for frames of camera.Nu x camera.Nv; find() never allocates.
