@@ -9,8 +9,6 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
-#include <cstdio>
-#include <cstdlib>
 
 namespace ccdlane {
 namespace {
@@ -396,7 +394,6 @@ bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, i
   for (int k = 0; k < n; ++k) {
     const DetectedLine& other = found_[static_cast<std::size_t>(k)];
     if (std::abs(other.fit.y_at(kReferenceMm) - l.fit.y_at(kReferenceMm)) >= params.min_separation_mm) continue;
-    if (std::getenv("DIAG")) std::printf("conflict y10=%.0f marks=%d vs %.0f marks=%d\n", l.fit.y_at(10000), l.marks, other.fit.y_at(10000), other.marks);
     if (!replaces(l, other)) {
       spend_line(marks, n);
       return false;
@@ -418,7 +415,6 @@ bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, i
       if (m.line >= 0 && m.line <= n) m.line = index[static_cast<std::size_t>(m.line)];
     n = kept - 1;
   }
-  if (std::getenv("DIAG")) std::printf("admitted y10=%.0f m=%.4f c=%.2e marks=%d\n", l.fit.y_at(10000), l.fit.m, l.fit.c_per_mm, l.marks);
   found_[static_cast<std::size_t>(n++)] = l;
   return true;
 }
@@ -491,7 +487,6 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
     const RoadLine model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
     DetectedLine l;
     const int before = n;
-    if (std::getenv("DIAG")) std::printf("attempt %d cell y0=%.0f m=%.4f votes=%d\n", attempt, model.y0_mm, model.m, strongest_cell(bi, bj));
     if (fit_line(marks, model, kNewLineGateMm, n, params, l) &&
         along_the_road(l, {found_.data(), static_cast<std::size_t>(n)}, params)) {
       if (!admit(marks, l, n, params)) {  // its marks are spent: they vote no more
