@@ -69,7 +69,8 @@ class LaneEstimator {
   // keeps in its state file (status off when not configured).
   const MountRefinementResult& mount_refinement() const { return mount_.result(); }
   // A search without a previous frame also starts from the mount pitched by these steps,
-  // out to this bound: detection finds lines from a pose within about 4 degrees.
+  // out to this bound (detection loses lines from a pose a degree or two off; the solve
+  // from what it finds, and the look again from the solved pose, bring it back).
   static constexpr double kSearchPitchStepDeg = 3.0;
   static constexpr double kSearchPitchDeg = 9.0;
   // And, while the mount's height is not settled, at the configured height times and
