@@ -26,7 +26,7 @@ constexpr double kContrastUnit = 20.0;      // grey levels of one unit of weight
 constexpr double kPointTolerancePx = 6.0;   // a line passes through a point this near it
 constexpr double kChanceSigmas = 4.0;
 constexpr double kBesidePx = 40.0;
-constexpr float kBarsPerRow = 8.0f;
+constexpr float kBarsPerRow = 6.0f;
 // A line runs to a point above it: its bars reach at least this far below the point (a
 // few bars beyond it are the far side's, or clutter near the horizon).
 constexpr double kBelowPointPx = 20.0;
@@ -40,6 +40,7 @@ VanishingLineFinder::VanishingLineFinder(const CameraSpec& camera, int max_bars,
       search_(search),
       ix_(static_cast<std::size_t>(max_bars)),
       iy_(static_cast<std::size_t>(max_bars)),
+      contrast_w_(static_cast<std::size_t>(max_bars)),
       w_(static_cast<std::size_t>(max_bars)),
       used_(static_cast<std::size_t>(max_bars)),
       row_bars_(static_cast<std::size_t>(camera.Nv)) {
@@ -203,7 +204,7 @@ void VanishingLineFinder::add(std::span<const MarkCandidate> bars) {
     const double s = den > 0.0 ? 1.0 / den : 1.0;
     ix_[i] = camera_.cx + dx * s;
     iy_[i] = camera_.cy + dy * s;
-    w_[i] = std::min(kMaxBarWeight, static_cast<float>(m.contrast / kContrastUnit));
+    contrast_w_[i] = std::min(kMaxBarWeight, static_cast<float>(m.contrast / kContrastUnit));
   }
 }
 
@@ -219,7 +220,8 @@ const VanishingPoint& VanishingLineFinder::find(const CameraPose& nominal) {
   std::fill(row_bars_.begin(), row_bars_.end(), 0);
   for (int i = 0; i < n_; ++i) ++row_bars_[row_of(i)];
   for (int i = 0; i < n_; ++i)
-    w_[static_cast<std::size_t>(i)] *= std::min(1.0f, kBarsPerRow / static_cast<float>(row_bars_[row_of(i)]));
+    w_[static_cast<std::size_t>(i)] = contrast_w_[static_cast<std::size_t>(i)] *
+                                      std::min(1.0f, kBarsPerRow / static_cast<float>(row_bars_[row_of(i)]));
   std::fill(votes_.begin(), votes_.end(), 0.0f);
   vote(+1);
   for (int attempt = 0; attempt < 2 * kMaxLines && num_lines_ < kMaxLines; ++attempt) {

@@ -72,7 +72,8 @@ class VanishingLineFinder {
   CameraSpec camera_;
   VanishingPointSearch search_;
   std::vector<double> ix_, iy_;  // the bars' ideal pixel centres
-  std::vector<float> w_;         // their weights
+  std::vector<float> contrast_w_;  // their weights by contrast (add)
+  std::vector<float> w_;           // and shared with their rows' other bars (find: from all bars added so far)
   std::vector<char> used_;       // on a line found
   std::vector<int> row_bars_;    // bars per picture row
   int n_ = 0;
