@@ -109,10 +109,6 @@ struct RoadDirection {
   }
 };
 
-// Whether line `l` runs along the road the lines found give, within what a pitch error of
-// the detection pose makes of their slopes (GroupingParams::max_pitch_error_rad).
-bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, const GroupingParams& params);
-
 RoadDirection road_direction(std::span<const DetectedLine> lines, double curvature) {
   RoadDirection d;
   d.c = curvature;
@@ -126,6 +122,8 @@ RoadDirection road_direction(std::span<const DetectedLine> lines, double curvatu
   return d;
 }
 
+// Whether line `l` runs along the road the lines found give, within what a pitch error of
+// the detection pose makes of their slopes (GroupingParams::max_pitch_error_rad).
 bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, const GroupingParams& params) {
   if (lines.empty()) return true;
   const double y = l.fit.y_at(kReferenceMm);

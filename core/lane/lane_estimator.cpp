@@ -251,7 +251,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   std::array<CameraPose, kMaxSearchPoses> poses{};
   const int n = search_poses(image, gyro, poses);
   Attempt first;
-  int rescaled = -1;
+  int other_height = -1;  // the first pose whose lane is a lane's width only at another height
   for (int k = 0; k < n; ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
@@ -260,12 +260,12 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
         mount_.adopt(a.solve->pose.attitude);
         return a;
       }
-      if (rescaled < 0) rescaled = k;
+      if (other_height < 0) other_height = k;
     }
     if (k == 0) first = a;
   }
-  if (rescaled >= 0) {
-    detection_pose_ = poses[rescaled];
+  if (other_height >= 0) {
+    detection_pose_ = poses[other_height];
     const Attempt a = attempt(image, gyro);
     mount_.adopt(a.solve->pose.attitude);
     return a;
