@@ -60,15 +60,23 @@ SolveRequest LaneFit::request(const CameraPose& initial, const std::optional<Gx1
   const SolverPriors& p = options_.priors;
   req.priors = {p.psi_deg, p.theta_deg, p.phi_deg, p.H_mm, p.f_mm, p.lane_width_mm};
   if (p.lane_width_mm && num_lines_ > 2) {
-    // The solver's lane-width prior holds between the outermost lines; with more than
-    // two lines they are k lanes apart, k from the initial lines: k widths, each with
-    // its own spread.
-    double lo = initial_lines_[0].y0_mm, hi = lo;
-    for (int j = 1; j < num_lines_; ++j) {
-      lo = std::min(lo, initial_lines_[j].y0_mm);
-      hi = std::max(hi, initial_lines_[j].y0_mm);
+    // The prior holds for the own lane's lines, the nearest on each side of the camera
+    // (the outer lines may bound a shoulder); k widths, each with its own spread, when a
+    // line between them was not detected. Without a line on each side, between the
+    // outermost lines.
+    int left = -1, right = -1, lo = 0, hi = 0;
+    for (int j = 0; j < num_lines_; ++j) {
+      const double y0 = initial_lines_[j].y0_mm;
+      if (y0 >= 0.0 && (left < 0 || y0 < initial_lines_[left].y0_mm)) left = j;
+      if (y0 < 0.0 && (right < 0 || y0 > initial_lines_[right].y0_mm)) right = j;
+      if (y0 < initial_lines_[lo].y0_mm) lo = j;
+      if (y0 > initial_lines_[hi].y0_mm) hi = j;
     }
-    const double k = std::max(1.0, std::round((hi - lo) / p.lane_width_mm->mean));
+    if (left < 0 || right < 0) left = hi, right = lo;
+    req.priors.lane_width_left = left;
+    req.priors.lane_width_right = right;
+    const double span = initial_lines_[left].y0_mm - initial_lines_[right].y0_mm;
+    const double k = std::max(1.0, std::round(span / p.lane_width_mm->mean));
     req.priors.lane_width_mm = Prior{k * p.lane_width_mm->mean, std::sqrt(k) * p.lane_width_mm->sigma};
   }
   if (gyro) {
@@ -188,7 +196,7 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
       return p;
     if (dots) continue;
     if (const SupportProblem p =
-            check_paint_width_spread(paint_width_spread(detection_->marks, line), options_.detection);
+            check_paint_width_spread(paint_width_spread(detection_->marks, line, scratch_), options_.detection);
         p != SupportProblem::none)
       return p;
   }

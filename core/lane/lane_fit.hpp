@@ -77,7 +77,7 @@ class LaneFit {
   std::array<int, kMaxLaneLines> prior_index_{};     // per solver line: detection's prior_index
   std::array<int, kMaxLaneLines> detection_line_{};  // per solver line: its line in detection()
   std::vector<double> residual_px_;                  // per pick, of the last solve
-  std::vector<double> scratch_;
+  mutable std::vector<double> scratch_;  // a median's values: the residuals', a line's paint widths'
   SolverPriors solve_priors_;  // of the last solve
 };
 

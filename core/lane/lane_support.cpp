@@ -10,6 +10,14 @@
 namespace ccdlane {
 namespace {
 
+// The median of v (reordered), the mean of the middle two for an even count.
+double median(std::span<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2) return *mid;
+  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
+}
+
 bool agrees(const std::optional<Prior>& prior, double value) {
   return !prior || !(std::abs(value - prior->mean) > kPriorAgreementSigmas * prior->sigma);
 }
@@ -73,23 +81,22 @@ SupportProblem check_paint_width(double slope) {
                                                                          : SupportProblem::not_paint;
 }
 
-double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line) {
-  double s = 0, ss = 0;
-  int n = 0;
+double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line, std::span<double> scratch) {
+  std::size_t n = 0;
   for (const MarkCandidate& m : marks) {
+    if (n == scratch.size()) break;
     if (m.line != detection_line || m.dot || !(m.X > 0.0) || !(m.width_px() > 0.0)) continue;
-    const double v = std::log(m.width_px() * m.X);
-    s += v;
-    ss += v * v;
-    ++n;
+    scratch[n++] = std::log(m.width_px() * m.X);
   }
   if (n < 3) return std::nan("");
-  const double mean = s / n;
-  return std::sqrt(std::max(0.0, ss / n - mean * mean));
+  const std::span<double> v = scratch.first(n);
+  const double centre = median(v);
+  for (double& x : v) x = std::abs(x - centre);
+  return median(v);
 }
 
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection) {
-  const double mix = std::log(detection.max_mark_width_mm / detection.min_mark_width_mm) / std::sqrt(12.0);
+  const double mix = std::log(detection.max_mark_width_mm / detection.min_mark_width_mm) / 4.0;
   return spread < mix ? SupportProblem::none : SupportProblem::not_paint;
 }
 

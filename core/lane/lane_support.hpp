@@ -113,13 +113,18 @@ constexpr double kMaxDashLaneWidthMm = 5000.0;
 SupportProblem check_paint_width(double slope);
 
 // One line's paint has one width on the road: log(width px x distance) is the same for
-// every mark but for edge noise and blur (the test pictures and drives: standard
-// deviation 0.26 at most). Marks of bars of several widths spread as far as detection's
-// width gate lets them, which for widths uniform over [min, max] is ln(max / min) / sqrt(12)
-// (0.32 for 100-300 mm): a line spreading that much is a mix of bars, not one paint.
-// Over the line's paint marks only: a dot's rows are chords of it, whose widths spread by
-// nature (lane_fit does not ask it of a line of dots).
-double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line);  // NaN with < 3 marks
+// most of its marks but for edge noise and blur. Most, not all: a worn dash reads half as
+// wide as the paint beyond it, colour bleeds into a yellow line's sides on pale concrete,
+// blur widens the far marks (the drives: a third of a dashed line's marks at 0.42 of the
+// others' width; far marks up to 1.4 times as wide as near ones). So the spread is the
+// median absolute deviation from the median, which those leave small. Marks of bars of
+// several widths spread as far as detection's width gate lets them: for widths uniform
+// over [min, max] the median deviation is ln(max / min) / 4 (0.27 for 100-300 mm), and a
+// line spreading that much is a mix of bars, not one paint. Over the line's paint marks
+// only, at most scratch.size() of them (scratch holds their values): a dot's rows are
+// chords of it, whose widths spread by nature (lane_fit does not ask it of a line of dots).
+double paint_width_spread(std::span<const MarkCandidate> marks, int detection_line,
+                          std::span<double> scratch);  // NaN with < 3 marks
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection);
 
 // Marks no line took lying inside the lane bounded by detection lines `left` and `right`

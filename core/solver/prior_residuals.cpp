@@ -1,6 +1,8 @@
 // Prior residuals: angles are compared in degrees, as they are configured.
 #include "core/solver/prior_residuals.hpp"
 
+#include <utility>
+
 namespace ccdlane::solver {
 namespace {
 
@@ -38,7 +40,10 @@ void evaluate_priors(const SolverPriors& priors, const ParameterLayout& layout, 
   if (priors.H_mm) add_row(rows, *priors.H_mm, pose.H_mm, layout.global_index(kHeight), 1.0, cost);
   if (priors.f_mm) add_row(rows, *priors.f_mm, pose.f_mm, layout.global_index(kFocal), 1.0, cost);
   if (priors.lane_width_mm && layout.num_lines() >= 2) {
-    const auto [left, right] = outermost_lines(lines, layout.num_lines());
+    const bool named = priors.lane_width_left >= 0 && priors.lane_width_left < layout.num_lines() &&
+                       priors.lane_width_right >= 0 && priors.lane_width_right < layout.num_lines();
+    const auto [left, right] = named ? std::pair{priors.lane_width_left, priors.lane_width_right}
+                                     : outermost_lines(lines, layout.num_lines());
     add_row(rows, *priors.lane_width_mm, lines[left].y0_mm - lines[right].y0_mm, layout.line_index(left, kY0), 1.0,
             cost);
     // The right-hand line enters with the opposite sign (a no-op when y0 is fixed).

@@ -56,6 +56,12 @@ struct Prior {
 // lane-width prior needs at least two lines and is ignored with fewer.
 struct SolverPriors {
   std::optional<Prior> psi_deg, theta_deg, phi_deg, H_mm, f_mm, lane_width_mm;
+  // The two lines (indices into the request's lines) whose offsets differ by
+  // lane_width_mm; -1: the outermost two at each evaluation. A caller who knows which
+  // lines bound one lane names them: beside a shoulder or a barrier's foot the outermost
+  // lines are not a whole number of lanes apart, and with roll free (no gyro) the prior
+  // would tilt the camera to make them so.
+  int lane_width_left = -1, lane_width_right = -1;
 
   bool operator==(const SolverPriors&) const = default;
 };

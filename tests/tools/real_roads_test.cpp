@@ -57,7 +57,12 @@ DriveFigures replay_drive(const std::string& video) {
   return f;
 }
 
-double share_floor(double reached, int n) { return reached - 3.0 * std::sqrt(reached * (1.0 - reached) / n); }
+// With every frame ok the binomial sd is 0: the margin is then one frame's share of it,
+// as if one of the n had failed.
+double share_floor(double reached, int n) {
+  const double p = std::min(reached, 1.0 - 1.0 / n);
+  return reached - 3.0 * std::sqrt(p * (1.0 - p) / n);
+}
 
 TEST(RealRoads, UdacityDrivesFromTheirVideos) {
   struct Case {
@@ -68,9 +73,11 @@ TEST(RealRoads, UdacityDrivesFromTheirVideos) {
   // Reached when the floors were set (nominal camera.toml, mount unknown; the search's
   // pose from the lines of bars and heights a step either side; yellow bars kept despite
   // their colour bled beside them; lines along the road's direction, scatter up to 1.1
-  // px): segA 203 of 211 ok, width sd 1.81 % of its mean; segB 174 of 186, 2.05 %.
-  for (const Case& c : {Case{"project_video_segA.mp4", 211, 203.0 / 211, 0.0181},
-                        Case{"project_video_segB.mp4", 186, 174.0 / 186, 0.0205}}) {
+  // px; one paint width for most of a line's marks, a worn dash allowed; the lane-width
+  // prior on the own lane's lines): segA 211 of 211 ok, width sd 1.91 % of its mean;
+  // segB 185 of 186, 2.09 %.
+  for (const Case& c : {Case{"project_video_segA.mp4", 211, 211.0 / 211, 0.0191},
+                        Case{"project_video_segB.mp4", 186, 185.0 / 186, 0.0209}}) {
     const DriveFigures f = replay_drive(kData + "/udacity-drives/" + c.file);
     EXPECT_EQ(f.frames, c.frames) << c.file;
     EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;

@@ -57,6 +57,30 @@ TEST(PriorResiduals, LaneWidthBetweenTheOutermostLines) {
   EXPECT_EQ(count_free_priors(priors, single), 0);
 }
 
+// A caller who knows which lines bound one lane names them; a name out of range is the
+// outermost lines again.
+TEST(PriorResiduals, LaneWidthBetweenTheNamedLines) {
+  using enum FreeParam;
+  const ParameterLayout layout(free_set({y0}), 3);
+  SolverPriors priors;
+  priors.lane_width_mm = Prior{3600.0, 100.0};
+  priors.lane_width_left = 0;
+  priors.lane_width_right = 2;
+  const RoadLine lines[3] = {{100.0, 0, 0}, {3600.0, 0, 0}, {-3550.0, 0, 0}};
+  PriorRows rows;
+  double cost = 0.0;
+  evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);
+  ASSERT_EQ(rows.count, 1);
+  EXPECT_NEAR(rows.rows[0].r, (3650.0 - 3600.0) / 100.0, 1e-12);
+  EXPECT_NEAR(rows.rows[0].at(layout.line_index(0, kY0)), 0.01, 1e-15);
+  EXPECT_NEAR(rows.rows[0].at(layout.line_index(2, kY0)), -0.01, 1e-15);
+  EXPECT_EQ(rows.rows[0].at(layout.line_index(1, kY0)), 0.0);
+  priors.lane_width_left = 3;
+  cost = 0.0;
+  evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);
+  EXPECT_NEAR(rows.rows[0].r, (7150.0 - 3600.0) / 100.0, 1e-12);
+}
+
 TEST(PriorResiduals, RowsKeepTheirNonzeroEntriesOnly) {
   PriorRow row;
   row.add(3, 1.0);
