@@ -66,6 +66,32 @@ TEST(PaintMeasure, RowsAgreeWithPixelsInEveryFormat) {
   EXPECT_FLOAT_EQ(paint_measure_levels_per_grey(views[3]), 4095.0f / 255.0f);
 }
 
+// A row long enough for the vectorised colour loop (built for several instruction sets,
+// the CPU's best taken) and its scalar tail, over pixels of every channel value, at
+// every start column modulo a vector: the same integers as the pixel function.
+TEST(PaintMeasure, LongColourRowsAgreeWithPixelsAtEveryAlignment) {
+  const int w = 1280;
+  std::vector<std::uint8_t> rgb(3 * w), bgr(3 * w);
+  std::uint32_t state = 12345;
+  for (int x = 0; x < w; ++x)
+    for (int k = 0; k < 3; ++k) {
+      state = state * 1664525u + 1013904223u;
+      rgb[3 * x + k] = bgr[3 * x + 2 - k] = static_cast<std::uint8_t>(state >> 24);
+    }
+  rgb[0] = rgb[1] = 255, rgb[2] = 0;  // the largest measure: 255 + 255
+  const ImageView views[] = {{rgb.data(), w, 1, 3 * w, PixelFormat::rgb8, 8},
+                             {bgr.data(), w, 1, 3 * w, PixelFormat::bgr8, 8}};
+  for (const ImageView& v : views)
+    for (int x0 = 0; x0 < 33; ++x0) {
+      std::vector<std::uint16_t> row(w, 0xFFFF);
+      paint_measure_row(v, 0, x0, w - x0 / 2, row.data());
+      for (int x = x0; x < w - x0 / 2; ++x) ASSERT_EQ(row[x], paint_measure_at(v, x, 0)) << x0 << " " << x;
+      if (x0 > 0) {
+        EXPECT_EQ(row[x0 - 1], 0xFFFF);
+      }
+    }
+}
+
 // A concrete road (grey 150) with yellow paint of the concrete's own luma: rendered
 // twice from one truth, with the paint bright and with no paint, the difference gives
 // each pixel's paint coverage; the colour frame mixes concrete and yellow by it.
