@@ -80,8 +80,10 @@ struct DaemonConfig {
 struct CalibrationConfig {
   bool online = false;
   double min_speed_kmh = 50.0;
-  double min_radius_m = 1500.0;  // road bends tighter than this are not used
-  double max_correction_deg = 3.0;
+  double min_radius_m = 500.0;  // road bends tighter than this are not used
+  // A mount is known to a few degrees (the issue "Lanes on any road": 5): the learned
+  // correction may reach that, with a degree of room for its spread.
+  double max_correction_deg = 6.0;
   double max_change_deg_per_min = 0.5;
   int frames_needed = 900;
   std::string state_file;       // "" = mount-refinement.toml in $STATE_DIRECTORY (none: not kept)

@@ -31,9 +31,9 @@ struct OnlineMountOptions {
   double configured_psi_deg = 0.0;            // the mount in the configuration: where refinement starts
   double configured_theta_deg = 0.0;          //   and the centre of its bounds
   double min_speed_kmh = 50.0;                // slower: towns, junctions, manoeuvres; not used
-  double max_curvature_per_m = 1.0 / 1500.0;  // |1/R| of the road above which it is a bend
+  double max_curvature_per_m = 1.0 / 500.0;   // |1/R| above which it is a bend (the solve has the curvature)
   double max_yaw_rate_deg_s = 2.0;            // turning faster (when the vehicle says): not driving along the lane
-  double max_correction_deg = 3.0;            // the correction's bound, in yaw and in pitch
+  double max_correction_deg = 6.0;            // the correction's bound, in yaw and in pitch
   double max_change_deg_per_min = 0.5;        // how fast the applied correction may move
   int frames_needed = 900;                    // usable frames before the estimate counts (30 s at 30 fps)
   // The running mean forgets with this many frames' memory, so a mount that settles

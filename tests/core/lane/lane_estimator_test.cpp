@@ -340,6 +340,44 @@ TEST(LaneEstimator, AMountFiveDegreesOffIsFoundFromThePicture) {
   }
 }
 
+// Online refinement from the same rough mount: configured 5 degrees off in yaw and in
+// pitch, with [calibration] online on its defaults but for the frames it needs (50 here,
+// not 900: the rendered drive is short). The start replaces the mount; the online
+// estimate, which is measured from the configured mount and bounded there, reaches the
+// truth's offset within its own sigma and the drive's mean heading over the frames used,
+// is calibrated (not out of its bounds), and lane departure warning stays available.
+TEST(LaneEstimator, OnlineRefinementFromAMountFiveDegreesOffConverges) {
+  const Config truth = small_camera();
+  Drive d(truth);
+  Config configured = truth;
+  configured.attitude.psi_deg -= 5.0;
+  configured.attitude.theta_deg += 5.0;
+  configured.calibration.online = true;
+  configured.calibration.frames_needed = 50;
+  LaneEstimatorOptions options = configured.estimator_options();
+  options.online_mount = configured.online_mount_options();
+  LaneEstimator est(options);
+  double heading_sum = 0.0, pitch_sum = 0.0;
+  int used = 0;
+  for (std::uint64_t k = 0; k < 60; ++k) {
+    const SynthFrame f = d.render(k);
+    const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+    ASSERT_TRUE(e.ok) << "frame " << k << ": " << to_string(e.reason);
+    if (k + 1 == 60) {
+      EXPECT_TRUE(e.ldw.available) << ldw::to_string(e.ldw.reason);
+    }
+    if (!est.mount_refinement().used) continue;
+    ++used;
+    heading_sum += f.heading_deg;
+    pitch_sum += rad_to_deg(f.pose.attitude.theta) - truth.attitude.theta_deg;
+  }
+  const calibration::OnlineMountStatus& s = est.mount_refinement().status;
+  EXPECT_EQ(s.state, calibration::OnlineMountState::calibrated);
+  ASSERT_GE(used, 50);
+  EXPECT_NEAR(s.estimate.psi_deg, 5.0 + heading_sum / used, 3 * s.sigma.psi_deg);
+  EXPECT_NEAR(s.estimate.theta_deg, -5.0 + pitch_sum / used, 3 * s.sigma.theta_deg);
+}
+
 // A height known only roughly: configured a quarter off, with a lane-width prior. Each
 // frame alone (a still: reset before it) searches; the first solve's lane is a quarter
 // too narrow or too wide, and the look again is from the height the prior's width says.

@@ -137,7 +137,7 @@ TEST(OnlineMountRefiner, FramesOffTheStraightFastLaneAreNotUsed) {
   for (int i = 0; i < 100; ++i) {
     EXPECT_FALSE(bad([](MountSample& s) { s.solved = false; }));
     EXPECT_FALSE(bad([](MountSample& s) { s.speed_kmh = 30.0; }));
-    EXPECT_FALSE(bad([](MountSample& s) { s.curvature_per_m = -1.0 / 500.0; }));
+    EXPECT_FALSE(bad([](MountSample& s) { s.curvature_per_m = -1.0 / 400.0; }));
     EXPECT_FALSE(bad([](MountSample& s) { s.yaw_rate_deg_s = 5.0; }));
     EXPECT_FALSE(bad([](MountSample& s) { s.psi_deg = std::nan(""); }));
   }
