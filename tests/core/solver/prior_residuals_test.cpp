@@ -34,6 +34,17 @@ TEST(PriorResiduals, AnglesInDegreesLengthsInMillimetres) {
   EXPECT_EQ(count_free_priors(priors, layout), 2);
 }
 
+// The one lane-width row: residual r, +1/sigma on line `left`'s y0, -1/sigma on `right`'s,
+// nothing on `other`'s.
+void expect_width_row(const PriorRows& rows, const ParameterLayout& layout, double r, double sigma, int left,
+                      int right, int other) {
+  ASSERT_EQ(rows.count, 1);
+  EXPECT_NEAR(rows.rows[0].r, r, 1e-12);
+  EXPECT_NEAR(rows.rows[0].at(layout.line_index(left, kY0)), 1.0 / sigma, 1e-15);
+  EXPECT_NEAR(rows.rows[0].at(layout.line_index(right, kY0)), -1.0 / sigma, 1e-15);
+  EXPECT_EQ(rows.rows[0].at(layout.line_index(other, kY0)), 0.0);
+}
+
 TEST(PriorResiduals, LaneWidthBetweenTheOutermostLines) {
   using enum FreeParam;
   const ParameterLayout layout(free_set({y0}), 3);
@@ -43,11 +54,7 @@ TEST(PriorResiduals, LaneWidthBetweenTheOutermostLines) {
   PriorRows rows;
   double cost = 0.0;
   evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);
-  ASSERT_EQ(rows.count, 1);
-  EXPECT_NEAR(rows.rows[0].r, (7100.0 - 7000.0) / 100.0, 1e-12);
-  EXPECT_NEAR(rows.rows[0].at(layout.line_index(1, kY0)), 0.01, 1e-15);
-  EXPECT_NEAR(rows.rows[0].at(layout.line_index(2, kY0)), -0.01, 1e-15);
-  EXPECT_EQ(rows.rows[0].at(layout.line_index(0, kY0)), 0.0);
+  expect_width_row(rows, layout, (7100.0 - 7000.0) / 100.0, 100.0, 1, 2, 0);
   EXPECT_EQ(count_free_priors(priors, layout), 1);
   // One line has no width: the prior is ignored.
   const ParameterLayout single(free_set({y0}), 1);
@@ -70,15 +77,11 @@ TEST(PriorResiduals, LaneWidthBetweenTheNamedLines) {
   PriorRows rows;
   double cost = 0.0;
   evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);
-  ASSERT_EQ(rows.count, 1);
-  EXPECT_NEAR(rows.rows[0].r, (3650.0 - 3600.0) / 100.0, 1e-12);
-  EXPECT_NEAR(rows.rows[0].at(layout.line_index(0, kY0)), 0.01, 1e-15);
-  EXPECT_NEAR(rows.rows[0].at(layout.line_index(2, kY0)), -0.01, 1e-15);
-  EXPECT_EQ(rows.rows[0].at(layout.line_index(1, kY0)), 0.0);
+  expect_width_row(rows, layout, (3650.0 - 3600.0) / 100.0, 100.0, 0, 2, 1);
   priors.lane_width_left = 3;
   cost = 0.0;
   evaluate_priors(priors, layout, CameraPose{{}, 1400, 5}, lines, rows, cost);
-  EXPECT_NEAR(rows.rows[0].r, (7150.0 - 3600.0) / 100.0, 1e-12);
+  expect_width_row(rows, layout, (7150.0 - 3600.0) / 100.0, 100.0, 1, 2, 0);
 }
 
 TEST(PriorResiduals, RowsKeepTheirNonzeroEntriesOnly) {
