@@ -18,8 +18,10 @@ namespace {
 // several targets and the loader picks the best the CPU has (GCC's target_clones, an
 // ifunc); every clone computes the same integers. The pointers are restrict: a byte
 // pointer may alias anything, and the compiler must know the stores do not change the
-// pixels still to be read.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// pixels still to be read. Not under ThreadSanitizer: an ifunc's resolver runs while the
+// program is being relocated, before TSan's runtime is up, and its instrumented code
+// crashed every test program at start.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 #define CCDLANE_PIXEL_LOOP_CLONES __attribute__((target_clones("avx2", "ssse3", "default")))
 #else
 #define CCDLANE_PIXEL_LOOP_CLONES
