@@ -354,8 +354,16 @@ void LaneEstimator::report(const FrameInputs& in) {
   e.sigma_phi_deg = r.sigma.phi_deg;
   e.rms_px = r.rms_px;
   e.iterations = r.iterations;
-  e.num_lines = tracked_.num_lines;
-  e.lines = tracked_.lines;
+  // The lines with a road's support: the own lane's when it is one, each other line on
+  // its own (the issue: the lines beyond the own lane's, "each with the same support
+  // rules"); a line of too little road, a parallel placed by the others, or bars that do
+  // not narrow as paint is not reported.
+  e.num_lines = 0;
+  for (int k = 0; k < tracked_.num_lines; ++k) {
+    const int j = tracked_.solve_line[k];
+    const bool own_line = (j == tracked_.own.left || j == tracked_.own.right);
+    if (own_line || fit_.line_problem(r, j, lane) == SupportProblem::none) e.lines[e.num_lines++] = tracked_.lines[k];
+  }
   const LaneMetrics& m = tracked_.metrics;
   e.heading_deg = m.heading_deg;
   e.curvature_per_m = m.curvature_per_m;

@@ -189,18 +189,31 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
         return problem[k];
       continue;
     }
-    const int line = detection_line_[k == 0 ? left : right];
-    const bool dots = detection_->lines[static_cast<std::size_t>(line)].dots;
-    if (const SupportProblem p = check_paint_width(width_distance_slope(detection_->marks, line, dots));
-        p != SupportProblem::none)
-      return p;
-    if (dots) continue;
-    if (const SupportProblem p =
-            check_paint_width_spread(paint_width_spread(detection_->marks, line, scratch_), options_.detection);
-        p != SupportProblem::none)
+    if (const SupportProblem p = paint_problem(detection_line_[k == 0 ? left : right]); p != SupportProblem::none)
       return p;
   }
   return SupportProblem::none;
+}
+
+SupportProblem LaneFit::paint_problem(int line) const {
+  const bool dots = detection_->lines[static_cast<std::size_t>(line)].dots;
+  if (const SupportProblem p = check_paint_width(width_distance_slope(detection_->marks, line, dots));
+      p != SupportProblem::none || dots)
+    return p;
+  return check_paint_width_spread(paint_width_spread(detection_->marks, line, scratch_), options_.detection);
+}
+
+SupportProblem LaneFit::line_problem(const SolveResult& r, int j, bool beside_a_lane) const {
+  const LineSupport support = line_support(picks(), r.points_mm, j);
+  SupportProblem p = check_line_support(support, options_.detection);
+  if (p == SupportProblem::none && detection_->lines[static_cast<std::size_t>(detection_line_[j])].parallel)
+    p = SupportProblem::too_few_marks;
+  if (p == SupportProblem::none || !beside_a_lane) return p;
+  // A dash a lane's width from the nearest solved line, as the own lane may have.
+  double width = 1e300;
+  for (int i = 0; i < r.num_lines; ++i)
+    if (i != j) width = std::min(width, std::abs(r.lines[i].y0_mm - r.lines[j].y0_mm));
+  return check_dash_support(support, options_.detection, GroupingParams{}, width) ? SupportProblem::none : p;
 }
 
 SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,

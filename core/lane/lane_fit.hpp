@@ -50,6 +50,15 @@ class LaneFit {
   SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
                                       const Attitude& mount,
                                       bool height_settled = true) const;
+  // Why solved line j, on its own, is not a line to report (lane_support.hpp): its marks
+  // cover too little of the searched road, or it was placed only as a parallel of the
+  // others; beside a supported lane (beside_a_lane), a single dash a lane's width from the
+  // nearest line will do, as it does for one of the own lane's lines. None when it is a
+  // line to report. The own lane's lines are judged by lane_support_problem; this judges
+  // the lines beyond them. Not the paint-width checks: a line beyond the own lane is seen
+  // only from farther off, where blur flattens the narrowing with distance they test
+  // (a rendered road's leftmost line, 5.7 m out, failed them).
+  SupportProblem line_problem(const SolveResult& r, int j, bool beside_a_lane) const;
 
   // The current problem, for the track stage and for overlays and diagnostics.
   const DetectionResult& detection() const { return *detection_; }
@@ -64,6 +73,8 @@ class LaneFit {
   SolveRequest request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const;
   void measure_residuals(const SolveResult& r);
   SupportProblem line_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const;
+  // Whether the marks of detection line `line` narrow with distance as one width does.
+  SupportProblem paint_problem(int line) const;
 
   const LaneEstimatorOptions& options_;
   int min_marks_;

@@ -47,6 +47,7 @@ TrackedLines track_lines(LaneTracker& tracker, const SolveResult& r, const LaneF
     const auto j = static_cast<std::size_t>(order[k]);
     const RoadLine& l = r.lines[j];
     EstimatedLine& out = t.lines[k];
+    t.solve_line[k] = order[k];
     out.id = ids[j];
     out.y0_mm = l.y0_mm;
     out.m = l.m;

@@ -15,6 +15,7 @@ namespace ccdlane {
 struct TrackedLines {
   int num_lines = 0;
   std::array<EstimatedLine, kMaxLaneLines> lines{};  // left to right (largest y0 first)
+  std::array<int, kMaxLaneLines> solve_line{};       // per line of `lines`: its index in the solve
   LaneMetrics metrics;                               // of `lines`
   OwnLane own;  // the own lane's lines as indices into the solve's lines, and its measures
 };

@@ -4,6 +4,7 @@
 #include "core/lane/lane_fit.hpp"
 
 #include <cmath>
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -61,31 +62,49 @@ TEST(LaneFit, AWellFittingSolveDropsNothing) {
 // drives, by a degree each time the barrier's line came and went). Held between the own
 // lane's lines, the roll and the width are the truth's, to within what the picks' noise
 // moves them: over independent draws, their mean within 4 standard errors of the truth.
+// A detection of straight lines at these offsets, each with noisy picks (sigma the
+// solver's pixel_sigma) of its marks from `from_mm` to `to_mm` ahead every `step_mm`, as
+// the truth pose's camera sees them; detection's fits 50 mm off the truth.
+struct LineMarks {
+  double y0_mm, from_mm, to_mm, step_mm;
+};
+DetectionResult detection_of_lines(const LaneEstimatorOptions& o, const CameraPose& truth,
+                                   std::initializer_list<LineMarks> lines, std::mt19937_64& rng,
+                                   std::vector<Pick>& picks) {
+  const CameraModel camera(o.camera, truth);
+  std::normal_distribution<double> noise(0.0, o.solver.pixel_sigma);
+  picks.clear();
+  DetectionResult d;
+  for (const LineMarks& l : lines) {
+    const int j = d.num_lines++;
+    d.lines[j].fit = {l.y0_mm + 50.0, 0.0, 0.0};
+    d.lines[j].marks = 0;
+    for (double x = l.from_mm; x <= l.to_mm; x += l.step_mm) {
+      const auto px = camera.pixel_from_point(Vec3(x, l.y0_mm, 0.0));
+      if (!px) continue;
+      picks.push_back({j, px->x() + noise(rng), px->y() + noise(rng)});
+      ++d.lines[j].marks;
+    }
+  }
+  d.picks = picks;
+  return d;
+}
+
 TEST(LaneFit, TheLaneWidthPriorHoldsForTheOwnLaneBesideAShoulder) {
   LaneEstimatorOptions o = default_config().estimator_options();  // the reference camera
   o.priors.phi_deg = Prior{0.0, 1.0};
   o.priors.lane_width_mm = Prior{3660.0, 300.0};
   const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
-  const CameraModel camera(o.camera, truth);
-  const RoadLine lines[3] = {{1830.0, 0, 0}, {-1830.0, 0, 0}, {4230.0, 0, 0}};
   std::mt19937_64 rng(27);
-  std::normal_distribution<double> noise(0.0, o.solver.pixel_sigma);
   LaneFit fit(o);
   constexpr int kDraws = 16;
   double roll[kDraws], width[kDraws];
+  std::vector<Pick> picks;
   for (int draw = 0; draw < kDraws; ++draw) {
-    std::vector<Pick> picks;
-    DetectionResult d;
-    d.num_lines = 3;
-    for (int j = 0; j < 3; ++j) {
-      d.lines[j].fit = {lines[j].y0_mm + 50.0, 0.0, 0.0};  // where detection put them
-      for (double x = 6000.0; x <= 40000.0; x += 1700.0) {
-        const auto px = camera.pixel_from_point(Vec3(x, lines[j].y0_mm, 0.0));
-        ASSERT_TRUE(px);
-        picks.push_back({j, px->x() + noise(rng), px->y() + noise(rng)});
-      }
-    }
-    d.picks = picks;
+    const DetectionResult d = detection_of_lines(
+        o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}, {-1830.0, 6000.0, 40000.0, 1700.0}, {4230.0, 6000.0, 40000.0, 1700.0}},
+        rng, picks);
+    ASSERT_EQ(picks.size(), 3u * 21u);
     ASSERT_TRUE(fit.take(d));
     const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
     ASSERT_TRUE(r.converged) << to_string(r.status);
@@ -100,6 +119,41 @@ TEST(LaneFit, TheLaneWidthPriorHoldsForTheOwnLaneBesideAShoulder) {
   };
   expect_unbiased(roll, 0.0, "roll, deg");
   expect_unbiased(width, 3660.0, "lane width, mm");
+}
+
+// The lines beyond the own lane are reported with the own lane's line rules: marks over
+// 8 m of the searched road, or, beside a supported lane, a dash a lane's width from the
+// nearest line (marks over a metre); a few marks over half a metre are neither.
+TEST(LaneFit, ALineBeyondTheOwnLaneNeedsALinesSupportOrADashBesideALane) {
+  LaneEstimatorOptions o = default_config().estimator_options();
+  o.priors.phi_deg = Prior{0.0, 1.0};
+  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  std::mt19937_64 rng(5);
+  std::vector<Pick> picks;
+  const DetectionResult d = detection_of_lines(o, truth,
+                                               {{1830.0, 6000.0, 40000.0, 1700.0},
+                                                {-1830.0, 6000.0, 40000.0, 1700.0},
+                                                {5490.0, 12000.0, 30000.0, 1500.0},   // a line: 18 m
+                                                {-5490.0, 14000.0, 15800.0, 300.0}},  // a dash: 1.8 m
+                                               rng, picks);
+  LaneFit fit(o);
+  ASSERT_TRUE(fit.take(d));
+  const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+  ASSERT_TRUE(r.converged) << to_string(r.status);
+  EXPECT_EQ(fit.line_problem(r, 0, true), SupportProblem::none);
+  EXPECT_EQ(fit.line_problem(r, 2, false), SupportProblem::none);
+  EXPECT_EQ(fit.line_problem(r, 3, false), SupportProblem::too_few_marks);  // 7 marks
+  EXPECT_EQ(fit.line_problem(r, 3, true), SupportProblem::none) << "a dash beside a lane";
+  // Half a metre of marks is no dash.
+  const DetectionResult spot = detection_of_lines(o, truth,
+                                                  {{1830.0, 6000.0, 40000.0, 1700.0},
+                                                   {-1830.0, 6000.0, 40000.0, 1700.0},
+                                                   {-5490.0, 14000.0, 14500.0, 100.0}},
+                                                  rng, picks);
+  ASSERT_TRUE(fit.take(spot));
+  const SolveResult& s = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+  ASSERT_TRUE(s.converged) << to_string(s.status);
+  EXPECT_NE(fit.line_problem(s, 2, true), SupportProblem::none);
 }
 
 }  // namespace
