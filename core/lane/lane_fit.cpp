@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/geometry/gx1_attitude.hpp"
+#include "core/lane/lane_metrics.hpp"
 
 namespace ccdlane {
 namespace {
@@ -64,15 +65,14 @@ SolveRequest LaneFit::request(const CameraPose& initial, const std::optional<Gx1
     // (the outer lines may bound a shoulder); k widths, each with its own spread, when a
     // line between them was not detected. Without a line on each side, between the
     // outermost lines.
-    int left = -1, right = -1, lo = 0, hi = 0;
-    for (int j = 0; j < num_lines_; ++j) {
-      const double y0 = initial_lines_[j].y0_mm;
-      if (y0 >= 0.0 && (left < 0 || y0 < initial_lines_[left].y0_mm)) left = j;
-      if (y0 < 0.0 && (right < 0 || y0 > initial_lines_[right].y0_mm)) right = j;
-      if (y0 < initial_lines_[lo].y0_mm) lo = j;
-      if (y0 > initial_lines_[hi].y0_mm) hi = j;
+    const std::span<const RoadLine> lines(initial_lines_.data(), static_cast<std::size_t>(num_lines_));
+    auto [left, right] = own_lane_lines(lines);
+    if (left < 0 || right < 0) {
+      const auto [lo, hi] = std::minmax_element(lines.begin(), lines.end(),
+                                                [](const RoadLine& a, const RoadLine& b) { return a.y0_mm < b.y0_mm; });
+      left = static_cast<int>(hi - lines.begin());
+      right = static_cast<int>(lo - lines.begin());
     }
-    if (left < 0 || right < 0) left = hi, right = lo;
     req.priors.lane_width_left = left;
     req.priors.lane_width_right = right;
     const double span = initial_lines_[left].y0_mm - initial_lines_[right].y0_mm;
@@ -167,9 +167,7 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
   int full_lines = 0;
   for (int j = 0; j < r.num_lines; ++j) {
     each[j] = line_support(picks(), r.points_mm, j);
-    const SupportProblem p = check_line_support(each[j], options_.detection);
-    full[j] =
-        p == SupportProblem::none && detection_->lines[detection_line_[j]].parallel ? SupportProblem::too_few_marks : p;
+    full[j] = full_support_problem(each[j], j);
     full_lines += full[j] == SupportProblem::none;
   }
   const LineSupport support[2] = {each[left], each[right]};
@@ -203,11 +201,16 @@ SupportProblem LaneFit::paint_problem(int line) const {
   return check_paint_width_spread(paint_width_spread(detection_->marks, line, scratch_), options_.detection);
 }
 
+SupportProblem LaneFit::full_support_problem(const LineSupport& support, int j) const {
+  const SupportProblem p = check_line_support(support, options_.detection);
+  return p == SupportProblem::none && detection_->lines[static_cast<std::size_t>(detection_line_[j])].parallel
+             ? SupportProblem::too_few_marks
+             : p;
+}
+
 SupportProblem LaneFit::line_problem(const SolveResult& r, int j, bool beside_a_lane) const {
   const LineSupport support = line_support(picks(), r.points_mm, j);
-  SupportProblem p = check_line_support(support, options_.detection);
-  if (p == SupportProblem::none && detection_->lines[static_cast<std::size_t>(detection_line_[j])].parallel)
-    p = SupportProblem::too_few_marks;
+  const SupportProblem p = full_support_problem(support, j);
   if (p == SupportProblem::none || !beside_a_lane) return p;
   // A dash a lane's width from the nearest solved line, as the own lane may have.
   double width = 1e300;

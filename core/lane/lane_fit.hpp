@@ -73,6 +73,10 @@ class LaneFit {
   SolveRequest request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const;
   void measure_residuals(const SolveResult& r);
   SupportProblem line_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const;
+  // Solved line j's support as a full line: marks over enough of the searched road
+  // (`support`, its line_support) and not placed only as a parallel of the others, which
+  // is at most a dash's support whatever the number of its marks.
+  SupportProblem full_support_problem(const LineSupport& support, int j) const;
   // Whether the marks of detection line `line` narrow with distance as one width does.
   SupportProblem paint_problem(int line) const;
 
