@@ -9,6 +9,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "base/median.hpp"
 #include "core/synth/random.hpp"
 
 namespace ccdlane::ldw {
@@ -21,12 +22,7 @@ bool is_dropped(const std::vector<DropWindow>& drops, double t) {
   return std::any_of(drops.begin(), drops.end(), [t](const DropWindow& d) { return t >= d.from_s && t < d.to_s; });
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+double median(std::vector<double> v) { return median_in_place(v); }
 
 const char* road_name(double curvature) {
   return curvature > 0 ? "curve left" : curvature < 0 ? "curve right" : "straight";

@@ -7,16 +7,10 @@
 #include <cstdint>
 #include <optional>
 
+#include "base/median.hpp"
+
 namespace ccdlane {
 namespace {
-
-// The median of v (reordered), the mean of the middle two for an even count.
-double median(std::span<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  if (v.size() % 2) return *mid;
-  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
-}
 
 bool agrees(const std::optional<Prior>& prior, double value) {
   return !prior || !(std::abs(value - prior->mean) > kPriorAgreementSigmas * prior->sigma);
@@ -90,9 +84,9 @@ double paint_width_spread(std::span<const MarkCandidate> marks, int detection_li
   }
   if (n < 3) return std::nan("");
   const std::span<double> v = scratch.first(n);
-  const double centre = median(v);
+  const double centre = median_in_place(v);
   for (double& x : v) x = std::abs(x - centre);
-  return median(v);
+  return median_in_place(v);
 }
 
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection) {
