@@ -31,6 +31,10 @@ constexpr double kMaxDotWidthMm = 250.0;
 // 10 cm, the other half is its shadow. Bars that narrow are kept as possible dots.
 constexpr double kMinDotLitWidthMm = 40.0;
 constexpr double kDotBlurPx = 2.0;
+// Lit from one side, a marker is a cap beside its shadow (dot_scanner.hpp), looked for
+// where the dome (10 cm) spans this many pixels: fewer, and cap and shadow blur into one.
+constexpr double kDotDiameterMm = 100.0;
+constexpr double kMinShadowedDotPx = 2.5;
 // Yellow paint stands above the road mostly by its colour (on pale concrete, by its
 // colour alone): its yellowness is at least this fraction of its contrast, and above
 // the tint of grey surfaces (a few levels) by this much. White paint's is near 0.
@@ -84,6 +88,8 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     r.min_width_px = static_cast<float>(std::max(0.8, 0.5 * min_px - 1.0));
     r.max_width_px = static_cast<float>(1.15 * max_px + 2.0);
     r.min_dot_width_px = static_cast<float>(std::max(1.0, kMinDotLitWidthMm / mm_per_px - 1.0));
+    const double dot_px = kDotDiameterMm / mm_per_px;
+    r.dot_px = dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
@@ -164,6 +170,77 @@ bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels
   c.dot_top = static_cast<std::int16_t>(y + 1 - up);
   c.dot_bottom = static_cast<std::int16_t>(y + 1 + down);
   return true;
+}
+
+bool LaneDetector::is_shadowed_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const {
+  // As is_dot, for the cap and the shadow each: the cap's centre column stays bright,
+  // the shadow's dark, over no more rows than a marker is long, and beyond the cap's
+  // ends the road is not lit as wide as the cap (a bright edge along a dark one, both
+  // long: the side of a seam, a car's trim over its shadow).
+  double X_below = 0.0, Y_below = 0.0;
+  if (!projector_.ground(c.px(), c.py + 1.0, X_below, Y_below)) return false;
+  const double mm_per_px_down = std::max(1.0, c.X - X_below);
+  if (mm_per_px_down > kMaxDotLengthMm) return false;
+  const int limit = static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+  const double edge = c.px() - 1.0, cap_w = 0.5 * c.width_px();  // 0-based
+  const int y = static_cast<int>(c.py) - 1;
+  const int x_cap = static_cast<int>(std::lround(edge - 0.5 * c.shadow_side * cap_w));
+  const int x_shadow = static_cast<int>(std::lround(edge + 0.5 * c.shadow_side * static_cast<double>(c.shadow_px)));
+  const int xa = static_cast<int>(std::floor(std::min(edge, edge - c.shadow_side * cap_w)));
+  const int xb = static_cast<int>(std::ceil(std::max(edge, edge - c.shadow_side * cap_w)));
+  const int w = xb - xa + 1;
+  if (std::min({x_cap, x_shadow, xa - w}) < 0 || std::max({x_cap, x_shadow, xb + w}) >= image.width) return false;
+  const float half = 0.5f * static_cast<float>(c.contrast) * levels_per_grey;
+  const float lit = static_cast<float>(paint_measure_at(image, x_cap, y)) - half;
+  const float dark = static_cast<float>(paint_measure_at(image, x_shadow, y)) + half;
+  const auto bright = [&](int px, int py) { return static_cast<float>(paint_measure_at(image, px, py)) >= lit; };
+  const auto shaded = [&](int px, int py) { return static_cast<float>(paint_measure_at(image, px, py)) <= dark; };
+  // The rows a column stays so over, up and down; -1: beyond the limit or the picture.
+  const auto rows = [&](int x, int step, const auto& so) {
+    int n = 0;
+    for (int yy = y + step; n <= limit; yy += step, ++n) {
+      if (yy < 0 || yy >= image.height) return -1;
+      if (!so(x, yy)) return n;
+    }
+    return -1;
+  };
+  const int up = rows(x_cap, -1, bright), down = rows(x_cap, +1, bright);
+  const int shadow_up = rows(x_shadow, -1, shaded), shadow_down = rows(x_shadow, +1, shaded);
+  if (std::min({up, down, shadow_up, shadow_down}) < 0 || up + down + 1 > limit ||
+      shadow_up + shadow_down + 1 > limit)
+    return false;
+  // A lit dome's cap is a crescent: beyond its centre column's ends its tips go on
+  // beside it for a row, narrower than it; a bar does so as wide.
+  for (const int yy : {y - up - 1, y + down + 1}) {
+    int n = 0;
+    for (int xx = xa - w; xx <= xb + w; ++xx) n += bright(xx, yy);
+    if (n >= w) return false;
+  }
+  c.dot_top = static_cast<std::int16_t>(y + 1 - up);
+  c.dot_bottom = static_cast<std::int16_t>(y + 1 + down);
+  return true;
+}
+
+int LaneDetector::keep_one_sun(int kept) {
+  // One sun lights every marker of a picture from the same side: markers found as a cap
+  // beside a shadow falling the other way than most are something else (a speck on a
+  // shadow's border, a car's trim, noise), and are dropped.
+  int right = 0, left = 0;
+  for (int i = 0; i < kept; ++i) {
+    right += marks_[static_cast<std::size_t>(i)].shadow_side > 0;
+    left += marks_[static_cast<std::size_t>(i)].shadow_side < 0;
+  }
+  if (right == 0 || left == 0) return kept;
+  const std::int8_t other = right >= left ? -1 : 1;
+  int n = 0;
+  for (int i = 0; i < kept; ++i) {
+    const MarkCandidate& c = marks_[static_cast<std::size_t>(i)];
+    if (c.shadow_side == other) continue;
+    marks_[static_cast<std::size_t>(n++)] = c;
+  }
+  result_.counters.dots -= kept - n;
+  result_.counters.against_the_sun = kept - n;
+  return n;
 }
 
 bool LaneDetector::is_yellow(const ImageView& image, const MarkCandidate& c) {
@@ -259,7 +336,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
       ++result_.counters.off_road;
       continue;
     }
-    c.dot = is_dot(image, c, scale);
+    c.dot = c.shadow_side != 0 ? is_shadowed_dot(image, c, scale) : is_dot(image, c, scale);
     if (c.narrow && !c.dot) {
       ++result_.counters.narrow;
       continue;
@@ -282,6 +359,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     result_.counters.yellow += c.yellow;
     marks_[static_cast<std::size_t>(kept++)] = c;
   }
+  kept = keep_one_sun(kept);
   const std::span<MarkCandidate> marks(marks_.data(), static_cast<std::size_t>(kept));
   GroupingParams params;
   params.min_marks = config_.min_marks;

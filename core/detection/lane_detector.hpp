@@ -48,6 +48,11 @@ class LaneDetector {
   // the road than a raised marker, and dark all around. If so, sets its dot_top and
   // dot_bottom (the rows it is lit over).
   bool is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
+  // The same for a marker found as a lit cap beside its shadow (c.shadow_side != 0).
+  bool is_shadowed_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
+  // Drops the markers of marks_[0, kept) whose shadow falls against the picture's sun;
+  // returns how many are left.
+  int keep_one_sun(int kept);
   // Whether candidate c is yellow paint (colour frames only).
   static bool is_yellow(const ImageView& image, const MarkCandidate& c);
   void choose_picks();

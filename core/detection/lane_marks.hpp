@@ -36,6 +36,10 @@ struct MarkCandidate {
   // Yellow paint: its colour is most of what it stands above the road by. Barrier feet,
   // kerbs, seams and concrete are grey; a yellow line is paint.
   bool yellow = false;
+  // A raised marker found as a lit cap beside its own shadow (dot_scanner.hpp): the side
+  // the shadow lies on (+1 right, -1 left; 0: not found so) and its width, pixels.
+  std::int8_t shadow_side = 0;
+  float shadow_px = 0.0f;
 
   double px() const { return 0.5 * (left_px + right_px); }
   double width_px() const { return right_px - left_px; }
@@ -65,6 +69,7 @@ struct DetectionCounters {
   int step_beside = 0;        // a bar (not a dot) whose edges a step beside it may bias
   int narrow = 0;             // a bar (not a dot) narrower than paint
   int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
+  int against_the_sun = 0;    // markers whose shadow falls the other way than most (dropped)
   int yellow = 0;             // yellow paint among those kept
   int grouped = 0;            // on a reported line
 };

@@ -33,7 +33,8 @@ MarkScanner::MarkScanner(int max_width)
       prefix_(static_cast<std::size_t>(max_width) + 1),
       grad_(static_cast<std::size_t>(max_width)),
       rising_(static_cast<std::size_t>(max_width)),
-      falling_(static_cast<std::size_t>(max_width)) {
+      falling_(static_cast<std::size_t>(max_width)),
+      dots_(max_width) {
   assert(max_width < (1 << 15) && "prefix sums of 16-bit pixels are 32-bit");
 }
 
@@ -102,6 +103,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
   };
 
+  const int first_of_row = count;
   // Pair each falling edge with the last rising edge before it. Bars narrower than paint
   // are kept (flagged) down to a dot's lit cap when the row asks for dots.
   const float min_width = std::min(r.min_width_px, r.min_dot_width_px);
@@ -150,8 +152,10 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     c.step_beside = step_beside;
     c.narrow = w < r.min_width_px || bar_width < r.min_width_px;
     c.dot = false;
+    c.shadow_side = 0;
   }
-  return count;
+  return dots_.scan(row, P, x_begin, width, r, scan_row_index, min_contrast, to_8bit, out, first_of_row, count,
+                    capacity);
 }
 
 }  // namespace ccdlane

@@ -7,27 +7,11 @@
 #include <vector>
 
 #include "base/image_view.hpp"
+#include "core/detection/dot_scanner.hpp"
 #include "core/detection/lane_marks.hpp"
+#include "core/detection/scan_row.hpp"
 
 namespace ccdlane {
-
-// How to scan one row: derived per frame from the camera model and the current pose.
-struct ScanRow {
-  int y = 0;               // 0-based image row
-  float mark_px = 1.0f;    // expected mark width along this row, pixels
-  float min_width_px = 1;  // accepted bar widths
-  float max_width_px = 4;
-  // Narrower bars, down to this, are kept flagged `narrow`: the lit cap of a raised
-  // marker is narrower than paint, and only a short blob may be that narrow (the
-  // detector's test). By default none.
-  float min_dot_width_px = 1e30f;
-  int half_width = 1;  // of the box derivative (noise averaging at the mark's scale)
-  // The columns scanned, 0-based [x_begin, x_end) (clipped to the picture): where the
-  // road searched lies on this row. Pixels outside are never read, nor is their paint
-  // measure computed.
-  int x_begin = 0;
-  int x_end = 1 << 30;
-};
 
 class MarkScanner {
  public:
@@ -54,6 +38,7 @@ class MarkScanner {
   std::vector<std::int32_t> prefix_;    // prefix sums of the row (65535 x 2^15 pixels fit)
   std::vector<std::int32_t> grad_;      // box derivative
   std::vector<Edge> rising_, falling_;
+  DotScanner dots_;
 };
 
 }  // namespace ccdlane

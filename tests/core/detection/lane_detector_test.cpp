@@ -8,9 +8,11 @@
 #include <array>
 #include <cmath>
 #include <vector>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "app/config_loader.hpp"
 #include "tests/core/detection/detection_truth.hpp"
 #include "tests/core/synth/rendered_road.hpp"
 #include "tests/support/allocation_counter.hpp"
@@ -165,25 +167,52 @@ TEST(LaneDetector, RejectsBarsThatAreNotOnTheRoadOrNotAlongIt) {
 // Botts' dots: a road marked only by round raised markers, 10 cm across, in groups of four
 // 1.2 m apart with 4.8 m gaps (a Californian pattern), on textured concrete. Each line of
 // dots is found where it is, from its dots; the same dots scattered at random make no line.
-void draw_dot(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X, double Y,
-              std::uint8_t grey) {
-  constexpr double kRadiusMm = 50.0;
+// Paints a marker centred at (X, Y) on the road: `grey(dx, dy)` is its grey level at an
+// offset on the road from its centre, mm (-1: the road's own), averaged over each pixel.
+template <typename Grey>
+void draw_marker(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X,
+                 double Y, const Grey& grey) {
   const auto centre = model.pixel_from_point(Vec3(X, Y, 0.0));
   if (!centre) return;
   const int cx = static_cast<int>(centre->x()) - 1, cy = static_cast<int>(centre->y()) - 1;
   constexpr int kSamples = 4;  // per pixel side: a far dot covers part of a pixel, as a lens blurs it
   for (int y = std::max(0, cy - 20); y <= std::min(im.height - 1, cy + 20); ++y)
     for (int x = std::max(0, cx - 40); x <= std::min(im.width - 1, cx + 40); ++x) {
-      int inside = 0;
+      std::uint8_t& p = im.row(y)[x];
+      int sum = 0;
       for (int sy = 0; sy < kSamples; ++sy)
         for (int sx = 0; sx < kSamples; ++sx) {
           double gx = 0, gy = 0;
-          inside += ground.ground(x + 0.5 + (sx + 0.5) / kSamples, y + 0.5 + (sy + 0.5) / kSamples, gx, gy) &&
-                    std::hypot(gx - X, gy - Y) <= kRadiusMm;
+          const int g = ground.ground(x + 0.5 + (sx + 0.5) / kSamples, y + 0.5 + (sy + 0.5) / kSamples, gx, gy)
+                            ? grey(gx - X, gy - Y)
+                            : -1;
+          sum += g < 0 ? p : g;
         }
-      std::uint8_t& p = im.row(y)[x];
-      p = static_cast<std::uint8_t>(p + (grey - p) * inside / (kSamples * kSamples));
+      p = static_cast<std::uint8_t>(sum / (kSamples * kSamples));
     }
+}
+
+constexpr double kDotRadiusMm = 50.0;
+
+void draw_dot(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X, double Y,
+              std::uint8_t grey) {
+  draw_marker(im, ground, model, X, Y,
+              [grey](double dx, double dy) { return std::hypot(dx, dy) <= kDotRadiusMm ? int{grey} : -1; });
+}
+
+// The same marker in sunlight from the left, raised as Botts' dots are (18 mm): its dome
+// hides the road for h X / H beyond it, so it looks that much longer than its footprint.
+// Lit only on its outer 30 mm on the sun's side (narrower than a bar the detector takes
+// alone); the rest of the dome, and its shadow on the road as long, dark.
+void draw_sunlit_dot(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X,
+                     double Y, double height_mm) {
+  constexpr double kDomeMm = 18.0;
+  const double length = kDotRadiusMm + 0.5 * kDomeMm * X / height_mm;  // half, along the road
+  draw_marker(im, ground, model, X, Y, [length](double dx, double dy) {
+    const double along = dx / length;
+    if (std::hypot(along, dy / kDotRadiusMm) <= 1.0) return dy > kDotRadiusMm - 30.0 ? 230 : 70;
+    return std::hypot(along, (dy + 40.0) / kDotRadiusMm) <= 1.0 ? 70 : -1;
+  });
 }
 
 void concrete(const MutableImageView& im, std::uint32_t seed) {
@@ -233,6 +262,33 @@ TEST(LaneDetector, ALineOfBottsDotsIsALine) {
 
   LaneDetector det2(c.camera, c.detection);
   EXPECT_EQ(det2.detect(scattered.view, pose, {}).num_lines, 0);
+}
+
+// Botts' dots in sunlight, as California's freeways have them: each a lit crescent
+// narrower than paint beside its shadow, in the groups of the test above. Found from the pairs, where the
+// dots are. Seen by TuSimple's camera (1280x720, 1.69 m up, 7 degrees down), where a dot
+// 10 m off spans two rows (from the reference camera's 800x600 at 3 degrees, one).
+TEST(LaneDetector, ALineOfSunlitBottsDotsIsALine) {
+  const Config c = load_config_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/camera.toml");
+  const CameraPose pose = c.nominal_pose();
+  const GroundProjector ground(c.camera, pose);
+  const CameraModel model(c.camera, pose);
+  const std::array<double, 2> lines_mm = {1800.0, -1800.0};
+  Frame frame(c.camera);
+  concrete(frame.view, 7);
+  for (const double Y : lines_mm)
+    for (double X0 = 4000.0; X0 < 40000.0; X0 += 8400.0)
+      for (int k = 0; k < 4; ++k) draw_sunlit_dot(frame.view, ground, model, X0 + 1200.0 * k, Y, pose.H_mm);
+  LaneDetector det(c.camera, c.detection);
+  const DetectionResult& r = det.detect(frame.view, pose, {});
+  ASSERT_EQ(r.num_lines, 2) << "dots " << r.counters.dots << " of " << r.counters.candidates << " candidates";
+  for (int j = 0; j < 2; ++j) {
+    const DetectedLine& l = r.lines[static_cast<std::size_t>(j)];
+    EXPECT_TRUE(l.dots);
+    EXPECT_NEAR(l.fit.y_at(5000.0), lines_mm[static_cast<std::size_t>(j)], kDotRadiusMm) << "line " << j;
+    EXPECT_NEAR(l.fit.y_at(20000.0), lines_mm[static_cast<std::size_t>(j)], kDotRadiusMm) << "line " << j;
+    EXPECT_GE(l.num_picks, c.detection.min_marks);
+  }
 }
 
 TEST(LaneDetector, SixteenBitFramesGiveTheSameLines) {
