@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace ccdlane {
 namespace {
@@ -32,7 +35,8 @@ constexpr float kTextureShare = 0.3f;
 
 }  // namespace
 
-DotScanner::DotScanner(int max_width) : runs_(static_cast<std::size_t>(max_width)) {}
+DotScanner::DotScanner(int max_width)
+    : class_(static_cast<std::size_t>(max_width)), runs_(static_cast<std::size_t>(max_width)) {}
 
 template <typename Pixel>
 int DotScanner::scan(const Pixel* row, const std::int32_t* P, int x_begin, int width, const ScanRow& r, int scan_row,
@@ -47,21 +51,38 @@ int DotScanner::scan(const Pixel* row, const std::int32_t* P, int x_begin, int w
   // and inside a shadow longer than a marker, one side is the shadow's own.
   const int w = std::max(2, static_cast<int>(std::lround(dot)));
   const auto threshold = static_cast<std::int32_t>(std::ceil(min_contrast * static_cast<float>(w)));
+  // First every pixel's class, in a loop without branches the compiler vectorises (this
+  // pass runs over every pixel of most scan rows); then the runs, from where it changes.
+  std::int8_t* const cls = class_.data();
+  const int lo = w, hi = width - w;
+  for (int x = lo; x < hi; ++x) {
+    const std::int32_t road = std::max(P[x] - P[x - w], P[x + 1 + w] - P[x + 1]);
+    const std::int32_t v = static_cast<std::int32_t>(row[x]) * w;
+    cls[x] = static_cast<std::int8_t>(static_cast<int>(v - road >= threshold) - static_cast<int>(road - v >= threshold));
+  }
   int num_runs = 0;
   Run* runs = runs_.data();
   std::int8_t open = 0;
-  for (int x = w; x < width - w; ++x) {
-    const std::int32_t left = P[x] - P[x - w], right = P[x + 1 + w] - P[x + 1];
-    const std::int32_t v = static_cast<std::int32_t>(row[x]) * w;
-    const std::int8_t sign = v - std::max(left, right) >= threshold  ? 1
-                             : std::max(left, right) - v >= threshold ? -1
-                                                                      : 0;
-    if (sign == open) continue;
+  const auto change = [&](int x) {  // the class changes at x
     if (open != 0) runs[num_runs - 1].end = x;
-    if (sign != 0) runs[num_runs++] = {x, x, sign};
-    open = sign;
+    open = cls[x];
+    if (open != 0) runs[num_runs++] = {x, x, open};
+  };
+  if (lo < hi && cls[lo] != 0) change(lo);
+  int next = lo + 1;
+#if defined(__SSE2__)
+  // Sixteen pixels at a time: a bit for each whose class differs from its left
+  // neighbour's; changes are few on a road row, and only they are visited.
+  for (; next + 16 <= hi; next += 16) {
+    const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cls + next));
+    const __m128i left = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cls + next - 1));
+    auto changes = static_cast<unsigned>(~_mm_movemask_epi8(_mm_cmpeq_epi8(here, left))) & 0xFFFFu;
+    for (; changes != 0; changes &= changes - 1) change(next + __builtin_ctz(changes));
   }
-  if (open != 0) runs[num_runs - 1].end = width - w;
+#endif
+  for (; next < hi; ++next)
+    if (cls[next] != cls[next - 1]) change(next);
+  if (open != 0) runs[num_runs - 1].end = hi;
 
   auto mean = [P](int a, int b) {  // pixels [a, b)
     return static_cast<float>(P[b] - P[a]) / static_cast<float>(b - a);

@@ -37,6 +37,7 @@ class DotScanner {
     std::int32_t begin, end;  // pixels [begin, end) of the segment
     std::int8_t sign;         // +1 brighter than the road around it, -1 darker
   };
+  std::vector<std::int8_t> class_;  // per pixel: +1 brighter, -1 darker than the road, 0
   std::vector<Run> runs_;
 };
 

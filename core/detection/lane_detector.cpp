@@ -88,8 +88,12 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     r.min_width_px = static_cast<float>(std::max(0.8, 0.5 * min_px - 1.0));
     r.max_width_px = static_cast<float>(1.15 * max_px + 2.0);
     r.min_dot_width_px = static_cast<float>(std::max(1.0, kMinDotLitWidthMm / mm_per_px - 1.0));
+    // Markers lit from one side, where they are told from paint at all (is_dot: a row
+    // spanning more of the road than a marker is long makes a dash a few rows tall too).
     const double dot_px = kDotDiameterMm / mm_per_px;
-    r.dot_px = dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
+    double X_below = 0.0, Y_below = 0.0;
+    const bool dots_told = projector_.ground(col, y + 2.0, X_below, Y_below) && X - X_below <= kMaxDotLengthMm;
+    r.dot_px = dots_told && dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
