@@ -28,7 +28,7 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
 void LaneEstimator::reset() {
   mount_.reset();
   reset_lines();
-  ldw_.reset();
+  ldw_.reset_mount();
 }
 
 CameraPose LaneEstimator::nominal_pose() const {

@@ -19,14 +19,18 @@ using DynRows = Eigen::Matrix<double, Eigen::Dynamic, kStateSize, 0, kMeasuremen
 using DynCols = Eigen::Matrix<double, kStateSize, Eigen::Dynamic, 0, kStateSize, kMeasurementSize>;
 using DynVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMeasurementSize, 1>;
 
-// d(measurement)/d(state): the lines at w/2 - d and -w/2 - d, the rest one to one.
-MeasurementMatrix measurement_jacobian() {
-  MeasurementMatrix H = MeasurementMatrix::Zero();
+using MeasurementJacobian = Eigen::Matrix<double, kMeasurementSize, kStateSize>;
+
+// d(measurement)/d(state): the lines at w/2 - d and -w/2 - d, the heading plus its bias,
+// the rest one to one.
+MeasurementJacobian measurement_jacobian() {
+  MeasurementJacobian H = MeasurementJacobian::Zero();
   H(kLeftLine, kOffset) = -1.0;
   H(kLeftLine, kWidth) = 0.5;
   H(kRightLine, kOffset) = -1.0;
   H(kRightLine, kWidth) = -0.5;
   H(kMeasuredHeading, kHeading) = 1.0;
+  H(kMeasuredHeading, kHeadingBias) = 1.0;
   H(kMeasuredCurvature, kCurvature) = 1.0;
   H(kMeasuredPitch, kPitch) = 1.0;
   H(kMeasuredRoll, kRoll) = 1.0;
@@ -65,10 +69,20 @@ const char* to_string(LaneChange c) {
 LaneFilter::LaneFilter(const LaneFilterConfig& config) : config_(config) {
   for (int n = 1; n <= kMeasurementSize; ++n)
     gate_[static_cast<std::size_t>(n)] = chi_square_quantile(n, config_.gate_probability);
+  reset_mount();
+}
+
+void LaneFilter::reset_mount() {
   reset();
+  bias_ = 0.0;
+  bias_variance_ = config_.initial_heading_bias_rad * config_.initial_heading_bias_rad;
 }
 
 void LaneFilter::reset() {
+  if (accepted_ > 0) {  // a track ends: keep what it learnt of the mount
+    bias_ = x_(kHeadingBias);
+    bias_variance_ = P_(kHeadingBias, kHeadingBias);
+  }
   x_.setZero();
   P_.setZero();
   accepted_ = 0;
@@ -96,7 +110,7 @@ void LaneFilter::predict(double dt_s, const VehicleMotion& motion) {
   const double q_heading = motion.yaw_rate_radps ? config_.heading_noise_rad : config_.heading_noise_no_yaw_rate_rad;
   StateVector q;
   q << config_.offset_noise_m, q_heading, config_.curvature_noise_per_m, config_.width_noise_m, config_.pitch_noise_rad,
-      config_.track_roll ? config_.roll_noise_rad : 0.0;
+      config_.track_roll ? config_.roll_noise_rad : 0.0, config_.heading_bias_noise_rad;
   StateMatrix Q = (q.array().square() * dt).matrix().asDiagonal();
   // The heading's random walk, integrated, moves the offset too.
   const double qh2 = q_heading * q_heading, vc = v * cos_psi;
@@ -114,7 +128,7 @@ void LaneFilter::predict(double dt_s, const VehicleMotion& motion) {
 
 void LaneFilter::initialise(const LaneMeasurement& m) {
   // z -> x: d = -(yl + yr) / 2, w = yl - yr, the rest one to one.
-  StateMatrix T = StateMatrix::Zero();
+  Eigen::Matrix<double, kStateSize, kMeasurementSize> T = Eigen::Matrix<double, kStateSize, kMeasurementSize>::Zero();
   T(kOffset, kLeftLine) = T(kOffset, kRightLine) = -0.5;
   T(kWidth, kLeftLine) = 1.0;
   T(kWidth, kRightLine) = -1.0;
@@ -122,8 +136,9 @@ void LaneFilter::initialise(const LaneMeasurement& m) {
   T(kPitch, kMeasuredPitch) = T(kRoll, kMeasuredRoll) = 1.0;
   MeasurementVector z = m.value;
   MeasurementMatrix R = m.covariance;
-  const StateVector initial_sigma(0.0, config_.initial_heading_rad, config_.initial_curvature_per_m, 0.0,
-                                  config_.initial_pitch_rad, config_.initial_roll_rad);
+  StateVector initial_sigma;
+  initial_sigma << 0.0, config_.initial_heading_rad, config_.initial_curvature_per_m, 0.0, config_.initial_pitch_rad,
+      config_.initial_roll_rad, 0.0;
   StateVector absent_variance = StateVector::Zero();
   for (int i = kMeasuredHeading; i < kMeasurementSize; ++i) {
     const bool use = m.present[static_cast<std::size_t>(i)] && (i != kMeasuredRoll || config_.track_roll);
@@ -137,6 +152,15 @@ void LaneFilter::initialise(const LaneMeasurement& m) {
   x_ = T * z;
   P_ = T * R * T.transpose();
   P_.diagonal() += absent_variance;
+  // The measured heading is the heading plus the bias the previous tracks left (or the
+  // prior): heading = measured - bias, correlated with it.
+  x_(kHeadingBias) = bias_;
+  P_(kHeadingBias, kHeadingBias) = bias_variance_;
+  if (m.present[kMeasuredHeading]) {
+    x_(kHeading) -= bias_;
+    P_(kHeading, kHeading) += bias_variance_;
+    P_(kHeading, kHeadingBias) = P_(kHeadingBias, kHeading) = -bias_variance_;
+  }
   accepted_ = 1;
   state_.since_update_s = 0.0;
   state_.updated = true;
@@ -160,7 +184,7 @@ void LaneFilter::update(const LaneMeasurement& m) {
     if (m.present[static_cast<std::size_t>(i)] && (i != kMeasuredRoll || config_.track_roll))
       rows[static_cast<std::size_t>(n++)] = i;
   if (n == 0) return;
-  static const MeasurementMatrix H_full = measurement_jacobian();
+  static const MeasurementJacobian H_full = measurement_jacobian();
   DynRows H(n, kStateSize);
   DynVector z(n);
   Dyn R(n, n);

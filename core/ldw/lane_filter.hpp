@@ -17,17 +17,24 @@ namespace ccdlane::ldw {
 //   curvature  k  the lane's, 1/m, + bending left
 //   width      w  between the lines' centres, m
 //   pitch, roll   the camera's (the solve's theta and phi), rad
+//   heading bias  b  what the solve's heading reads beyond the vehicle's: the camera's
+//                 yaw on the vehicle less the configured mount's, rad. A mount a degree
+//                 off in yaw reads as a degree of heading on every frame, and a heading
+//                 taken at face value predicts a drift of speed x heading that the
+//                 offsets never show (0.4-0.5 m/s on the Udacity drives). The offsets'
+//                 rate tells the true heading, so the bias is observable; it persists
+//                 across tracks (it is the mount's), until reset_mount().
 // Motion model (a point moving at speed v along the vehicle's heading, the lane a curve
 // of curvature k in Frenet coordinates):
 //   d'   = v sin(psi)
 //   psi' = r - v k          with the yaw rate r (+ turning left); without it psi' = 0:
 //                           the driver is assumed to follow the lane, and the heading's
 //                           process noise is larger to cover his steering
-//   k' = w' = pitch' = roll' = 0   random walks
+//   k' = w' = pitch' = roll' = b' = 0   random walks
 // The camera sits ahead of the point whose velocity is along the heading (the rear
 // axle); its extra lateral speed (yaw rate times that distance, a few cm/s) is left to
 // the offset's process noise.
-enum StateIndex : int { kOffset = 0, kHeading, kCurvature, kWidth, kPitch, kRoll, kStateSize };
+enum StateIndex : int { kOffset = 0, kHeading, kCurvature, kWidth, kPitch, kRoll, kHeadingBias, kStateSize };
 
 using StateVector = Eigen::Matrix<double, kStateSize, 1>;
 using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
@@ -78,11 +85,15 @@ struct LaneFilterConfig {
   double width_noise_m = 0.05;
   double pitch_noise_rad = 0.03;
   double roll_noise_rad = 0.01;
+  double heading_bias_noise_rad = 0.001;  // a mount's yaw shifts slowly, if at all
   // Prior sigma of the states a first measurement lacks.
   double initial_curvature_per_m = 2e-3;
   double initial_heading_rad = 0.05;
   double initial_pitch_rad = 0.05;
   double initial_roll_rad = 0.02;
+  // The heading bias's: a configured mount stands when the picture shows it within 2
+  // degrees in yaw (mount_refinement.hpp), so it may be that far off.
+  double initial_heading_bias_rad = 0.035;
 
   bool operator==(const LaneFilterConfig&) const = default;
 };
@@ -122,8 +133,10 @@ class LaneFilter {
  public:
   explicit LaneFilter(const LaneFilterConfig& config = {});
 
-  // Forgets the track.
+  // Forgets the track; the heading bias learnt is kept (it is the mount's).
   void reset();
+  // Forgets the track and the heading bias (another mount, another camera).
+  void reset_mount();
 
   // Carries the state dt_s forward (dt_s >= 0) with the vehicle's motion. Marks the
   // track lost after coast_s without an accepted measurement.
@@ -153,6 +166,8 @@ class LaneFilter {
   double speed_mps_ = 0.0;
   std::optional<double> yaw_rate_radps_;
   int accepted_ = 0;
+  // The heading bias and its variance, kept from one track to the next.
+  double bias_ = 0.0, bias_variance_ = 0.0;
   LaneState state_;
 };
 

@@ -8,6 +8,11 @@ namespace ccdlane::ldw {
 
 LdwMonitor::LdwMonitor(const LdwConfig& config) : config_(config), filter_(config.filter), warning_(config.warning) {}
 
+void LdwMonitor::reset_mount() {
+  reset();
+  filter_.reset_mount();
+}
+
 void LdwMonitor::reset() {
   filter_.reset();
   warning_.reset();

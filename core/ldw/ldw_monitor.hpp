@@ -73,7 +73,11 @@ struct LdwEstimate {
 class LdwMonitor {
  public:
   explicit LdwMonitor(const LdwConfig& config = {});
+  // Forgets the track and the warning's state; what the filter learnt of the mount's
+  // heading bias is kept (lane_filter.hpp).
   void reset();
+  // And that too: another run, another mount.
+  void reset_mount();
   // One frame, in time order. Allocation-free.
   const LdwResult& step(const LdwFrameInput& in);
   const LdwResult& result() const { return result_; }

@@ -188,6 +188,63 @@ TEST(LaneFilter, TracksRollOnlyWhenConfiguredTo) {
   EXPECT_EQ(without.state().value(kRoll), 0.0);
 }
 
+// A drive that keeps its lane (offset 0.3 m, heading 0) at 25 m/s with a measured yaw
+// rate of 0, seen by a camera yawed 1.4 degrees on the vehicle (the Udacity drives'),
+// `seconds` long; or, with bias 0 and heading psi, one that leaves it.
+struct Drive {
+  double psi = 0.0, bias = 0.0, d0 = 0.3;
+  const LaneState& run(LaneFilter& f, double seconds, unsigned seed) const {
+    const double dt = 1.0 / 25, v = 25.0;
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal;
+    const LaneMeasurement shape = measurement(0, 0);
+    const Eigen::LLT<MeasurementMatrix> R(shape.covariance);
+    double d = d0;
+    for (int k = 0; k * dt < seconds; ++k) {
+      d += v * std::sin(psi) * dt;
+      LaneMeasurement m = measurement(d, psi + bias);
+      MeasurementVector n;
+      for (int i = 0; i < kMeasurementSize; ++i) n(i) = normal(rng);
+      m.value += R.matrixL() * n;
+      f.step(k == 0 ? 0.0 : dt, {v, 0.0}, &m);
+    }
+    return f.state();
+  }
+};
+
+TEST(LaneFilter, AMountYawedOnTheVehicleIsLearntAsABiasNotTakenForADrift) {
+  // Read at face value, the heading would say 25 sin(1.4 deg) = 0.61 m/s towards the
+  // left line; the offsets say 0. Within 3 s the filter holds the bias (3 of its sigmas)
+  // and no drift (3 sigmas of its lateral velocity).
+  const double bias = 1.4 * M_PI / 180;
+  for (const unsigned seed : {1u, 2u, 3u}) {
+    LaneFilter f;
+    const LaneState& s = Drive{0.0, bias}.run(f, 3.0, seed);
+    EXPECT_NEAR(s.value(kHeadingBias), bias, 3 * s.sigma(kHeadingBias)) << seed;
+    EXPECT_NEAR(s.lateral_velocity_mps, 0.0, 3 * s.sigma_lateral_velocity_mps) << seed;
+    EXPECT_LT(s.sigma_lateral_velocity_mps, 0.1) << seed;
+    // A new track (the lane lost a while) starts from what this one learnt.
+    f.reset();
+    const LaneState& again = Drive{0.0, bias}.run(f, 0.04, seed + 10);
+    EXPECT_NEAR(again.value(kHeadingBias), bias, 3 * s.sigma(kHeadingBias)) << seed;
+    EXPECT_NEAR(again.lateral_velocity_mps, 0.0, 0.15) << seed;
+    f.reset_mount();
+    EXPECT_EQ((Drive{0.0, bias}.run(f, 0.04, seed).value(kHeadingBias)), 0.0) << "another mount: nothing learnt";
+  }
+}
+
+TEST(LaneFilter, ATrueHeadingIsNotTakenForTheMount) {
+  // Leaving the lane at 1 degree, 0.44 m/s, with a mount that is right: after a second
+  // the lateral velocity is the drift's and the bias nought, each within 3 sigmas.
+  const double psi = M_PI / 180;
+  for (const unsigned seed : {4u, 5u, 6u}) {
+    LaneFilter f;
+    const LaneState& s = Drive{psi, 0.0, 0.0}.run(f, 1.0, seed);
+    EXPECT_NEAR(s.lateral_velocity_mps, 25.0 * std::sin(psi), 3 * s.sigma_lateral_velocity_mps) << seed;
+    EXPECT_NEAR(s.value(kHeadingBias), 0.0, 3 * s.sigma(kHeadingBias)) << seed;
+  }
+}
+
 // A truth that moves exactly as the filter's model says, process noise drawn from the
 // model's Q, measurements drawn from R: the Monte Carlo average NEES over M runs at each
 // step, times M, is chi-square with M n degrees of freedom (Bar-Shalom, Li, Kirubarajan
@@ -203,7 +260,7 @@ TEST(LaneFilter, NeesOfAModelConsistentTruthStaysInTheChiSquareBand) {
     std::normal_distribution<double> normal;
     LaneFilter f(c);
     StateVector x;
-    x << 0.1, 0.01, 1e-3, 3.6, 0.05, 0.0;
+    x << 0.1, 0.01, 1e-3, 3.6, 0.05, 0.0, 0.0;
     const LaneMeasurement shape = measurement(0, 0);
     const Eigen::LLT<MeasurementMatrix> R(shape.covariance);
     auto measure = [&] {
