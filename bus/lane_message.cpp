@@ -69,6 +69,8 @@ void to_ldw_fields(const LdwEstimate& l, lane_estimate_t& out) {
   out.sigma_filtered_lane_width_mm = l.sigma_lane_width_mm;
   out.sigma_filtered_pitch_deg = l.sigma_pitch_deg;
   out.sigma_filtered_roll_deg = l.sigma_roll_deg;
+  out.filtered_heading_bias_deg = l.heading_bias_deg;
+  out.sigma_filtered_heading_bias_deg = l.sigma_heading_bias_deg;
 }
 
 LdwEstimate from_ldw_fields(const lane_estimate_t& m) {
@@ -106,6 +108,8 @@ LdwEstimate from_ldw_fields(const lane_estimate_t& m) {
   l.sigma_lane_width_mm = m.sigma_filtered_lane_width_mm;
   l.sigma_pitch_deg = m.sigma_filtered_pitch_deg;
   l.sigma_roll_deg = m.sigma_filtered_roll_deg;
+  l.heading_bias_deg = m.filtered_heading_bias_deg;
+  l.sigma_heading_bias_deg = m.sigma_filtered_heading_bias_deg;
   return l;
 }
 

@@ -82,12 +82,14 @@ void LdwMonitor::report(TurnIndicator indicator) {
   out.lane_width_mm = x(kWidth) * 1e3;
   out.pitch_deg = rad_to_deg(x(kPitch));
   out.roll_deg = rad_to_deg(x(kRoll));
+  out.heading_bias_deg = rad_to_deg(x(kHeadingBias));
   out.sigma_offset_mm = sd(kOffset) * 1e3;
   out.sigma_heading_deg = rad_to_deg(sd(kHeading));
   out.sigma_curvature_per_m = sd(kCurvature);
   out.sigma_lane_width_mm = sd(kWidth) * 1e3;
   out.sigma_pitch_deg = rad_to_deg(sd(kPitch));
   out.sigma_roll_deg = rad_to_deg(sd(kRoll));
+  out.sigma_heading_bias_deg = rad_to_deg(sd(kHeadingBias));
 }
 
 }  // namespace ccdlane::ldw

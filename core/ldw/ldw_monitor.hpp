@@ -65,8 +65,9 @@ struct LdwEstimate {
   // where the state is not estimated (roll with a gyro).
   double offset_mm = 0.0, heading_deg = 0.0, curvature_per_m = 0.0, lane_width_mm = 0.0;
   double pitch_deg = 0.0, roll_deg = 0.0;
+  double heading_bias_deg = 0.0;  // the mount's yaw as the heading reads it (lane_filter.hpp)
   double sigma_offset_mm = 0.0, sigma_heading_deg = 0.0, sigma_curvature_per_m = 0.0, sigma_lane_width_mm = 0.0;
-  double sigma_pitch_deg = 0.0, sigma_roll_deg = 0.0;
+  double sigma_pitch_deg = 0.0, sigma_roll_deg = 0.0, sigma_heading_bias_deg = 0.0;
   double sigma_lateral_velocity_mps = 0.0;
 };
 

@@ -44,9 +44,9 @@ TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
                       R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
                       R"("lateral_velocity_mps":null,"speed_mps":0.0,"turn_indicator":"none","track":"lost",)"
                       R"("state":{"offset_mm":null,"heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,)"
-                      R"("pitch_deg":null,"roll_deg":null},"sigma":{"offset_mm":null,"heading_deg":null,)"
-                      R"("curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
-                      R"("lateral_velocity_mps":null}}})");
+                      R"("pitch_deg":null,"roll_deg":null,"heading_bias_deg":null},"sigma":{"offset_mm":null,)"
+                      R"("heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
+                      R"("heading_bias_deg":null,"lateral_velocity_mps":null}}})");
 }
 
 TEST(LaneEstimateJson, LdwObjectWithTheDocumentedNames) {
@@ -65,6 +65,8 @@ TEST(LaneEstimateJson, LdwObjectWithTheDocumentedNames) {
   l.speed_mps = 20.0;
   l.indicator = TurnIndicator::left;
   l.offset_mm = -420.0;
+  l.heading_bias_deg = -1.4;
+  l.sigma_heading_bias_deg = 0.1;
   l.sigma_roll_deg = kUndetermined;  // roll with a gyro
   const Json j = ldw_json(l);
   EXPECT_EQ(j["available"], true);
@@ -78,6 +80,8 @@ TEST(LaneEstimateJson, LdwObjectWithTheDocumentedNames) {
   EXPECT_EQ(j["turn_indicator"], "left");
   EXPECT_EQ(j["track"], "tracking");
   EXPECT_EQ(j["state"]["offset_mm"], -420.0);
+  EXPECT_EQ(j["state"]["heading_bias_deg"], -1.4) << "the mount's yaw as the heading reads it";
+  EXPECT_EQ(j["sigma"]["heading_bias_deg"], 0.1);
   EXPECT_TRUE(j["sigma"]["roll_deg"].is_null());
 }
 

@@ -26,13 +26,15 @@ Json ldw_json(const LdwEstimate& l) {
                     {"curvature_per_m", tracked(l.curvature_per_m)},
                     {"lane_width_mm", tracked(l.lane_width_mm)},
                     {"pitch_deg", tracked(l.pitch_deg)},
-                    {"roll_deg", tracked(l.roll_deg)}};
+                    {"roll_deg", tracked(l.roll_deg)},
+                    {"heading_bias_deg", tracked(l.heading_bias_deg)}};
   j["sigma"] = Json{{"offset_mm", tracked(l.sigma_offset_mm)},
                     {"heading_deg", tracked(l.sigma_heading_deg)},
                     {"curvature_per_m", tracked(l.sigma_curvature_per_m)},
                     {"lane_width_mm", tracked(l.sigma_lane_width_mm)},
                     {"pitch_deg", tracked(l.sigma_pitch_deg)},
                     {"roll_deg", tracked(l.sigma_roll_deg)},
+                    {"heading_bias_deg", tracked(l.sigma_heading_bias_deg)},
                     {"lateral_velocity_mps", tracked(l.sigma_lateral_velocity_mps)}};
   return j;
 }
