@@ -87,7 +87,7 @@ int DotScanner::scan(const Pixel* row, const std::int32_t* P, int x_begin, int w
   auto mean = [P](int a, int b) {  // pixels [a, b)
     return static_cast<float>(P[b] - P[a]) / static_cast<float>(b - a);
   };
-  const int flank = std::max(2, static_cast<int>(std::lround(dot)));
+  const int flank = w;  // the road on either side of a pair, as of a pixel
   const int max_cap = static_cast<int>(kMaxCapDots * dot + kBlurPx);
   const int min_shadow = std::max(1, static_cast<int>(std::lround(kMinShadowDots * dot)));
   const int max_shadow = static_cast<int>(kMaxShadowDots * dot + kBlurPx);

@@ -48,6 +48,26 @@ void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
   gy = (p(-1, 1) + 2 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2 * p(0, -1) + p(1, -1));
 }
 
+// The rows column x of `image` stays `so` over from row y on, going `step` (y itself not
+// counted); -1 when that reaches beyond `limit` rows or the picture.
+template <typename Test>
+int rows_so(const ImageView& image, int x, int y, int step, int limit, const Test& so) {
+  int n = 0;
+  for (int yy = y + step; n <= limit; yy += step, ++n) {
+    if (yy < 0 || yy >= image.height) return -1;
+    if (!so(x, yy)) return n;
+  }
+  return -1;
+}
+
+// How many pixels of row yy, columns xa to xb, are `so`.
+template <typename Test>
+int count_so(int xa, int xb, int yy, const Test& so) {
+  int n = 0;
+  for (int x = xa; x <= xb; ++x) n += so(x, yy);
+  return n;
+}
+
 }  // namespace
 
 LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& config)
@@ -91,8 +111,7 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     // Markers lit from one side, where they are told from paint at all (is_dot: a row
     // spanning more of the road than a marker is long makes a dash a few rows tall too).
     const double dot_px = kDotDiameterMm / mm_per_px;
-    double X_below = 0.0, Y_below = 0.0;
-    const bool dots_told = projector_.ground(col, y + 2.0, X_below, Y_below) && X - X_below <= kMaxDotLengthMm;
+    const bool dots_told = dot_rows_limit(col, y + 1.0, X) > 0;
     r.dot_px = dots_told && dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
@@ -131,46 +150,38 @@ bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkC
   return std::abs(gx * ex + gy * ey) / (gn * en) < kOrientationTolerance;
 }
 
-bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const {
-  const double X = c.X;
-  // How many rows the bar's centre column stays bright above and below the scanned row.
-  // A line (or a dash, 3 m long) stays bright over many rows; a dot only over its own few.
-  double X_below = 0.0, Y_below = 0.0, X_right = 0.0, Y_right = 0.0;
-  if (!projector_.ground(c.px(), c.py + 1.0, X_below, Y_below) ||
-      !projector_.ground(c.px() + 1.0, c.py, X_right, Y_right))
-    return false;
-  const double mm_per_px_down = std::max(1.0, X - X_below), mm_per_px_across = std::hypot(X_right - X, Y_right - c.Y);
+int LaneDetector::dot_rows_limit(double px, double py, double X) const {
   // Farther, where a row spans more of the road than a dot is long, a dash is a few rows
   // tall too: blobs are not told from paint there.
-  if (mm_per_px_down > kMaxDotLengthMm || c.width_px() * mm_per_px_across > kMaxDotWidthMm) return false;
-  const int limit = static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+  double X_below = 0.0, Y_below = 0.0;
+  if (!projector_.ground(px, py + 1.0, X_below, Y_below)) return 0;
+  const double mm_per_px_down = std::max(1.0, X - X_below);
+  if (mm_per_px_down > kMaxDotLengthMm) return 0;
+  return static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+}
+
+bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const {
+  // How many rows the bar's centre column stays bright above and below the scanned row.
+  // A line (or a dash, 3 m long) stays bright over many rows; a dot only over its own few.
+  const int limit = dot_rows_limit(c.px(), c.py, c.X);
+  double X_right = 0.0, Y_right = 0.0;
+  if (limit == 0 || !projector_.ground(c.px() + 1.0, c.py, X_right, Y_right)) return false;
+  const double mm_per_px_across = std::hypot(X_right - c.X, Y_right - c.Y);
+  if (c.width_px() * mm_per_px_across > kMaxDotWidthMm) return false;
   const int x = static_cast<int>(std::lround(c.px() - 1.0)), y = static_cast<int>(c.py) - 1;
   const int xa = static_cast<int>(std::floor(c.left_px - 1.0)), xb = static_cast<int>(std::ceil(c.right_px - 1.0));
   if (xa < 0 || xb >= image.width) return false;
   const float centre = static_cast<float>(paint_measure_at(image, x, y));
   const float threshold = centre - 0.5f * static_cast<float>(c.contrast) * levels_per_grey;
   const auto bright = [&](int px, int py) { return static_cast<float>(paint_measure_at(image, px, py)) >= threshold; };
-  // The rows the centre column stays bright over, up and down; -1: beyond the limit or
-  // the picture.
-  const auto bright_rows = [&](int step) {
-    int n = 0;
-    for (int yy = y + step; n <= limit; yy += step, ++n) {
-      if (yy < 0 || yy >= image.height) return -1;
-      if (!bright(x, yy)) return n;
-    }
-    return -1;
-  };
-  const int up = bright_rows(-1), down = bright_rows(+1);
+  const int up = rows_so(image, x, y, -1, limit, bright), down = rows_so(image, x, y, +1, limit, bright);
   if (up < 0 || down < 0 || up + down + 1 > limit) return false;
   // Beyond its ends a blob is dark but for a little of its tilt or blur; a bar crossing
   // the row at a slant (a shadow's edge, a car's trim) goes on, as bright and as wide,
   // beside the centre column.
   const int w = xb - xa + 1;
-  for (const int yy : {y - up - 1, y + down + 1}) {
-    int lit = 0;
-    for (int xx = std::max(0, xa - w); xx <= std::min(image.width - 1, xb + w); ++xx) lit += bright(xx, yy);
-    if (2 * lit > w) return false;
-  }
+  for (const int yy : {y - up - 1, y + down + 1})
+    if (2 * count_so(std::max(0, xa - w), std::min(image.width - 1, xb + w), yy, bright) > w) return false;
   c.dot_top = static_cast<std::int16_t>(y + 1 - up);
   c.dot_bottom = static_cast<std::int16_t>(y + 1 + down);
   return true;
@@ -181,11 +192,8 @@ bool LaneDetector::is_shadowed_dot(const ImageView& image, MarkCandidate& c, flo
   // the shadow's dark, over no more rows than a marker is long, and beyond the cap's
   // ends the road is not lit as wide as the cap (a bright edge along a dark one, both
   // long: the side of a seam, a car's trim over its shadow).
-  double X_below = 0.0, Y_below = 0.0;
-  if (!projector_.ground(c.px(), c.py + 1.0, X_below, Y_below)) return false;
-  const double mm_per_px_down = std::max(1.0, c.X - X_below);
-  if (mm_per_px_down > kMaxDotLengthMm) return false;
-  const int limit = static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+  const int limit = dot_rows_limit(c.px(), c.py, c.X);
+  if (limit == 0) return false;
   const double edge = c.px() - 1.0, cap_w = 0.5 * c.width_px();  // 0-based
   const int y = static_cast<int>(c.py) - 1;
   const int x_cap = static_cast<int>(std::lround(edge - 0.5 * c.shadow_side * cap_w));
@@ -199,27 +207,16 @@ bool LaneDetector::is_shadowed_dot(const ImageView& image, MarkCandidate& c, flo
   const float dark = static_cast<float>(paint_measure_at(image, x_shadow, y)) + half;
   const auto bright = [&](int px, int py) { return static_cast<float>(paint_measure_at(image, px, py)) >= lit; };
   const auto shaded = [&](int px, int py) { return static_cast<float>(paint_measure_at(image, px, py)) <= dark; };
-  // The rows a column stays so over, up and down; -1: beyond the limit or the picture.
-  const auto rows = [&](int x, int step, const auto& so) {
-    int n = 0;
-    for (int yy = y + step; n <= limit; yy += step, ++n) {
-      if (yy < 0 || yy >= image.height) return -1;
-      if (!so(x, yy)) return n;
-    }
-    return -1;
-  };
-  const int up = rows(x_cap, -1, bright), down = rows(x_cap, +1, bright);
-  const int shadow_up = rows(x_shadow, -1, shaded), shadow_down = rows(x_shadow, +1, shaded);
+  const int up = rows_so(image, x_cap, y, -1, limit, bright), down = rows_so(image, x_cap, y, +1, limit, bright);
+  const int shadow_up = rows_so(image, x_shadow, y, -1, limit, shaded);
+  const int shadow_down = rows_so(image, x_shadow, y, +1, limit, shaded);
   if (std::min({up, down, shadow_up, shadow_down}) < 0 || up + down + 1 > limit ||
       shadow_up + shadow_down + 1 > limit)
     return false;
   // A lit dome's cap is a crescent: beyond its centre column's ends its tips go on
   // beside it for a row, narrower than it; a bar does so as wide.
-  for (const int yy : {y - up - 1, y + down + 1}) {
-    int n = 0;
-    for (int xx = xa - w; xx <= xb + w; ++xx) n += bright(xx, yy);
-    if (n >= w) return false;
-  }
+  for (const int yy : {y - up - 1, y + down + 1})
+    if (count_so(xa - w, xb + w, yy, bright) >= w) return false;
   c.dot_top = static_cast<std::int16_t>(y + 1 - up);
   c.dot_bottom = static_cast<std::int16_t>(y + 1 + down);
   return true;

@@ -48,6 +48,9 @@ class LaneDetector {
   // the road than a raised marker, and dark all around. If so, sets its dot_top and
   // dot_bottom (the rows it is lit over).
   bool is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
+  // How many rows a marker at 1-based pixel (px, py), X mm ahead on the road, may span;
+  // 0 off the road or where one row spans more of the road than a marker is long.
+  int dot_rows_limit(double px, double py, double X) const;
   // The same for a marker found as a lit cap beside its shadow (c.shadow_side != 0).
   bool is_shadowed_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
   // Drops the markers of marks_[0, kept) whose shadow falls against the picture's sun;
