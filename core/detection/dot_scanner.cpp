@@ -40,8 +40,7 @@ DotScanner::DotScanner(int max_width)
 
 template <typename Pixel>
 int DotScanner::scan(const Pixel* row, const std::int32_t* P, int x_begin, int width, const ScanRow& r, int scan_row,
-                     float min_contrast, float to_8bit, MarkCandidate* out, int first_of_row, int count,
-                     int capacity) {
+                     float min_contrast, float to_8bit, MarkCandidate* out, int first_of_row, int count, int capacity) {
   const float dot = r.dot_px;
   if (!(dot > 0.0f)) return count;
   // Each pixel against the road on either side of it, a marker's width each: brighter
@@ -58,7 +57,8 @@ int DotScanner::scan(const Pixel* row, const std::int32_t* P, int x_begin, int w
   for (int x = lo; x < hi; ++x) {
     const std::int32_t road = std::max(P[x] - P[x - w], P[x + 1 + w] - P[x + 1]);
     const std::int32_t v = static_cast<std::int32_t>(row[x]) * w;
-    cls[x] = static_cast<std::int8_t>(static_cast<int>(v - road >= threshold) - static_cast<int>(road - v >= threshold));
+    cls[x] =
+        static_cast<std::int8_t>(static_cast<int>(v - road >= threshold) - static_cast<int>(road - v >= threshold));
   }
   int num_runs = 0;
   Run* runs = runs_.data();
@@ -119,11 +119,12 @@ int DotScanner::scan(const Pixel* row, const std::int32_t* P, int x_begin, int w
     float edge = -1.0f;
     for (int x = a; x + 1 < b && edge < 0.0f; ++x) {
       const float u = static_cast<float>(row[x]) - middle, v = static_cast<float>(row[x + 1]) - middle;
-      if (static_cast<float>(sign) * u >= 0.0f && static_cast<float>(sign) * v < 0.0f) edge = static_cast<float>(x) + u / (u - v);
+      if (static_cast<float>(sign) * u >= 0.0f && static_cast<float>(sign) * v < 0.0f)
+        edge = static_cast<float>(x) + u / (u - v);
     }
     if (edge < 0.0f) continue;
     const double column = static_cast<double>(edge) + 1.0 + x_begin;  // 1-based
-    bool known = false;  // the row filter's pass found the cap as a bar
+    bool known = false;                                               // the row filter's pass found the cap as a bar
     const double cap_centre = column - 0.5 * sign * cap_w;
     for (int k = first_of_row; k < row_end && !known; ++k)
       known = cap_centre >= out[k].left_px - 1.0 && cap_centre <= out[k].right_px + 1.0;

@@ -210,8 +210,7 @@ bool LaneDetector::is_shadowed_dot(const ImageView& image, MarkCandidate& c, flo
   const int up = rows_so(image, x_cap, y, -1, limit, bright), down = rows_so(image, x_cap, y, +1, limit, bright);
   const int shadow_up = rows_so(image, x_shadow, y, -1, limit, shaded);
   const int shadow_down = rows_so(image, x_shadow, y, +1, limit, shaded);
-  if (std::min({up, down, shadow_up, shadow_down}) < 0 || up + down + 1 > limit ||
-      shadow_up + shadow_down + 1 > limit)
+  if (std::min({up, down, shadow_up, shadow_down}) < 0 || up + down + 1 > limit || shadow_up + shadow_down + 1 > limit)
     return false;
   // A lit dome's cap is a crescent: beyond its centre column's ends its tips go on
   // beside it for a row, narrower than it; a bar does so as wide.

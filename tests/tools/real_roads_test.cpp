@@ -43,7 +43,6 @@ struct DriveFigures {
   double lateral_velocity_mps = 0.0, sigma_lateral_velocity_mps = 0.0, offset_drift_mps = 0.0;
 };
 
-
 DriveFigures replay_drive(const std::string& video) {
   const auto r = test::run_process({kTool, "replay", kData + "/udacity-drives/camera.toml", video});
   EXPECT_EQ(r.exit_status, 0) << r.err;

@@ -54,11 +54,11 @@ TEST(DotScanner, FindsALitCapBesideItsShadowCentredOnTheEdgeBetween) {
 
 TEST(DotScanner, WhatIsOnlyPartOfALitMarkerIsNone) {
   Row cap, shadow, border, pole, dim;
-  cap.bar(60.0, 62.5, 150.0);      // no shadow: a speck, a reflection
-  shadow.bar(60.0, 67.0, 30.0);    // no cap: an oil drop, a pothole
-  border.bar(60.0, 62.5, 150.0);   // a lit edge on the border of a shadow over the road
+  cap.bar(60.0, 62.5, 150.0);     // no shadow: a speck, a reflection
+  shadow.bar(60.0, 67.0, 30.0);   // no cap: an oil drop, a pothole
+  border.bar(60.0, 62.5, 150.0);  // a lit edge on the border of a shadow over the road
   border.bar(62.5, 140.0, 30.0);
-  pole = marker(60.0, 62.5, 86.5);  // a shadow 4 markers long: a pole's, beside a speck
+  pole = marker(60.0, 62.5, 86.5);             // a shadow 4 markers long: a pole's, beside a speck
   dim = marker(60.0, 62.5, 69.5, 86.0, 74.0);  // 6 levels each way: below the contrast asked
   for (const Row* r : {&cap, &shadow, &border, &pole, &dim}) EXPECT_TRUE(scan(r->bytes8(), dot_row()).empty());
   Row shaded_side = marker(60.0, 62.5, 69.5);  // the road beyond the shadow is in shade too
@@ -78,7 +78,8 @@ TEST(DotScanner, AMarkerStandsOutOfSmoothRoadNotOfRoughTexture) {
     a.noise(1.0, seed);
     b.noise(25.0, seed);
     smooth += scan(a.bytes8(), dot_row()).size() == 1;
-    for (const MarkCandidate& c : scan(b.bytes8(), dot_row())) rough += c.shadow_side != 0 && std::abs(c.px() - 63.5) < 4;
+    for (const MarkCandidate& c : scan(b.bytes8(), dot_row()))
+      rough += c.shadow_side != 0 && std::abs(c.px() - 63.5) < 4;
   }
   EXPECT_EQ(smooth, 50);
   EXPECT_LE(rough, 2);

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -254,7 +254,8 @@ TEST(LaneDetector, ALineOfBottsDotsIsALine) {
     EXPECT_GE(l.num_picks, c.detection.min_marks);
     for (int p = l.first_pick; p < l.first_pick + l.num_picks; ++p) {
       double X = 0, Y = 0;
-      ASSERT_TRUE(ground.ground(r.picks[static_cast<std::size_t>(p)].px, r.picks[static_cast<std::size_t>(p)].py, X, Y));
+      ASSERT_TRUE(
+          ground.ground(r.picks[static_cast<std::size_t>(p)].px, r.picks[static_cast<std::size_t>(p)].py, X, Y));
       EXPECT_NEAR(Y, lines_mm[static_cast<std::size_t>(j)], 50.0) << "a pick at " << X << " mm";
     }
   }
