@@ -266,9 +266,10 @@ TEST(LaneDetector, ALineOfBottsDotsIsALine) {
 }
 
 // Botts' dots in sunlight, as California's freeways have them: each a lit crescent
-// narrower than paint beside its shadow, in the groups of the test above. Found from the pairs, where the
-// dots are. Seen by TuSimple's camera (1280x720, 1.69 m up, 7 degrees down), where a dot
-// 10 m off spans two rows (from the reference camera's 800x600 at 3 degrees, one).
+// narrower than paint beside its shadow, in the groups of the test above. Found from the
+// pairs, where the dots are. Seen by TuSimple's camera (1280x720, 1.69 m up, 7 degrees
+// down), where a dot 10 m off spans two rows (from the reference camera's 800x600 at 3
+// degrees, one).
 TEST(LaneDetector, ALineOfSunlitBottsDotsIsALine) {
   const Config c = load_config_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/camera.toml");
   const CameraPose pose = c.nominal_pose();

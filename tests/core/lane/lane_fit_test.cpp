@@ -54,14 +54,6 @@ TEST(LaneFit, AWellFittingSolveDropsNothing) {
   EXPECT_FALSE(fit.drop_outliers(r));
 }
 
-// No gyro: roll is free with a loose prior, and parallel straight lines hardly fix it (a
-// roll is taken up by the lines' offsets): the lane-width prior does. A road's outermost
-// lines are not always a whole number of lanes apart: a barrier's foot 2.4 m beyond the
-// left line, 6.06 m from the right one, is "two lanes" of 3.66 m to a prior held between
-// the outermost lines, and the solve rolled the camera 1.3 deg to widen them (on the
-// drives, by a degree each time the barrier's line came and went). Held between the own
-// lane's lines, the roll and the width are the truth's, to within what the picks' noise
-// moves them: over independent draws, their mean within 4 standard errors of the truth.
 // A detection of straight lines at these offsets, each with noisy picks (sigma the
 // solver's pixel_sigma) of its marks from `from_mm` to `to_mm` ahead every `step_mm`, as
 // the truth pose's camera sees them; detection's fits 50 mm off the truth.
@@ -90,6 +82,14 @@ DetectionResult detection_of_lines(const LaneEstimatorOptions& o, const CameraPo
   return d;
 }
 
+// No gyro: roll is free with a loose prior, and parallel straight lines hardly fix it (a
+// roll is taken up by the lines' offsets): the lane-width prior does. A road's outermost
+// lines are not always a whole number of lanes apart: a barrier's foot 2.4 m beyond the
+// left line, 6.06 m from the right one, is "two lanes" of 3.66 m to a prior held between
+// the outermost lines, and the solve rolled the camera 1.3 deg to widen them (on the
+// drives, by a degree each time the barrier's line came and went). Held between the own
+// lane's lines, the roll and the width are the truth's, to within what the picks' noise
+// moves them: over independent draws, their mean within 4 standard errors of the truth.
 TEST(LaneFit, TheLaneWidthPriorHoldsForTheOwnLaneBesideAShoulder) {
   LaneEstimatorOptions o = default_config().estimator_options();  // the reference camera
   o.priors.phi_deg = Prior{0.0, 1.0};
