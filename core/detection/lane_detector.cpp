@@ -35,6 +35,9 @@ constexpr double kDotBlurPx = 2.0;
 // where the dome (10 cm) spans this many pixels: fewer, and cap and shadow blur into one.
 constexpr double kDotDiameterMm = 100.0;
 constexpr double kMinShadowedDotPx = 2.5;
+// Joints between concrete slabs are sealed cuts a centimetre or two wide; with blur and
+// a worn edge, this wide at most.
+constexpr double kMaxJointWidthMm = 40.0;
 // Yellow paint stands above the road mostly by its colour (on pale concrete, by its
 // colour alone): its yellowness is at least this fraction of its contrast, and above
 // the tint of grey surfaces (a few levels) by this much. White paint's is near 0.
@@ -113,6 +116,8 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     const double dot_px = kDotDiameterMm / mm_per_px;
     const bool dots_told = dot_rows_limit(col, y + 1.0, X) > 0;
     r.dot_px = dots_told && dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
+    // Joints, where markers are looked for: a joint only ever joins a row of them.
+    r.max_joint_px = r.dot_px > 0.0f ? static_cast<float>(kMaxJointWidthMm / mm_per_px + kDotBlurPx) : 0.0f;
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
@@ -230,12 +235,22 @@ int LaneDetector::keep_one_sun(int kept) {
     right += marks_[static_cast<std::size_t>(i)].shadow_side > 0;
     left += marks_[static_cast<std::size_t>(i)].shadow_side < 0;
   }
-  if (right == 0 || left == 0) return kept;
-  const std::int8_t other = right >= left ? -1 : 1;
+  if (right == 0 && left == 0) return kept;
+  const std::int8_t shadow_side = right >= left ? 1 : -1;
   int n = 0;
   for (int i = 0; i < kept; ++i) {
-    const MarkCandidate& c = marks_[static_cast<std::size_t>(i)];
-    if (c.shadow_side == other) continue;
+    MarkCandidate c = marks_[static_cast<std::size_t>(i)];
+    if (c.shadow_side == -shadow_side) continue;
+    // A marker the row filter's bar pass found by its lit cap alone: in this sunlight the
+    // cap is the dome's sunny half, whose middle lies a quarter of a marker from the
+    // dome's, away from the shadow (blur widens the cap, not that).
+    double X_right = 0.0, Y_right = 0.0;
+    if (c.dot && c.shadow_side == 0 && projector_.ground(c.px() + 1.0, c.py, X_right, Y_right)) {
+      const double shift = shadow_side * 0.25 * kDotDiameterMm / std::hypot(X_right - c.X, Y_right - c.Y);
+      c.left_px += shift;
+      c.right_px += shift;
+      if (!on_the_road(c)) continue;
+    }
     marks_[static_cast<std::size_t>(n++)] = c;
   }
   result_.counters.dots -= kept - n;
@@ -263,19 +278,18 @@ void LaneDetector::choose_picks() {
     line.first_pick = count;
     // A line of paint hands on its paint only: the blobs grouped with it (a dash's end,
     // a dot beside it) are not where its edges say the line is. A row of dots (its
-    // majority kind, as the grouping found) hands on its dots.
+    // majority kind, as the grouping found) hands on its dots, and the joint they are set
+    // along.
     const bool dots = line.dots;
+    const auto usable_mark = [j, dots](const MarkCandidate& m) { return m.line == j && (m.joint ? dots : m.dot == dots); };
     int usable = 0;
-    for (int i = 0; i < num_marks; ++i) {
-      const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];
-      usable += m.line == j && m.dot == dots;
-    }
+    for (int i = 0; i < num_marks; ++i) usable += usable_mark(result_.marks[static_cast<std::size_t>(i)]);
     // Evenly spread over the line's marks (they come in row order, far to near).
     const int take = std::min(usable, per_line);
     int seen = 0, next = 0;
     for (int i = 0; i < num_marks && next < take; ++i) {
       const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];
-      if (m.line != j || m.dot != dots) continue;
+      if (!usable_mark(m)) continue;
       if (seen++ == static_cast<int>(static_cast<long>(2 * next + 1) * usable / (2 * take))) {
         picks_[static_cast<std::size_t>(count++)] = {j, m.px(), m.py};
         ++next;
@@ -309,7 +323,12 @@ bool LaneDetector::on_the_road(MarkCandidate& c) const {
 
 std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const CameraPose& pose) {
   if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return {};
-  return {marks_.data(), static_cast<std::size_t>(scan(image, pose, 0.0))};
+  // Bars only: the vanishing point is found from the lines of paint and markers.
+  const int count = scan(image, pose, 0.0);
+  int kept = 0;
+  for (int i = 0; i < count; ++i)
+    if (!marks_[static_cast<std::size_t>(i)].joint) marks_[static_cast<std::size_t>(kept++)] = marks_[static_cast<std::size_t>(i)];
+  return {marks_.data(), static_cast<std::size_t>(kept)};
 }
 
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
@@ -334,6 +353,16 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     MarkCandidate c = marks_[static_cast<std::size_t>(i)];
     if (!on_the_road(c)) {
       ++result_.counters.off_road;
+      continue;
+    }
+    if (c.joint) {
+      // A crack or a speck is not a joint: a joint runs along the road.
+      if (!points_to_vanishing_point(image, c)) {
+        ++result_.counters.wrong_orientation;
+        continue;
+      }
+      ++result_.counters.joints;
+      marks_[static_cast<std::size_t>(kept++)] = c;
       continue;
     }
     c.dot = c.shadow_side != 0 ? is_shadowed_dot(image, c, scale) : is_dot(image, c, scale);

@@ -36,6 +36,11 @@ struct MarkCandidate {
   // Yellow paint: its colour is most of what it stands above the road by. Barrier feet,
   // kerbs, seams and concrete are grey; a yellow line is paint.
   bool yellow = false;
+  // A dark line narrower than paint between two sides of one level: the sealed joint
+  // between concrete slabs, which on concrete roads runs along the lane lines, and along
+  // which their raised markers are set. Never a line of its own (seams, cracks and tar
+  // lines run everywhere): it joins a row of markers (line_grouper.hpp).
+  bool joint = false;
   // A raised marker found as a lit cap beside its own shadow (dot_scanner.hpp): the side
   // the shadow lies on (+1 right, -1 left; 0: not found so) and its width, pixels.
   std::int8_t shadow_side = 0;
@@ -57,6 +62,7 @@ struct DetectedLine {
   bool parallel = false;  // found as a parallel of the road's other lines (y0 alone fitted,
                           // and its slope when its marks span 6 m)
   bool dots = false;      // most of its marks are dots (a row of raised markers)
+  int joints = 0;         // of its marks, pieces of the joint its markers are set along
   bool yellow = false;    // most of its marks are yellow paint
 };
 
@@ -70,6 +76,7 @@ struct DetectionCounters {
   int narrow = 0;             // a bar (not a dot) narrower than paint
   int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
   int against_the_sun = 0;    // markers whose shadow falls the other way than most (dropped)
+  int joints = 0;             // joints between slabs among those kept
   int yellow = 0;             // yellow paint among those kept
   int grouped = 0;            // on a reported line
 };

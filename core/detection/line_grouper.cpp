@@ -40,6 +40,7 @@ constexpr double kParallelSlopeSpanMm = 6000.0;
 constexpr double kConsensusTolerance = 1.5;  // pixel tolerances: the consensus, and the first pass of the fit
 constexpr int kFitPasses = 4;
 constexpr int kNewLineAttempts = 16;       // voted cells tried for new lines
+constexpr int kJointAttempts = 4;          // of them, cells a joint's votes made strong enough
 constexpr int kDashAttempts = 8;           // y0 bins tried for single dashes
 constexpr double kCurvatureChange = 1e-8;  // a shared curvature that moved more re-casts the votes
 constexpr double kMinSlopeVariance = 1e6;  // mm^2 of the lines' y spread to fit slope against y
@@ -83,6 +84,9 @@ bool stays_in_gate(const RoadLine& fit, const RoadLine& looked_for, double gate_
 // own shadow: their centres scatter a few centimetres about the line, more than paint's
 // edges do near the camera, where a pixel is a few millimetres.
 constexpr double kDotScatterMm = 40.0;
+// Raised markers on concrete are set beside the joint between slabs, not on its seal: a
+// few centimetres off it, their centres scattered as above.
+constexpr double kJointBandMm = 120.0;
 
 // The lateral road distance one pixel of the fit tolerance spans at a mark: more for a
 // dot of a row of dots (`dot_line`). A paint line holds the blobs beside it (its dash
@@ -180,7 +184,9 @@ double width_distance_slope(std::span<const MarkCandidate> marks, int line, bool
 }
 
 LineGrouper::LineGrouper(int max_marks)
-    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0), gated_(static_cast<std::size_t>(max_marks)) {
+    : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0),
+      joint_votes_(votes_.size(), 0),
+      gated_(static_cast<std::size_t>(max_marks)) {
   // A mark votes once per slope (paint twice): a cell holds at most 2 max_marks votes,
   // and the search's 16-bit sums of three cells must not wrap.
   assert(3 * kPaintVotes * max_marks <= 65535);
@@ -191,12 +197,13 @@ void LineGrouper::vote(const MarkCandidate& mark, int delta) {
   // floor per cell (truncation is the floor where the bin exists, u >= 0).
   const double u0 = (mark.Y - curvature_ * mark.X * mark.X - kSlopeMin * mark.X - kY0MinMm) / kY0BinMm;
   const double du = kSlopeStep * mark.X / kY0BinMm;
-  const int weight = mark.dot ? 1 : kPaintVotes;
+  const int weight = mark.dot || mark.joint ? 1 : kPaintVotes;
+  std::vector<std::uint16_t>& votes = mark.joint ? joint_votes_ : votes_;
   for (int j = 0; j < kSlopeBins; ++j) {
     const double u = u0 - j * du;
     if (!(u >= 0.0 && u < kY0Bins)) continue;
     const int i = static_cast<int>(u);
-    std::uint16_t& v = votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)];
+    std::uint16_t& v = votes[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)];
     v = static_cast<std::uint16_t>(delta > 0 ? std::min(v + weight, 65535) : std::max(v - weight, 0));
   }
 }
@@ -206,7 +213,7 @@ int LineGrouper::gate_marks(std::span<const MarkCandidate> marks, const RoadLine
   int g = 0;
   for (std::size_t i = 0; i < marks.size() && g < static_cast<int>(gated_.size()); ++i) {
     const MarkCandidate& m = marks[i];
-    if ((m.line == -1 || m.line == id) && std::abs(m.Y - model.y_at(m.X)) <= gate(gate_base_mm, m.X))
+    if (!m.joint && (m.line == -1 || m.line == id) && std::abs(m.Y - model.y_at(m.X)) <= gate(gate_base_mm, m.X))
       gated_[static_cast<std::size_t>(g++)] = static_cast<int>(i);
   }
   return g;
@@ -281,7 +288,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   int first_row = 1 << 30, last_row = -1;
   int last_dot_bottom = -1;
   for (MarkCandidate& m : marks) {
-    if (m.line != -1 && m.line != id) continue;
+    if (m.joint || (m.line != -1 && m.line != id)) continue;  // joints: join_joint's
     const double tol = tolerance * pixel_tolerance_mm(params, m, dot_line);
     if (std::abs(m.Y - model.y_at(m.X)) > tol) {
       m.line = -1;
@@ -343,7 +350,11 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
   const int g = gate_marks(marks, model, gate_base_mm, id);
   const int min_marks = parallel ? params.min_dash_marks : params.min_marks;
   const double min_span_mm = parallel ? params.min_dash_span_mm : params.min_span_mm;
-  if (g < min_marks) return release();
+  if (g < min_marks) {  // too few for a line; unless dots beside a joint
+    int gated_dots = 0;
+    for (int k = 0; k < g; ++k) gated_dots += marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])].dot;
+    if (parallel || gated_dots < params.min_joint_dots) return release();
+  }
 
   // 2. RANSAC among them: the model, or a straight line through two gated marks, that
   // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
@@ -357,10 +368,17 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
   for (int pass = 0; pass < kFitPasses; ++pass) {
     const FitPass p = fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel, dot_line);
     const int n = p.marks;
-    if (n < min_marks || p.far_mm - p.near_mm < min_span_mm) return release();
-    // Sparse: clutter, not paint; unless it is a row of dots.
-    if (n < params.min_coverage * p.rows && p.dots < (parallel ? params.min_parallel_dots : params.min_dots))
+    // Too few, or sparse (clutter, not paint), for a line of its own; unless it is a row of
+    // dots (beside a joint, with fewer).
+    const bool too_few = n < min_marks || p.far_mm - p.near_mm < min_span_mm ||
+                         (n < params.min_coverage * p.rows &&
+                          p.dots < (parallel ? params.min_parallel_dots : params.min_dots));
+    if (too_few) {
+      if (2 * p.dot_marks > n && p.dots >= params.min_joint_dots && !parallel &&
+          join_joint(marks, model, id, params, min_span_mm, looked_for, gate_base_mm, out))
+        return true;
       return release();
+    }
     if (!p.finite) return release();
     double sum2 = 0.0, sum2_px = 0.0;
     for (const MarkCandidate& m : marks) {
@@ -382,6 +400,77 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     if (pass == kFitPasses - 1 && !stays_in_gate(model, looked_for, gate_base_mm, p.near_mm, p.far_mm))
       return release();
   }
+  return true;
+}
+
+bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id,
+                             const GroupingParams& params, double min_span_mm, const RoadLine& looked_for,
+                             double gate_base_mm, DetectedLine& out) {
+  // The joint: its pieces within the band about the dots' line, then within the fit's
+  // tolerance of the line they make (straight, with the road's curvature, as a joint is
+  // over the reach of a few dots).
+  const double c = model.c_per_mm;
+  RoadLine joint = model;
+  int n = 0, first_row = 1 << 30, last_row = -1;
+  double near_mm = 0.0, far_mm = 0.0, sum2_px = 0.0;
+  for (int pass = 0; pass < kFitPasses; ++pass) {
+    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    n = 0;
+    first_row = 1 << 30, last_row = -1;
+    near_mm = 1e300, far_mm = 0.0;
+    for (const MarkCandidate& m : marks) {
+      if (!m.joint || m.line != -1) continue;
+      const double tol = pass == 0 ? kJointBandMm + pixel_tolerance_mm(params, m, false)
+                                   : pixel_tolerance_mm(params, m, false);
+      if (std::abs(m.Y - joint.y_at(m.X)) > tol) continue;
+      const double x = m.X * 1e-3, y = m.Y - c * m.X * m.X;
+      sw += 1, sx += x, sy += y, sxx += x * x, sxy += x * y;
+      ++n;
+      near_mm = std::min(near_mm, m.X);
+      far_mm = std::max(far_mm, m.X);
+      first_row = std::min<int>(first_row, m.scan_row);
+      last_row = std::max<int>(last_row, m.scan_row);
+    }
+    const double det = sw * sxx - sx * sx;
+    if (n < params.min_marks || far_mm - near_mm < min_span_mm || !(det > 0.0)) return false;
+    const double slope = (sw * sxy - sx * sy) / det;  // per metre
+    joint = {(sy - slope * sx) / sw, slope * 1e-3, c};
+  }
+  // Dense along the road as a line is, and sharp.
+  if (n < params.min_coverage * (last_row - first_row + 1)) return false;
+  for (const MarkCandidate& m : marks) {
+    if (!m.joint || m.line != -1) continue;
+    const double r_px = (m.Y - joint.y_at(m.X)) / mm_per_tolerance_px(params, m, false);
+    if (std::abs(r_px) <= params.fit_tolerance_px) sum2_px += r_px * r_px;
+  }
+  if (std::sqrt(sum2_px / n) > params.max_rms_px || !stays_in_gate(joint, looked_for, gate_base_mm, near_mm, far_mm))
+    return false;
+  // The dots beside it.
+  int dots = 0, dot_marks = 0, last_dot_bottom = -1;
+  for (const MarkCandidate& m : marks)
+    if ((m.line == -1 || m.line == id) && m.dot && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm) {
+      ++dot_marks;
+      if (m.dot_top > last_dot_bottom) ++dots, last_dot_bottom = m.dot_bottom;
+    }
+  if (dots < params.min_joint_dots) return false;
+  for (MarkCandidate& m : marks) {
+    if (m.line == id) m.line = -1;
+    const bool piece = m.joint && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= pixel_tolerance_mm(params, m, false);
+    const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
+    if (piece || dot) m.line = id;
+  }
+  if (!narrows_with_distance(marks, id)) {
+    release_line(marks, id);
+    return false;
+  }
+  out.fit = joint;
+  out.marks = n + dot_marks;
+  out.near_mm = near_mm;
+  out.far_mm = far_mm;
+  out.rms_mm = 0.0;
+  out.dots = true;
+  out.joints = n;
+  out.yellow = false;
   return true;
 }
 
@@ -450,21 +539,26 @@ double LineGrouper::shared_curvature(std::span<const RoadLine> priors, int n) co
 
 void LineGrouper::revote(std::span<const MarkCandidate> marks) {
   std::fill(votes_.begin(), votes_.end(), 0);
+  std::fill(joint_votes_.begin(), joint_votes_.end(), 0);
   for (const MarkCandidate& m : marks)
     if (m.line == -1) vote(m, +1);
 }
 
-int LineGrouper::strongest_cell(int& bi, int& bj) const {
-  // The first cell (in y0, then slope order) of the most votes over 3 bins of y0. Sums
-  // and row maxima are vector operations; a row is searched only when it beats the best.
+int LineGrouper::strongest_cell(int& bi, int& bj, int min_joint_dots) const {
+  // The first cell (in y0, then slope order) of the most votes over 3 bins of y0; a
+  // joint's votes count where that many dots' (or paint's) are. Sums and row maxima are
+  // vector operations; a row is searched only when it beats the best.
   int best = 0;
   bi = bj = -1;
   for (int i = 1; i + 1 < kY0Bins; ++i) {
     const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
+    const std::uint16_t* joints = joint_votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
     std::array<std::uint16_t, kSlopeBins> sums;
-    for (int j = 0; j < kSlopeBins; ++j)
-      sums[static_cast<std::size_t>(j)] =
-          static_cast<std::uint16_t>(row[j - kSlopeBins] + row[j] + row[j + kSlopeBins]);
+    for (int j = 0; j < kSlopeBins; ++j) {
+      const int own = row[j - kSlopeBins] + row[j] + row[j + kSlopeBins];
+      const int joint = joints[j - kSlopeBins] + joints[j] + joints[j + kSlopeBins];
+      sums[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(std::min(own + (own >= min_joint_dots ? joint : 0), 65535));
+    }
     std::uint16_t row_best = 0;
     for (std::uint16_t v : sums) row_best = std::max(row_best, v);
     if (row_best <= best) continue;
@@ -475,13 +569,23 @@ int LineGrouper::strongest_cell(int& bi, int& bj) const {
   return best;
 }
 
+int LineGrouper::strongest_cell_own_votes(int bi, int bj) const {
+  int own = 0;
+  for (int i = bi - 1; i <= bi + 1; ++i) own += votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(bj)];
+  return own;
+}
+
 int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
                                 const GroupingParams& params, int n) {
   curvature_ = shared_curvature(priors, n);
   revote(marks);
+  int joint_attempts = 0;
   for (int attempt = 0; attempt < kNewLineAttempts && n < kMaxFoundLines; ++attempt) {
     int bi = -1, bj = -1;
-    if (strongest_cell(bi, bj) < params.min_marks) break;
+    // Joints count towards a few cells only: every seam with a speck or two on it makes one.
+    const int joint_dots = joint_attempts < kJointAttempts ? params.min_joint_dots : 1 << 20;
+    if (strongest_cell(bi, bj, joint_dots) < params.min_marks) break;
+    if (strongest_cell_own_votes(bi, bj) < params.min_marks) ++joint_attempts;
     const RoadLine model{kY0MinMm + (bi + 0.5) * kY0BinMm, kSlopeMin + bj * kSlopeStep, curvature_};
     DetectedLine l;
     const int before = n;
@@ -505,7 +609,8 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
     // Not a line: silence this cell and its neighbours.
     for (int i = std::max(0, bi - 1); i <= std::min(kY0Bins - 1, bi + 1); ++i)
       for (int j = std::max(0, bj - 1); j <= std::min(kSlopeBins - 1, bj + 1); ++j)
-        votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)] = 0;
+        votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)] =
+            joint_votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(j)] = 0;
   }
   return n;
 }

@@ -35,6 +35,10 @@ struct GroupingParams {
   // fitted) counts with fewer: the road's lines say where it runs, and the near and far
   // ends of the searched range often hold a group or two of a few dots each.
   int min_parallel_dots = 4;
+  // A row of dots set along a joint between concrete slabs counts with fewer still: the
+  // joint, straight and along the road, is where the line runs between its dots. A joint
+  // without dots on it is a seam, and no line.
+  int min_joint_dots = 3;
   // A line parallel to the lines found (the road's slope and curvature at its y0), or
   // continuing a previous frame's line, is found from less: one dash of a dashed line on
   // a bend, whose others are in the gaps or beyond the range (3 m dashes, 9 m gaps).
@@ -96,6 +100,12 @@ class LineGrouper {
                           const GroupingParams& params, bool parallel) const;
   FitPass fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id, const GroupingParams& params,
                    double tolerance, bool parallel, bool dot_line);
+  // A row of dots too few for a line of their own, set beside a joint between concrete
+  // slabs: the joint within kJointBandMm of the dots' line `model`, fitted, is the line
+  // when it is one (min_marks pieces over min_span_mm, within the fit's tolerance) and
+  // keeps min_joint_dots of the dots beside it. Assigns the joint and those dots to `id`.
+  bool join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id, const GroupingParams& params,
+                  double min_span_mm, const RoadLine& looked_for, double gate_base_mm, DetectedLine& out);
 
   // group()'s steps, each taking and returning how many lines found_ holds.
   int continue_priors(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params);
@@ -119,11 +129,13 @@ class LineGrouper {
   // The curvature the lines found so far share (weighted by marks), else the priors' mean.
   double shared_curvature(std::span<const RoadLine> priors, int n) const;
   // The votes' strongest cell (bi, bj) and its votes.
-  int strongest_cell(int& bi, int& bj) const;
+  int strongest_cell(int& bi, int& bj, int min_joint_dots) const;
+  int strongest_cell_own_votes(int bi, int bj) const;  // a cell's votes of paint and dots
   void revote(std::span<const MarkCandidate> marks);
   void vote(const MarkCandidate& m, int delta);
 
-  std::vector<std::uint16_t> votes_;  // kY0Bins x kSlopeBins
+  std::vector<std::uint16_t> votes_;        // kY0Bins x kSlopeBins: paint and dots
+  std::vector<std::uint16_t> joint_votes_;  // and joints
   std::vector<int> gated_;            // indices of the marks inside a line's gate
   double curvature_ = 0.0;            // c the votes are cast along
   std::array<DetectedLine, kMaxFoundLines> found_{};

@@ -26,6 +26,10 @@ float peak_offset(std::int32_t a, std::int32_t b, std::int32_t c) {
 // derivative's reach, biases the bar's edges (see scan_row).
 constexpr float kStepInReach = 0.25f;
 
+// A joint's two sides may differ by this fraction of its depth (the slabs beside it
+// weathered alike); a shadow's or a patch's border differs by all of it.
+constexpr float kJointSideMismatch = 0.5f;
+
 }  // namespace
 
 MarkScanner::MarkScanner(int max_width)
@@ -143,19 +147,94 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     const float bar_width = area / (static_cast<float>(peak) - background);
     if (bar_width < min_width) continue;
     MarkCandidate& c = out[count++];
+    c = MarkCandidate{};  // the slot may hold a candidate of an earlier scan
     c.left_px = static_cast<double>(a) + 1.0 + x_begin;  // to the picture's 1-based columns
     c.right_px = static_cast<double>(b) + 1.0 + x_begin;
     c.py = r.y + 1.0;
     c.contrast = static_cast<double>((inside - std::max(left, right)) * to_8bit);
-    c.line = -1;
     c.scan_row = static_cast<std::int16_t>(scan_row_index);
     c.step_beside = step_beside;
     c.narrow = w < r.min_width_px || bar_width < r.min_width_px;
-    c.dot = false;
-    c.shadow_side = 0;
   }
-  return dots_.scan(row, P, x_begin, width, r, scan_row_index, min_contrast, to_8bit, out, first_of_row, count,
-                    capacity);
+  count = dots_.scan(row, P, x_begin, width, r, scan_row_index, min_contrast, to_8bit, out, first_of_row, count,
+                     capacity);
+  return scan_joints(row, x_begin, width, r, scan_row_index, min_contrast, to_8bit, n_rising, n_falling, out,
+                     first_of_row, count, capacity);
+}
+
+template <typename Pixel>
+int MarkScanner::scan_joints(const Pixel* row, int x_begin, int width, const ScanRow& r, int scan_row_index,
+                             float min_contrast, float to_8bit, int n_rising, int n_falling, MarkCandidate* out,
+                             int first_of_row, int count, int capacity) const {
+  if (!(r.max_joint_px > 0.0f)) return count;
+  const std::int32_t* const P = prefix_.data();
+  const Edge* const rising = rising_.data();
+  const Edge* const falling = falling_.data();
+  auto mean = [P, width](int a, int b) {  // mean of pixels a..b (clipped), NaN when empty
+    a = std::max(a, 0);
+    b = std::min(b, width - 1);
+    if (b < a) return std::nanf("");
+    return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
+  };
+  // The box derivative spreads a line narrower than its box to the box's width: the
+  // falling and the rising edge of a joint lie up to a box apart whatever its width.
+  const int h = std::max(1, r.half_width);
+  const float max_span = r.max_joint_px + static_cast<float>(h) + 1.0f;
+  const int flank = std::max(2, static_cast<int>(std::lround(r.mark_px)));
+  const int row_end = count;
+  int fi = 0;
+  for (int ri = 0; ri < n_rising && count < capacity; ++ri) {
+    const float b = rising[ri].x;
+    int last = -1;
+    while (fi < n_falling && falling[fi].x < b) last = fi++;
+    if (last < 0 || b - falling[last].x > max_span) continue;
+    // A line's two edges are alike; a step's other edge (texture beside it) is not.
+    const std::int32_t fall = falling[last].strength, rise = rising[ri].strength;
+    if (2 * std::min(fall, rise) < std::max(fall, rise)) continue;
+    const float a = falling[last].x;
+    const int ia = static_cast<int>(std::floor(a)), ib = static_cast<int>(std::floor(b));
+    const float left = mean(ia - flank, ia - 1), right = mean(ib + 2, ib + 1 + flank);
+    // Between two sides of one level (a shadow's or a patch's border is a step, not a
+    // line); the sides first, a prefix-sum lookup each, the valley only then.
+    if (!(std::abs(left - right) <= kJointSideMismatch * std::max(left, right))) continue;
+    const float background = 0.5f * (left + right);
+    // The valley between: its darkest pixel, its area below the sides, its centroid.
+    const int xa = std::max(ia, 0), xb = std::min(ib + 1, width - 1);
+    float darkest = background, area = 0.0f, moment = 0.0f;
+    for (int x = xa; x <= xb; ++x) {
+      const float v = static_cast<float>(row[x]);
+      darkest = std::min(darkest, v);
+      const float below = std::max(0.0f, background - v);
+      area += below;
+      moment += below * static_cast<float>(x);
+    }
+    const float depth = background - darkest;
+    // Darker than both sides by the minimum contrast, and they agree to a fraction of it.
+    if (!(depth >= min_contrast) || !(std::min(left, right) - darkest >= min_contrast) ||
+        std::abs(left - right) > kJointSideMismatch * depth)
+      continue;
+    const float joint_width = area / depth;
+    if (joint_width > r.max_joint_px) continue;
+    const float centre = moment / area;
+    // A raised marker's own shadow (the dot pass's) is no joint.
+    const double column = static_cast<double>(centre) + 1.0 + x_begin;  // 1-based
+    bool shadow = false;
+    for (int k = first_of_row; k < row_end && !shadow; ++k) {
+      const MarkCandidate& d = out[k];
+      const double edge = d.px(), far_end = edge + d.shadow_side * static_cast<double>(d.shadow_px);
+      shadow = d.shadow_side != 0 && column >= std::min(edge, far_end) - 1.0 && column <= std::max(edge, far_end) + 1.0;
+    }
+    if (shadow) continue;
+    MarkCandidate& c = out[count++];
+    c = MarkCandidate{};
+    c.left_px = column - 0.5 * static_cast<double>(joint_width);
+    c.right_px = column + 0.5 * static_cast<double>(joint_width);
+    c.py = r.y + 1.0;
+    c.contrast = static_cast<double>(depth * to_8bit);
+    c.scan_row = static_cast<std::int16_t>(scan_row_index);
+    c.joint = true;
+  }
+  return count;
 }
 
 }  // namespace ccdlane

@@ -16,6 +16,9 @@ struct ScanRow {
   // A raised marker's width along this row, pixels, where the row is also searched for
   // markers lit from one side (a cap beside its shadow, dot_scanner.hpp); 0: not.
   float dot_px = 0.0f;
+  // The widest joint between concrete slabs along this row, pixels, where the row is also
+  // searched for joints (dark lines beside raised markers, MarkScanner); 0: not.
+  float max_joint_px = 0.0f;
   int half_width = 1;  // of the box derivative (noise averaging at the mark's scale)
   // The columns scanned, 0-based [x_begin, x_end) (clipped to the picture): where the
   // road searched lies on this row. Pixels outside are never read, nor is their paint

@@ -107,7 +107,8 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
   LaneClutter c;
   for (const MarkCandidate& m : marks) {
-    if (!(m.X >= 0.0)) continue;
+    // A joint no line took is the road's own seam, not clutter on it.
+    if (!(m.X >= 0.0) || (m.joint && m.line < 0)) continue;
     const std::uint64_t bin = std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
     if (m.line == left_line || m.line == right_line) {
       on_lines |= bin;
