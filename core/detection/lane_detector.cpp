@@ -35,9 +35,13 @@ constexpr double kDotBlurPx = 2.0;
 // where the dome (10 cm) spans this many pixels: fewer, and cap and shadow blur into one.
 constexpr double kDotDiameterMm = 100.0;
 constexpr double kMinShadowedDotPx = 2.5;
+constexpr double kRowsPerMarkerForEveryFourth = 4.0;
 // Joints between concrete slabs are sealed cuts a centimetre or two wide; with blur and
 // a worn edge, this wide at most.
 constexpr double kMaxJointWidthMm = 40.0;
+// A joint's piece on the next scan row lies within this (plus half their widths) of where
+// the line from the vanishing point through it crosses that row.
+constexpr double kJointLinkPx = 1.5;
 // Yellow paint stands above the road mostly by its colour (on pale concrete, by its
 // colour alone): its yellowness is at least this fraction of its contrast, and above
 // the tint of grey surfaces (a few levels) by this much. White paint's is near 0.
@@ -80,6 +84,8 @@ LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& conf
       grouper_(static_cast<int>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       rows_(static_cast<std::size_t>(camera.Nv)),
       marks_(static_cast<std::size_t>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
+      joints_(marks_.size()),
+      linked_(marks_.size()),
       picks_(static_cast<std::size_t>(config.max_picks)) {}
 
 void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
@@ -97,8 +103,12 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     const double min_px = config_.min_mark_width_mm / mm_per_px, max_px = config_.max_mark_width_mm / mm_per_px;
     if (mark_px < kMinMarkPx) continue;
     // Near rows are dense on the road and their marks wide: every second or third one
-    // says as much as all of them, at a fraction of the time.
-    const int thin = mark_px >= 12.0 ? 3 : mark_px >= 6.0 ? 2 : 1;
+    // says as much as all of them, at a fraction of the time; every fourth where a raised
+    // marker spans four rows or more (each is still crossed by one).
+    double X_below = 0.0, Y_below = 0.0;
+    const bool marker_rows = projector_.ground(col, y + 2.0, X_below, Y_below) && X > X_below &&
+                             kDotDiameterMm >= kRowsPerMarkerForEveryFourth * (X - X_below);
+    const int thin = mark_px >= 12.0 ? (marker_rows ? 4 : 3) : mark_px >= 6.0 ? 2 : 1;
     if (y % thin != 0) continue;
     ScanRow& r = rows_[static_cast<std::size_t>(num_rows_++)];
     r.y = y;
@@ -258,6 +268,42 @@ int LaneDetector::keep_one_sun(int kept) {
   return n;
 }
 
+int LaneDetector::keep_linked_joints(int kept) {
+  // Candidates come in scan-row order. A piece of a joint on one row has another on the
+  // next row where the line from the vanishing point through it crosses that row; cracks
+  // run every way, and specks and texture are a row long. Cheaper than the bars' edge
+  // test (keep_linked_joints sees a few hundred pieces a frame), and sharper for lines a
+  // pixel or two wide, whose edges' gradients are mostly noise.
+  int n = 0;
+  for (int i = 0; i < kept; ++i)
+    if (marks_[static_cast<std::size_t>(i)].joint) {
+      joints_[static_cast<std::size_t>(n)] = i;
+      linked_[static_cast<std::size_t>(n++)] = !have_vp_;
+    }
+  for (int a = 0; a < n && have_vp_; ++a) {
+    const MarkCandidate& p = marks_[static_cast<std::size_t>(joints_[static_cast<std::size_t>(a)])];
+    for (int b = a + 1; b < n; ++b) {
+      const MarkCandidate& q = marks_[static_cast<std::size_t>(joints_[static_cast<std::size_t>(b)])];
+      if (q.scan_row == p.scan_row) continue;
+      if (q.scan_row > p.scan_row + 1) break;
+      const double x = vp_x_ + (p.px() - vp_x_) * (q.py - vp_y_) / (p.py - vp_y_);
+      if (std::abs(q.px() - x) <= kJointLinkPx + 0.5 * (p.width_px() + q.width_px()))
+        linked_[static_cast<std::size_t>(a)] = linked_[static_cast<std::size_t>(b)] = 1;
+    }
+  }
+  int out = 0, j = 0;
+  for (int i = 0; i < kept; ++i) {
+    const MarkCandidate& c = marks_[static_cast<std::size_t>(i)];
+    if (c.joint && !linked_[static_cast<std::size_t>(j++)]) {
+      ++result_.counters.wrong_orientation;
+      continue;
+    }
+    result_.counters.joints += c.joint;
+    marks_[static_cast<std::size_t>(out++)] = c;
+  }
+  return out;
+}
+
 bool LaneDetector::is_yellow(const ImageView& image, const MarkCandidate& c) {
   // The bar's centre and its two neighbours along the row: one pixel may be a JPEG or
   // chroma-subsampling artefact.
@@ -278,10 +324,13 @@ void LaneDetector::choose_picks() {
     line.first_pick = count;
     // A line of paint hands on its paint only: the blobs grouped with it (a dash's end,
     // a dot beside it) are not where its edges say the line is. A row of dots (its
-    // majority kind, as the grouping found) hands on its dots, and the joint they are set
-    // along.
+    // majority kind, as the grouping found) hands on its dots; a row of dots set beside a
+    // joint, the joint (its dots lie a few centimetres off it).
     const bool dots = line.dots;
-    const auto usable_mark = [j, dots](const MarkCandidate& m) { return m.line == j && (m.joint ? dots : m.dot == dots); };
+    const bool joint = line.joints > 0;
+    const auto usable_mark = [j, dots, joint](const MarkCandidate& m) {
+      return m.line == j && (joint ? m.joint : m.dot == dots && !m.joint);
+    };
     int usable = 0;
     for (int i = 0; i < num_marks; ++i) usable += usable_mark(result_.marks[static_cast<std::size_t>(i)]);
     // Evenly spread over the line's marks (they come in row order, far to near).
@@ -327,7 +376,8 @@ std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const 
   const int count = scan(image, pose, 0.0);
   int kept = 0;
   for (int i = 0; i < count; ++i)
-    if (!marks_[static_cast<std::size_t>(i)].joint) marks_[static_cast<std::size_t>(kept++)] = marks_[static_cast<std::size_t>(i)];
+    if (!marks_[static_cast<std::size_t>(i)].joint)
+      marks_[static_cast<std::size_t>(kept++)] = marks_[static_cast<std::size_t>(i)];
   return {marks_.data(), static_cast<std::size_t>(kept)};
 }
 
@@ -355,13 +405,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
       ++result_.counters.off_road;
       continue;
     }
-    if (c.joint) {
-      // A crack or a speck is not a joint: a joint runs along the road.
-      if (!points_to_vanishing_point(image, c)) {
-        ++result_.counters.wrong_orientation;
-        continue;
-      }
-      ++result_.counters.joints;
+    if (c.joint) {  // its direction is keep_linked_joints' to judge
       marks_[static_cast<std::size_t>(kept++)] = c;
       continue;
     }
@@ -389,6 +433,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     marks_[static_cast<std::size_t>(kept++)] = c;
   }
   kept = keep_one_sun(kept);
+  kept = keep_linked_joints(kept);
   const std::span<MarkCandidate> marks(marks_.data(), static_cast<std::size_t>(kept));
   GroupingParams params;
   params.min_marks = config_.min_marks;

@@ -56,6 +56,10 @@ class LaneDetector {
   // Drops the markers of marks_[0, kept) whose shadow falls against the picture's sun;
   // returns how many are left.
   int keep_one_sun(int kept);
+  // Drops the joints of marks_[0, kept) with no piece on a neighbouring scan row along
+  // the line to the vanishing point through them (cracks and specks; a joint runs along
+  // the road); returns how many are left.
+  int keep_linked_joints(int kept);
   // Whether candidate c is yellow paint (colour frames only).
   static bool is_yellow(const ImageView& image, const MarkCandidate& c);
   void choose_picks();
@@ -68,6 +72,8 @@ class LaneDetector {
   std::vector<ScanRow> rows_;
   int num_rows_ = 0;
   std::vector<MarkCandidate> marks_;
+  std::vector<int> joints_;           // keep_linked_joints' indices into marks_,
+  std::vector<std::uint8_t> linked_;  // and whether each is linked
   std::vector<Pick> picks_;
   DetectionResult result_;
   double vp_x_ = 0.0, vp_y_ = 0.0;  // ideal pixel of the road's vanishing point

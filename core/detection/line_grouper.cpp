@@ -19,7 +19,7 @@ constexpr double kReferenceMm = 10000.0;  // where lines are compared and ordere
 constexpr double kGateGrowth = 0.02;      // gate widening per mm of distance (pose error)
 constexpr double kMaxCurvature = 1e-5;    // c of a 50 m radius: anything sharper is not a lane
 
-constexpr double kPriorGateMm = 350.0;    // gate about a previous frame's line at 0 m
+constexpr double kPriorGateMm = 350.0;  // gate about a previous frame's line at 0 m
 // A road's curvature changes slowly along it (clothoids between arcs): from one frame to
 // the next a line's own curvature moves by far less than this (a 500 m radius). A fit
 // that bends more has taken an arrow's, a word's or a car's strokes beside the line.
@@ -87,6 +87,7 @@ constexpr double kDotScatterMm = 40.0;
 // Raised markers on concrete are set beside the joint between slabs, not on its seal: a
 // few centimetres off it, their centres scattered as above.
 constexpr double kJointBandMm = 120.0;
+constexpr double kMinJointCoverage = 0.4;
 
 // The lateral road distance one pixel of the fit tolerance spans at a mark: more for a
 // dot of a row of dots (`dot_line`). A paint line holds the blobs beside it (its dash
@@ -187,9 +188,10 @@ LineGrouper::LineGrouper(int max_marks)
     : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0),
       joint_votes_(votes_.size(), 0),
       gated_(static_cast<std::size_t>(max_marks)) {
-  // A mark votes once per slope (paint twice): a cell holds at most 2 max_marks votes,
-  // and the search's 16-bit sums of three cells must not wrap.
-  assert(3 * kPaintVotes * max_marks <= 65535);
+  // A mark votes once per slope (paint twice, a joint once in its own array): a cell
+  // holds at most 2 max_marks votes of both, and the search's 16-bit sums of three
+  // cells of each must not wrap.
+  assert(3 * (kPaintVotes + 1) * max_marks <= 65535);
 }
 
 void LineGrouper::vote(const MarkCandidate& mark, int delta) {
@@ -199,6 +201,7 @@ void LineGrouper::vote(const MarkCandidate& mark, int delta) {
   const double du = kSlopeStep * mark.X / kY0BinMm;
   const int weight = mark.dot || mark.joint ? 1 : kPaintVotes;
   std::vector<std::uint16_t>& votes = mark.joint ? joint_votes_ : votes_;
+  if (mark.joint) joint_votes_cast_ += delta;
   for (int j = 0; j < kSlopeBins; ++j) {
     const double u = u0 - j * du;
     if (!(u >= 0.0 && u < kY0Bins)) continue;
@@ -370,9 +373,9 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
     const int n = p.marks;
     // Too few, or sparse (clutter, not paint), for a line of its own; unless it is a row of
     // dots (beside a joint, with fewer).
-    const bool too_few = n < min_marks || p.far_mm - p.near_mm < min_span_mm ||
-                         (n < params.min_coverage * p.rows &&
-                          p.dots < (parallel ? params.min_parallel_dots : params.min_dots));
+    const bool too_few =
+        n < min_marks || p.far_mm - p.near_mm < min_span_mm ||
+        (n < params.min_coverage * p.rows && p.dots < (parallel ? params.min_parallel_dots : params.min_dots));
     if (too_few) {
       if (2 * p.dot_marks > n && p.dots >= params.min_joint_dots && !parallel &&
           join_joint(marks, model, id, params, min_span_mm, looked_for, gate_base_mm, out))
@@ -420,8 +423,8 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
     near_mm = 1e300, far_mm = 0.0;
     for (const MarkCandidate& m : marks) {
       if (!m.joint || m.line != -1) continue;
-      const double tol = pass == 0 ? kJointBandMm + pixel_tolerance_mm(params, m, false)
-                                   : pixel_tolerance_mm(params, m, false);
+      const double tol =
+          pass == 0 ? kJointBandMm + pixel_tolerance_mm(params, m, false) : pixel_tolerance_mm(params, m, false);
       if (std::abs(m.Y - joint.y_at(m.X)) > tol) continue;
       const double x = m.X * 1e-3, y = m.Y - c * m.X * m.X;
       sw += 1, sx += x, sy += y, sxx += x * x, sxy += x * y;
@@ -436,8 +439,9 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
     const double slope = (sw * sxy - sx * sy) / det;  // per metre
     joint = {(sy - slope * sx) / sw, slope * 1e-3, c};
   }
-  // Dense along the road as a line is, and sharp.
-  if (n < params.min_coverage * (last_row - first_row + 1)) return false;
+  // Continuous, as a joint is: on most of the scan rows it spans. Chance alignments of
+  // specks and cracks (a frame of noise makes a few) are on a fifth to a third of theirs.
+  if (n < kMinJointCoverage * (last_row - first_row + 1)) return false;
   for (const MarkCandidate& m : marks) {
     if (!m.joint || m.line != -1) continue;
     const double r_px = (m.Y - joint.y_at(m.X)) / mm_per_tolerance_px(params, m, false);
@@ -455,7 +459,8 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
   if (dots < params.min_joint_dots) return false;
   for (MarkCandidate& m : marks) {
     if (m.line == id) m.line = -1;
-    const bool piece = m.joint && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= pixel_tolerance_mm(params, m, false);
+    const bool piece =
+        m.joint && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= pixel_tolerance_mm(params, m, false);
     const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
     if (piece || dot) m.line = id;
   }
@@ -540,6 +545,7 @@ double LineGrouper::shared_curvature(std::span<const RoadLine> priors, int n) co
 void LineGrouper::revote(std::span<const MarkCandidate> marks) {
   std::fill(votes_.begin(), votes_.end(), 0);
   std::fill(joint_votes_.begin(), joint_votes_.end(), 0);
+  joint_votes_cast_ = 0;
   for (const MarkCandidate& m : marks)
     if (m.line == -1) vote(m, +1);
 }
@@ -550,15 +556,23 @@ int LineGrouper::strongest_cell(int& bi, int& bj, int min_joint_dots) const {
   // vector operations; a row is searched only when it beats the best.
   int best = 0;
   bi = bj = -1;
+  // 16-bit sums throughout (the constructor's bound: they do not wrap), which the
+  // compiler vectorises; the joints' array is read only when it holds votes that count.
+  const bool with_joints = joint_votes_cast_ > 0 && min_joint_dots <= 65535;
+  const auto min_own = static_cast<std::uint16_t>(std::min(min_joint_dots, 65535));
   for (int i = 1; i + 1 < kY0Bins; ++i) {
     const std::uint16_t* row = votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
     const std::uint16_t* joints = joint_votes_.data() + static_cast<std::size_t>(i) * kSlopeBins;
     std::array<std::uint16_t, kSlopeBins> sums;
-    for (int j = 0; j < kSlopeBins; ++j) {
-      const int own = row[j - kSlopeBins] + row[j] + row[j + kSlopeBins];
-      const int joint = joints[j - kSlopeBins] + joints[j] + joints[j + kSlopeBins];
-      sums[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(std::min(own + (own >= min_joint_dots ? joint : 0), 65535));
-    }
+    for (int j = 0; j < kSlopeBins; ++j)
+      sums[static_cast<std::size_t>(j)] =
+          static_cast<std::uint16_t>(row[j - kSlopeBins] + row[j] + row[j + kSlopeBins]);
+    if (with_joints)
+      for (int j = 0; j < kSlopeBins; ++j) {
+        const auto joint = static_cast<std::uint16_t>(joints[j - kSlopeBins] + joints[j] + joints[j + kSlopeBins]);
+        const std::uint16_t own = sums[static_cast<std::size_t>(j)];
+        sums[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(own + (own >= min_own ? joint : 0));
+      }
     std::uint16_t row_best = 0;
     for (std::uint16_t v : sums) row_best = std::max(row_best, v);
     if (row_best <= best) continue;
@@ -571,7 +585,8 @@ int LineGrouper::strongest_cell(int& bi, int& bj, int min_joint_dots) const {
 
 int LineGrouper::strongest_cell_own_votes(int bi, int bj) const {
   int own = 0;
-  for (int i = bi - 1; i <= bi + 1; ++i) own += votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(bj)];
+  for (int i = bi - 1; i <= bi + 1; ++i)
+    own += votes_[static_cast<std::size_t>(i) * kSlopeBins + static_cast<std::size_t>(bj)];
   return own;
 }
 

@@ -136,8 +136,9 @@ class LineGrouper {
 
   std::vector<std::uint16_t> votes_;        // kY0Bins x kSlopeBins: paint and dots
   std::vector<std::uint16_t> joint_votes_;  // and joints
-  std::vector<int> gated_;            // indices of the marks inside a line's gate
-  double curvature_ = 0.0;            // c the votes are cast along
+  int joint_votes_cast_ = 0;                // joints voting
+  std::vector<int> gated_;                  // indices of the marks inside a line's gate
+  double curvature_ = 0.0;                  // c the votes are cast along
   std::array<DetectedLine, kMaxFoundLines> found_{};
 };
 

@@ -147,7 +147,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     const float bar_width = area / (static_cast<float>(peak) - background);
     if (bar_width < min_width) continue;
     MarkCandidate& c = out[count++];
-    c = MarkCandidate{};  // the slot may hold a candidate of an earlier scan
+    c = MarkCandidate{};                                 // the slot may hold a candidate of an earlier scan
     c.left_px = static_cast<double>(a) + 1.0 + x_begin;  // to the picture's 1-based columns
     c.right_px = static_cast<double>(b) + 1.0 + x_begin;
     c.py = r.y + 1.0;
@@ -156,8 +156,8 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     c.step_beside = step_beside;
     c.narrow = w < r.min_width_px || bar_width < r.min_width_px;
   }
-  count = dots_.scan(row, P, x_begin, width, r, scan_row_index, min_contrast, to_8bit, out, first_of_row, count,
-                     capacity);
+  count =
+      dots_.scan(row, P, x_begin, width, r, scan_row_index, min_contrast, to_8bit, out, first_of_row, count, capacity);
   return scan_joints(row, x_begin, width, r, scan_row_index, min_contrast, to_8bit, n_rising, n_falling, out,
                      first_of_row, count, capacity);
 }
@@ -194,25 +194,22 @@ int MarkScanner::scan_joints(const Pixel* row, int x_begin, int width, const Sca
     const float a = falling[last].x;
     const int ia = static_cast<int>(std::floor(a)), ib = static_cast<int>(std::floor(b));
     const float left = mean(ia - flank, ia - 1), right = mean(ib + 2, ib + 1 + flank);
-    // Between two sides of one level (a shadow's or a patch's border is a step, not a
-    // line); the sides first, a prefix-sum lookup each, the valley only then.
-    if (!(std::abs(left - right) <= kJointSideMismatch * std::max(left, right))) continue;
-    const float background = 0.5f * (left + right);
-    // The valley between: its darkest pixel, its area below the sides, its centroid.
+    // The valley between: its darkest pixel first (integers), darker than both sides by
+    // the minimum contrast, which agree to a fraction of it (a shadow's or a patch's
+    // border is a step, not a line); only then its area below the sides and centroid.
     const int xa = std::max(ia, 0), xb = std::min(ib + 1, width - 1);
-    float darkest = background, area = 0.0f, moment = 0.0f;
+    Pixel darkest_px = row[xa];
+    for (int x = xa + 1; x <= xb; ++x) darkest_px = std::min(darkest_px, row[x]);
+    const auto darkest = static_cast<float>(darkest_px);
+    const float background = 0.5f * (left + right), depth = background - darkest;
+    if (!(std::min(left, right) - darkest >= min_contrast) || std::abs(left - right) > kJointSideMismatch * depth)
+      continue;
+    float area = 0.0f, moment = 0.0f;
     for (int x = xa; x <= xb; ++x) {
-      const float v = static_cast<float>(row[x]);
-      darkest = std::min(darkest, v);
-      const float below = std::max(0.0f, background - v);
+      const float below = std::max(0.0f, background - static_cast<float>(row[x]));
       area += below;
       moment += below * static_cast<float>(x);
     }
-    const float depth = background - darkest;
-    // Darker than both sides by the minimum contrast, and they agree to a fraction of it.
-    if (!(depth >= min_contrast) || !(std::min(left, right) - darkest >= min_contrast) ||
-        std::abs(left - right) > kJointSideMismatch * depth)
-      continue;
     const float joint_width = area / depth;
     if (joint_width > r.max_joint_px) continue;
     const float centre = moment / area;

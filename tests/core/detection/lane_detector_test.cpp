@@ -14,24 +14,21 @@
 
 #include "app/config_loader.hpp"
 #include "tests/core/detection/detection_truth.hpp"
+#include "tests/core/detection/marker_drawing.hpp"
 #include "tests/core/synth/rendered_road.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace ccdlane {
 namespace {
 
+using test::concrete;
+using test::draw_dot;
+using test::draw_sunlit_dot;
+using test::Frame;
+using test::kDotRadiusMm;
 using test::match;
 using test::pick_errors;
 using test::PickErrors;
-
-struct Frame {
-  std::vector<std::uint8_t> px;
-  MutableImageView view;
-  explicit Frame(const CameraSpec& cam, PixelFormat f = PixelFormat::mono8, int bits = 8)
-      : px(static_cast<std::size_t>(cam.Nu * cam.Nv * bytes_per_pixel(f))) {
-    view = {px.data(), cam.Nu, cam.Nv, cam.Nu * bytes_per_pixel(f), f, bits};
-  }
-};
 
 Config highway() {
   Config c = default_config();
@@ -167,62 +164,6 @@ TEST(LaneDetector, RejectsBarsThatAreNotOnTheRoadOrNotAlongIt) {
 // Botts' dots: a road marked only by round raised markers, 10 cm across, in groups of four
 // 1.2 m apart with 4.8 m gaps (a Californian pattern), on textured concrete. Each line of
 // dots is found where it is, from its dots; the same dots scattered at random make no line.
-// Paints a marker centred at (X, Y) on the road: `grey(dx, dy)` is its grey level at an
-// offset on the road from its centre, mm (-1: the road's own), averaged over each pixel.
-template <typename Grey>
-void draw_marker(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X,
-                 double Y, const Grey& grey) {
-  const auto centre = model.pixel_from_point(Vec3(X, Y, 0.0));
-  if (!centre) return;
-  const int cx = static_cast<int>(centre->x()) - 1, cy = static_cast<int>(centre->y()) - 1;
-  constexpr int kSamples = 4;  // per pixel side: a far dot covers part of a pixel, as a lens blurs it
-  for (int y = std::max(0, cy - 20); y <= std::min(im.height - 1, cy + 20); ++y)
-    for (int x = std::max(0, cx - 40); x <= std::min(im.width - 1, cx + 40); ++x) {
-      std::uint8_t& p = im.row(y)[x];
-      int sum = 0;
-      for (int sy = 0; sy < kSamples; ++sy)
-        for (int sx = 0; sx < kSamples; ++sx) {
-          double gx = 0, gy = 0;
-          const int g = ground.ground(x + 0.5 + (sx + 0.5) / kSamples, y + 0.5 + (sy + 0.5) / kSamples, gx, gy)
-                            ? grey(gx - X, gy - Y)
-                            : -1;
-          sum += g < 0 ? p : g;
-        }
-      p = static_cast<std::uint8_t>(sum / (kSamples * kSamples));
-    }
-}
-
-constexpr double kDotRadiusMm = 50.0;
-
-void draw_dot(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X, double Y,
-              std::uint8_t grey) {
-  draw_marker(im, ground, model, X, Y,
-              [grey](double dx, double dy) { return std::hypot(dx, dy) <= kDotRadiusMm ? int{grey} : -1; });
-}
-
-// The same marker in sunlight from the left, raised as Botts' dots are (18 mm): its dome
-// hides the road for h X / H beyond it, so it looks that much longer than its footprint.
-// Lit only on its outer 30 mm on the sun's side (narrower than a bar the detector takes
-// alone); the rest of the dome, and its shadow on the road as long, dark.
-void draw_sunlit_dot(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double X,
-                     double Y, double height_mm) {
-  constexpr double kDomeMm = 18.0;
-  const double length = kDotRadiusMm + 0.5 * kDomeMm * X / height_mm;  // half, along the road
-  draw_marker(im, ground, model, X, Y, [length](double dx, double dy) {
-    const double along = dx / length;
-    if (std::hypot(along, dy / kDotRadiusMm) <= 1.0) return dy > kDotRadiusMm - 30.0 ? 230 : 70;
-    return std::hypot(along, (dy + 40.0) / kDotRadiusMm) <= 1.0 ? 70 : -1;
-  });
-}
-
-void concrete(const MutableImageView& im, std::uint32_t seed) {
-  for (int y = 0; y < im.height; ++y)
-    for (int x = 0; x < im.width; ++x) {
-      seed = seed * 1664525u + 1013904223u;
-      im.row(y)[x] = static_cast<std::uint8_t>(150 + static_cast<int>((seed >> 24) % 9) - 4);
-    }
-}
-
 TEST(LaneDetector, ALineOfBottsDotsIsALine) {
   const Config c = highway();
   const CameraPose pose = c.nominal_pose();
@@ -272,7 +213,7 @@ TEST(LaneDetector, ALineOfBottsDotsIsALine) {
 // degrees, one).
 TEST(LaneDetector, ALineOfSunlitBottsDotsIsALine) {
   const Config c = load_config_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/camera.toml");
-  const CameraPose pose = c.nominal_pose();
+  const CameraPose pose = test::tusimple_pose(c);
   const GroundProjector ground(c.camera, pose);
   const CameraModel model(c.camera, pose);
   const std::array<double, 2> lines_mm = {1800.0, -1800.0};

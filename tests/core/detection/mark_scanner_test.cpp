@@ -2,6 +2,7 @@
 // a dark-bright-dark bar of the expected width, both pixel depths, no allocation.
 #include "core/detection/mark_scanner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -86,6 +87,34 @@ TEST(MarkScanner, BarsNarrowerThanPaintAreKeptFlaggedWhereADotMayBe) {
   Row hair;
   hair.bar(50, 50.7, 250);  // a pixel's line: narrower than a dot's cap
   EXPECT_TRUE(scan(hair.bytes8(), r).empty());
+}
+
+TEST(MarkScanner, JointsAreDarkLinesBetweenSidesOfOneLevel) {
+  // The sealed joint between two slabs, 2 px wide and 40 levels below the road, where a
+  // mark is 8 px: its centre to a fraction of a pixel.
+  Row joint;
+  joint.bar(100.2, 102.2, 40);
+  ScanRow r = row_for(8.0f);
+  EXPECT_TRUE(scan(joint.bytes8(), r).empty()) << "no joints asked for on this row";
+  r.max_joint_px = 4.0f;
+  const auto c = scan(joint.bytes8(), r);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_TRUE(c[0].joint);
+  EXPECT_NEAR(c[0].px(), 101.2 + 1.0, 0.25);  // 1-based columns
+  EXPECT_NEAR(c[0].contrast, 40.0, 4.0);
+  // Not joints: a shadow's border (a step down, no far side), a dark patch wider than a
+  // joint, a line too faint, and a dark line along a step (its sides differ by more than
+  // half its depth: a patch's edge).
+  Row step, patch, faint, edge;
+  step.bar(100, 200, 40);
+  patch.bar(100, 112, 40);
+  faint.bar(100.2, 102.2, 74);
+  edge.bar(102.2, 200, 60);
+  edge.bar(100.2, 102.2, 40);
+  for (const Row* row : {&step, &patch, &faint, &edge}) {
+    const auto none = scan(row->bytes8(), r);
+    EXPECT_TRUE(std::none_of(none.begin(), none.end(), [](const MarkCandidate& m) { return m.joint; }));
+  }
 }
 
 TEST(MarkScanner, SixteenBitRowsGiveTheSameBars) {
