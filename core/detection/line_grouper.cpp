@@ -188,10 +188,10 @@ LineGrouper::LineGrouper(int max_marks)
     : votes_(static_cast<std::size_t>(kY0Bins) * kSlopeBins, 0),
       joint_votes_(votes_.size(), 0),
       gated_(static_cast<std::size_t>(max_marks)) {
-  // A mark votes once per slope (paint twice, a joint once in its own array): a cell
-  // holds at most 2 max_marks votes of both, and the search's 16-bit sums of three
-  // cells of each must not wrap.
-  assert(3 * (kPaintVotes + 1) * max_marks <= 65535);
+  // A mark votes in one y0 bin per slope (paint twice, a dot or a joint once): the sum
+  // over three bins of one slope, of both accumulators, holds each mark's votes once, and
+  // the search's 16-bit sums must not wrap.
+  assert(kPaintVotes * max_marks <= 65535);
 }
 
 void LineGrouper::vote(const MarkCandidate& mark, int delta) {
