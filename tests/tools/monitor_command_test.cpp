@@ -143,8 +143,7 @@ TEST_F(MonitorCommand, WithoutJsonALiveLineASecond) {
 
 // What a daemon publishes for 2.3 s: an ok lane message every 20 ms and `status` with
 // every tenth, for a monitor started to read 2.5 s.
-void publish_for_monitor(lcm::LCM& bus, const status_t& status) {
-  LaneEstimate e;
+void publish_for_monitor(lcm::LCM& bus, const status_t& status, LaneEstimate e = {}) {
   e.ok = true;
   lane_estimate_t lane;
   const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(2300);
@@ -159,20 +158,35 @@ void publish_for_monitor(lcm::LCM& bus, const status_t& status) {
 
 // What a monitor started for 2.5 s prints while `status` (camera streaming) is published
 // with lane messages; "" when the bus cannot be had (the caller skips).
-std::string live_lines_with(status_t status) {
+std::string live_lines_with(status_t status, const LaneEstimate& lane = {}) {
   test::TempDir dir;
   test::ChildProcess monitor({kTool, "monitor", "--lcm", kUrl, "--seconds", "2.5"},
                              test::ChildOptions{{}, dir.file("out"), dir.file("err"), {}});
   lcm::LCM bus(kUrl);
   EXPECT_TRUE(bus.good());
   status.camera_state = status_t::CAMERA_STREAMING;
-  publish_for_monitor(bus, status);
+  publish_for_monitor(bus, status, lane);
   const auto exit_status = monitor.wait_exit(3000);
   EXPECT_TRUE(exit_status.has_value());
   if (exit_status) {
     EXPECT_EQ(WEXITSTATUS(*exit_status), 0) << test::read_file(dir.file("err"));
   }
   return test::read_file(dir.file("out"));
+}
+
+// The lane filter's heading and the mount's yaw it learnt (a camera yawed on the car reads
+// as a heading in every solve) are on the line while the warning is available.
+TEST(MonitorCommandAlone, TheLiveLineShowsTheFiltersHeadingAndTheMountsYaw) {
+  if (const std::string why = test::enter_private_network(); !why.empty()) GTEST_SKIP() << why;
+  LaneEstimate lane;
+  lane.heading_deg = -1.34;
+  lane.ldw.available = true;
+  lane.ldw.tracked = true;
+  lane.ldw.heading_deg = 0.02;
+  lane.ldw.heading_bias_deg = -1.36;
+  const std::string out = live_lines_with(status_t{}, lane);
+  EXPECT_NE(out.find("heading -1.34 deg, radius "), std::string::npos) << out;
+  EXPECT_NE(out.find(" m/s, heading 0.02 deg (mount yaw -1.36) | camera "), std::string::npos) << out;
 }
 
 // The gyro's reconnect count comes from the status message, and only when there is a gyro.

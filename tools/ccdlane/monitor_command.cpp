@@ -165,7 +165,8 @@ class Monitor {
   // "frame 1234 ok | psi 1.05 theta 0.71 phi -2.70 deg | lane 3601 mm, offset -49 mm,
   //  heading 0.07 deg, radius 850 m (straight at 10 km and beyond; - unsolved), departure none, tracking (or
   //  searching) | 30 msg/s | LDW
-  //  available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s (or LDW unavailable (too_slow)) | camera
+  //  available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s, heading 0.02 deg (mount yaw -1.36)
+  //  (or LDW unavailable (too_slow)) | camera
   //  streaming, gyro ok, gyro reconnects 0, p99 1.2 ms, dropped 0, allocations 0" (no reconnect count without a gyro)
   void print_line() {
     char text[768];
@@ -184,16 +185,18 @@ class Monitor {
                         to_string(e.departure), to_string(e.state), lanes_in_second_);
       const LdwEstimate& l = e.ldw;
       if (n >= 0 && static_cast<std::size_t>(n) < sizeof text) {
-        // " | LDW available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s"
+        // " | LDW available, warning none, DLC 910/905 mm, TLC -/1.84 s, lateral -0.05 m/s,
+        // heading 0.02 deg (mount yaw -1.36)": the filter's heading, and the mount's yaw it
+        // learnt, which the solve's heading above still holds.
         char tlc_left[16] = "-", tlc_right[16] = "-";
         if (l.tlc_left_s) std::snprintf(tlc_left, sizeof tlc_left, "%.2f", *l.tlc_left_s);
         if (l.tlc_right_s) std::snprintf(tlc_right, sizeof tlc_right, "%.2f", *l.tlc_right_s);
         const int m = l.available
                           ? std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
                                           " | LDW available, warning %s, DLC %.0f/%.0f mm, TLC %s/%s s, lateral "
-                                          "%.2f m/s",
+                                          "%.2f m/s, heading %.2f deg (mount yaw %+.2f)",
                                           to_string(l.warning), l.dlc_left_mm, l.dlc_right_mm, tlc_left, tlc_right,
-                                          l.lateral_velocity_mps)
+                                          l.lateral_velocity_mps, l.heading_deg, l.heading_bias_deg)
                           : std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
                                           " | LDW unavailable (%s)", to_string(l.reason));
         if (m > 0) n += m;
