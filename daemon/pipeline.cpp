@@ -102,7 +102,6 @@ void Pipeline::wait_for_run() {
 
 void Pipeline::set_camera_state(CameraState state) {
   if (camera_state_.load(std::memory_order_relaxed) == state) return;
-  const CameraState before = camera_state_.exchange(state, std::memory_order_relaxed);
   // Copied, not returned as a string: a camera that comes and goes must not make the
   // allocation count of the status move.
   char problem[sizeof problem_] = "";
@@ -115,6 +114,9 @@ void Pipeline::set_camera_state(CameraState state) {
     std::lock_guard<std::mutex> lock(problem_mutex_);
     std::snprintf(problem_, sizeof problem_, "%s", problem);
   }
+  // The state after its problem: whoever sees the new state (totals(), acquiring) finds
+  // the problem that goes with it (a status read between the two said stalled, and "").
+  const CameraState before = camera_state_.exchange(state, std::memory_order_release);
   if (state == CameraState::streaming) {
     if (before != CameraState::starting)
       log_line(LogLevel::notice, "camera", "%s: streaming again", camera_name_.c_str());
@@ -351,7 +353,7 @@ PipelineTotals Pipeline::totals() const {
   t.source.errors = source_errors_.load(std::memory_order_relaxed);
   t.source.timeouts = source_timeouts_.load(std::memory_order_relaxed);
   t.source.reconnects = source_reconnects_.load(std::memory_order_relaxed);
-  t.camera = camera_state_.load(std::memory_order_relaxed);
+  t.camera = camera_state_.load(std::memory_order_acquire);
   if (stuck_silence_ns() >= options_.stall_timeout_ns) t.camera = CameraState::stalled;
   t.ready = ready();
   return t;
