@@ -67,6 +67,14 @@ int rows_so(const ImageView& image, int x, int y, int step, int limit, const Tes
   return -1;
 }
 
+// How many rows a marker may span where one row spans `mm_per_px_down` of the road (at
+// least 1 mm); 0 where a row spans more of the road than a marker is long: farther, a
+// dash is a few rows tall too, and blobs are not told from paint.
+int dot_rows_for(double mm_per_px_down) {
+  if (mm_per_px_down > kMaxDotLengthMm) return 0;
+  return static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+}
+
 // How many pixels of row yy, columns xa to xb, are `so`.
 template <typename Test>
 int count_so(int xa, int xb, int yy, const Test& so) {
@@ -88,7 +96,7 @@ LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& conf
       linked_(marks_.size()),
       picks_(static_cast<std::size_t>(config.max_picks)) {}
 
-void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
+void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm, bool joints) {
   projector_.set(camera_, pose);
   const CameraModel model(camera_, pose);
   num_rows_ = 0;
@@ -106,8 +114,8 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     // says as much as all of them, at a fraction of the time; every fourth where a raised
     // marker spans four rows or more (each is still crossed by one).
     double X_below = 0.0, Y_below = 0.0;
-    const bool marker_rows = projector_.ground(col, y + 2.0, X_below, Y_below) && X > X_below &&
-                             kDotDiameterMm >= kRowsPerMarkerForEveryFourth * (X - X_below);
+    const bool below = projector_.ground(col, y + 2.0, X_below, Y_below);
+    const bool marker_rows = below && X > X_below && kDotDiameterMm >= kRowsPerMarkerForEveryFourth * (X - X_below);
     const int thin = mark_px >= 12.0 ? (marker_rows ? 4 : 3) : mark_px >= 6.0 ? 2 : 1;
     if (y % thin != 0) continue;
     ScanRow& r = rows_[static_cast<std::size_t>(num_rows_++)];
@@ -124,10 +132,10 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm) {
     // Markers lit from one side, where they are told from paint at all (is_dot: a row
     // spanning more of the road than a marker is long makes a dash a few rows tall too).
     const double dot_px = kDotDiameterMm / mm_per_px;
-    const bool dots_told = dot_rows_limit(col, y + 1.0, X) > 0;
+    const bool dots_told = below && dot_rows_for(std::max(1.0, X - X_below)) > 0;
     r.dot_px = dots_told && dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
     // Joints, where markers are looked for: a joint only ever joins a row of them.
-    r.max_joint_px = r.dot_px > 0.0f ? static_cast<float>(kMaxJointWidthMm / mm_per_px + kDotBlurPx) : 0.0f;
+    r.max_joint_px = joints && r.dot_px > 0.0f ? static_cast<float>(kMaxJointWidthMm / mm_per_px + kDotBlurPx) : 0.0f;
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
@@ -166,23 +174,23 @@ bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkC
 }
 
 int LaneDetector::dot_rows_limit(double px, double py, double X) const {
-  // Farther, where a row spans more of the road than a dot is long, a dash is a few rows
-  // tall too: blobs are not told from paint there.
   double X_below = 0.0, Y_below = 0.0;
   if (!projector_.ground(px, py + 1.0, X_below, Y_below)) return 0;
-  const double mm_per_px_down = std::max(1.0, X - X_below);
-  if (mm_per_px_down > kMaxDotLengthMm) return 0;
-  return static_cast<int>(std::ceil(kMaxDotLengthMm / mm_per_px_down + kDotBlurPx));
+  return dot_rows_for(std::max(1.0, X - X_below));
+}
+
+double LaneDetector::mm_per_px_across(const MarkCandidate& c) const {
+  double X_right = 0.0, Y_right = 0.0;
+  if (!projector_.ground(c.px() + 1.0, c.py, X_right, Y_right)) return 0.0;
+  return std::hypot(X_right - c.X, Y_right - c.Y);
 }
 
 bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const {
   // How many rows the bar's centre column stays bright above and below the scanned row.
   // A line (or a dash, 3 m long) stays bright over many rows; a dot only over its own few.
   const int limit = dot_rows_limit(c.px(), c.py, c.X);
-  double X_right = 0.0, Y_right = 0.0;
-  if (limit == 0 || !projector_.ground(c.px() + 1.0, c.py, X_right, Y_right)) return false;
-  const double mm_per_px_across = std::hypot(X_right - c.X, Y_right - c.Y);
-  if (c.width_px() * mm_per_px_across > kMaxDotWidthMm) return false;
+  const double across = limit > 0 ? mm_per_px_across(c) : 0.0;
+  if (!(across > 0.0) || c.width_px() * across > kMaxDotWidthMm) return false;
   const int x = static_cast<int>(std::lround(c.px() - 1.0)), y = static_cast<int>(c.py) - 1;
   const int xa = static_cast<int>(std::floor(c.left_px - 1.0)), xb = static_cast<int>(std::ceil(c.right_px - 1.0));
   if (xa < 0 || xb >= image.width) return false;
@@ -254,9 +262,9 @@ int LaneDetector::keep_one_sun(int kept) {
     // A marker the row filter's bar pass found by its lit cap alone: in this sunlight the
     // cap is the dome's sunny half, whose middle lies a quarter of a marker from the
     // dome's, away from the shadow (blur widens the cap, not that).
-    double X_right = 0.0, Y_right = 0.0;
-    if (c.dot && c.shadow_side == 0 && projector_.ground(c.px() + 1.0, c.py, X_right, Y_right)) {
-      const double shift = shadow_side * 0.25 * kDotDiameterMm / std::hypot(X_right - c.X, Y_right - c.Y);
+    const double across = c.dot && c.shadow_side == 0 ? mm_per_px_across(c) : 0.0;
+    if (across > 0.0) {
+      const double shift = shadow_side * 0.25 * kDotDiameterMm / across;
       c.left_px += shift;
       c.right_px += shift;
       if (!on_the_road(c)) continue;
@@ -349,8 +357,8 @@ void LaneDetector::choose_picks() {
   result_.picks = std::span<const Pick>(picks_.data(), static_cast<std::size_t>(count));
 }
 
-int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm) {
-  plan_rows(pose, curvature_per_mm);
+int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm, bool joints) {
+  plan_rows(pose, curvature_per_mm, joints);
   const float scale = paint_measure_levels_per_grey(image);
   const float min_contrast = static_cast<float>(config_.min_contrast) * scale;
   const int capacity = static_cast<int>(marks_.size());
@@ -372,13 +380,8 @@ bool LaneDetector::on_the_road(MarkCandidate& c) const {
 
 std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const CameraPose& pose) {
   if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return {};
-  // Bars only: the vanishing point is found from the lines of paint and markers.
-  const int count = scan(image, pose, 0.0);
-  int kept = 0;
-  for (int i = 0; i < count; ++i)
-    if (!marks_[static_cast<std::size_t>(i)].joint)
-      marks_[static_cast<std::size_t>(kept++)] = marks_[static_cast<std::size_t>(i)];
-  return {marks_.data(), static_cast<std::size_t>(kept)};
+  // No joints: the vanishing point is found from the lines of paint and markers.
+  return {marks_.data(), static_cast<std::size_t>(scan(image, pose, 0.0, false))};
 }
 
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
@@ -390,7 +393,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     mean_m += p.m / static_cast<double>(priors.size());
     mean_c += p.c_per_mm / static_cast<double>(priors.size());
   }
-  const int count = scan(image, pose, mean_c);
+  const int count = scan(image, pose, mean_c, true);
   have_vp_ = projector_.vanishing_point(mean_m, vp_x_, vp_y_);
   const float scale = paint_measure_levels_per_grey(image);
   result_.counters.scan_rows = num_rows_;

@@ -38,9 +38,11 @@ class LaneDetector {
   int max_candidates() const { return static_cast<int>(marks_.size()); }
 
  private:
-  void plan_rows(const CameraPose& pose, double curvature_per_mm);
+  // `joints`: rows where markers are looked for are also searched for joints between
+  // slabs (detection's grouping uses them; the vanishing point's bars do not).
+  void plan_rows(const CameraPose& pose, double curvature_per_mm, bool joints);
   // Plans the rows and runs the row filter over them into marks_; how many it found.
-  int scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm);
+  int scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm, bool joints);
   // Sets c.X, c.Y where c lies on the road; false off the road or the searched range.
   bool on_the_road(MarkCandidate& c) const;
   bool points_to_vanishing_point(const ImageView& image, const MarkCandidate& c) const;
@@ -51,6 +53,9 @@ class LaneDetector {
   // How many rows a marker at 1-based pixel (px, py), X mm ahead on the road, may span;
   // 0 off the road or where one row spans more of the road than a marker is long.
   int dot_rows_limit(double px, double py, double X) const;
+  // The road's width one pixel spans across the row at candidate c (on the road at c.X,
+  // c.Y); 0 where the next pixel's ray misses the road.
+  double mm_per_px_across(const MarkCandidate& c) const;
   // The same for a marker found as a lit cap beside its shadow (c.shadow_side != 0).
   bool is_shadowed_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const;
   // Drops the markers of marks_[0, kept) whose shadow falls against the picture's sun;

@@ -150,6 +150,18 @@ bool narrows_with_distance(std::span<const MarkCandidate> marks, int line) {
   return std::abs(width_distance_slope(marks, line, true) - kDotWidthSlope) <= kDotWidthSlopeTolerance;
 }
 
+// Separate dots among the marks of a line, taken in row order (far to near): a dot that
+// starts below the rows the last one was lit over is another.
+struct SeparateDots {
+  int count = 0;
+  int last_bottom = -1;
+  void add(const MarkCandidate& m) {
+    if (!m.dot || m.dot_top <= last_bottom) return;
+    ++count;
+    last_bottom = m.dot_bottom;
+  }
+};
+
 void release_line(std::span<MarkCandidate> marks, int line) {
   for (MarkCandidate& m : marks)
     if (m.line == line) m.line = -1;
@@ -289,7 +301,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   FitPass p;
   int first_row = 1 << 30, last_row = -1;
-  int last_dot_bottom = -1;
+  SeparateDots dots;
   for (MarkCandidate& m : marks) {
     if (m.joint || (m.line != -1 && m.line != id)) continue;  // joints: join_joint's
     const double tol = tolerance * pixel_tolerance_mm(params, m, dot_line);
@@ -307,14 +319,11 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
     p.far_mm = std::max(p.far_mm, m.X);
     p.dot_marks += m.dot;
     p.yellow_marks += m.yellow;
-    // Marks come in row order (far to near): a dot below the last one's rows is another.
-    if (m.dot && m.dot_top > last_dot_bottom) {
-      ++p.dots;
-      last_dot_bottom = m.dot_bottom;
-    }
+    dots.add(m);
     first_row = std::min<int>(first_row, m.scan_row);
     last_row = std::max<int>(last_row, m.scan_row);
   }
+  p.dots = dots.count;
   p.rows = last_row - first_row + 1;
   // The curvature term only when the marks reach far enough to show it; otherwise the
   // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
@@ -442,27 +451,32 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
   // Continuous, as a joint is: on most of the scan rows it spans. Chance alignments of
   // specks and cracks (a frame of noise makes a few) are on a fifth to a third of theirs.
   if (n < kMinJointCoverage * (last_row - first_row + 1)) return false;
+  // Its pieces: free, within the fit's tolerance of the joint as fitted.
+  const auto piece = [&](const MarkCandidate& m) {
+    return m.joint && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= pixel_tolerance_mm(params, m, false);
+  };
+  double sum2_mm = 0.0;
   for (const MarkCandidate& m : marks) {
-    if (!m.joint || m.line != -1) continue;
-    const double r_px = (m.Y - joint.y_at(m.X)) / mm_per_tolerance_px(params, m, false);
-    if (std::abs(r_px) <= params.fit_tolerance_px) sum2_px += r_px * r_px;
+    if (!piece(m)) continue;
+    const double r = m.Y - joint.y_at(m.X), r_px = r / mm_per_tolerance_px(params, m, false);
+    sum2_mm += r * r;
+    sum2_px += r_px * r_px;
   }
   if (std::sqrt(sum2_px / n) > params.max_rms_px || !stays_in_gate(joint, looked_for, gate_base_mm, near_mm, far_mm))
     return false;
   // The dots beside it.
-  int dots = 0, dot_marks = 0, last_dot_bottom = -1;
+  SeparateDots dots;
+  int dot_marks = 0;
   for (const MarkCandidate& m : marks)
     if ((m.line == -1 || m.line == id) && m.dot && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm) {
       ++dot_marks;
-      if (m.dot_top > last_dot_bottom) ++dots, last_dot_bottom = m.dot_bottom;
+      dots.add(m);
     }
-  if (dots < params.min_joint_dots) return false;
+  if (dots.count < params.min_joint_dots) return false;
   for (MarkCandidate& m : marks) {
     if (m.line == id) m.line = -1;
-    const bool piece =
-        m.joint && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= pixel_tolerance_mm(params, m, false);
     const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
-    if (piece || dot) m.line = id;
+    if (piece(m) || dot) m.line = id;
   }
   if (!narrows_with_distance(marks, id)) {
     release_line(marks, id);
@@ -472,7 +486,7 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
   out.marks = n + dot_marks;
   out.near_mm = near_mm;
   out.far_mm = far_mm;
-  out.rms_mm = 0.0;
+  out.rms_mm = std::sqrt(sum2_mm / n);  // the joint's pieces'; its dots lie off it
   out.dots = true;
   out.joints = n;
   out.yellow = false;

@@ -30,6 +30,15 @@ constexpr float kStepInReach = 0.25f;
 // weathered alike); a shadow's or a patch's border differs by all of it.
 constexpr float kJointSideMismatch = 0.5f;
 
+// The mean of a row's pixels a..b (clipped to the row's `width`) from its prefix sums P;
+// NaN when nothing is left.
+float row_mean(const std::int32_t* P, int width, int a, int b) {
+  a = std::max(a, 0);
+  b = std::min(b, width - 1);
+  if (b < a) return std::nanf("");
+  return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
+}
+
 }  // namespace
 
 MarkScanner::MarkScanner(int max_width)
@@ -100,12 +109,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     }
   }
 
-  auto mean = [P, width](int a, int b) {  // mean of pixels a..b (clipped), NaN when empty
-    a = std::max(a, 0);
-    b = std::min(b, width - 1);
-    if (b < a) return std::nanf("");
-    return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
-  };
+  auto mean = [P, width](int a, int b) { return row_mean(P, width, a, b); };
 
   const int first_of_row = count;
   // Pair each falling edge with the last rising edge before it. Bars narrower than paint
@@ -170,12 +174,7 @@ int MarkScanner::scan_joints(const Pixel* row, int x_begin, int width, const Sca
   const std::int32_t* const P = prefix_.data();
   const Edge* const rising = rising_.data();
   const Edge* const falling = falling_.data();
-  auto mean = [P, width](int a, int b) {  // mean of pixels a..b (clipped), NaN when empty
-    a = std::max(a, 0);
-    b = std::min(b, width - 1);
-    if (b < a) return std::nanf("");
-    return static_cast<float>(P[b + 1] - P[a]) / static_cast<float>(b - a + 1);
-  };
+  auto mean = [P, width](int a, int b) { return row_mean(P, width, a, b); };
   // The box derivative spreads a line narrower than its box to the box's width: the
   // falling and the rising edge of a joint lie up to a box apart whatever its width.
   const int h = std::max(1, r.half_width);
