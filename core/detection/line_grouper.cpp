@@ -37,6 +37,10 @@ constexpr double kMinTripleSpanMm = 3000.0;
 // dashes of one line and an arrow's or a word's strokes beside it, each parallel to the
 // road, would make a slanted line together.
 constexpr double kParallelSlopeSpanMm = 6000.0;
+// The pitch error a row of dots beside a single line may show as tilt (the tracking one,
+// GroupingParams' default).
+constexpr double kDotRowPitchErrorRad = 0.026;
+constexpr int kMaxPairedDots = 32;           // dot marks paired for such a row's slope
 constexpr double kConsensusTolerance = 1.5;  // pixel tolerances: the consensus, and the first pass of the fit
 constexpr int kFitPasses = 4;
 constexpr int kNewLineAttempts = 16;       // voted cells tried for new lines
@@ -127,6 +131,13 @@ RoadDirection road_direction(std::span<const DetectedLine> lines, double curvatu
   return d;
 }
 
+// How much the slopes of two lines at y_a and y_b (at the reference distance) may differ
+// on the road as the detection pose projects them: a pitch error tilts each in proportion
+// to its offset (GroupingParams::max_pitch_error_rad).
+double pitch_tilt(double y_a, double y_b, const GroupingParams& params) {
+  return std::abs(y_a - y_b) * std::tan(params.max_pitch_error_rad) / params.height_mm;
+}
+
 // Whether line `l` runs along the road the lines found give, within what a pitch error of
 // the detection pose makes of their slopes (GroupingParams::max_pitch_error_rad).
 bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, const GroupingParams& params) {
@@ -136,9 +147,7 @@ bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, 
   // Two lines or more give the road's direction with the pitch error's tilt in it (their
   // slope against y): the new line's slope is that, but for edge noise. One line alone
   // leaves the whole tilt between the two open.
-  double tilt = 0.0;
-  if (lines.size() == 1)
-    tilt = std::abs(lines[0].fit.y_at(kReferenceMm) - y) * std::tan(params.max_pitch_error_rad) / params.height_mm;
+  const double tilt = lines.size() == 1 ? pitch_tilt(lines[0].fit.y_at(kReferenceMm), y, params) : 0.0;
   return std::abs(l.fit.m - road.through(y).m) <= 2.0 * params.slope_noise + tilt;
 }
 
@@ -235,7 +244,7 @@ int LineGrouper::gate_marks(std::span<const MarkCandidate> marks, const RoadLine
 }
 
 RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g, const RoadLine& model, int line,
-                                     const GroupingParams& params, bool parallel) const {
+                                     const GroupingParams& params, bool parallel, double slope_freedom) const {
   const auto gated = [&](int k) -> const MarkCandidate& {
     return marks[static_cast<std::size_t>(gated_[static_cast<std::size_t>(k)])];
   };
@@ -259,6 +268,27 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
       const int count = consensus(h);
       if (count > best_count) best_count = count, best = h;
     }
+    // Beside one line alone, the road's slope here is that line's give or take the tilt a
+    // pitch error makes over the distance between them: a row of dots a few metres long
+    // would lose its near or far dots to it. Lines through two dots far enough apart, within
+    // that tilt, are hypotheses too.
+    // Bounded: the first kMaxPairedDots dots in the gate (a row of dots has a few a dot).
+    std::array<int, kMaxPairedDots> dots{};
+    int num_dots = 0;
+    for (int k = 0; k < g && slope_freedom > 0.0 && num_dots < kMaxPairedDots; ++k)
+      if (gated(k).dot) dots[static_cast<std::size_t>(num_dots++)] = k;
+    for (int i = 0; i < num_dots; ++i)
+      for (int k = i + 1; k < num_dots; ++k) {
+        const MarkCandidate &a = gated(dots[static_cast<std::size_t>(i)]),
+                            &b = gated(dots[static_cast<std::size_t>(k)]);
+        if (std::abs(a.X - b.X) < kMinPairSpanMm) continue;
+        const double c = model.c_per_mm;
+        const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
+        if (std::abs(m - model.m) > slope_freedom) continue;
+        const RoadLine h{a.Y - c * a.X * a.X - m * a.X, m, c};
+        const int count = consensus(h);
+        if (count > best_count) best_count = count, best = h;
+      }
   }
   std::uint32_t state = 2654435761u * static_cast<std::uint32_t>(line + 1);  // deterministic samples
   auto next = [&state, g] {
@@ -352,7 +382,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
 }
 
 bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
-                           const GroupingParams& params, DetectedLine& out, bool parallel) {
+                           const GroupingParams& params, DetectedLine& out, bool parallel, double slope_freedom) {
   const auto id = static_cast<std::int16_t>(line);
   const auto release = [&] {
     release_line(marks, id);
@@ -372,7 +402,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
   // has the most gated marks within a few pixels. Clutter inside a wide gate would pull
   // a plain least-squares fit off the line; the consensus does not care about it.
   const RoadLine looked_for = model;
-  model = consensus_line(marks, g, model, line, params, parallel);
+  model = consensus_line(marks, g, model, line, params, parallel, slope_freedom);
 
   // 3. Least squares on the consensus, then more passes on every free mark within the
   // pixel tolerance of the fit (the line may reach beyond the gate once it is known).
@@ -660,7 +690,13 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
   const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
   auto add_parallel = [&](double y_ref_mm, int prior_index) {
     DetectedLine l;
-    if (!fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true)) {
+    // Beside one line alone, a row of dots may run as a pitch error tilts it (see
+    // consensus_line), up to tracking's error: a search's wider one would let chance rows
+    // of blobs across the lane pass.
+    GroupingParams tracking = params;
+    tracking.max_pitch_error_rad = std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad);
+    const double tilt = n == 1 ? pitch_tilt(found_[0].fit.y_at(kReferenceMm), y_ref_mm, tracking) : 0.0;
+    if (!fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true, tilt)) {
       release_line(marks, n);
       return;
     }

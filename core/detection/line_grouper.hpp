@@ -81,9 +81,10 @@ class LineGrouper {
   // consensus line (RANSAC), refits by least squares; assigns the marks to `line`.
   // `parallel`: keep the model's slope and curvature (those of the road's other lines, or
   // of the line's previous frame), fit y0 alone (and the slope when the marks span 6 m),
-  // and accept a single dash or a few dots.
+  // and accept a single dash or a few dots; a row of dots may then take a slope up to
+  // `slope_freedom` from the model's (beside a single line, what a pitch error tilts).
   bool fit_line(std::span<MarkCandidate> marks, RoadLine model, double gate_base_mm, int line,
-                const GroupingParams& params, DetectedLine& out, bool parallel = false);
+                const GroupingParams& params, DetectedLine& out, bool parallel = false, double slope_freedom = 0.0);
   // fit_line's steps: the marks in the gate (indices in gated_), their consensus line,
   // and one least-squares pass over the marks within `tolerance` fit tolerances of
   // `model`, which it refits (assigning them to `id`).
@@ -97,7 +98,7 @@ class LineGrouper {
   };
   int gate_marks(std::span<const MarkCandidate> marks, const RoadLine& model, double gate_base_mm, std::int16_t id);
   RoadLine consensus_line(std::span<const MarkCandidate> marks, int gated, const RoadLine& model, int line,
-                          const GroupingParams& params, bool parallel) const;
+                          const GroupingParams& params, bool parallel, double slope_freedom) const;
   FitPass fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id, const GroupingParams& params,
                    double tolerance, bool parallel, bool dot_line);
   // A row of dots too few for a line of their own, set beside a joint between concrete

@@ -164,8 +164,9 @@ TEST(LineGrouper, YellowPaintTakesThePlaceOfAGreyLineTooNearIt) {
 
 // A row of five raised markers 2.5 m apart beside a solid line, too few for a line of its
 // own (GroupingParams::min_dots) and covering few of the rows it spans, found along the
-// road's direction (min_parallel_dots); its marks span 10 m, and it runs at a slope of its own (a pitch error tilts lines in proportion to their
-// offset): the fit takes its slope, and keeps every dot within the dots' tolerance.
+// road's direction (min_parallel_dots); its marks span 10 m, and it runs at a slope of its
+// own (a pitch error tilts lines in proportion to their offset): the fit takes its slope,
+// and keeps every dot within the dots' tolerance.
 TEST(LineGrouper, AFewDotsParallelToALineFitTheirOwnSlopeWhenTheySpanEnough) {
   Scene s;
   s.line(1800, 0.0, 0.0);
@@ -190,6 +191,42 @@ TEST(LineGrouper, AFewDotsParallelToALineFitTheirOwnSlopeWhenTheySpanEnough) {
   EXPECT_EQ(lines[1].marks, 5);
   EXPECT_NEAR(lines[1].fit.m, slope, 1e-6);
   EXPECT_NEAR(lines[1].fit.y0_mm, -1800.0, 0.1);
+}
+
+// Beside a single line, the road's direction is only as good as the detection pose's
+// pitch: an error tilts a line 3.6 m from the one found by up to 3.6 m x tan(1.5 deg) /
+// 1.2 m = 0.08 in slope. A row of dots so tilted, 200 mm across its 10 m, is found with
+// its own slope; one tilted more than any pitch error does is not a row along the road.
+TEST(LineGrouper, ARowOfDotsBesideOneLineMayRunAsAPitchErrorTiltsIt) {
+  for (const double slope : {0.02, -0.02, 0.15}) {
+    Scene s;
+    s.line(1800, 0.0, 0.0);
+    for (int k = 0; k < 5; ++k) {
+      MarkCandidate mk;
+      mk.X = 15000.0 - 2500.0 * k;                // far to near, as rows come
+      mk.Y = -1830.0 + slope * (mk.X - 10000.0);  // 200 mm across: off the 100 mm y0 bins' edges
+      const double width_px = 630.0 * 100.0 / mk.X;
+      mk.left_px = 600.0 - 0.5 * width_px;
+      mk.right_px = 600.0 + 0.5 * width_px;
+      mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);
+      mk.dot = true;
+      mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
+      mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
+      s.marks.push_back(mk);
+    }
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines);
+    if (slope > 0.1) {
+      EXPECT_EQ(n, 1) << "slope " << slope;
+      continue;
+    }
+    ASSERT_EQ(n, 2) << "slope " << slope;
+    EXPECT_TRUE(lines[1].parallel);
+    EXPECT_TRUE(lines[1].dots);
+    EXPECT_EQ(lines[1].marks, 5);
+    EXPECT_NEAR(lines[1].fit.m, slope, 1e-6);
+    EXPECT_NEAR(lines[1].fit.y_at(10000.0), -1830.0, 0.1);
+  }
 }
 
 // The same kind of row of blobs 2.6 m beyond the left line: a line of dots beyond white
