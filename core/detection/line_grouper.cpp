@@ -32,11 +32,6 @@ constexpr int kCurvatureMarks = 15;
 // RANSAC samples: marks this far apart along the road for a line (two) or a parabola (three).
 constexpr double kMinPairSpanMm = 2000.0;
 constexpr double kMinTripleSpanMm = 3000.0;
-// A row of dots found as a parallel of the others fits its own slope (not its curvature)
-// when its marks span this much road: two of its groups. Paint found so does not: the
-// dashes of one line and an arrow's or a word's strokes beside it, each parallel to the
-// road, would make a slanted line together.
-constexpr double kParallelSlopeSpanMm = 6000.0;
 // The pitch error a row of dots beside a single line may show as tilt (the tracking one,
 // GroupingParams' default).
 constexpr double kDotRowPitchErrorRad = 0.026;
@@ -359,7 +354,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
   Eigen::Vector3d coef = Eigen::Vector3d::Zero();
   if (p.marks == 0) return p;
-  if (parallel && 2 * p.dot_marks > p.marks && p.far_mm - p.near_mm >= kParallelSlopeSpanMm) {
+  if (parallel && 2 * p.dot_marks > p.marks && p.far_mm - p.near_mm >= kOwnSlopeSpanMm) {
     // Found along the road's direction, but long enough to show its own: the direction
     // the lines found give is only as good as the pose (a pitch error tilts lines in
     // proportion to their offset, and one line alone says nothing of it), and a row of

@@ -75,6 +75,11 @@ class LineGrouper {
   static constexpr int kSlopeBins = 41;  // -0.25 .. 0.25
   static constexpr int kRansacIterations = 48;
   static constexpr int kMaxFoundLines = 8;  // searched for, before the nearest are kept
+  // A row of dots found as a parallel of the others fits its own slope (not its
+  // curvature) when its marks span this much road: two of its groups. Paint found so does
+  // not: the dashes of one line and an arrow's or a word's strokes beside it, each
+  // parallel to the road, would make a slanted line together.
+  static constexpr double kOwnSlopeSpanMm = 6000.0;
 
  private:
   // Gathers the free (or `line`-assigned) marks in the gate around `model`, finds their

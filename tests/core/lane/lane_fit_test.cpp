@@ -156,5 +156,51 @@ TEST(LaneFit, ALineBeyondTheOwnLaneNeedsALinesSupportOrADashBesideALane) {
   EXPECT_NE(fit.line_problem(s, 2, true), SupportProblem::none);
 }
 
+// A lane of one full line and a row of dots that detection found as its parallel: on a
+// road with a single full line, the row is the lane's other line when its marks span
+// enough road to have fitted their own slope (LineGrouper::kOwnSlopeSpanMm: two groups
+// of dots); a shorter row, or paint found so (one dash), is not.
+TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
+  LaneEstimatorOptions o = default_config().estimator_options();
+  o.priors.phi_deg = Prior{0.0, 1.0};
+  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  std::mt19937_64 rng(11);
+  struct Case {
+    double from_mm, to_mm, step_mm;
+    bool dots;
+    SupportProblem expected;
+  };
+  for (const Case& c : {Case{6000.0, 15000.0, 1800.0, true, SupportProblem::none},           // 9 m of dots
+                        Case{6000.0, 10000.0, 1000.0, true, SupportProblem::too_few_marks},  // 4 m
+                        Case{6000.0, 15000.0, 1800.0, false, SupportProblem::too_few_marks}}) {
+    std::vector<Pick> picks;
+    DetectionResult d = detection_of_lines(
+        o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}, {-1830.0, c.from_mm, c.to_mm, c.step_mm}}, rng, picks);
+    d.lines[1].parallel = true;
+    d.lines[1].dots = c.dots;
+    d.lines[1].near_mm = c.from_mm;
+    d.lines[1].far_mm = c.to_mm - std::fmod(c.to_mm - c.from_mm, c.step_mm);
+    // The full line's paint, 130 mm wide: narrower in pixels with distance.
+    std::vector<MarkCandidate> paint;
+    for (double x = 6000.0; x <= 40000.0; x += 1700.0) {
+      MarkCandidate m;
+      m.X = x;
+      m.Y = 1830.0;
+      m.line = 0;
+      m.left_px = 400.0;
+      m.right_px = 400.0 + 130.0 * 1000.0 / x;
+      paint.push_back(m);
+    }
+    d.marks = paint;
+    LaneFit fit(o);
+    ASSERT_TRUE(fit.take(d));
+    const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+    ASSERT_TRUE(r.converged) << to_string(r.status);
+    const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
+    EXPECT_EQ(fit.lane_support_problem(r, own, 25.0, truth.attitude, true), c.expected)
+        << "marks " << c.from_mm << " .. " << c.to_mm << " mm, dots " << c.dots;
+  }
+}
+
 }  // namespace
 }  // namespace ccdlane
