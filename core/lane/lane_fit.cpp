@@ -177,17 +177,18 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
   // a dashed line on a bend) beside a fully supported one, on a road that two fully
   // supported lines establish (one line of bars in noise and a dash beside it made a
   // lane). Its few marks over a metre or two say nothing of how paint narrows with
-  // distance: the slope is checked on full lines. A row of dots found so is more than a
-  // dash when its marks span enough road to have fitted a slope of their own
+  // distance: the slope is checked on full lines. A row of dots is more than a dash when
+  // its marks span enough road to have fitted a slope of their own
   // (LineGrouper::kOwnSlopeSpanMm: two groups of separate dots, each round and narrowing
-  // with distance), which the solve then holds parallel to the full line: it needs no
-  // second full line. On a road marked with dots alone, the lane's other line is often
-  // the only full one.
+  // with distance), found as a parallel or as a line a little short of a full line's
+  // reach; the solve then holds it parallel to the full line, and it needs no second full
+  // line. On a road marked with dots alone, the lane's other line is often the only full
+  // one.
   const bool one_full = (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
   for (int k = 0; k < 2; ++k) {
     if (problem[k] != SupportProblem::none) {
       const DetectedLine& d = detection_->lines[static_cast<std::size_t>(detection_line_[k == 0 ? left : right])];
-      const bool own_slope = d.dots && d.parallel && d.far_mm - d.near_mm >= LineGrouper::kOwnSlopeSpanMm;
+      const bool own_slope = d.dots && d.far_mm - d.near_mm >= LineGrouper::kOwnSlopeSpanMm;
       if (!one_full || (full_lines < 2 && !own_slope) ||
           !check_dash_support(support[k], options_.detection, GroupingParams{}, lane_width_mm))
         return problem[k];

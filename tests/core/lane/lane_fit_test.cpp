@@ -156,10 +156,11 @@ TEST(LaneFit, ALineBeyondTheOwnLaneNeedsALinesSupportOrADashBesideALane) {
   EXPECT_NE(fit.line_problem(s, 2, true), SupportProblem::none);
 }
 
-// A lane of one full line and a row of dots that detection found as its parallel: on a
-// road with a single full line, the row is the lane's other line when its marks span
-// enough road to have fitted their own slope (LineGrouper::kOwnSlopeSpanMm: two groups
-// of dots); a shorter row, or paint found so (one dash), is not.
+// A lane of one full line and a row of dots: on a road with a single full line, the row
+// is the lane's other line when its marks span enough road to have fitted their own slope
+// (LineGrouper::kOwnSlopeSpanMm: two groups of dots), whether detection found it as the
+// full line's parallel or as a line of its own a little short of a full line's reach. A
+// shorter row, or paint found so (one dash, a short line), is not.
 TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
   LaneEstimatorOptions o = default_config().estimator_options();
   o.priors.phi_deg = Prior{0.0, 1.0};
@@ -167,16 +168,18 @@ TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
   std::mt19937_64 rng(11);
   struct Case {
     double from_mm, to_mm, step_mm;
-    bool dots;
+    bool dots, parallel;
     SupportProblem expected;
   };
-  for (const Case& c : {Case{6000.0, 15000.0, 1800.0, true, SupportProblem::none},           // 9 m of dots
-                        Case{6000.0, 10000.0, 1000.0, true, SupportProblem::too_few_marks},  // 4 m
-                        Case{6000.0, 15000.0, 1800.0, false, SupportProblem::too_few_marks}}) {
+  for (const Case& c : {Case{6000.0, 15000.0, 1800.0, true, true, SupportProblem::none},           // 9 m of dots
+                        Case{6000.0, 10000.0, 1000.0, true, true, SupportProblem::too_few_marks},  // 4 m
+                        Case{6000.0, 15000.0, 1800.0, false, true, SupportProblem::too_few_marks},
+                        Case{6000.0, 13000.0, 700.0, true, false, SupportProblem::none},  // 7 m, 11 marks
+                        Case{6000.0, 13000.0, 700.0, false, false, SupportProblem::too_short}}) {
     std::vector<Pick> picks;
     DetectionResult d = detection_of_lines(
         o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}, {-1830.0, c.from_mm, c.to_mm, c.step_mm}}, rng, picks);
-    d.lines[1].parallel = true;
+    d.lines[1].parallel = c.parallel;
     d.lines[1].dots = c.dots;
     d.lines[1].near_mm = c.from_mm;
     d.lines[1].far_mm = c.to_mm - std::fmod(c.to_mm - c.from_mm, c.step_mm);
@@ -198,7 +201,7 @@ TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
     ASSERT_TRUE(r.converged) << to_string(r.status);
     const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
     EXPECT_EQ(fit.lane_support_problem(r, own, 25.0, truth.attitude, true), c.expected)
-        << "marks " << c.from_mm << " .. " << c.to_mm << " mm, dots " << c.dots;
+        << "marks " << c.from_mm << " .. " << c.to_mm << " mm, dots " << c.dots << ", parallel " << c.parallel;
   }
 }
 
