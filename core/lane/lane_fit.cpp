@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/detection/detection_config.hpp"
 #include "core/geometry/gx1_attitude.hpp"
 #include "core/lane/lane_metrics.hpp"
 
@@ -78,6 +79,13 @@ SolveRequest LaneFit::request(const CameraPose& initial, const std::optional<Gx1
     const double span = initial_lines_[left].y0_mm - initial_lines_[right].y0_mm;
     const double k = std::max(1.0, std::round(span / p.lane_width_mm->mean));
     req.priors.lane_width_mm = Prior{k * p.lane_width_mm->mean, std::sqrt(k) * p.lane_width_mm->sigma};
+  }
+  if (num_lines_ == 1 && !gyro && !p.theta_deg) {
+    // One line says nothing of the pitch (any pitch projects some road line onto its
+    // marks), and a solve left free along it wanders without converging. The pose it was
+    // looked for from says the pitch, to within a detection pose's error (bound at two
+    // sigmas): solved so, the line is reported, and a search looks again from its pose.
+    req.priors.theta_deg = Prior{rad_to_deg(initial.attitude.theta), kSearchPitchErrorDeg / 2.0};
   }
   if (gyro) {
     const Attitude a = camera_attitude_from_gx1(*gyro);

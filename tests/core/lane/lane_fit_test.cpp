@@ -205,5 +205,26 @@ TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
   }
 }
 
+// One line alone does not fix the pitch: any pitch projects some road line onto its
+// marks. Without a gyro, the solve takes the pitch of the pose it was looked for from (a
+// search's, here 1 deg off the truth), converges there, and its line lies on the marks.
+TEST(LaneFit, ASingleLineIsSolvedAtThePitchItWasLookedFrom) {
+  LaneEstimatorOptions o = default_config().estimator_options();
+  o.priors.phi_deg = Prior{0.0, 1.0};
+  o.priors.theta_deg.reset();
+  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  std::mt19937_64 rng(13);
+  std::vector<Pick> picks;
+  const DetectionResult d = detection_of_lines(o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}}, rng, picks);
+  LaneFit fit(o);
+  ASSERT_TRUE(fit.take(d));
+  CameraPose looked_from = truth;
+  looked_from.attitude.theta += deg_to_rad(1.0);
+  const SolveResult& r = fit.solve(looked_from, std::nullopt);
+  ASSERT_TRUE(r.converged) << to_string(r.status);
+  EXPECT_NEAR(rad_to_deg(r.pose.attitude.theta), -1.0, 0.05);
+  EXPECT_LT(r.rms_px, 2.0 * o.solver.pixel_sigma) << "the line lies on its marks";
+}
+
 }  // namespace
 }  // namespace ccdlane
