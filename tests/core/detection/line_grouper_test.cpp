@@ -31,6 +31,24 @@ struct Scene {
       marks.push_back(mk);
     }
   }
+  // Five raised markers 2.5 m apart from 15 m in (far to near, as rows come), 10 cm
+  // across (narrower with distance), each on one of the 30 scan rows to the next: on the
+  // line through y_ref at x_ref with this slope.
+  void dots(double y_ref, double slope, double x_ref = 0.0) {
+    for (int k = 0; k < 5; ++k) {
+      MarkCandidate mk;
+      mk.X = 15000.0 - 2500.0 * k;
+      mk.Y = y_ref + slope * (mk.X - x_ref);
+      const double width_px = 630.0 * 100.0 / mk.X;
+      mk.left_px = 600.0 - 0.5 * width_px;
+      mk.right_px = 600.0 + 0.5 * width_px;
+      mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);
+      mk.dot = true;
+      mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
+      mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
+      marks.push_back(mk);
+    }
+  }
   void clutter(int count) {
     std::uniform_real_distribution<double> x(5000, 40000), y(-12000, 12000);
     std::uniform_int_distribution<int> row(0, 149);
@@ -171,19 +189,7 @@ TEST(LineGrouper, AFewDotsParallelToALineFitTheirOwnSlopeWhenTheySpanEnough) {
   Scene s;
   s.line(1800, 0.0, 0.0);
   const double slope = 0.010;  // 50 mm either side of the solid line's direction over 10 m
-  for (int k = 0; k < 5; ++k) {
-    MarkCandidate mk;
-    mk.X = 15000.0 - 2500.0 * k;  // far to near, as rows come
-    mk.Y = -1800.0 + slope * mk.X;
-    const double width_px = 630.0 * 100.0 / mk.X;  // 10 cm across: narrower with distance
-    mk.left_px = 600.0 - 0.5 * width_px;
-    mk.right_px = 600.0 + 0.5 * width_px;
-    mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);  // one of the 30 rows to the next dot
-    mk.dot = true;
-    mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
-    mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
-    s.marks.push_back(mk);
-  }
+  s.dots(-1800.0, slope);
   std::array<DetectedLine, kMaxDetectedLines> lines{};
   ASSERT_EQ(group(s, lines), 2);
   EXPECT_TRUE(lines[1].parallel);
@@ -201,19 +207,7 @@ TEST(LineGrouper, ARowOfDotsBesideOneLineMayRunAsAPitchErrorTiltsIt) {
   for (const double slope : {0.02, -0.02, 0.15}) {
     Scene s;
     s.line(1800, 0.0, 0.0);
-    for (int k = 0; k < 5; ++k) {
-      MarkCandidate mk;
-      mk.X = 15000.0 - 2500.0 * k;                // far to near, as rows come
-      mk.Y = -1830.0 + slope * (mk.X - 10000.0);  // 200 mm across: off the 100 mm y0 bins' edges
-      const double width_px = 630.0 * 100.0 / mk.X;
-      mk.left_px = 600.0 - 0.5 * width_px;
-      mk.right_px = 600.0 + 0.5 * width_px;
-      mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);
-      mk.dot = true;
-      mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
-      mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
-      s.marks.push_back(mk);
-    }
+    s.dots(-1830.0, slope, 10000.0);  // 200 mm across: off the 100 mm y0 bins' edges
     std::array<DetectedLine, kMaxDetectedLines> lines{};
     const int n = group(s, lines);
     if (slope > 0.1) {
@@ -236,19 +230,7 @@ TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
     Scene s;
     s.line(1800, 0.0, 0.0, 0.3, 1, yellow);
     s.line(-1800, 0.0, 0.0);
-    for (int k = 0; k < 5; ++k) {
-      MarkCandidate mk;
-      mk.X = 15000.0 - 2500.0 * k;
-      mk.Y = 4400.0;
-      const double width_px = 630.0 * 100.0 / mk.X;
-      mk.left_px = 600.0 - 0.5 * width_px;
-      mk.right_px = 600.0 + 0.5 * width_px;
-      mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);
-      mk.dot = true;
-      mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
-      mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
-      s.marks.push_back(mk);
-    }
+    s.dots(4400.0, 0.0);
     std::array<DetectedLine, kMaxDetectedLines> lines{};
     const int n = group(s, lines);
     ASSERT_EQ(n, yellow ? 2 : 3) << "yellow " << yellow;
