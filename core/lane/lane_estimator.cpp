@@ -242,7 +242,9 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
                                              const VehicleInputs& vehicle) {
   // The first starting pose whose solve is a supported lane of a lane's width at its own
   // height, else the first supported one whose width needed (or needs) another height,
-  // else the first pose's outcome (its reason is the frame's). A lane of a lane's width
+  // else the outcome of the pose whose solve had the most picks (the lines it saw, each
+  // reported on its own support), or the first pose's when none solved (its reason is the
+  // frame's). A lane of a lane's width
   // only at another height is the weaker evidence: from a pose a quarter too low, the own
   // lane's line beside a solid one is too near it to be taken, and the line beyond makes
   // a lane twice as wide with it that a height three quarters as high turns into one of
@@ -252,6 +254,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   const int n = search_poses(image, gyro, poses);
   Attempt first;
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
+  int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks
   for (int k = 0; k < n; ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
@@ -263,6 +266,11 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       if (other_height < 0) other_height = k;
     }
     if (k == 0) first = a;
+    if (a.solve && (a.why == EstimateFailure::none || a.why == EstimateFailure::rank_deficient) &&
+        static_cast<int>(fit_.picks().size()) > most_picks) {
+      most_picks = static_cast<int>(fit_.picks().size());
+      most_seen = k;
+    }
   }
   if (other_height >= 0) {
     detection_pose_ = poses[other_height];
@@ -271,7 +279,9 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
     return a;
   }
   if (n == 1) return first;
-  detection_pose_ = poses[0];  // the fit's buffers hold the last pose's: look again
+  // No lane: the pose that saw most, else the first (the fit's buffers hold the last
+  // pose's: look again).
+  detection_pose_ = poses[most_seen >= 0 ? most_seen : 0];
   return attempt(image, gyro);
 }
 
@@ -362,7 +372,8 @@ void LaneEstimator::report(const FrameInputs& in) {
   for (int k = 0; k < tracked_.num_lines; ++k) {
     const int j = tracked_.solve_line[k];
     const bool own_line = (j == tracked_.own.left || j == tracked_.own.right);
-    if (own_line || fit_.line_problem(r, j, lane) == SupportProblem::none) e.lines[e.num_lines++] = tracked_.lines[k];
+    if ((own_line && lane) || fit_.line_problem(r, j, lane) == SupportProblem::none)
+      e.lines[e.num_lines++] = tracked_.lines[k];
   }
   const LaneMetrics& m = tracked_.metrics;
   e.heading_deg = m.heading_deg;

@@ -435,6 +435,34 @@ TEST(LaneEstimator, ASearchFindsTheOwnLaneBetweenDashesFromAHeightAThirdOff) {
   }
 }
 
+// A still with no lane: the own lane's left line in full, of its right line a 4 m piece
+// (too short for a line's support, and paint: no lane beside a single full line), every
+// other line painted over. The estimate is no lane, and it reports the lines that have a
+// line's support on their own: the left line, not the piece.
+TEST(LaneEstimator, WithoutALaneTheOwnSidesLinesAreReportedOnTheirOwnSupport) {
+  Config c = small_camera();
+  c.synth.weave_mm = 0.0;
+  c.synth.dashed = DashedLines::none;
+  Drive d(c);
+  LaneEstimator est(c.estimator_options());
+  const SynthFrame f = d.render(0);
+  const CameraModel camera(c.camera, f.pose);
+  const std::uint8_t asphalt = static_cast<std::uint8_t>(c.synth.asphalt_grey);
+  for (int y = 0; y < d.view.height; ++y)
+    for (int x = 0; x < d.view.width; ++x) {
+      const std::optional<Vec3> p = camera.ground_point_from_pixel(Vec2(x + 1.0, y + 1.0));
+      if (!p) continue;
+      const bool left_line = p->y() > 0.0 && p->y() < 0.75 * f.lane_width_mm;
+      const bool right_piece = p->y() < 0.0 && p->y() > -0.75 * f.lane_width_mm && p->x() > 8000.0 && p->x() < 12000.0;
+      if (!left_line && !right_piece) d.px[static_cast<std::size_t>(y * d.view.width + x)] = asphalt;
+    }
+  const LaneEstimate& e = est.estimate(d.view, 0, f.t_ns, f.gyro);
+  EXPECT_FALSE(e.ok);
+  EXPECT_EQ(e.reason, EstimateFailure::no_lane) << to_string(e.reason);
+  ASSERT_EQ(e.num_lines, 1);
+  EXPECT_NEAR(e.lines[0].y0_mm, f.lane_width_mm / 2.0, f.lane_width_mm / 4.0) << "the left line";
+}
+
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
