@@ -32,9 +32,8 @@ constexpr int kCurvatureMarks = 15;
 // RANSAC samples: marks this far apart along the road for a line (two) or a parabola (three).
 constexpr double kMinPairSpanMm = 2000.0;
 constexpr double kMinTripleSpanMm = 3000.0;
-// The pitch error a row of dots beside a single line may show as tilt (the tracking one,
-// GroupingParams' default).
-constexpr double kDotRowPitchErrorRad = 0.026;
+// The pitch error a row of dots beside a single line may show as tilt: tracking's.
+constexpr double kDotRowPitchErrorRad = GroupingParams{}.max_pitch_error_rad;
 constexpr int kMaxPairedDots = 32;           // dot marks paired for such a row's slope
 constexpr double kConsensusTolerance = 1.5;  // pixel tolerances: the consensus, and the first pass of the fit
 constexpr int kFitPasses = 4;
@@ -127,10 +126,16 @@ RoadDirection road_direction(std::span<const DetectedLine> lines, double curvatu
 }
 
 // How much the slopes of two lines at y_a and y_b (at the reference distance) may differ
-// on the road as the detection pose projects them: a pitch error tilts each in proportion
-// to its offset (GroupingParams::max_pitch_error_rad).
-double pitch_tilt(double y_a, double y_b, const GroupingParams& params) {
-  return std::abs(y_a - y_b) * std::tan(params.max_pitch_error_rad) / params.height_mm;
+// on the road as a detection pose `height_mm` high projects them: a pitch error up to
+// `pitch_error_rad` tilts each in proportion to its offset.
+double pitch_tilt(double y_a, double y_b, double pitch_error_rad, double height_mm) {
+  return std::abs(y_a - y_b) * std::tan(pitch_error_rad) / height_mm;
+}
+
+// The straight line through marks a and b with curvature c.
+RoadLine line_through(const MarkCandidate& a, const MarkCandidate& b, double c) {
+  const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
+  return {a.Y - c * a.X * a.X - m * a.X, m, c};
 }
 
 // Whether line `l` runs along the road the lines found give, within what a pitch error of
@@ -142,7 +147,9 @@ bool along_the_road(const DetectedLine& l, std::span<const DetectedLine> lines, 
   // Two lines or more give the road's direction with the pitch error's tilt in it (their
   // slope against y): the new line's slope is that, but for edge noise. One line alone
   // leaves the whole tilt between the two open.
-  const double tilt = lines.size() == 1 ? pitch_tilt(lines[0].fit.y_at(kReferenceMm), y, params) : 0.0;
+  const double tilt = lines.size() == 1
+                          ? pitch_tilt(lines[0].fit.y_at(kReferenceMm), y, params.max_pitch_error_rad, params.height_mm)
+                          : 0.0;
   return std::abs(l.fit.m - road.through(y).m) <= 2.0 * params.slope_noise + tilt;
 }
 
@@ -266,8 +273,8 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
     // Beside one line alone, the road's slope here is that line's give or take the tilt a
     // pitch error makes over the distance between them: a row of dots a few metres long
     // would lose its near or far dots to it. Lines through two dots far enough apart, within
-    // that tilt, are hypotheses too.
-    // Bounded: the first kMaxPairedDots dots in the gate (a row of dots has a few a dot).
+    // that tilt, are hypotheses too: of the first kMaxPairedDots dots in the gate (a row of
+    // dots has a few marks a dot).
     std::array<int, kMaxPairedDots> dots{};
     int num_dots = 0;
     for (int k = 0; k < g && slope_freedom > 0.0 && num_dots < kMaxPairedDots; ++k)
@@ -277,10 +284,8 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
         const MarkCandidate &a = gated(dots[static_cast<std::size_t>(i)]),
                             &b = gated(dots[static_cast<std::size_t>(k)]);
         if (std::abs(a.X - b.X) < kMinPairSpanMm) continue;
-        const double c = model.c_per_mm;
-        const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
-        if (std::abs(m - model.m) > slope_freedom) continue;
-        const RoadLine h{a.Y - c * a.X * a.X - m * a.X, m, c};
+        const RoadLine h = line_through(a, b, model.c_per_mm);
+        if (std::abs(h.m - model.m) > slope_freedom) continue;
         const int count = consensus(h);
         if (count > best_count) best_count = count, best = h;
       }
@@ -298,9 +303,7 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
     RoadLine h;
     if (it % 2 == 0) {
       if (std::abs(a.X - b.X) < kMinPairSpanMm) continue;
-      const double c = model.c_per_mm;
-      const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
-      h = {a.Y - c * a.X * a.X - m * a.X, m, c};
+      h = line_through(a, b, model.c_per_mm);
     } else {
       const MarkCandidate& d = gated(next());
       if (std::abs(a.X - b.X) < kMinTripleSpanMm || std::abs(b.X - d.X) < kMinTripleSpanMm ||
@@ -688,9 +691,10 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
     // Beside one line alone, a row of dots may run as a pitch error tilts it (see
     // consensus_line), up to tracking's error: a search's wider one would let chance rows
     // of blobs across the lane pass.
-    GroupingParams tracking = params;
-    tracking.max_pitch_error_rad = std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad);
-    const double tilt = n == 1 ? pitch_tilt(found_[0].fit.y_at(kReferenceMm), y_ref_mm, tracking) : 0.0;
+    const double tilt = n == 1
+                            ? pitch_tilt(found_[0].fit.y_at(kReferenceMm), y_ref_mm,
+                                         std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad), params.height_mm)
+                            : 0.0;
     if (!fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true, tilt)) {
       release_line(marks, n);
       return;

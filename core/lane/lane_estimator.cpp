@@ -266,9 +266,9 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       if (other_height < 0) other_height = k;
     }
     if (k == 0) first = a;
-    if (a.solve && (a.why == EstimateFailure::none || a.why == EstimateFailure::rank_deficient) &&
-        static_cast<int>(fit_.picks().size()) > most_picks) {
-      most_picks = static_cast<int>(fit_.picks().size());
+    const int picks = static_cast<int>(fit_.picks().size());
+    if (a.solve && (a.why == EstimateFailure::none || a.why == EstimateFailure::rank_deficient) && picks > most_picks) {
+      most_picks = picks;
       most_seen = k;
     }
   }

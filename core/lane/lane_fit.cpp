@@ -194,16 +194,16 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
   // one.
   const bool one_full = (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
   for (int k = 0; k < 2; ++k) {
+    const int line = detection_line_[k == 0 ? left : right];
     if (problem[k] != SupportProblem::none) {
-      const DetectedLine& d = detection_->lines[static_cast<std::size_t>(detection_line_[k == 0 ? left : right])];
+      const DetectedLine& d = detection_->lines[static_cast<std::size_t>(line)];
       const bool own_slope = d.dots && d.far_mm - d.near_mm >= LineGrouper::kOwnSlopeSpanMm;
       if (!one_full || (full_lines < 2 && !own_slope) ||
           !check_dash_support(support[k], options_.detection, GroupingParams{}, lane_width_mm))
         return problem[k];
       continue;
     }
-    if (const SupportProblem p = paint_problem(detection_line_[k == 0 ? left : right]); p != SupportProblem::none)
-      return p;
+    if (const SupportProblem p = paint_problem(line); p != SupportProblem::none) return p;
   }
   return SupportProblem::none;
 }
