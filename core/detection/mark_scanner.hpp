@@ -43,6 +43,7 @@ class MarkScanner {
   std::vector<std::uint16_t> measure_;  // a colour row's paint measure
   std::vector<std::int32_t> prefix_;    // prefix sums of the row (65535 x 2^15 pixels fit)
   std::vector<std::int32_t> grad_;      // box derivative
+  std::vector<std::uint8_t> extrema_;   // per boundary: 1 a rising edge's peak, 2 a falling one's
   std::vector<Edge> rising_, falling_;
   DotScanner dots_;
 };

@@ -3,6 +3,8 @@
 
 #include <cstring>
 
+#include "core/detection/pixel_loop_clones.hpp"
+
 namespace ccdlane {
 
 float paint_measure_levels_per_grey(const ImageView& image) {
@@ -12,21 +14,11 @@ float paint_measure_levels_per_grey(const ImageView& image) {
 
 namespace {
 
-// Three-byte pixels to their measure. The loop needs byte shuffles to take the pixels'
-// channels apart, which x86-64's baseline (SSE2) lacks: built for it alone the loop stays
-// scalar, and was a third of a TuSimple still's detection time. So it is built for
-// several targets and the loader picks the best the CPU has (GCC's target_clones, an
-// ifunc); every clone computes the same integers. The pointers are restrict: a byte
-// pointer may alias anything, and the compiler must know the stores do not change the
-// pixels still to be read. Not under ThreadSanitizer: an ifunc's resolver runs while the
-// program is being relocated, before TSan's runtime is up, and its instrumented code
-// crashed every test program at start.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
-#define CCDLANE_PIXEL_LOOP_CLONES __attribute__((target_clones("avx2", "ssse3", "default")))
-#else
-#define CCDLANE_PIXEL_LOOP_CLONES
-#endif
-
+// Three-byte pixels to their measure: built for the CPU's best target
+// (pixel_loop_clones.hpp), where x86-64's baseline alone left the loop scalar, a third
+// of a TuSimple still's detection time. The pointers are restrict: a byte pointer may
+// alias anything, and the compiler must know the stores do not change the pixels still
+// to be read.
 CCDLANE_PIXEL_LOOP_CLONES
 void rgb_row(const std::uint8_t* __restrict row, int n, std::uint16_t* __restrict out) {
   for (int x = 0; x < n; ++x)

@@ -3,6 +3,7 @@
 // rendering a synthetic frame (the daemon's demo pre-renders its frames at start-up).
 // Frames are rendered once up front.
 //   build/tests/bench/detection_bench --benchmark_min_time=2
+#include <memory>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -182,6 +183,46 @@ void BM_DetectionTuSimpleStills(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_DetectionTuSimpleStills)->Unit(benchmark::kMicrosecond);
+
+// The whole estimate of a tracking frame on those stills (detection, solve, lines and
+// the warning's filter): each still has its own estimator, which sees the same picture
+// again and again, as a drive's next frame from the pose it solved. Timing starts after
+// 60 frames (the mount's height settles after a second, and its change starts a new
+// search); stills whose lane was not tracked through the last 20 of them are left out:
+// a lost lane's frame is a search, timed below. The per-frame budget (1 ms) is this.
+void BM_EstimateTuSimpleTracking(benchmark::State& state) {
+  TuSimpleStills s;
+  std::vector<std::unique_ptr<LaneEstimator>> estimators;
+  std::vector<std::size_t> stills;
+  constexpr std::uint64_t kWarmUpFrames = 60, kTrackedFrames = 20;
+  for (std::size_t i = 0; i < s.pixels.size(); ++i) {
+    auto estimator = std::make_unique<LaneEstimator>(s.config.estimator_options());
+    bool tracked = true;
+    for (std::uint64_t f = 0; f < kWarmUpFrames; ++f) {
+      const LaneEstimate& e = estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
+      if (f >= kWarmUpFrames - kTrackedFrames) tracked = tracked && e.ok && e.state == EstimatorState::tracking;
+    }
+    if (!tracked) continue;
+    estimators.push_back(std::move(estimator));
+    stills.push_back(i);
+  }
+  if (stills.empty()) {
+    state.SkipWithError("no still is tracked");
+    return;
+  }
+  std::uint64_t frame = kWarmUpFrames;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const std::int64_t t_ns = static_cast<std::int64_t>(frame) * 40000000;
+    benchmark::DoNotOptimize(estimators[k]->estimate(s.view(stills[k]), frame, t_ns, std::nullopt).ok);
+    if (++k == stills.size()) {
+      k = 0;
+      ++frame;
+    }
+  }
+  state.counters["stills"] = static_cast<double>(stills.size());
+}
+BENCHMARK(BM_EstimateTuSimpleTracking)->Unit(benchmark::kMicrosecond);
 
 // The whole estimate of each still alone (replay --stills): a search, which detects and
 // solves from up to eight starting poses; what a lost lane costs.
