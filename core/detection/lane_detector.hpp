@@ -67,7 +67,11 @@ class LaneDetector {
   int keep_linked_joints(int kept);
   // Whether candidate c is yellow paint (colour frames only).
   static bool is_yellow(const ImageView& image, const MarkCandidate& c);
-  void choose_picks();
+  // The picks, evenly spread over each line's marks of its kind (at `pose`, detection's).
+  void choose_picks(const CameraPose& pose);
+  // How far across the road line j's dots lie from its joint's pieces, on average (mm,
+  // + left); 0 with fewer than kMinDotsBesideJoint dots.
+  double dots_beside_joint_mm(int j) const;
 
   CameraSpec camera_;
   DetectionConfig config_;

@@ -1,6 +1,7 @@
 // Concrete roads as California's freeways are marked: a few raised markers per line within
 // reach, set beside the sealed joint between two slabs. Detection takes the joint for the
-// line where its markers say it is one, and never a joint alone.
+// line's course where its markers say it is one, places it where the markers are, and
+// never takes a joint alone.
 #include <algorithm>
 #include <array>
 #include <string>
@@ -42,7 +43,7 @@ struct ConcreteRoad {
   }
 };
 
-TEST(LaneDetectorJoints, AFewMarkersBesideAJointAreALineAlongTheJoint) {
+TEST(LaneDetectorJoints, AFewMarkersBesideAJointAreALineAlongTheJointWhereTheMarkersAre) {
   ConcreteRoad road(true, true);
   LaneDetector det(road.c.camera, road.c.detection);
   const DetectionResult& r = det.detect(road.frame.view, road.pose, {});
@@ -50,16 +51,22 @@ TEST(LaneDetectorJoints, AFewMarkersBesideAJointAreALineAlongTheJoint) {
   const DetectedLine& l = r.lines[0];
   EXPECT_TRUE(l.dots);
   EXPECT_GE(l.joints, road.c.detection.min_marks);
-  // The joint's pieces are the line's picks: on the joint, within a pixel and its half
-  // width at the nearest (5 mm per pixel at 5 m, 35 mm at 40 m).
+  // The line is found along the joint: within a pixel and its half width (5 mm per pixel
+  // at 5 m, 35 mm at 40 m).
   for (const double X : {5000.0, 20000.0, 35000.0})
     EXPECT_NEAR(l.fit.y_at(X), kJointY, 0.5 * kJointWidthMm + X / 1000.0) << "at " << X << " mm";
+  // Its picks are the joint's pieces moved across to the markers, 60 mm beside it: each
+  // within its own pixel and the joint's half width, plus the error of the markers' mean
+  // offset (each marker placed to a pixel at its distance, three of them).
+  double marker_px_mm = 0.0;
+  for (const double X : kMarkersX) marker_px_mm += X / 1000.0 / static_cast<double>(kMarkersX.size());
   ASSERT_GE(l.num_picks, road.c.detection.min_marks);
   for (int p = l.first_pick; p < l.first_pick + l.num_picks; ++p) {
     double X = 0, Y = 0;
     ASSERT_TRUE(
         road.ground.ground(r.picks[static_cast<std::size_t>(p)].px, r.picks[static_cast<std::size_t>(p)].py, X, Y));
-    EXPECT_NEAR(Y, kJointY, 0.5 * kJointWidthMm + X / 1000.0) << "a pick at " << X << " mm";
+    EXPECT_NEAR(Y, kJointY + kMarkerOffsetMm, 0.5 * kJointWidthMm + X / 1000.0 + marker_px_mm)
+        << "a pick at " << X << " mm";
   }
 }
 
