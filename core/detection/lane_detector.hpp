@@ -70,7 +70,7 @@ class LaneDetector {
   // The picks, evenly spread over each line's marks of its kind (at `pose`, detection's).
   void choose_picks(const CameraPose& pose);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
-  // + left); 0 with fewer than kMinDotsBesideJoint dots.
+  // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;
 
   CameraSpec camera_;

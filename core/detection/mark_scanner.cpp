@@ -88,9 +88,10 @@ int MarkScanner::scan(const ImageView& image, const ScanRow& r, int scan_row_ind
 }
 
 // One piece on purpose (98 lines): it is detection's innermost loop, run over every pixel
-// of every scan row; its prefix sums, box derivative and edge lists are local pointers
-// into the members' storage that the compiler keeps in registers and vectorises across
-// the three passes, and tests/bench/detection_bench.cpp holds the whole to its budget.
+// of every scan row; its prefix sums, box derivative, extremum flags and edge lists are
+// local pointers into the members' storage that the compiler keeps in registers (the
+// derivative and the flags one cloned vector pass, box_derivative_extrema), and
+// tests/bench/detection_bench.cpp holds the whole to its budget.
 template <typename Pixel>
 int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const ScanRow& r, int scan_row_index,
                           float min_contrast, float to_8bit, MarkCandidate* out, int count, int capacity) {

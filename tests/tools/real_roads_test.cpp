@@ -154,12 +154,13 @@ TEST(RealRoads, TuSimpleStillsEachAlone) {
   // Reached when the floor was set (the search's pose from the lines of bars, heights a
   // step either side of the configured one; lines beyond the own lane reported only with
   // a line's support or as a dash beside a lane; markers in sunlight as a cap beside its
-  // shadow; a few markers beside a joint between slabs as a line on the joint; a row of
-  // dots beside the only full line, a single line solved at its search pose's pitch): 15
-  // of the 20 own-lane lines found (13 before the rows of dots, 11 before the joints, 10
-  // before the shadowed markers), 1 false line of the 22 reported (0 before the rows
-  // of dots, 1 before the joints; 3 of 17 before lines beyond the own lane needed
-  // support): Poisson margins, at least one line's for the false ones.
+  // shadow; a few markers beside a joint between slabs as a line along the joint, at
+  // its markers; a row of dots beside the only full line, a single line solved at its
+  // search pose's pitch): 15 of the 20 own-lane lines found (13 before the rows of dots,
+  // 11 before the joints, 10 before the shadowed markers), 1 false line of the 22
+  // reported (0 before the rows of dots, 1 before the joints; 3 of 17 before lines
+  // beyond the own lane needed support): Poisson margins, at least one line's for the
+  // false ones.
   EXPECT_GE(t["ego_found"].get<double>(), 15.0 - 2.0 * std::sqrt(15.0));
   EXPECT_LE(t["false_lines"].get<double>(), 1.0 + 2.0 * std::sqrt(1.0));
 }
