@@ -2,6 +2,7 @@
 #include "core/lane/lane_support.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -102,11 +103,47 @@ SupportProblem check_motion(double speed_mps, double heading_deg, double curvatu
              : SupportProblem::implausible_motion;
 }
 
+namespace {
+
+// Whether two bars on neighbouring scan rows overlap along the row: one bar running on.
+bool runs_on(const MarkCandidate& a, const MarkCandidate& b) {
+  return a.left_px <= b.right_px && b.left_px <= a.right_px;
+}
+
+// Marks `inside` (indices into `marks`, in scan-row order) that run on as one bar over
+// at least kMinStandingRows scan rows are flagged in `standing`: for each, the longest
+// run of overlapping bars on consecutive scan rows through it, from above and below.
+void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::int16_t> inside,
+                   std::span<std::uint8_t> standing) {
+  std::array<std::int16_t, kMaxClutterMarks> above{}, below{};
+  const int n = static_cast<int>(inside.size());
+  const auto mark = [&](int k) -> const MarkCandidate& { return marks[static_cast<std::size_t>(inside[k])]; };
+  for (int k = 0; k < n; ++k) {
+    above[k] = 1;
+    for (int j = k - 1; j >= 0 && mark(j).scan_row >= mark(k).scan_row - 1; --j)
+      if (mark(j).scan_row == mark(k).scan_row - 1 && runs_on(mark(j), mark(k)))
+        above[k] = std::max<std::int16_t>(above[k], static_cast<std::int16_t>(above[j] + 1));
+  }
+  for (int k = n - 1; k >= 0; --k) {
+    below[k] = 1;
+    for (int j = k + 1; j < n && mark(j).scan_row <= mark(k).scan_row + 1; ++j)
+      if (mark(j).scan_row == mark(k).scan_row + 1 && runs_on(mark(j), mark(k)))
+        below[k] = std::max<std::int16_t>(below[k], static_cast<std::int16_t>(below[j] + 1));
+    standing[k] = above[k] + below[k] - 1 >= kMinStandingRows;
+  }
+}
+
+}  // namespace
+
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
                          const RoadLine& right, int right_line, double margin_mm) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
+  std::array<std::int16_t, kMaxClutterMarks> inside_marks{};
+  std::array<std::uint8_t, kMaxClutterMarks> standing{};
+  int num_inside = 0;
   LaneClutter c;
-  for (const MarkCandidate& m : marks) {
+  for (std::size_t i = 0; i < marks.size(); ++i) {
+    const MarkCandidate& m = marks[i];
     // A joint no line took is the road's own seam, not clutter on it.
     if (!(m.X >= 0.0) || (m.joint && m.line < 0)) continue;
     const std::uint64_t bin = std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
@@ -114,9 +151,24 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
       on_lines |= bin;
       ++c.line_marks;
     } else if (m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm) {
-      inside |= bin;
-      ++c.inside_marks;
+      if (num_inside < kMaxClutterMarks) {
+        inside_marks[static_cast<std::size_t>(num_inside++)] = static_cast<std::int16_t>(i);
+      } else {  // beyond the bound, counted as clutter as they come
+        inside |= bin;
+        ++c.inside_marks;
+      }
     }
+  }
+  const std::span<const std::int16_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
+  flag_standing(marks, found, standing);
+  for (int k = 0; k < num_inside; ++k) {
+    if (standing[static_cast<std::size_t>(k)]) {
+      ++c.standing_marks;
+      continue;
+    }
+    const MarkCandidate& m = marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])];
+    inside |= std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
+    ++c.inside_marks;
   }
   c.inside_bins = std::popcount(inside);
   c.line_bins = std::popcount(on_lines);

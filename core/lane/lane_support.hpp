@@ -76,6 +76,14 @@ constexpr double kMaxLateralAccelerationMps2 = 4.0;
 constexpr double kClutterBinMm = 2000.0;
 constexpr double kMaxClutterPerLineLength = 0.5;
 constexpr double kMaxClutterMarksPerLineMark = 0.5;
+// What stands in the lane or is drawn on it as one thing (a vehicle ahead, whose upright
+// edges and trim project onto the lane's far half as bars; an arrow's shaft) runs on as
+// one bar from scan row to scan row; a field of bars does not line up. Marks inside the
+// lane that run on over this many consecutive scan rows are not clutter (in noise a bar
+// overlaps one on the next row by a chance of a few tenths, four in a row rarely). The
+// first kMaxClutterMarks inside marks are looked at so; any beyond count as clutter.
+constexpr int kMinStandingRows = 4;
+constexpr int kMaxClutterMarks = 1024;
 
 // What the marks of one solved line cover. One mark alone does not make a line long: a
 // bar of noise far beyond a short run of bars lies on the line through them wherever it
@@ -136,6 +144,7 @@ struct LaneClutter {
   int line_bins = 0;
   int inside_marks = 0;
   int line_marks = 0;
+  int standing_marks = 0;  // inside, but running on as one bar (not counted above)
 };
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
                          const RoadLine& right, int right_line, double margin_mm);

@@ -243,6 +243,54 @@ TEST(LaneSupport, SparseBarsAlongTheLaneAreARoadDenseOnesAreNot) {
   EXPECT_EQ(check_clutter(lane_clutter(marks, left, 0, right, 1, 300.0)), SupportProblem::cluttered_lane);
 }
 
+// A truck ahead in the lane: its upright edges project onto the lane's far half as bars,
+// one on every scan row, each overlapping the one on the row before (TuSimple stills 43
+// and 75). That is one thing standing in the lane, not a field of bars; the same bars
+// scattered across the lane from row to row are.
+TEST(LaneSupport, BarsRunningOnFromRowToRowAreAThingInTheLaneNotClutter) {
+  const RoadLine left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
+  std::vector<MarkCandidate> marks;
+  const auto add = [&marks](int line, int scan_row, double X, double Y, double px) {
+    MarkCandidate m;
+    m.line = static_cast<std::int16_t>(line);
+    m.scan_row = static_cast<std::int16_t>(scan_row);
+    m.X = X;
+    m.Y = Y;
+    m.left_px = px - 3.0;
+    m.right_px = px + 3.0;
+    marks.push_back(m);
+  };
+  // Scan rows far to near. The lines: 19 bins of 2 m, 144 marks. The truck's edge: 80
+  // bars over the 20 m beyond 20 m (11 bins), more than half the lines' marks.
+  const auto road = [&](double truck_px_odd_rows) {
+    marks.clear();
+    for (int row = 0; row < 80; ++row)
+      add(-1, row, 40000.0 - 250.0 * row, 200.0, row % 2 == 0 ? 640.0 : truck_px_odd_rows);
+    for (int k = 0; k < 72; ++k) {
+      add(0, 80 + k, 40000.0 - 500.0 * k, 1800.0, 100.0);
+      add(1, 80 + k, 40000.0 - 500.0 * k, -1800.0, 1200.0);
+    }
+  };
+  road(642.0);  // each bar overlaps the next: one edge running on
+  LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.standing_marks, 80);
+  EXPECT_EQ(c.inside_marks, 0);
+  EXPECT_EQ(check_clutter(c), SupportProblem::none);
+  road(700.0);  // every other bar 60 px aside: nothing runs on
+  c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.standing_marks, 0);
+  EXPECT_EQ(c.inside_marks, 80);
+  EXPECT_EQ(c.inside_bins, 11);
+  EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
+  // Runs of three scan rows are chance alignments: still clutter.
+  road(640.0);
+  for (int row = 3; row < 80; row += 3) marks[static_cast<std::size_t>(row)].left_px += 100.0;
+  for (int row = 3; row < 80; row += 3) marks[static_cast<std::size_t>(row)].right_px += 100.0;
+  c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.standing_marks, 0);
+  EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
+}
+
 // A car's lateral speed and acceleration bound what heading and curvature a lane it
 // follows can have at the speed driven.
 TEST(LaneSupport, TheLanesHeadingAndBendMustBeDrivableAtTheSpeed) {
