@@ -205,6 +205,46 @@ TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
   }
 }
 
+// A line's bars must narrow with distance as paint of one width does: grey bars of one
+// pixel width along a line are noise or a barrier's lip. A yellow line is paint whatever
+// its bars' widths: its worn pale strip or a kerb's lit top beside it is taken in on some
+// rows and not on others (TuSimple still 40: 9 to 21 px at one distance).
+TEST(LaneFit, AYellowLineIsPaintWhateverItsBarsWidths) {
+  LaneEstimatorOptions o = default_config().estimator_options();
+  o.priors.phi_deg = Prior{0.0, 1.0};
+  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  std::mt19937_64 rng(12);
+  for (const bool yellow : {false, true}) {
+    std::vector<Pick> picks;
+    DetectionResult d = detection_of_lines(
+        o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}, {-1830.0, 6000.0, 40000.0, 1700.0}}, rng, picks);
+    d.lines[0].yellow = yellow;
+    // The right line's paint, 130 mm wide, narrower in pixels with distance; the left
+    // line's bars 14 px wide at every distance.
+    std::vector<MarkCandidate> bars;
+    for (double x = 6000.0; x <= 40000.0; x += 1700.0)
+      for (const int line : {0, 1}) {
+        MarkCandidate m;
+        m.X = x;
+        m.Y = line == 0 ? 1830.0 : -1830.0;
+        m.line = static_cast<std::int16_t>(line);
+        m.yellow = yellow && line == 0;
+        m.left_px = 400.0;
+        m.right_px = 400.0 + (line == 0 ? 14.0 : 130.0 * 1000.0 / x);
+        bars.push_back(m);
+      }
+    d.marks = bars;
+    LaneFit fit(o);
+    ASSERT_TRUE(fit.take(d));
+    const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+    ASSERT_TRUE(r.converged) << to_string(r.status);
+    const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
+    EXPECT_EQ(fit.lane_support_problem(r, own, 25.0, truth.attitude, true),
+              yellow ? SupportProblem::none : SupportProblem::not_paint)
+        << (yellow ? "yellow" : "grey");
+  }
+}
+
 // One line alone does not fix the pitch: any pitch projects some road line onto its
 // marks. Without a gyro, the solve takes the pitch of the pose it was looked for from (a
 // search's, here 1 deg off the truth), converges there, and its line lies on the marks.
