@@ -373,9 +373,20 @@ void LaneDetector::choose_picks(const CameraPose& pose) {
       return Pick{j, m.px(), m.py};
     };
     int usable = 0;
-    for (int i = 0; i < num_marks; ++i) usable += usable_mark(result_.marks[static_cast<std::size_t>(i)]);
+    double joint_near = 1e300, joint_far = -1e300;
+    for (const MarkCandidate& m : result_.marks) {
+      usable += usable_mark(m);
+      if (joint && m.line == j && m.joint) joint_near = std::min(joint_near, m.X), joint_far = std::max(joint_far, m.X);
+    }
+    // Where the joint does not reach (a dot beyond its end, past a worn or filled piece of
+    // it), the dots are the line's only evidence: their own picks, first.
+    int beyond = 0;
+    for (const MarkCandidate& m : result_.marks)
+      if (joint && beyond < per_line / 4 && m.line == j && m.dot && !m.joint && (m.X < joint_near || m.X > joint_far))
+        picks_[static_cast<std::size_t>(count + beyond++)] = Pick{j, m.px(), m.py};
+    count += beyond;
     // Evenly spread over the line's marks (they come in row order, far to near).
-    const int take = std::min(usable, per_line);
+    const int take = std::min(usable, per_line - beyond);
     int seen = 0, next = 0;
     for (int i = 0; i < num_marks && next < take; ++i) {
       const MarkCandidate& m = result_.marks[static_cast<std::size_t>(i)];

@@ -505,6 +505,7 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
     if (m.line == id) m.line = -1;
     const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
     if (piece(m) || dot) m.line = id;
+    if (dot) near_mm = std::min(near_mm, m.X), far_mm = std::max(far_mm, m.X);  // the line reaches its dots
   }
   if (!narrows_with_distance(marks, id)) {
     release_line(marks, id);

@@ -70,6 +70,35 @@ TEST(LaneDetectorJoints, AFewMarkersBesideAJointAreALineAlongTheJointWhereTheMar
   }
 }
 
+// A joint worn or filled beyond 12 m: the markers past its end are the line's evidence
+// there. The line reaches them, and they are handed on as picks of their own (a row of
+// dots whose picks stopped with its joint was "too_short" beside a full line: TuSimple
+// still 81).
+TEST(LaneDetectorJoints, MarkersBeyondTheJointsEndAreTheLinesPicksThere) {
+  ConcreteRoad road(false, false);
+  draw_joint(road.frame.view, road.ground, road.model, kJointY, 4000.0, 12000.0, kJointWidthMm, kJointGrey);
+  for (const double X : {6000.0, 11000.0, 17000.0, 24000.0})
+    draw_dot(road.frame.view, road.ground, road.model, X, kJointY + kMarkerOffsetMm, 230);
+  LaneDetector det(road.c.camera, road.c.detection);
+  const DetectionResult& r = det.detect(road.frame.view, road.pose, {});
+  ASSERT_EQ(r.num_lines, 1) << r.counters.joints << " pieces of joints, " << r.counters.dots << " dots";
+  const DetectedLine& l = r.lines[0];
+  EXPECT_GE(l.joints, road.c.detection.min_marks);
+  EXPECT_GT(l.far_mm, 23000.0) << "the line reaches its farthest marker";
+  // Picks beyond the joint's end lie on the markers: within the marker's pixel at its
+  // distance and the scatter of a marker's rows about its middle (its chords).
+  int beyond = 0;
+  for (int p = l.first_pick; p < l.first_pick + l.num_picks; ++p) {
+    double X = 0, Y = 0;
+    ASSERT_TRUE(
+        road.ground.ground(r.picks[static_cast<std::size_t>(p)].px, r.picks[static_cast<std::size_t>(p)].py, X, Y));
+    if (X < 13000.0) continue;
+    ++beyond;
+    EXPECT_NEAR(Y, kJointY + kMarkerOffsetMm, X / 1000.0 + 40.0) << "a pick at " << X << " mm";
+  }
+  EXPECT_GE(beyond, 2) << "both markers beyond the joint's end";
+}
+
 TEST(LaneDetectorJoints, NeitherTheMarkersNorTheJointAloneAreALine) {
   for (const bool joint : {false, true}) {
     ConcreteRoad road(joint, !joint);
