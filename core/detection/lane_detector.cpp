@@ -378,11 +378,16 @@ void LaneDetector::choose_picks(const CameraPose& pose) {
       usable += usable_mark(m);
       if (joint && m.line == j && m.joint) joint_near = std::min(joint_near, m.X), joint_far = std::max(joint_far, m.X);
     }
-    // Where the joint does not reach (a dot beyond its end, past a worn or filled piece of
-    // it), the dots are the line's only evidence: their own picks, first.
+    // Where the joint does not reach but the line does through its dots (the grouping's
+    // reach_through_dots: past a worn, filled or hidden piece of the joint), the dots are
+    // the line's only evidence: their own picks, first.
+    const auto beyond_the_joint = [&](const MarkCandidate& m) {
+      return m.line == j && m.dot && !m.joint && (m.X < joint_near || m.X > joint_far) && m.X >= line.near_mm &&
+             m.X <= line.far_mm;
+    };
     int beyond = 0;
     for (const MarkCandidate& m : result_.marks)
-      if (joint && beyond < per_line / 4 && m.line == j && m.dot && !m.joint && (m.X < joint_near || m.X > joint_far))
+      if (joint && beyond < per_line / 4 && beyond_the_joint(m))
         picks_[static_cast<std::size_t>(count + beyond++)] = Pick{j, m.px(), m.py};
     count += beyond;
     // Evenly spread over the line's marks (they come in row order, far to near).

@@ -173,6 +173,22 @@ struct SeparateDots {
   }
 };
 
+// Where a joint is worn, filled or hidden, its line goes on through its dots: from each
+// of the joint's ends [near_mm, far_mm], dot to dot, while no gap is wider than
+// kMaxDotGapMm. A blob on the joint's line far beyond (a car's light, a marker of another
+// stretch) is no continuation of it.
+constexpr double kMaxDotGapMm = 10000.0;
+void reach_through_dots(std::span<const MarkCandidate> marks, int line, double& near_mm, double& far_mm) {
+  for (bool moved = true; moved;) {
+    moved = false;
+    for (const MarkCandidate& m : marks) {
+      if (m.line != line || !m.dot) continue;
+      if (m.X > far_mm && m.X - far_mm <= kMaxDotGapMm) far_mm = m.X, moved = true;
+      if (m.X < near_mm && near_mm - m.X <= kMaxDotGapMm) near_mm = m.X, moved = true;
+    }
+  }
+}
+
 void release_line(std::span<MarkCandidate> marks, int line) {
   for (MarkCandidate& m : marks)
     if (m.line == line) m.line = -1;
@@ -505,12 +521,12 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
     if (m.line == id) m.line = -1;
     const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
     if (piece(m) || dot) m.line = id;
-    if (dot) near_mm = std::min(near_mm, m.X), far_mm = std::max(far_mm, m.X);  // the line reaches its dots
   }
   if (!narrows_with_distance(marks, id)) {
     release_line(marks, id);
     return false;
   }
+  reach_through_dots(marks, id, near_mm, far_mm);
   out.fit = joint;
   out.marks = n + dot_marks;
   out.near_mm = near_mm;
