@@ -156,6 +156,17 @@ TEST(LaneFit, ALineBeyondTheOwnLaneNeedsALinesSupportOrADashBesideALane) {
   EXPECT_NE(fit.line_problem(s, 2, true), SupportProblem::none);
 }
 
+// Detection `d` solved from a level pose at the truth's height, its lines 0 (left) and 1
+// (right) judged as the estimator judges an own lane.
+SupportProblem solved_lane_support(const LaneEstimatorOptions& o, const CameraPose& truth, const DetectionResult& d) {
+  LaneFit fit(o);
+  EXPECT_TRUE(fit.take(d));
+  const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+  EXPECT_TRUE(r.converged) << to_string(r.status);
+  const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
+  return fit.lane_support_problem(r, own, 25.0, truth.attitude, true);
+}
+
 // A lane of one full line and a row of dots: on a road with a single full line, the row
 // is the lane's other line when its marks span enough road to have fitted their own slope
 // (LineGrouper::kOwnSlopeSpanMm: two groups of dots), whether detection found it as the
@@ -195,12 +206,7 @@ TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
       paint.push_back(m);
     }
     d.marks = paint;
-    LaneFit fit(o);
-    ASSERT_TRUE(fit.take(d));
-    const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
-    ASSERT_TRUE(r.converged) << to_string(r.status);
-    const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
-    EXPECT_EQ(fit.lane_support_problem(r, own, 25.0, truth.attitude, true), c.expected)
+    EXPECT_EQ(solved_lane_support(o, truth, d), c.expected)
         << "marks " << c.from_mm << " .. " << c.to_mm << " mm, dots " << c.dots << ", parallel " << c.parallel;
   }
 }
@@ -234,13 +240,7 @@ TEST(LaneFit, AYellowLineIsPaintWhateverItsBarsWidths) {
         bars.push_back(m);
       }
     d.marks = bars;
-    LaneFit fit(o);
-    ASSERT_TRUE(fit.take(d));
-    const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
-    ASSERT_TRUE(r.converged) << to_string(r.status);
-    const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
-    EXPECT_EQ(fit.lane_support_problem(r, own, 25.0, truth.attitude, true),
-              yellow ? SupportProblem::none : SupportProblem::not_paint)
+    EXPECT_EQ(solved_lane_support(o, truth, d), yellow ? SupportProblem::none : SupportProblem::not_paint)
         << (yellow ? "yellow" : "grey");
   }
 }
