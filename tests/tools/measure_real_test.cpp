@@ -1,14 +1,20 @@
-// tools/measure-real as a user runs it, on the repository's ten TuSimple stills (a data
-// folder without drives): each row it prints is what `ccdlane score` says of the replay
-// it kept for that row, and each mount row replayed the configured camera moved as its
-// name says (pitch and yaw by 5 degrees, the height by a quarter).
+// tools/measure-real as a user runs it, on the repository's share of the real data: its
+// ten TuSimple stills (each row it prints is what `ccdlane score` says of the replay it
+// kept for that row, and each mount row replayed the configured camera moved as its name
+// says: pitch and yaw by 5 degrees, the height by a quarter) and its two Udacity drives
+// (each row is its kept replay summed up again here, from the fourth second when the
+// mount is off, and each drive's mount is calibrated).
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -94,6 +100,59 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
     EXPECT_DOUBLE_EQ(toml_number(dir + "/camera.toml", "psi_deg"), row.psi) << row.mount;
     EXPECT_DOUBLE_EQ(toml_number(dir + "/camera.toml", "H_mm"), row.height) << row.mount;
     EXPECT_EQ(printed_row(r.out, row.mount), scored_row(dir, row.mount)) << r.out;
+  }
+}
+
+// A drive's row recomputed from the replay measure-real kept: frames from `from_s` on,
+// the share ok, the ok frames' lane width (mean, m, and sd over the mean), the median
+// change of the lateral offset between consecutive ok frames, and the warnings fired.
+std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s) {
+  std::vector<nlohmann::json> kept;
+  std::istringstream lines(read_file(replay));
+  for (std::string line; std::getline(lines, line);) kept.push_back(nlohmann::json::parse(line));
+  if (kept.empty()) return "";
+  const auto t0 = kept.front()["t_ns"].get<std::int64_t>();
+  std::erase_if(kept, [&](const nlohmann::json& e) {
+    return static_cast<double>(e["t_ns"].get<std::int64_t>() - t0) < from_s * 1e9;
+  });
+  std::vector<double> widths, steps;
+  int warnings = 0;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    if (kept[i]["ok"].get<bool>()) widths.push_back(kept[i]["lane_width_mm"].get<double>());
+    if (i > 0 && kept[i]["ok"].get<bool>() && kept[i - 1]["ok"].get<bool>())
+      steps.push_back(
+          std::abs(kept[i]["lateral_offset_mm"].get<double>() - kept[i - 1]["lateral_offset_mm"].get<double>()));
+    warnings += kept[i]["ldw"]["fired"].get<std::string>() != "none";
+  }
+  double mean = 0.0, var = 0.0;
+  for (const double w : widths) mean += w / static_cast<double>(widths.size());
+  for (const double w : widths) var += (w - mean) * (w - mean) / static_cast<double>(widths.size());
+  std::sort(steps.begin(), steps.end());
+  const std::size_t n = steps.size();
+  const double median = n % 2 ? steps[n / 2] : 0.5 * (steps[n / 2 - 1] + steps[n / 2]);
+  char row[200];
+  std::snprintf(row, sizeof row, "%-28s %-14s %6zu %5.0f%% %8.3f %5.1f%% %8.1f %8d", video.c_str(), mount.c_str(),
+                kept.size(), 100.0 * static_cast<double>(widths.size()) / static_cast<double>(kept.size()),
+                mean / 1000.0, 100.0 * std::sqrt(var) / mean, median, warnings);
+  return row;
+}
+
+TEST(MeasureReal, EachDrivesRowIsItsReplaySummedUpFromTheFourthSecondWhenTheMountIsOff) {
+  test::TempDir tmp;
+  const std::string work = tmp.file("work"), drives = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives";
+  const test::ProcessResult r = test::run_process(
+      {"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane", CCDLANE_TOOL, "--keep", work});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  EXPECT_EQ(r.out.find("TuSimple"), std::string::npos) << "no stills in the data folder: no stills' table";
+  for (const std::string video : {"project_video_segA.mp4", "project_video_segB.mp4"}) {
+    for (const auto& [mount, dir, from_s] : {std::tuple{"nominal", "nominal", 0.0},
+                                             {"pitch +5", "pitch_+5", 3.0},
+                                             {"height x0.75", "height_x0.75", 3.0}}) {
+      const std::string row = drive_row(work + "/drives/" + dir + "/" + video + ".jsonl", video, mount, from_s);
+      EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
+    }
+    EXPECT_NE(r.out.find(video + std::string(28 - video.size(), ' ') + " pitch "), std::string::npos)
+        << "each drive's mount calibrated: " << r.out;
   }
 }
 
