@@ -11,8 +11,6 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -76,13 +74,6 @@ std::optional<int> ChildProcess::wait_exit(int timeout_ms) {
     if (std::chrono::steady_clock::now() > end) return std::nullopt;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-}
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 }  // namespace ccdlane::test

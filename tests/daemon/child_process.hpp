@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/run_process.hpp"  // read_file, for the users of this header
+
 namespace ccdlane::test {
 
 struct ChildOptions {
@@ -33,7 +35,5 @@ class ChildProcess {
   pid_t pid_ = -1;
   bool reaped_ = false;
 };
-
-std::string read_file(const std::string& path);
 
 }  // namespace ccdlane::test

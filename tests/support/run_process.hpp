@@ -15,6 +15,9 @@ struct ProcessResult {
 
 ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text = "");
 
+// The whole of file `path`, byte for byte; "" when it cannot be read.
+std::string read_file(const std::string& path);
+
 // A fresh directory under the test temp dir, removed when the object goes away.
 class TempDir {
  public:

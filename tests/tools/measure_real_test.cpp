@@ -27,17 +27,10 @@ namespace {
 const std::string kStills = std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple";
 const std::string kMeasureReal = std::string(CCDLANE_SOURCE_DIR) + "/tools/measure-real";
 
-std::string read_file(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 // The number a configuration file gives `key` (the first such line), NaN without one.
 double toml_number(const std::string& path, const std::string& key) {
   std::smatch m;
-  const std::string text = read_file(path);
+  const std::string text = test::read_file(path);
   if (!std::regex_search(text, m, std::regex("(^|\n)" + key + R"( *= *([-+0-9.eE]+))"))) return std::nan("");
   return std::stod(m[2]);
 }
@@ -57,7 +50,7 @@ std::string scored_row(const std::string& dir, const std::string& mount) {
   EXPECT_EQ(s.exit_status, 0) << s.err;
   const nlohmann::json t = nlohmann::json::parse(s.out)["total"];
   int frames = 0, ok = 0;
-  std::istringstream replay(read_file(dir + "/stills.jsonl"));
+  std::istringstream replay(test::read_file(dir + "/stills.jsonl"));
   for (std::string line; std::getline(replay, line);) {
     ++frames;
     ok += nlohmann::json::parse(line)["ok"].get<bool>();
@@ -108,7 +101,7 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
 // change of the lateral offset between consecutive ok frames, and the warnings fired.
 std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s) {
   std::vector<nlohmann::json> kept;
-  std::istringstream lines(read_file(replay));
+  std::istringstream lines(test::read_file(replay));
   for (std::string line; std::getline(lines, line);) kept.push_back(nlohmann::json::parse(line));
   if (kept.empty()) return "";
   const auto t0 = kept.front()["t_ns"].get<std::int64_t>();

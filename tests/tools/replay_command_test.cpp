@@ -605,13 +605,6 @@ namespace {
 const std::string kSegA = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives/project_video_segA.mp4";
 const std::string kSegACamera = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives/camera.toml";
 
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // A rendered drive (no gyro: a video carries none) as its PGM directory and as a lossless
 // H.264 MP4 of the same frames at the same times.
 struct RenderedDrive {
@@ -623,7 +616,7 @@ struct RenderedDrive {
     const auto s = test::run_process(
         {kTool, "synth", kReferenceCamera, "--out", frames, "--frames", std::to_string(count), "--no-gyro"});
     EXPECT_EQ(s.exit_status, 0) << s.err;
-    config = dir.write("camera.toml", text_of(kReferenceCamera) + "\n[prior]\nphi_deg = [0.0, 1.0]\n");
+    config = dir.write("camera.toml", test::read_file(kReferenceCamera) + "\n[prior]\nphi_deg = [0.0, 1.0]\n");
     FrameDirectory d(frames);
     const ImageBuffer image(800, 600, PixelFormat::mono8, 8);
     VideoWriter w(video, {.width = 800, .height = 600, .lossless = true});
@@ -696,7 +689,7 @@ TEST(ReplayCommand, ACutVideoKeepsItsFirstFramesAndExitsTwo) {
   std::filesystem::resize_file(cut, 2'000'000);
   const auto r = test::run_process({kTool, "replay", kSegACamera, cut, "--out", dir.file("o.jsonl")});
   EXPECT_EQ(r.exit_status, 2);
-  const std::vector<Json> out = json_lines(text_of(dir.file("o.jsonl")));
+  const std::vector<Json> out = json_lines(test::read_file(dir.file("o.jsonl")));
   ASSERT_GT(out.size(), 5u);
   ASSERT_LT(out.size(), 211u);
   const std::string line = "ccdlane: " + cut + ": frame " + std::to_string(out.size()) + ": cut short";
@@ -728,7 +721,7 @@ TEST(ReplayCommand, BadVideosAreOneLineExitTwoAndNoOutputFile) {
                        ": 1 frame(s) whose time does not come after the one before, skipped (the first: frame 3)\n"),
             std::string::npos)
       << r.err;
-  EXPECT_EQ(json_lines(text_of(dir.file("r.jsonl"))).size(), 5u);
+  EXPECT_EQ(json_lines(test::read_file(dir.file("r.jsonl"))).size(), 5u);
   const std::string ffv1 = test::write_test_video(dir.file("f.mkv"), 800, 600, {0, 40'000'000}, {.encoder = "ffv1"});
   refused(kReferenceCamera, ffv1, ffv1 + ": unsupported codec ffv1 (ccdlane reads H.264, H.265 and MJPEG)");
 }

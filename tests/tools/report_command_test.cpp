@@ -25,13 +25,6 @@ using Json = nlohmann::json;
 const std::string kTool = CCDLANE_TOOL;
 constexpr const char* kChromium = "/usr/bin/chromium";
 
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 Json nullable(double v) { return std::isnan(v) ? Json(nullptr) : Json(v); }
 
 // A 10 s drive at 30 fps with something in every series: a weaving offset, warnings on
@@ -87,7 +80,7 @@ TEST(ReportCommand, ThePageShowsEverySeriesInABrowser) {
   const auto r =
       test::run_process({kTool, "report", replay, "--out", dir.file("report.html"), "--png", dir.file("png")});
   ASSERT_EQ(r.exit_status, 0) << r.err;
-  const std::string html = text_of(dir.file("report.html"));
+  const std::string html = test::read_file(dir.file("report.html"));
   // Self-contained: nothing fetched from anywhere.
   EXPECT_EQ(html.find("http://"), std::string::npos);
   EXPECT_EQ(html.find("https://"), std::string::npos);

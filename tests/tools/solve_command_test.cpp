@@ -22,16 +22,9 @@ const std::string kTool = CCDLANE_TOOL;
 const std::string kDemo = std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/paper-table1a.toml";
 const std::string kPaperPicks = std::string(CCDLANE_TEST_DATA_DIR) + "/paper/table1_a.csv";
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The demo problem without its picks key: for tests that bring their own picks.
 std::string problem_without_picks(const std::string& extra = "") {
-  std::string text = read_file(kDemo);
+  std::string text = test::read_file(kDemo);
   const std::size_t at = text.find("picks = ");
   text.erase(at, text.find('\n', at) - at + 1);
   return text + extra;
@@ -100,7 +93,7 @@ TEST(SolveCommand, PicksOptionAndPicksKeyRelativeToTheProblem) {
   EXPECT_EQ(solve_ok({bare, "--picks", kPaperPicks})["psi_deg"], reference["psi_deg"]);
   // [solver] picks is relative to the problem file, not to the working directory.
   std::filesystem::create_directories(dir.file("data"));
-  dir.write("data/a.csv", read_file(kPaperPicks));
+  dir.write("data/a.csv", test::read_file(kPaperPicks));
   std::string with_key = problem_without_picks();
   with_key.replace(with_key.find("[solver]\n"), 9, "[solver]\npicks = \"data/a.csv\"\n");
   EXPECT_EQ(solve_ok({dir.write("keyed.toml", with_key)})["psi_deg"], reference["psi_deg"]);

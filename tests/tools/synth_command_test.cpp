@@ -28,13 +28,6 @@ k_px2 = -3.32e-6
 theta_deg = 3.0
 )";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(SynthCommand, WritesAFrameDirectoryWithTruth) {
   test::TempDir dir;
   const std::string config = dir.write("cam.toml", kSmallCamera);
@@ -69,9 +62,9 @@ TEST(SynthCommand, SameSeedSameBytesOtherSeedOtherBytes) {
   ASSERT_EQ(
       test::run_process({kTool, "synth", config, "--out", dir.file("c"), "--frames", "2", "--seed", "6"}).exit_status,
       0);
-  EXPECT_EQ(slurp(dir.file("a/000001.pgm")), slurp(dir.file("b/000001.pgm")));
-  EXPECT_EQ(slurp(dir.file("a/frames.csv")), slurp(dir.file("b/frames.csv")));
-  EXPECT_NE(slurp(dir.file("a/000001.pgm")), slurp(dir.file("c/000001.pgm")));
+  EXPECT_EQ(test::read_file(dir.file("a/000001.pgm")), test::read_file(dir.file("b/000001.pgm")));
+  EXPECT_EQ(test::read_file(dir.file("a/frames.csv")), test::read_file(dir.file("b/frames.csv")));
+  EXPECT_NE(test::read_file(dir.file("a/000001.pgm")), test::read_file(dir.file("c/000001.pgm")));
 }
 
 TEST(SynthCommand, SixteenBitWithoutGyro) {
