@@ -113,7 +113,7 @@ bool runs_on(const MarkCandidate& a, const MarkCandidate& b) {
 // Marks `inside` (indices into `marks`, in scan-row order) that run on as one bar over
 // at least kMinStandingRows scan rows are flagged in `standing`: for each, the longest
 // run of overlapping bars on consecutive scan rows through it, from above and below.
-void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::int16_t> inside,
+void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::uint32_t> inside,
                    std::span<std::uint8_t> standing) {
   std::array<std::int16_t, kMaxClutterMarks> above{}, below{};
   const int n = static_cast<int>(inside.size());
@@ -138,7 +138,7 @@ void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::in
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
                          const RoadLine& right, int right_line, double margin_mm) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
-  std::array<std::int16_t, kMaxClutterMarks> inside_marks{};
+  std::array<std::uint32_t, kMaxClutterMarks> inside_marks{};
   std::array<std::uint8_t, kMaxClutterMarks> standing{};
   int num_inside = 0;
   LaneClutter c;
@@ -152,14 +152,14 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
       ++c.line_marks;
     } else if (m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm) {
       if (num_inside < kMaxClutterMarks) {
-        inside_marks[static_cast<std::size_t>(num_inside++)] = static_cast<std::int16_t>(i);
+        inside_marks[static_cast<std::size_t>(num_inside++)] = static_cast<std::uint32_t>(i);
       } else {  // beyond the bound, counted as clutter as they come
         inside |= bin;
         ++c.inside_marks;
       }
     }
   }
-  const std::span<const std::int16_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
+  const std::span<const std::uint32_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
   flag_standing(marks, found, standing);
   for (int k = 0; k < num_inside; ++k) {
     if (standing[static_cast<std::size_t>(k)]) {

@@ -79,9 +79,10 @@ constexpr double kMaxClutterMarksPerLineMark = 0.5;
 // What stands in the lane or is drawn on it as one thing (a vehicle ahead, whose upright
 // edges and trim project onto the lane's far half as bars; an arrow's shaft) runs on as
 // one bar from scan row to scan row; a field of bars does not line up. Marks inside the
-// lane that run on over this many consecutive scan rows are not clutter (in noise a bar
-// overlaps one on the next row by a chance of a few tenths, four in a row rarely). The
-// first kMaxClutterMarks inside marks are looked at so; any beyond count as clutter.
+// lane that run on over this many consecutive scan rows are not clutter (noise's bars
+// seldom overlap from row to row four times running: the 10,000 noise frames still give
+// no lane). The first kMaxClutterMarks inside marks are looked at so; any beyond count
+// as clutter.
 constexpr int kMinStandingRows = 4;
 constexpr int kMaxClutterMarks = 1024;
 
