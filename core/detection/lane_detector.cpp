@@ -386,9 +386,10 @@ void LaneDetector::choose_picks(const CameraPose& pose) {
              m.X <= line.far_mm;
     };
     int beyond = 0;
-    for (const MarkCandidate& m : result_.marks)
-      if (joint && beyond < per_line / 4 && beyond_the_joint(m))
-        picks_[static_cast<std::size_t>(count + beyond++)] = Pick{j, m.px(), m.py};
+    if (joint)  // a paint line (most of them) needs no pass for it
+      for (const MarkCandidate& m : result_.marks)
+        if (beyond < per_line / 4 && beyond_the_joint(m))
+          picks_[static_cast<std::size_t>(count + beyond++)] = Pick{j, m.px(), m.py};
     count += beyond;
     // Evenly spread over the line's marks (they come in row order, far to near).
     const int take = std::min(usable, per_line - beyond);

@@ -67,7 +67,8 @@ class LaneDetector {
   int keep_linked_joints(int kept);
   // Whether candidate c is yellow paint (colour frames only).
   static bool is_yellow(const ImageView& image, const MarkCandidate& c);
-  // The picks, evenly spread over each line's marks of its kind (at `pose`, detection's).
+  // The picks, evenly spread over each line's marks of its kind, and a joint line's dots
+  // beyond its joint's ends (at `pose`, detection's).
   void choose_picks(const CameraPose& pose);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.

@@ -138,6 +138,7 @@ void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::ui
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
                          const RoadLine& right, int right_line, double margin_mm) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
+  const auto bin_of = [](double X) { return std::uint64_t{1} << std::min(63, static_cast<int>(X / kClutterBinMm)); };
   std::array<std::uint32_t, kMaxClutterMarks> inside_marks{};
   std::array<std::uint8_t, kMaxClutterMarks> standing{};
   int num_inside = 0;
@@ -146,7 +147,7 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
     const MarkCandidate& m = marks[i];
     // A joint no line took is the road's own seam, not clutter on it.
     if (!(m.X >= 0.0) || (m.joint && m.line < 0)) continue;
-    const std::uint64_t bin = std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
+    const std::uint64_t bin = bin_of(m.X);
     if (m.line == left_line || m.line == right_line) {
       on_lines |= bin;
       ++c.line_marks;
@@ -166,8 +167,7 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
       ++c.standing_marks;
       continue;
     }
-    const MarkCandidate& m = marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])];
-    inside |= std::uint64_t{1} << std::min(63, static_cast<int>(m.X / kClutterBinMm));
+    inside |= bin_of(marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])].X);
     ++c.inside_marks;
   }
   c.inside_bins = std::popcount(inside);
