@@ -228,21 +228,25 @@ int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1A
   return n;
 }
 
-bool LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle) const {
+LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle) const {
   // Whether this solve is a lane, judged as the track stage would judge it, on a copy of
   // the tracker (nothing is committed) and against the mount acquisition would take.
   const Attitude mount = mount_.mount_for(r.pose.attitude);
   LaneTracker scratch = tracker_;
   const TrackedLines t = track_lines(scratch, r, fit_, rad_to_deg(mount.psi), config_.detection.departure_mm);
-  return t.metrics.has_lane && fit_.lane_support_problem(r, t.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
-                                                         mount, mount_.height_settled()) == SupportProblem::none;
+  if (!t.metrics.has_lane || fit_.lane_support_problem(r, t.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
+                                                       mount, mount_.height_settled()) != SupportProblem::none)
+    return Found::nothing;
+  return fit_.line_inside_lane(t.own) ? Found::lane_with_a_line_inside : Found::lane;
 }
 
 LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                              const VehicleInputs& vehicle) {
   // The first starting pose whose solve is a supported lane of a lane's width at its own
-  // height, else the first supported one whose width needed (or needs) another height,
-  // else the outcome of the pose whose solve had the most picks (the lines it saw, each
+  // height with no line inside it, else the first supported one whose width needed (or
+  // needs) another height, else the first supported one with a line inside it (two lanes
+  // from a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
+  // outcome of the pose whose solve had the most picks (the lines it saw, each
   // reported on its own support), or the first pose's when none solved (its reason is the
   // frame's). A lane of a lane's width
   // only at another height is the weaker evidence: from a pose a quarter too low, the own
@@ -254,11 +258,15 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   const int n = search_poses(image, gyro, poses);
   Attempt first;
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
+  int line_inside = -1;   // the first pose whose lane has a line inside it
   int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks
   for (int k = 0; k < n; ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
-    if (a.why == EstimateFailure::none && supported(*a.solve, vehicle)) {
+    if (const Found found = a.why == EstimateFailure::none ? supported(*a.solve, vehicle) : Found::nothing;
+        found == Found::lane_with_a_line_inside) {
+      if (line_inside < 0) line_inside = k;
+    } else if (found == Found::lane) {
       if (!a.rescaled && width_agrees_with_height(*a.solve)) {
         mount_.adopt(a.solve->pose.attitude);
         return a;
@@ -272,8 +280,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       most_seen = k;
     }
   }
-  if (other_height >= 0) {
-    detection_pose_ = poses[other_height];
+  if (other_height >= 0 || line_inside >= 0) {
+    detection_pose_ = poses[other_height >= 0 ? other_height : line_inside];
     const Attempt a = attempt(image, gyro);
     mount_.adopt(a.solve->pose.attitude);
     return a;

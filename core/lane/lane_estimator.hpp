@@ -106,7 +106,9 @@ class LaneEstimator {
   int search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                    std::array<CameraPose, kMaxSearchPoses>& poses);
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
-  bool supported(const SolveResult& r, const VehicleInputs& vehicle) const;
+  // Whether a solve is a supported lane, and whether a line runs inside it.
+  enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside };
+  Found supported(const SolveResult& r, const VehicleInputs& vehicle) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   // By how much a cold start's first solve says the height is off, while the mount's
   // height is not settled: the lane-width prior's mean over the width of the lane it

@@ -240,18 +240,22 @@ SupportProblem LaneFit::line_problem(const SolveResult& r, int j, bool beside_a_
   return check_dash_support(support, options_.detection, GroupingParams{}, width) ? SupportProblem::none : p;
 }
 
+LaneClutter LaneFit::own_lane_clutter(const OwnLane& own) const {
+  const int left = detection_line_[static_cast<std::size_t>(own.left)];
+  const int right = detection_line_[static_cast<std::size_t>(own.right)];
+  return lane_clutter(detection_->marks, detection_->lines[static_cast<std::size_t>(left)].fit, left,
+                      detection_->lines[static_cast<std::size_t>(right)].fit, right,
+                      options_.detection.max_mark_width_mm);
+}
+
+bool LaneFit::line_inside_lane(const OwnLane& own) const { return is_line_inside(own_lane_clutter(own).line_inside); }
+
 SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
                                              const Attitude& mount, bool height_settled) const {
   if (const SupportProblem p = line_support_problem(r, own.left, own.right, own.lane_width_mm);
       p != SupportProblem::none)
     return p;
-  const DetectedLine& detected_left = detection_->lines[detection_line_[own.left]];
-  const DetectedLine& detected_right = detection_->lines[detection_line_[own.right]];
-  if (const SupportProblem p = check_clutter(
-          lane_clutter(detection_->marks, detected_left.fit, detection_line_[own.left], detected_right.fit,
-                       detection_line_[own.right], options_.detection.max_mark_width_mm));
-      p != SupportProblem::none)
-    return p;
+  if (const SupportProblem p = check_clutter(own_lane_clutter(own)); p != SupportProblem::none) return p;
   // The own lane's width against the configured lane width (the solve's own prior may
   // span several lanes); the attitude against the priors this solve had (the gyro's).
   SolverPriors priors = solve_priors_;

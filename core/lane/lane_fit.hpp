@@ -50,6 +50,11 @@ class LaneFit {
   SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
                                       const Attitude& mount,
                                       bool height_settled = true) const;
+  // Whether a line runs inside the lane `own` names (lane_support.hpp's
+  // kMinInsideLineDashes): the lane is then two, seen from a height taken too low, or a
+  // lane with a seam and a vehicle's edges in it. Not a verdict of its own: a search
+  // prefers a lane without one (lane_estimator.hpp).
+  bool line_inside_lane(const OwnLane& own) const;
   // Why solved line j, on its own, is not a line to report (lane_support.hpp): its marks
   // cover too little of the searched road, or it was placed only as a parallel of the
   // others; beside a supported lane (beside_a_lane), a single dash a lane's width from the
@@ -73,6 +78,7 @@ class LaneFit {
   SolveRequest request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const;
   void measure_residuals(const SolveResult& r);
   SupportProblem line_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const;
+  LaneClutter own_lane_clutter(const OwnLane& own) const;
   // Solved line j's support as a full line: marks over enough of the searched road
   // (`support`, its line_support) and not placed only as a parallel of the others, which
   // is at most a dash's support whatever the number of its marks.

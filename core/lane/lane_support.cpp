@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <utility>
 
 #include "base/median.hpp"
 
@@ -110,9 +111,9 @@ bool runs_on(const MarkCandidate& a, const MarkCandidate& b) {
   return a.left_px <= b.right_px && b.left_px <= a.right_px;
 }
 
-// Marks `inside` (indices into `marks`, in scan-row order) that run on as one bar over
-// at least kMinStandingRows scan rows are flagged in `standing`: for each, the longest
-// run of overlapping bars on consecutive scan rows through it, from above and below.
+// For marks `inside` (indices into `marks`, in scan-row order), in `standing`, the scan
+// rows of the longest run of overlapping bars on consecutive scan rows through each
+// (from above and below, at most 255).
 void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::uint32_t> inside,
                    std::span<std::uint8_t> standing) {
   std::array<std::int16_t, kMaxClutterMarks> above{}, below{};
@@ -129,8 +130,53 @@ void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::ui
     for (int j = k + 1; j < n && mark(j).scan_row <= mark(k).scan_row + 1; ++j)
       if (mark(j).scan_row == mark(k).scan_row + 1 && runs_on(mark(j), mark(k)))
         below[k] = std::max<std::int16_t>(below[k], static_cast<std::int16_t>(below[j] + 1));
-    standing[k] = above[k] + below[k] - 1 >= kMinStandingRows;
+    standing[k] = static_cast<std::uint8_t>(std::min(255, above[k] + below[k] - 1));
   }
+}
+
+}  // namespace
+
+bool is_line_inside(const InsidePieces& p) {
+  return p.dashes >= kMinInsideLineDashes || p.dashes + p.dots >= kMinInsideLinePieces ||
+         (p.dashes + p.dots >= GroupingParams{}.min_joint_dots && p.joints >= kMinInsideJointBins);
+}
+
+namespace {
+
+// The pieces of one line among `inside` marks (bars running on, dots, joints): sorted by
+// offset from the lane's left line, a band kInsideLineBandMm wide slides across them. Its
+// dashes are the separate runs of kClutterBinMm bins that each hold two or more of its
+// bars; its dots and joints, the bins that hold one (the marks of one dot on
+// neighbouring scan rows share one). The fullest band that makes a line, else the fullest.
+InsidePieces most_pieces_in_a_band(std::span<InsideMark> inside) {
+  std::sort(inside.begin(), inside.end(), [](const InsideMark& a, const InsideMark& b) { return a.offset < b.offset; });
+  std::array<std::uint8_t, 64> in_bin{}, in_dot_bin{}, in_joint_bin{};
+  std::uint64_t held = 0, dotted = 0, joint = 0;  // dash bins holding two or more marks; bins holding a dot, a joint
+  const auto count = [](std::array<std::uint8_t, 64>& counts, std::uint64_t& mask, int at, int step, int least) {
+    const auto k = static_cast<std::size_t>(std::min(63, at));
+    counts[k] = static_cast<std::uint8_t>(std::min(255, counts[k] + step));
+    const std::uint64_t bit = std::uint64_t{1} << k;
+    mask = counts[k] >= least ? mask | bit : mask & ~bit;
+  };
+  const auto add = [&](const InsideMark& m, int step) {
+    const int b = static_cast<int>(m.X / kClutterBinMm);
+    if (m.kind == InsideMark::dot)
+      count(in_dot_bin, dotted, b, step, 1);
+    else if (m.kind == InsideMark::joint)
+      count(in_joint_bin, joint, b, step, 1);
+    else
+      count(in_bin, held, b, step, 2);
+  };
+  InsidePieces most;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < inside.size(); ++i) {
+    for (; j < inside.size() && inside[j].offset - inside[i].offset <= kInsideLineBandMm; ++j) add(inside[j], +1);
+    const InsidePieces here{std::popcount(held & ~(held << 1)), std::popcount(dotted), std::popcount(joint)};
+    const auto pieces = [](const InsidePieces& p) { return p.dashes + p.dots + p.joints; };
+    if (std::pair(is_line_inside(here), pieces(here)) > std::pair(is_line_inside(most), pieces(most))) most = here;
+    add(inside[i], -1);
+  }
+  return most;
 }
 
 }  // namespace
@@ -140,13 +186,28 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
   const auto bin_of = [](double X) { return std::uint64_t{1} << std::min(63, static_cast<int>(X / kClutterBinMm)); };
   std::array<std::uint32_t, kMaxClutterMarks> inside_marks{};
+  std::array<InsideMark, kMaxClutterMarks> pieces{};  // bars running on, dots, joints: what a line inside would be
+  int num_pieces = 0;
+  const auto add_piece = [&](const MarkCandidate& m, InsideMark::Kind kind) {
+    // A line between two lanes lies well inside what they make; beside either line lie
+    // its own shadow, a second stripe, its markers' offset from it.
+    const double offset = left.y_at(m.X) - m.Y, width = left.y_at(m.X) - right.y_at(m.X);
+    if (num_pieces < kMaxClutterMarks && offset >= kInsideLineFromSide * width &&
+        offset <= (1.0 - kInsideLineFromSide) * width)
+      pieces[static_cast<std::size_t>(num_pieces++)] = {offset, m.X, kind};
+  };
   std::array<std::uint8_t, kMaxClutterMarks> standing{};
   int num_inside = 0;
   LaneClutter c;
   for (std::size_t i = 0; i < marks.size(); ++i) {
     const MarkCandidate& m = marks[i];
-    // A joint no line took is the road's own seam, not clutter on it.
-    if (!(m.X >= 0.0) || (m.joint && m.line < 0)) continue;
+    if (!(m.X >= 0.0)) continue;
+    if (m.joint && m.line < 0) {
+      // A joint no line took is the road's own seam, not clutter on it; but markers set
+      // along one are a line.
+      add_piece(m, InsideMark::joint);
+      continue;
+    }
     const std::uint64_t bin = bin_of(m.X);
     if (m.line == left_line || m.line == right_line) {
       on_lines |= bin;
@@ -163,13 +224,18 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
   const std::span<const std::uint32_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
   flag_standing(marks, found, standing);
   for (int k = 0; k < num_inside; ++k) {
-    if (standing[static_cast<std::size_t>(k)]) {
+    const MarkCandidate& m = marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])];
+    const bool stands = standing[static_cast<std::size_t>(k)] >= kMinStandingRows;
+    const bool in_dash = standing[static_cast<std::size_t>(k)] >= kMinInsideDashRows;
+    if (in_dash || m.dot) add_piece(m, in_dash ? InsideMark::dash : InsideMark::dot);
+    if (stands) {
       ++c.standing_marks;
       continue;
     }
-    inside |= bin_of(marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])].X);
+    inside |= bin_of(m.X);
     ++c.inside_marks;
   }
+  c.line_inside = most_pieces_in_a_band(std::span(pieces).first(static_cast<std::size_t>(num_pieces)));
   c.inside_bins = std::popcount(inside);
   c.line_bins = std::popcount(on_lines);
   return c;

@@ -85,6 +85,33 @@ constexpr double kMaxClutterMarksPerLineMark = 0.5;
 // as clutter.
 constexpr int kMinStandingRows = 4;
 constexpr int kMaxClutterMarks = 1024;
+// A lane has no lane line inside it. Two lanes look like one of a lane's width when the
+// height the picture is seen from is taken half as high as it is (the same picture shows
+// a lane of width W from height H and one of 2W from 2H, and a search tries heights a
+// third apart): a lane bounded by lines two lanes apart, with the line between them inside
+// it (detection keeps lines GroupingParams::min_separation_mm apart, which the lane's
+// lines are not at that height). A search therefore prefers a lane without a line inside
+// (lane_estimator.hpp); it is not a verdict on its own, since a real lane may hold what
+// looks like one (a vehicle ahead, whose upright edges run on as bars; a seam along the
+// lane with specks of concrete on it).
+// What a line inside is: a dash runs on from scan row to scan row (over
+// kMinInsideDashRows at least: far off, a 3 m dash spans two or three), a dashed line is
+// such runs at one offset from the lane's lines, separated by its gaps; a
+// row of raised markers is dots at one offset, often along a joint. Within a band
+// kInsideLineBandMm wide (paint 10-15 cm, the lines as detection fitted them at a pose a
+// little off; a vehicle's upright edge drifts across the band) and at least
+// kInsideLineFromSide of the lane's width from either line (beside a line lie its shadow,
+// a second stripe, its markers' offset from it), they make a line when they are
+// kMinInsideLineDashes separate runs of kClutterBinMm bins, or kMinInsideLinePieces runs
+// and bins with a dot (as many dots as detection takes as a row of them beside the road's
+// lines: GroupingParams::min_parallel_dots), or GroupingParams::min_joint_dots of them
+// along a joint seen in kMinInsideJointBins bins.
+constexpr double kInsideLineBandMm = 250.0;
+constexpr double kInsideLineFromSide = 0.25;
+constexpr int kMinInsideLineDashes = 2;
+constexpr int kMinInsideLinePieces = 4;
+constexpr int kMinInsideJointBins = 3;
+constexpr int kMinInsideDashRows = 2;
 
 // What the marks of one solved line cover. One mark alone does not make a line long: a
 // bar of noise far beyond a short run of bars lies on the line through them wherever it
@@ -136,6 +163,17 @@ double paint_width_spread(std::span<const MarkCandidate> marks, int detection_li
                           std::span<double> scratch);  // NaN with < 3 marks
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection);
 
+// Pieces of a line inside a lane (bars running on, dots, joints) at one offset from its lines.
+struct InsideMark {
+  double offset = 0.0, X = 0.0;  // mm: from the lane's left line (detection fit), ahead
+  enum Kind : std::uint8_t { dash, dot, joint } kind = dash;
+};
+struct InsidePieces {
+  int dashes = 0;  // separate runs of bars along the road
+  int dots = 0;    // kClutterBinMm bins holding a dot
+  int joints = 0;  // bins holding a piece of a joint between slabs
+};
+
 // Marks no line took lying inside the lane bounded by detection lines `left` and `right`
 // (at least `margin_mm` from each), against the marks the two lines took: how many bins
 // of kClutterBinMm of road distance hold each (distances beyond 64 bins share the last),
@@ -146,10 +184,13 @@ struct LaneClutter {
   int inside_marks = 0;
   int line_marks = 0;
   int standing_marks = 0;  // inside, but running on as one bar (not counted above)
+  InsidePieces line_inside;  // the most pieces of one line inside the lane
 };
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
                          const RoadLine& right, int right_line, double margin_mm);
 SupportProblem check_clutter(const LaneClutter& clutter);
+// Whether pieces at one offset inside a lane make a line (kMinInsideLineDashes).
+bool is_line_inside(const InsidePieces& pieces);
 
 // The lateral speed and acceleration of a vehicle at `speed_mps` with this heading
 // (degrees) in a lane of this curvature (1/m).

@@ -4,6 +4,7 @@
 // lane and the motion a lane implies.
 #include "core/lane/lane_support.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -289,6 +290,70 @@ TEST(LaneSupport, BarsRunningOnFromRowToRowAreAThingInTheLaneNotClutter) {
   c = lane_clutter(marks, left, 0, right, 1, 300.0);
   EXPECT_EQ(c.standing_marks, 0);
   EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
+}
+
+// Two lanes look like one of a lane's width from a height taken half as high: their
+// outer lines bound the "lane", and the line between them runs inside it. A dashed line
+// (bars running on over a dash's scan rows, at one offset, in separate dashes) or a row
+// of raised markers (dots at one offset, fewer along a joint) is a line inside; one dash,
+// an arrow, dashes at scattered offsets or a row of markers beside a border are not.
+TEST(LaneSupport, ALineInsideTheLaneIsOneBetweenTwoLanes) {
+  const RoadLine left{3700.0, 0.0, 0.0}, right{-3700.0, 0.0, 0.0};
+  std::vector<MarkCandidate> marks;
+  // Scan rows one every 250 mm of road, far to near; a bar's column follows its offset.
+  const auto add = [&marks](int line, double X, double Y) -> MarkCandidate& {
+    MarkCandidate m;
+    m.line = static_cast<std::int16_t>(line);
+    m.scan_row = static_cast<std::int16_t>((50000.0 - X) / 250.0);
+    m.X = X;
+    m.Y = Y;
+    m.left_px = 640.0 - Y / 10.0 - 3.0;
+    m.right_px = 640.0 - Y / 10.0 + 3.0;
+    marks.push_back(m);
+    return marks.back();
+  };
+  const auto dash = [&](double from_X, double Y) {  // 3 m: 12 scan rows
+    for (double x = from_X; x < from_X + 3000.0; x += 250.0) add(-1, x, Y);
+  };
+  const auto dot = [&](double X, double Y) { add(-1, X, Y).dot = true; };
+  const auto inside = [&] {
+    for (double x = 5000.0; x < 45000.0; x += 250.0) add(0, x, 3700.0), add(1, x, -3700.0);
+    std::stable_sort(marks.begin(), marks.end(),
+                     [](const MarkCandidate& a, const MarkCandidate& b) { return a.scan_row < b.scan_row; });
+    const LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
+    marks.clear();
+    return c.line_inside;
+  };
+
+  for (const double x : {6000.0, 18000.0, 30000.0}) dash(x, 100.0);
+  InsidePieces p = inside();
+  EXPECT_EQ(p.dashes, 3);
+  EXPECT_TRUE(is_line_inside(p));
+
+  dash(6000.0, 100.0);  // one dash, an arrow's shaft, a vehicle's edge
+  EXPECT_FALSE(is_line_inside(inside()));
+  for (double x = 6000.0; x < 11000.0; x += 250.0) add(-1, x, 0.0);  // an arrow, 5 m
+  EXPECT_FALSE(is_line_inside(inside()));
+  const double scattered[] = {-1200.0, -400.0, 400.0, 1200.0};  // 0.8 m apart
+  for (int k = 0; k < 4; ++k) dash(6000.0 + 10000.0 * k, scattered[k]);
+  EXPECT_FALSE(is_line_inside(inside()));
+  for (const double x : {6000.0, 18000.0, 30000.0}) dash(x, 2900.0);  // 0.8 m from the left line
+  EXPECT_FALSE(is_line_inside(inside()));
+
+  for (const double x : {6000.0, 9700.0, 13400.0, 17000.0}) dot(x, -100.0);  // 3.66 m apart
+  p = inside();
+  EXPECT_EQ(p.dots, 4);
+  EXPECT_TRUE(is_line_inside(p));
+  for (const double x : {6000.0, 9700.0, 13400.0}) dot(x, -100.0);
+  EXPECT_FALSE(is_line_inside(inside()));
+  // The same three set along a joint (a joint no line took: a seam alone is no line).
+  for (const double x : {6000.0, 9700.0, 13400.0}) dot(x, -100.0);
+  for (double x = 5000.0; x < 15000.0; x += 500.0) add(-1, x, -150.0).joint = true;
+  p = inside();
+  EXPECT_EQ(p.joints, 6);  // 2 m bins
+  EXPECT_TRUE(is_line_inside(p));
+  for (double x = 5000.0; x < 15000.0; x += 500.0) add(-1, x, -150.0).joint = true;
+  EXPECT_FALSE(is_line_inside(inside()));
 }
 
 // A car's lateral speed and acceleration bound what heading and curvature a lane it
