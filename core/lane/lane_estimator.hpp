@@ -70,9 +70,12 @@ class LaneEstimator {
   const MountRefinementResult& mount_refinement() const { return mount_.result(); }
   // A search without a previous frame also starts from the mount pitched by these steps,
   // out to this bound (detection loses lines from a pose a degree or two off; the solve
-  // from what it finds, and the look again from the solved pose, bring it back).
+  // from what it finds, and the look again from the solved pose, bring it back). The
+  // bound: a picture's own tilt nobody wrote down (a TuSimple still's 7 degrees) and a
+  // user's 5, for when the vanishing point is not found (TuSimple's "pitch -5", 12 off:
+  // own lines 70.6 -> 80.0 % with 9 -> 12 here).
   static constexpr double kSearchPitchStepDeg = 3.0;
-  static constexpr double kSearchPitchDeg = 9.0;
+  static constexpr double kSearchPitchDeg = 12.0;
   // And, while the mount's height is not settled, at the configured height times and
   // over this (a configured height may be a third off: kUnsettledHeightError).
   static constexpr double kSearchHeightStep = 1.3;
@@ -98,7 +101,7 @@ class LaneEstimator {
     bool rescaled = false;  // the first solve's lane width moved the height (height_scale)
   };
   Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro);
-  static constexpr int kMaxSearchAttitudes = 8;
+  static constexpr int kMaxSearchAttitudes = 10;
   static constexpr int kMaxSearchPoses = 3 * kMaxSearchAttitudes;
   // Yaw and pitch from the road's vanishing point in the picture (roll and the rest are
   // base's); empty when none is found.
