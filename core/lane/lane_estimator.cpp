@@ -6,6 +6,8 @@
 // solved at the start of a run, and its own stage, last, learns from the frame's estimate.
 #include "core/lane/lane_estimator.hpp"
 
+#include <cmath>
+
 #include "core/lane/lane_metrics.hpp"
 #include "core/lane/observability.hpp"
 #include "core/ldw/lane_measurement.hpp"
@@ -213,18 +215,23 @@ int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1A
       attitudes[a] = base.attitude;
       attitudes[a++].theta += deg_to_rad(sign * k * kSearchPitchStepDeg);
     }
-  // Then each of them at a height a step higher and lower, while the mount's height is
-  // not settled: detection measures marks, dots and gaps in millimetres on the road, and
-  // a height a quarter off puts every one of them a quarter off (the lit cap of a
-  // raised marker falls below the narrowest taken, lines fall outside their gates).
-  const int heights = height_unsettled() ? 3 : 1;
+  // Then each of them at heights a step and two steps higher and lower, while the
+  // mount's height is not settled: detection measures marks, dots and gaps in
+  // millimetres on the road, and a height a quarter off puts every one of them a quarter
+  // off (the lit cap of a raised marker falls below the narrowest taken, lines fall
+  // outside their gates).
+  const int heights = height_unsettled() ? kSearchHeights : 1;
   int n = 0;
-  for (int h = 0; h < heights; ++h)
+  for (int h = 0; h < heights; ++h) {
+    // The configured height, then a step higher and lower, then two.
+    const int steps = (h + 1) / 2;
+    const double factor = std::pow(kSearchHeightStep, h % 2 == 1 ? steps : -steps);
     for (int k = 0; k < a; ++k) {
       poses[n] = base;
       poses[n].attitude = attitudes[k];
-      poses[n++].H_mm *= h == 0 ? 1.0 : h == 1 ? kSearchHeightStep : 1.0 / kSearchHeightStep;
+      poses[n++].H_mm *= factor;
     }
+  }
   return n;
 }
 

@@ -414,9 +414,10 @@ TEST(LaneEstimator, AHeightAQuarterOffIsTakenFromTheLaneWidthOnEachStill) {
 // at 0.55 of the height reads 4 m), bounded by the lines either side of them, with the
 // dashed line between them inside, and its own lane too narrow (2 m) to rescale the
 // height from: the search prefers the lane from the height a step higher, where no line
-// runs inside it.
-TEST(LaneEstimator, ASearchFindsTheOwnLaneBetweenDashesFromAHeightAThirdOrHalfOff) {
-  for (const double factor : {0.55, 0.68, 0.75}) {
+// runs inside it. Configured at half or twice the truth, the heights two steps either
+// way (kSearchHeightStep squared) find it.
+TEST(LaneEstimator, ASearchFindsTheOwnLaneBetweenDashesFromAHeightFarOff) {
+  for (const double factor : {0.5, 0.55, 0.68, 0.75, 2.0}) {
     Config truth = small_camera();
     truth.synth.dashed = DashedLines::inner;
     Drive d(truth);
