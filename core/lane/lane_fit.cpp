@@ -240,15 +240,19 @@ SupportProblem LaneFit::line_problem(const SolveResult& r, int j, bool beside_a_
   return check_dash_support(support, options_.detection, GroupingParams{}, width) ? SupportProblem::none : p;
 }
 
-LaneClutter LaneFit::own_lane_clutter(const OwnLane& own) const {
+LaneClutter LaneFit::own_lane_clutter(const OwnLane& own, InsidePieces* line_inside) const {
   const int left = detection_line_[static_cast<std::size_t>(own.left)];
   const int right = detection_line_[static_cast<std::size_t>(own.right)];
   return lane_clutter(detection_->marks, detection_->lines[static_cast<std::size_t>(left)].fit, left,
                       detection_->lines[static_cast<std::size_t>(right)].fit, right,
-                      options_.detection.max_mark_width_mm);
+                      options_.detection.max_mark_width_mm, line_inside);
 }
 
-bool LaneFit::line_inside_lane(const OwnLane& own) const { return is_line_inside(own_lane_clutter(own).line_inside); }
+bool LaneFit::line_inside_lane(const OwnLane& own) const {
+  InsidePieces line;
+  own_lane_clutter(own, &line);
+  return is_line_inside(line);
+}
 
 SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
                                              const Attitude& mount, bool height_settled) const {

@@ -111,11 +111,11 @@ bool runs_on(const MarkCandidate& a, const MarkCandidate& b) {
   return a.left_px <= b.right_px && b.left_px <= a.right_px;
 }
 
-// For marks `inside` (indices into `marks`, in scan-row order), in `standing`, the scan
+// For marks `inside` (indices into `marks`, in scan-row order), in `run_rows`, the scan
 // rows of the longest run of overlapping bars on consecutive scan rows through each
 // (from above and below, at most 255).
-void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::uint32_t> inside,
-                   std::span<std::uint8_t> standing) {
+void measure_runs(std::span<const MarkCandidate> marks, std::span<const std::uint32_t> inside,
+                  std::span<std::uint8_t> run_rows) {
   std::array<std::int16_t, kMaxClutterMarks> above{}, below{};
   const int n = static_cast<int>(inside.size());
   const auto mark = [&](int k) -> const MarkCandidate& { return marks[static_cast<std::size_t>(inside[k])]; };
@@ -130,7 +130,7 @@ void flag_standing(std::span<const MarkCandidate> marks, std::span<const std::ui
     for (int j = k + 1; j < n && mark(j).scan_row <= mark(k).scan_row + 1; ++j)
       if (mark(j).scan_row == mark(k).scan_row + 1 && runs_on(mark(j), mark(k)))
         below[k] = std::max<std::int16_t>(below[k], static_cast<std::int16_t>(below[j] + 1));
-    standing[k] = static_cast<std::uint8_t>(std::min(255, above[k] + below[k] - 1));
+    run_rows[k] = static_cast<std::uint8_t>(std::min(255, above[k] + below[k] - 1));
   }
 }
 
@@ -167,12 +167,12 @@ InsidePieces most_pieces_in_a_band(std::span<InsideMark> inside) {
     else
       count(in_bin, held, b, step, 2);
   };
+  const auto pieces = [](const InsidePieces& p) { return p.dashes + p.dots + p.joints; };
   InsidePieces most;
   std::size_t j = 0;
   for (std::size_t i = 0; i < inside.size(); ++i) {
     for (; j < inside.size() && inside[j].offset - inside[i].offset <= kInsideLineBandMm; ++j) add(inside[j], +1);
     const InsidePieces here{std::popcount(held & ~(held << 1)), std::popcount(dotted), std::popcount(joint)};
-    const auto pieces = [](const InsidePieces& p) { return p.dashes + p.dots + p.joints; };
     if (std::pair(is_line_inside(here), pieces(here)) > std::pair(is_line_inside(most), pieces(most))) most = here;
     add(inside[i], -1);
   }
@@ -182,13 +182,14 @@ InsidePieces most_pieces_in_a_band(std::span<InsideMark> inside) {
 }  // namespace
 
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
-                         const RoadLine& right, int right_line, double margin_mm) {
+                         const RoadLine& right, int right_line, double margin_mm, InsidePieces* line_inside) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
   const auto bin_of = [](double X) { return std::uint64_t{1} << std::min(63, static_cast<int>(X / kClutterBinMm)); };
   std::array<std::uint32_t, kMaxClutterMarks> inside_marks{};
-  std::array<InsideMark, kMaxClutterMarks> pieces{};  // bars running on, dots, joints: what a line inside would be
+  std::array<InsideMark, kMaxClutterMarks> pieces;  // bars running on, dots, joints: what a line inside would be
   int num_pieces = 0;
   const auto add_piece = [&](const MarkCandidate& m, InsideMark::Kind kind) {
+    if (!line_inside) return;
     // A line between two lanes lies well inside what they make; beside either line lie
     // its own shadow, a second stripe, its markers' offset from it.
     const double offset = left.y_at(m.X) - m.Y, width = left.y_at(m.X) - right.y_at(m.X);
@@ -196,7 +197,7 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
         offset <= (1.0 - kInsideLineFromSide) * width)
       pieces[static_cast<std::size_t>(num_pieces++)] = {offset, m.X, kind};
   };
-  std::array<std::uint8_t, kMaxClutterMarks> standing{};
+  std::array<std::uint8_t, kMaxClutterMarks> run_rows{};
   int num_inside = 0;
   LaneClutter c;
   for (std::size_t i = 0; i < marks.size(); ++i) {
@@ -222,11 +223,11 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
     }
   }
   const std::span<const std::uint32_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
-  flag_standing(marks, found, standing);
+  measure_runs(marks, found, run_rows);
   for (int k = 0; k < num_inside; ++k) {
     const MarkCandidate& m = marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])];
-    const bool stands = standing[static_cast<std::size_t>(k)] >= kMinStandingRows;
-    const bool in_dash = standing[static_cast<std::size_t>(k)] >= kMinInsideDashRows;
+    const bool stands = run_rows[static_cast<std::size_t>(k)] >= kMinStandingRows;
+    const bool in_dash = run_rows[static_cast<std::size_t>(k)] >= kMinInsideDashRows;
     if (in_dash || m.dot) add_piece(m, in_dash ? InsideMark::dash : InsideMark::dot);
     if (stands) {
       ++c.standing_marks;
@@ -235,7 +236,7 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
     inside |= bin_of(m.X);
     ++c.inside_marks;
   }
-  c.line_inside = most_pieces_in_a_band(std::span(pieces).first(static_cast<std::size_t>(num_pieces)));
+  if (line_inside) *line_inside = most_pieces_in_a_band(std::span(pieces).first(static_cast<std::size_t>(num_pieces)));
   c.inside_bins = std::popcount(inside);
   c.line_bins = std::popcount(on_lines);
   return c;

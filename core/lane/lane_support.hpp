@@ -109,7 +109,7 @@ constexpr int kMaxClutterMarks = 1024;
 constexpr double kInsideLineBandMm = 250.0;
 constexpr double kInsideLineFromSide = 0.25;
 constexpr int kMinInsideLineDashes = 2;
-constexpr int kMinInsideLinePieces = 4;
+constexpr int kMinInsideLinePieces = GroupingParams{}.min_parallel_dots;
 constexpr int kMinInsideJointBins = 3;
 constexpr int kMinInsideDashRows = 2;
 
@@ -164,9 +164,9 @@ double paint_width_spread(std::span<const MarkCandidate> marks, int detection_li
 SupportProblem check_paint_width_spread(double spread, const DetectionConfig& detection);
 
 // Pieces of a line inside a lane (bars running on, dots, joints) at one offset from its lines.
-struct InsideMark {
-  double offset = 0.0, X = 0.0;  // mm: from the lane's left line (detection fit), ahead
-  enum Kind : std::uint8_t { dash, dot, joint } kind = dash;
+struct InsideMark {  // trivial: a clutter check that does not look for a line leaves its buffer untouched
+  double offset, X;  // mm: from the lane's left line (detection fit), ahead
+  enum Kind : std::uint8_t { dash, dot, joint } kind;
 };
 struct InsidePieces {
   int dashes = 0;  // separate runs of bars along the road
@@ -184,10 +184,11 @@ struct LaneClutter {
   int inside_marks = 0;
   int line_marks = 0;
   int standing_marks = 0;  // inside, but running on as one bar (not counted above)
-  InsidePieces line_inside;  // the most pieces of one line inside the lane
 };
+// With `line_inside`, also the most pieces of one line inside the lane there (a search's
+// question, kMinInsideLineDashes; a tracking frame's clutter check does without).
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
-                         const RoadLine& right, int right_line, double margin_mm);
+                         const RoadLine& right, int right_line, double margin_mm, InsidePieces* line_inside = nullptr);
 SupportProblem check_clutter(const LaneClutter& clutter);
 // Whether pieces at one offset inside a lane make a line (kMinInsideLineDashes).
 bool is_line_inside(const InsidePieces& pieces);

@@ -320,9 +320,10 @@ TEST(LaneSupport, ALineInsideTheLaneIsOneBetweenTwoLanes) {
     for (double x = 5000.0; x < 45000.0; x += 250.0) add(0, x, 3700.0), add(1, x, -3700.0);
     std::stable_sort(marks.begin(), marks.end(),
                      [](const MarkCandidate& a, const MarkCandidate& b) { return a.scan_row < b.scan_row; });
-    const LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
+    InsidePieces line;
+    lane_clutter(marks, left, 0, right, 1, 300.0, &line);
     marks.clear();
-    return c.line_inside;
+    return line;
   };
 
   for (const double x : {6000.0, 18000.0, 30000.0}) dash(x, 100.0);
