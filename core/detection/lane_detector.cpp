@@ -473,9 +473,12 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     // is sampled at half the resolution and blurred again by video codecs), the same on
     // either side, and the bar's centre stays where the paint is. Barrier feet, kerbs,
     // seams and slab edges, whose steps do bias, are grey.
+    // Such a bar is held for a line beyond the road's others (lane_marks.hpp,
+    // for_lines_beyond); a marker's cap beside its shadow that is no marker is no line's.
     if (c.step_beside && !c.dot && !c.yellow) {
       ++result_.counters.step_beside;
-      continue;
+      if (c.shadow_side != 0) continue;
+      c.for_lines_beyond = true;
     }
     if (!c.dot && !points_to_vanishing_point(image, c)) {
       ++result_.counters.wrong_orientation;
@@ -496,8 +499,12 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   // Without lines to go on, the pose is a search's guess (detection_config.hpp).
   if (priors.empty()) params.max_pitch_error_rad = deg_to_rad(kSearchPitchErrorDeg);
   result_.num_lines = grouper_.group(marks, priors, params, result_.lines);
-  result_.marks = marks;
-  for (const MarkCandidate& m : marks) result_.counters.grouped += m.line >= 0;
+  // The held bars no line beyond took are nothing of the road's.
+  int grouped = 0;
+  for (const MarkCandidate& m : marks)
+    if (!m.for_lines_beyond || m.line >= 0) marks_[static_cast<std::size_t>(grouped++)] = m;
+  result_.marks = marks.first(static_cast<std::size_t>(grouped));
+  for (const MarkCandidate& m : result_.marks) result_.counters.grouped += m.line >= 0;
   choose_picks(pose);
   return result_;
 }

@@ -30,6 +30,12 @@ struct MarkCandidate {
   // a dash's end, a raised marker's shadow): its edges may be pulled by up to half the
   // filter's width.
   bool step_beside = false;
+  // A bar with such a step that is neither a dot nor yellow paint: its edges may be
+  // pulled, and barrier feet, kerbs and slab edges look so, so it founds no line of its
+  // own and joins none the road's lines are found by. A line one lane beyond them may
+  // take it: an edge line beside a shoulder of another surface has a step beside it all
+  // along (LineGrouper::find_lines_beyond). Marks of it that join no line are dropped.
+  bool for_lines_beyond = false;
   // Narrower than paint (ScanRow::min_dot_width_px): taken only if it is a dot; a long
   // bar that narrow is a crack's edge, a wire or a seam's lip.
   bool narrow = false;

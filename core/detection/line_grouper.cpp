@@ -201,6 +201,14 @@ void release_line(std::span<MarkCandidate> marks, int line) {
 // tried. group() frees them at its end.
 constexpr std::int16_t kSpentLine = -2;
 
+// The marks only a line beyond the road's others may take (MarkCandidate::for_lines_beyond):
+// neither free nor any line's until find_lines_beyond.
+constexpr std::int16_t kHeldLine = -3;
+
+// How far beyond the outermost line found a line is looked for among them: one lane
+// further, as wide as lanes are (lane_support.hpp's kMaxDashLaneWidthMm).
+constexpr double kMaxLaneBeyondMm = 5000.0;
+
 void spend_line(std::span<MarkCandidate> marks, int line) {
   for (MarkCandidate& m : marks)
     if (m.line == line) m.line = kSpentLine;
@@ -699,36 +707,38 @@ bool LineGrouper::beyond_a_yellow_line(const DetectedLine& l, int n) const {
   return false;
 }
 
+bool LineGrouper::add_parallel(std::span<MarkCandidate> marks, const GroupingParams& params, int& n,
+                               const RoadLine& model, int prior_index) {
+  const double y_ref_mm = model.y_at(kReferenceMm);
+  DetectedLine l;
+  // Beside one line alone, a row of dots may run as a pitch error tilts it (see
+  // consensus_line), up to tracking's error: a search's wider one would let chance rows
+  // of blobs across the lane pass.
+  const double tilt = n == 1 ? pitch_tilt(found_[0].fit.y_at(kReferenceMm), y_ref_mm,
+                                          std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad), params.height_mm)
+                             : 0.0;
+  if (!fit_line(marks, model, kNewLineGateMm, n, params, l, true, tilt)) {
+    release_line(marks, n);
+    return false;
+  }
+  l.prior_index = prior_index;
+  l.parallel = true;
+  if (l.dots && beyond_a_yellow_line(l, n)) {
+    release_line(marks, n);
+    return false;
+  }
+  return admit(marks, l, n, params);
+}
+
 int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
                              const GroupingParams& params, int n) {
   if (n == 0) return n;
   const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
   auto add_parallel = [&](double y_ref_mm, int prior_index) {
-    DetectedLine l;
-    // Beside one line alone, a row of dots may run as a pitch error tilts it (see
-    // consensus_line), up to tracking's error: a search's wider one would let chance rows
-    // of blobs across the lane pass.
-    const double tilt = n == 1
-                            ? pitch_tilt(found_[0].fit.y_at(kReferenceMm), y_ref_mm,
-                                         std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad), params.height_mm)
-                            : 0.0;
-    if (!fit_line(marks, road.through(y_ref_mm), kNewLineGateMm, n, params, l, true, tilt)) {
-      release_line(marks, n);
-      return;
-    }
-    l.prior_index = prior_index;
-    l.parallel = true;
-    if (l.dots && beyond_a_yellow_line(l, n)) {
-      release_line(marks, n);
-      return;
-    }
-    admit(marks, l, n, params);
+    this->add_parallel(marks, params, n, road.through(y_ref_mm), prior_index);
   };
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
-    bool continued = false;
-    for (int j = 0; j < n; ++j)
-      continued = continued || found_[static_cast<std::size_t>(j)].prior_index == static_cast<int>(k);
-    if (!continued) add_parallel(priors[k].y_at(kReferenceMm), static_cast<int>(k));
+    if (!continues_prior(static_cast<int>(k), n)) add_parallel(priors[k].y_at(kReferenceMm), static_cast<int>(k));
   }
   std::array<std::uint16_t, kY0Bins> y_votes{};
   for (const MarkCandidate& m : marks) {
@@ -750,6 +760,65 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
     if (best < params.min_dash_marks) break;
     add_parallel(kY0MinMm + (bi + 0.5) * kY0BinMm, -1);
     for (int i = bi - 1; i <= bi + 1; ++i) y_votes[static_cast<std::size_t>(i)] = 0;
+  }
+  return n;
+}
+
+bool LineGrouper::continues_prior(int k, int n) const {
+  for (int j = 0; j < n; ++j)
+    if (found_[static_cast<std::size_t>(j)].prior_index == k) return true;
+  return false;
+}
+
+int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
+                                   const GroupingParams& params, int n) {
+  // Only beside a lane: the lines found must say where the road runs and how wide its
+  // lanes are before a bar whose edges a step may have pulled counts for anything.
+  if (n < 2) return n;
+  for (MarkCandidate& m : marks)
+    if (m.line == kHeldLine) m.line = -1;
+  const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
+  double leftmost = -1e300, rightmost = 1e300;
+  for (int k = 0; k < n; ++k) {
+    const double y = found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm);
+    leftmost = std::max(leftmost, y), rightmost = std::min(rightmost, y);
+  }
+  // The free marks' y at the reference distance along the road's line through each (the
+  // same vote as find_dashes'), on each side, from a lane's narrowest to its widest
+  // beyond the outermost line.
+  std::array<std::uint16_t, kY0Bins> y_votes{};
+  for (const MarkCandidate& m : marks) {
+    if (m.line != -1) continue;
+    double y = m.Y + (road.through(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+    y = m.Y + (road.through(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+    const double beyond = std::max(y - leftmost, rightmost - y);
+    const double u = (y - kY0MinMm) / kY0BinMm;
+    if (beyond >= params.min_separation_mm && beyond <= kMaxLaneBeyondMm && u >= 0.0 && u < kY0Bins)
+      ++y_votes[static_cast<std::size_t>(u)];
+  }
+  for (const double side : {+1.0, -1.0}) {
+    const double outermost = side > 0 ? leftmost : rightmost;
+
+    int best = 0, bi = -1;
+    for (int i = 1; i + 1 < kY0Bins; ++i) {
+      if (side * (kY0MinMm + (i + 0.5) * kY0BinMm - outermost) <= 0.0) continue;
+      const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
+                    y_votes[static_cast<std::size_t>(i + 1)];
+      if (v > best) best = v, bi = i;
+    }
+    if (best < params.min_dash_marks || n >= kMaxFoundLines) continue;
+    const double y_ref = kY0MinMm + (bi + 0.5) * kY0BinMm;
+    // A yellow line is the travelled way's edge: beyond it lie a shoulder and a barrier's
+    // foot, no lane (segA's median barrier).
+    DetectedLine looked_for;
+    looked_for.fit = road.through(y_ref);
+    if (beyond_a_yellow_line(looked_for, n)) continue;
+    // The previous frame's line there, when no line found continues it: this one does.
+    int prior_index = -1;
+    for (std::size_t k = 0; k < priors.size(); ++k)
+      if (!continues_prior(static_cast<int>(k), n) && std::abs(priors[k].y_at(kReferenceMm) - y_ref) <= kNewLineGateMm)
+        prior_index = static_cast<int>(k);
+    add_parallel(marks, params, n, road.through(y_ref), prior_index);
   }
   return n;
 }
@@ -781,7 +850,7 @@ int LineGrouper::keep_nearest(std::span<MarkCandidate> marks, const GroupingPara
 
 int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
                        std::array<DetectedLine, kMaxDetectedLines>& out) {
-  for (MarkCandidate& m : marks) m.line = -1;
+  for (MarkCandidate& m : marks) m.line = m.for_lines_beyond ? kHeldLine : -1;
   // 1. Where the previous frame's lines were.
   int n = continue_priors(marks, priors, params);
   // 2. New lines among what is left: the strongest (y0, m) cell, fitted, until none has
@@ -796,7 +865,11 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine>
   n = find_dashes(marks, priors, params, n);
   for (MarkCandidate& m : marks)
     if (m.line == kSpentLine) m.line = -1;
-  // 4. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
+  // 4. The lines beyond the outermost ones found, one lane further on each side, where
+  // the bars of only such a line count too: an edge line beside a shoulder of another
+  // surface has a step beside it all along (lane_marks.hpp, for_lines_beyond).
+  n = find_lines_beyond(marks, priors, params, n);
+  // 5. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
   return keep_nearest(marks, params, n, out);
 }
 

@@ -119,6 +119,17 @@ class LineGrouper {
                      int n);
   int find_dashes(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
                   int n);
+  // One line more on each side, beyond the outermost of the n found and parallel to them,
+  // where free marks and those held for it (MarkCandidate::for_lines_beyond) agree on a y0.
+  int find_lines_beyond(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
+                        int n);
+  // A line parallel to the road's (`model`, the road's line through where it is looked
+  // for), fitted as such (y0, and the slope over 6 m) and admitted among the n found;
+  // it continues prior `prior_index` (-1: none). Whether it was taken.
+  // Whether one of the n lines found continues prior k.
+  bool continues_prior(int k, int n) const;
+  bool add_parallel(std::span<MarkCandidate> marks, const GroupingParams& params, int& n, const RoadLine& model,
+                    int prior_index);
   int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
                    std::array<DetectedLine, kMaxDetectedLines>& out) const;
   // Adds `l` (its marks assigned to line n) to the n lines found when it is

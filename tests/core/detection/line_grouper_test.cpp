@@ -18,7 +18,8 @@ struct Scene {
   std::mt19937 rng{7};
   // A mark on every scan row from near to far (`every` > 1: dashes), with lateral noise
   // of noise_px pixels (a pixel spans X / 630 mm at distance X).
-  void line(double y0, double m, double c, double noise_px = 0.3, int every = 1, bool yellow = false) {
+  void line(double y0, double m, double c, double noise_px = 0.3, int every = 1, bool yellow = false,
+            bool for_lines_beyond = false) {
     std::normal_distribution<double> n(0.0, 1.0);
     for (int row = 0; row < 150; ++row) {
       if ((row / 4) % every) continue;
@@ -26,6 +27,7 @@ struct Scene {
       MarkCandidate mk;
       mk.X = X;
       mk.yellow = yellow;
+      mk.for_lines_beyond = for_lines_beyond;
       mk.Y = y0 + m * X + c * X * X + noise_px * X / 630.0 * n(rng);
       mk.scan_row = static_cast<std::int16_t>(row);
       marks.push_back(mk);
@@ -240,6 +242,40 @@ TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
     }
     EXPECT_NEAR(lines[n - 2].fit.y0_mm, 1800.0, 30.0);
     EXPECT_EQ(lines[n - 2].yellow, yellow);
+  }
+}
+
+// An edge line beside a shoulder of another surface: every bar of it has a step beside
+// it (for_lines_beyond). One lane beyond the road's two lines it is a line; such bars
+// found no line of their own (beside a single line, or between the lane's lines), none
+// beyond a yellow edge line, and those no line took are left ungrouped.
+TEST(LineGrouper, BarsWithAStepBesideMakeOnlyALineBeyondTheLane) {
+  struct Case {
+    const char* what;
+    double held_y0;
+    bool left_line, yellow_left;
+    int want_lines;
+  };
+  for (const Case& k :
+       {Case{"beyond the right line", -5500.0, true, false, 3},
+        Case{"beyond a yellow left line", 5400.0, true, true, 2}, Case{"inside the lane", 0.0, true, false, 2},
+        Case{"beside one line alone", -5500.0, false, false, 1}}) {
+    Scene s;
+    if (k.left_line) s.line(1800, 0.01, 0.0, 0.3, 1, k.yellow_left);
+    s.line(-1800, 0.01, 0.0);
+    s.line(k.held_y0, 0.01, 0.0, 0.3, 1, false, true);
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines);
+    ASSERT_EQ(n, k.want_lines) << k.what;
+    int held_grouped = 0;
+    for (const MarkCandidate& m : s.marks) held_grouped += m.for_lines_beyond && m.line >= 0;
+    if (k.want_lines == 3) {
+      EXPECT_NEAR(lines[2].fit.y0_mm, k.held_y0, 30.0) << k.what;
+      EXPECT_NEAR(lines[2].fit.m, 0.01, 0.002) << k.what;  // the road's direction
+      EXPECT_NEAR(held_grouped, 150, 10) << k.what;
+    } else {
+      EXPECT_EQ(held_grouped, 0) << k.what;
+    }
   }
 }
 
