@@ -439,7 +439,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
         (n < params.min_coverage * p.rows && p.dots < (parallel ? params.min_parallel_dots : params.min_dots));
     if (too_few) {
       if (2 * p.dot_marks > n && p.dots >= params.min_joint_dots && !parallel &&
-          join_joint(marks, model, id, params, min_span_mm, looked_for, gate_base_mm, out))
+          join_joint(marks, model, id, params, min_span_mm, looked_for, gate_base_mm, out, params.min_joint_dots))
         return true;
       return release();
     }
@@ -469,7 +469,7 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
 
 bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id,
                              const GroupingParams& params, double min_span_mm, const RoadLine& looked_for,
-                             double gate_base_mm, DetectedLine& out) {
+                             double gate_base_mm, DetectedLine& out, int min_dots) {
   // The joint: its pieces within the band about the dots' line, then within the fit's
   // tolerance of the line they make (straight, with the road's curvature, as a joint is
   // over the reach of a few dots).
@@ -524,13 +524,13 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
       ++dot_marks;
       dots.add(m);
     }
-  if (dots.count < params.min_joint_dots) return false;
+  if (dots.count < min_dots) return false;
   for (MarkCandidate& m : marks) {
     if (m.line == id) m.line = -1;
     const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
     if (piece(m) || dot) m.line = id;
   }
-  if (!narrows_with_distance(marks, id)) {
+  if (dots.count > 0 && !narrows_with_distance(marks, id)) {
     release_line(marks, id);
     return false;
   }
@@ -540,7 +540,7 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
   out.near_mm = near_mm;
   out.far_mm = far_mm;
   out.rms_mm = std::sqrt(sum2_mm / n);  // the joint's pieces'; its dots lie off it
-  out.dots = true;
+  out.dots = dots.count > 0;
   out.joints = n;
   out.yellow = false;
   return true;
@@ -764,6 +764,47 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
   return n;
 }
 
+int LineGrouper::find_own_joint(std::span<MarkCandidate> marks, const GroupingParams& params, int n) {
+  // Only where the own lane has a line on one side of the vehicle and none on the other.
+  double left = 1e300, right = -1e300;
+  for (int k = 0; k < n; ++k) {
+    const double y = found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm);
+    (y > 0.0 ? left : right) = y > 0.0 ? std::min(left, y) : std::max(right, y);
+  }
+  const bool have_left = left<1e300, have_right = right> - 1e300;
+  if (have_left == have_right || n >= kMaxFoundLines) return n;
+  const double side = have_left ? -1.0 : 1.0, own = have_left ? left : right;
+  const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
+  // The free joint pieces' y at the reference distance along the road's line through
+  // each (find_dashes' vote), on the missing side, a lane's width from the line found.
+  std::array<std::uint16_t, kY0Bins> y_votes{};
+  for (const MarkCandidate& m : marks) {
+    if (!m.joint || m.line != -1) continue;
+    double y = m.Y + (road.through(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+    y = m.Y + (road.through(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+    const double u = (y - kY0MinMm) / kY0BinMm, width = std::abs(y - own);
+    if (side * y > 0.0 && width >= params.min_separation_mm && width <= kMaxLaneBeyondMm && u >= 0.0 && u < kY0Bins)
+      ++y_votes[static_cast<std::size_t>(u)];
+  }
+  int best = 0, bi = -1;
+  for (int i = 1; i + 1 < kY0Bins; ++i) {
+    const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
+                  y_votes[static_cast<std::size_t>(i + 1)];
+    if (v > best) best = v, bi = i;
+  }
+  if (best < params.min_marks) return n;
+  const RoadLine model = road.through(kY0MinMm + (bi + 0.5) * kY0BinMm);
+  DetectedLine l;
+  if (!join_joint(marks, model, static_cast<std::int16_t>(n), params, params.min_span_mm, model, kNewLineGateMm, l,
+                  0) ||
+      beyond_a_yellow_line(l, n)) {
+    release_line(marks, n);
+    return n;
+  }
+  admit(marks, l, n, params);
+  return n;
+}
+
 bool LineGrouper::continues_prior(int k, int n) const {
   for (int j = 0; j < n; ++j)
     if (found_[static_cast<std::size_t>(j)].prior_index == k) return true;
@@ -865,11 +906,15 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine>
   n = find_dashes(marks, priors, params, n);
   for (MarkCandidate& m : marks)
     if (m.line == kSpentLine) m.line = -1;
-  // 4. The lines beyond the outermost ones found, one lane further on each side, where
+  // 4. The own lane's line on the side where none was found, where concrete slabs' joint
+  // runs a lane's width from the line found and no markers are seen along it: lanes are
+  // slabs wide, and their lines are set along the joints (TuSimple labels them so).
+  n = find_own_joint(marks, params, n);
+  // 5. The lines beyond the outermost ones found, one lane further on each side, where
   // the bars of only such a line count too: an edge line beside a shoulder of another
   // surface has a step beside it all along (lane_marks.hpp, for_lines_beyond).
   n = find_lines_beyond(marks, priors, params, n);
-  // 5. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
+  // 6. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
   return keep_nearest(marks, params, n, out);
 }
 

@@ -109,9 +109,13 @@ class LineGrouper {
   // A row of dots too few for a line of their own, set beside a joint between concrete
   // slabs: the joint within kJointBandMm of the dots' line `model`, fitted, is the line
   // when it is one (min_marks pieces over min_span_mm, within the fit's tolerance) and
-  // keeps min_joint_dots of the dots beside it. Assigns the joint and those dots to `id`.
+  // keeps min_dots of the dots beside it. Assigns the joint and those dots to `id`.
   bool join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id, const GroupingParams& params,
-                  double min_span_mm, const RoadLine& looked_for, double gate_base_mm, DetectedLine& out);
+                  double min_span_mm, const RoadLine& looked_for, double gate_base_mm, DetectedLine& out, int min_dots);
+  // The own lane's missing line as a joint alone: where the n lines found lie on one side
+  // of the vehicle only, a joint along the road a lane's width from the nearest of them
+  // on the other side, found as join_joint finds one, with or without dots.
+  int find_own_joint(std::span<MarkCandidate> marks, const GroupingParams& params, int n);
 
   // group()'s steps, each taking and returning how many lines found_ holds.
   int continue_priors(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params);

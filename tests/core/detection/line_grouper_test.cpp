@@ -51,6 +51,21 @@ struct Scene {
       marks.push_back(mk);
     }
   }
+  // The sealed joint between two concrete slabs along the road: a dark line a piece of
+  // which is found on every scan row.
+  void joint(double y0, double m) {
+    for (int row = 0; row < 150; ++row) {
+      MarkCandidate mk;
+      mk.X = 5000.0 + 35000.0 * row / 149.0;
+      mk.Y = y0 + m * mk.X;
+      const double width_px = 3.0;
+      mk.left_px = 600.0 - 0.5 * width_px;
+      mk.right_px = 600.0 + 0.5 * width_px;
+      mk.scan_row = static_cast<std::int16_t>(row);
+      mk.joint = true;
+      marks.push_back(mk);
+    }
+  }
   void clutter(int count) {
     std::uniform_real_distribution<double> x(5000, 40000), y(-12000, 12000);
     std::uniform_int_distribution<int> row(0, 149);
@@ -275,6 +290,39 @@ TEST(LineGrouper, BarsWithAStepBesideMakeOnlyALineBeyondTheLane) {
       EXPECT_NEAR(held_grouped, 150, 10) << k.what;
     } else {
       EXPECT_EQ(held_grouped, 0) << k.what;
+    }
+  }
+}
+
+// Lanes are concrete slabs wide and their lines are set along the slabs' joints: where the
+// own lane has a line on one side only, a joint a lane's width from it on the other side
+// is the missing line, markers seen along it or not. A joint nearer than a lane's width
+// (a slab's middle, a patch) is none, and with both own lines found no joint is looked for.
+TEST(LineGrouper, AJointALanesWidthFromTheOwnLanesOnlyLineIsTheOtherLine) {
+  struct Case {
+    const char* what;
+    double joint_y0;
+    bool right_line;
+    int want_lines;
+  };
+  for (const Case& k : {Case{"a lane's width from the left line", -1800.0, false, 2},
+                        Case{"2.2 m from it", -400.0, false, 1}, Case{"beyond both lines", -5400.0, true, 2}}) {
+    Scene s;
+    s.line(1800, 0.01, 0.0);
+    if (k.right_line) s.line(-1800, 0.01, 0.0);
+    s.joint(k.joint_y0, 0.01);
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines);
+    ASSERT_EQ(n, k.want_lines) << k.what;
+    int joints_grouped = 0;
+    for (const MarkCandidate& m : s.marks) joints_grouped += m.joint && m.line >= 0;
+    if (!k.right_line && n == 2) {
+      EXPECT_NEAR(lines[1].fit.y0_mm, k.joint_y0, 30.0) << k.what;
+      EXPECT_NEAR(lines[1].fit.m, 0.01, 0.002) << k.what;
+      EXPECT_FALSE(lines[1].dots) << k.what;
+      EXPECT_GT(lines[1].joints, 140) << k.what;
+    } else {
+      EXPECT_EQ(joints_grouped, 0) << k.what;
     }
   }
 }
