@@ -774,7 +774,8 @@ int LineGrouper::find_own_joint(std::span<MarkCandidate> marks, const GroupingPa
     const double y = found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm);
     (y > 0.0 ? left : right) = y > 0.0 ? std::min(left, y) : std::max(right, y);
   }
-  const bool have_left = left<1e300, have_right = right> - 1e300;
+  const bool have_left = left < 1e300;
+  const bool have_right = right > -1e300;
   if (have_left == have_right || n >= kMaxFoundLines) return n;
   const double side = have_left ? -1.0 : 1.0, own = have_left ? left : right;
   const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
