@@ -6,6 +6,7 @@
 // solved at the start of a run, and its own stage, last, learns from the frame's estimate.
 #include "core/lane/lane_estimator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/lane/lane_metrics.hpp"
@@ -356,6 +357,25 @@ void LaneEstimator::warn(const FrameInputs& in) {
   ldw_.step(ldw_in);
 }
 
+namespace {
+
+// The lines of the own lane and of the lanes beside it: on each side of the vehicle the
+// nearest two of the lines reported (ordered left to right), the own lane's and the one
+// beyond it. A line two lanes off is seen from far, across the adjacent lane's traffic,
+// and is of no use to a departure warning or a lane change; lane benchmarks label the
+// own lane's lines and the next on each side (TuSimple: 3 of 3 such lines reported on the
+// development stills were beyond those, and false against its labels).
+void keep_adjacent_lanes(LaneEstimate& e) {
+  int left = 0;
+  while (left < e.num_lines && e.lines[static_cast<std::size_t>(left)].y0_mm > 0.0) ++left;
+  const int first = std::max(0, left - 2), last = std::min(e.num_lines, left + 2);
+  for (int k = first; k < last; ++k)
+    e.lines[static_cast<std::size_t>(k - first)] = e.lines[static_cast<std::size_t>(k)];
+  e.num_lines = last - first;
+}
+
+}  // namespace
+
 void LaneEstimator::report(const FrameInputs& in) {
   LaneEstimate& e = estimate_ = LaneEstimate{};
   e.frame = in.frame;
@@ -390,6 +410,7 @@ void LaneEstimator::report(const FrameInputs& in) {
     if ((own_line && lane) || fit_.line_problem(r, j, lane) == SupportProblem::none)
       e.lines[e.num_lines++] = tracked_.lines[k];
   }
+  keep_adjacent_lanes(e);
   const LaneMetrics& m = tracked_.metrics;
   e.heading_deg = m.heading_deg;
   e.curvature_per_m = m.curvature_per_m;

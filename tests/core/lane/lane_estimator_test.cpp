@@ -484,6 +484,26 @@ TEST(LaneEstimator, WithoutALaneTheOwnSidesLinesAreReportedOnTheirOwnSupport) {
   }
 }
 
+// From the leftmost of four lanes: the own lane's lines and the one beyond on the right
+// are reported, not those two and three lanes off (keep_adjacent_lanes).
+TEST(LaneEstimator, TheOwnLanesLinesAndTheNextOnEachSideAreReported) {
+  Config c = small_camera();
+  c.synth.lanes = 4;
+  c.synth.ego_lane = 0;
+  c.synth.weave_mm = 0.0;
+  c.synth.dashed = DashedLines::none;
+  c.detection.max_lines = 4;
+  Drive d(c);
+  LaneEstimator est(c.estimator_options());
+  for (std::uint64_t k = 0; k < 10; ++k) {
+    const SynthFrame f = d.render(k);
+    const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+    ASSERT_TRUE(e.ok) << "frame " << k << ": " << to_string(e.reason);
+    ASSERT_EQ(e.num_lines, 3) << "frame " << k;
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(e.lines[j].y0_mm, f.y0_mm[j], 100.0) << "frame " << k << " line " << j;
+  }
+}
+
 TEST(LaneEstimator, EstimatingAllocatesNothing) {
   Config c = small_camera();
   Drive d(c);
