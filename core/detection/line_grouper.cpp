@@ -135,6 +135,36 @@ double pitch_tilt(double y_a, double y_b, double pitch_error_rad, double height_
   return std::abs(y_a - y_b) * std::tan(pitch_error_rad) / height_mm;
 }
 
+// A mark's y at the reference distance along the road's line through it (twice: the
+// slope depends on where the line is), the road bending with curvature c.
+double reference_y(const RoadDirection& road, double c, const MarkCandidate& m) {
+  const double y = m.Y + (road.through(m.Y).m + c * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+  return m.Y + (road.through(y).m + c * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
+}
+
+// Votes of marks for their y at the reference distance, one bin per kY0BinMm.
+using ReferenceVotes = std::array<std::uint16_t, LineGrouper::kY0Bins>;
+
+void vote_reference_y(ReferenceVotes& votes, double y) {
+  const double u = (y - kY0MinMm) / kY0BinMm;
+  if (u >= 0.0 && u < LineGrouper::kY0Bins) ++votes[static_cast<std::size_t>(u)];
+}
+
+// The bin whose window of three holds the most votes, among the bins whose centre y
+// `allowed` takes; its votes (0 and bin -1 when none holds any).
+template <typename Allowed>
+int strongest_window(const ReferenceVotes& votes, Allowed allowed, int& bin) {
+  int best = 0;
+  bin = -1;
+  for (int i = 1; i + 1 < LineGrouper::kY0Bins; ++i) {
+    if (!allowed(kY0MinMm + (i + 0.5) * kY0BinMm)) continue;
+    const int v = votes[static_cast<std::size_t>(i - 1)] + votes[static_cast<std::size_t>(i)] +
+                  votes[static_cast<std::size_t>(i + 1)];
+    if (v > best) best = v, bin = i;
+  }
+  return best;
+}
+
 // The straight line through marks a and b with curvature c.
 RoadLine line_through(const MarkCandidate& a, const MarkCandidate& b, double c) {
   const double m = ((b.Y - c * b.X * b.X) - (a.Y - c * a.X * a.X)) / (b.X - a.X);
@@ -743,24 +773,14 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
   for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
     if (!continues_prior(static_cast<int>(k), n)) add_parallel(priors[k].y_at(kReferenceMm), static_cast<int>(k));
   }
-  std::array<std::uint16_t, kY0Bins> y_votes{};
-  for (const MarkCandidate& m : marks) {
-    if (m.line != -1) continue;
-    // The mark's y at the reference distance along the road's line through it (twice: the
-    // slope depends on where the line is).
-    double y = m.Y + (road.through(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-    y = m.Y + (road.through(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-    const double u = (y - kY0MinMm) / kY0BinMm;
-    if (u >= 0.0 && u < kY0Bins) ++y_votes[static_cast<std::size_t>(u)];
-  }
+  ReferenceVotes y_votes{};
+  for (const MarkCandidate& m : marks)
+    if (m.line == -1) vote_reference_y(y_votes, reference_y(road, curvature_, m));
   for (int attempt = 0; attempt < kDashAttempts && n < kMaxFoundLines; ++attempt) {
-    int best = 0, bi = -1;
-    for (int i = 1; i + 1 < kY0Bins; ++i) {
-      const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
-                    y_votes[static_cast<std::size_t>(i + 1)];
-      if (v > best) best = v, bi = i;
-    }
-    if (best < params.min_dash_marks) break;
+    int bi = -1;
+    if (strongest_window(
+            y_votes, [](double) { return true; }, bi) < params.min_dash_marks)
+      break;
     add_parallel(kY0MinMm + (bi + 0.5) * kY0BinMm, -1);
     for (int i = bi - 1; i <= bi + 1; ++i) y_votes[static_cast<std::size_t>(i)] = 0;
   }
@@ -781,22 +801,18 @@ int LineGrouper::find_own_joint(std::span<MarkCandidate> marks, const GroupingPa
   const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
   // The free joint pieces' y at the reference distance along the road's line through
   // each (find_dashes' vote), on the missing side, a lane's width from the line found.
-  std::array<std::uint16_t, kY0Bins> y_votes{};
-  for (const MarkCandidate& m : marks) {
-    if (!m.joint || m.line != -1) continue;
-    double y = m.Y + (road.through(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-    y = m.Y + (road.through(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-    const double u = (y - kY0MinMm) / kY0BinMm, width = std::abs(y - own);
-    if (side * y > 0.0 && width >= params.min_separation_mm && width <= kMaxLaneBeyondMm && u >= 0.0 && u < kY0Bins)
-      ++y_votes[static_cast<std::size_t>(u)];
-  }
-  int best = 0, bi = -1;
-  for (int i = 1; i + 1 < kY0Bins; ++i) {
-    const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
-                  y_votes[static_cast<std::size_t>(i + 1)];
-    if (v > best) best = v, bi = i;
-  }
-  if (best < params.min_marks) return n;
+  const auto on_the_missing_side = [&](double y) {
+    const double width = std::abs(y - own);
+    return side * y > 0.0 && width >= params.min_separation_mm && width <= kMaxLaneBeyondMm;
+  };
+  ReferenceVotes y_votes{};
+  for (const MarkCandidate& m : marks)
+    if (m.joint && m.line == -1)
+      if (const double y = reference_y(road, curvature_, m); on_the_missing_side(y)) vote_reference_y(y_votes, y);
+  int bi = -1;
+  if (strongest_window(
+          y_votes, [](double) { return true; }, bi) < params.min_marks)
+    return n;
   const RoadLine model = road.through(kY0MinMm + (bi + 0.5) * kY0BinMm);
   DetectedLine l;
   if (!join_joint(marks, model, static_cast<std::int16_t>(n), params, params.min_span_mm, model, kNewLineGateMm, l,
@@ -831,26 +847,17 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
   // The free marks' y at the reference distance along the road's line through each (the
   // same vote as find_dashes'), on each side, from a lane's narrowest to its widest
   // beyond the outermost line.
-  std::array<std::uint16_t, kY0Bins> y_votes{};
+  ReferenceVotes y_votes{};
   for (const MarkCandidate& m : marks) {
     if (m.line != -1) continue;
-    double y = m.Y + (road.through(m.Y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-    y = m.Y + (road.through(y).m + curvature_ * (kReferenceMm + m.X)) * (kReferenceMm - m.X);
-    const double beyond = std::max(y - leftmost, rightmost - y);
-    const double u = (y - kY0MinMm) / kY0BinMm;
-    if (beyond >= params.min_separation_mm && beyond <= kMaxLaneBeyondMm && u >= 0.0 && u < kY0Bins)
-      ++y_votes[static_cast<std::size_t>(u)];
+    const double y = reference_y(road, curvature_, m), beyond = std::max(y - leftmost, rightmost - y);
+    if (beyond >= params.min_separation_mm && beyond <= kMaxLaneBeyondMm) vote_reference_y(y_votes, y);
   }
   for (const double side : {+1.0, -1.0}) {
     const double outermost = side > 0 ? leftmost : rightmost;
-
-    int best = 0, bi = -1;
-    for (int i = 1; i + 1 < kY0Bins; ++i) {
-      if (side * (kY0MinMm + (i + 0.5) * kY0BinMm - outermost) <= 0.0) continue;
-      const int v = y_votes[static_cast<std::size_t>(i - 1)] + y_votes[static_cast<std::size_t>(i)] +
-                    y_votes[static_cast<std::size_t>(i + 1)];
-      if (v > best) best = v, bi = i;
-    }
+    int bi = -1;
+    const int best = strongest_window(
+        y_votes, [&](double y) { return side * (y - outermost) > 0.0; }, bi);
     if (best < params.min_dash_marks || n >= kMaxFoundLines) continue;
     const double y_ref = kY0MinMm + (bi + 0.5) * kY0BinMm;
     // A yellow line is the travelled way's edge: beyond it lie a shoulder and a barrier's
