@@ -855,6 +855,10 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
   }
   for (const double side : {+1.0, -1.0}) {
     const double outermost = side > 0 ? leftmost : rightmost;
+    // Beyond a line on that side of the vehicle only: where the lines found all lie on the
+    // other side, what lies beyond is the own lane's line, which such bars never make
+    // (segB's barrier foot beside a faded yellow line).
+    if (side * outermost <= 0.0) continue;
     int bi = -1;
     const int best = strongest_window(
         y_votes, [&](double y) { return side * (y - outermost) > 0.0; }, bi);

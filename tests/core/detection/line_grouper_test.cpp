@@ -263,21 +263,24 @@ TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
 // An edge line beside a shoulder of another surface: every bar of it has a step beside
 // it (for_lines_beyond). One lane beyond the road's two lines it is a line; such bars
 // found no line of their own (beside a single line, or between the lane's lines), none
-// beyond a yellow edge line, and those no line took are left ungrouped.
+// beyond a yellow edge line, none where the own lane's line would be (the lines found
+// both on the other side), and those no line took are left ungrouped.
 TEST(LineGrouper, BarsWithAStepBesideMakeOnlyALineBeyondTheLane) {
   struct Case {
     const char* what;
     double held_y0;
     bool left_line, yellow_left;
     int want_lines;
+    bool right_line = true;  // else a second line on the left, two lanes off
   };
   for (const Case& k :
        {Case{"beyond the right line", -5500.0, true, false, 3},
         Case{"beyond a yellow left line", 5400.0, true, true, 2}, Case{"inside the lane", 0.0, true, false, 2},
-        Case{"beside one line alone", -5500.0, false, false, 1}}) {
+        Case{"beside one line alone", -5500.0, false, false, 1},
+        Case{"as the own lane's right line", -1800.0, true, false, 2, false}}) {
     Scene s;
     if (k.left_line) s.line(1800, 0.01, 0.0, 0.3, 1, k.yellow_left);
-    s.line(-1800, 0.01, 0.0);
+    s.line(k.right_line ? -1800.0 : 5400.0, 0.01, 0.0);
     s.line(k.held_y0, 0.01, 0.0, 0.3, 1, false, true);
     std::array<DetectedLine, kMaxDetectedLines> lines{};
     const int n = group(s, lines);
