@@ -78,7 +78,8 @@ struct DetectionCounters {
   int candidates = 0;         // dark-bright-dark bars of a plausible width and contrast
   int off_road = 0;           // above the horizon or out of the searched range
   int wrong_orientation = 0;  // not running towards the road's vanishing point
-  int step_beside = 0;        // a bar (not a dot) whose edges a step beside it may bias
+  int step_beside = 0;        // a bar (not a dot) whose edges a step beside it may bias: held
+                              // for a line beyond the road's others (for_lines_beyond), else dropped
   int narrow = 0;             // a bar (not a dot) narrower than paint
   int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
   int against_the_sun = 0;    // markers whose shadow falls the other way than most (dropped)

@@ -151,9 +151,9 @@ void vote_reference_y(ReferenceVotes& votes, double y) {
 }
 
 // The bin whose window of three holds the most votes, among the bins whose centre y
-// `allowed` takes; its votes (0 and bin -1 when none holds any).
+// `allowed` takes (all when none is given); its votes (0 and bin -1 when none holds any).
 template <typename Allowed>
-int strongest_window(const ReferenceVotes& votes, Allowed allowed, int& bin) {
+int strongest_window(const ReferenceVotes& votes, int& bin, Allowed allowed) {
   int best = 0;
   bin = -1;
   for (int i = 1; i + 1 < LineGrouper::kY0Bins; ++i) {
@@ -163,6 +163,9 @@ int strongest_window(const ReferenceVotes& votes, Allowed allowed, int& bin) {
     if (v > best) best = v, bin = i;
   }
   return best;
+}
+int strongest_window(const ReferenceVotes& votes, int& bin) {
+  return strongest_window(votes, bin, [](double) { return true; });
 }
 
 // The straight line through marks a and b with curvature c.
@@ -730,8 +733,7 @@ int LineGrouper::find_new_lines(std::span<MarkCandidate> marks, std::span<const 
   return n;
 }
 
-bool LineGrouper::beyond_a_yellow_line(const DetectedLine& l, int n) const {
-  const double y = l.fit.y_at(kReferenceMm);
+bool LineGrouper::beyond_a_yellow_line(double y, int n) const {
   for (int k = 0; k < n; ++k) {
     const DetectedLine& other = found_[static_cast<std::size_t>(k)];
     const double y_other = other.fit.y_at(kReferenceMm);
@@ -756,7 +758,7 @@ bool LineGrouper::add_parallel(std::span<MarkCandidate> marks, const GroupingPar
   }
   l.prior_index = prior_index;
   l.parallel = true;
-  if (l.dots && beyond_a_yellow_line(l, n)) {
+  if (l.dots && beyond_a_yellow_line(l.fit.y_at(kReferenceMm), n)) {
     release_line(marks, n);
     return false;
   }
@@ -778,9 +780,7 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
     if (m.line == -1) vote_reference_y(y_votes, reference_y(road, curvature_, m));
   for (int attempt = 0; attempt < kDashAttempts && n < kMaxFoundLines; ++attempt) {
     int bi = -1;
-    if (strongest_window(
-            y_votes, [](double) { return true; }, bi) < params.min_dash_marks)
-      break;
+    if (strongest_window(y_votes, bi) < params.min_dash_marks) break;
     add_parallel(kY0MinMm + (bi + 0.5) * kY0BinMm, -1);
     for (int i = bi - 1; i <= bi + 1; ++i) y_votes[static_cast<std::size_t>(i)] = 0;
   }
@@ -789,10 +789,13 @@ int LineGrouper::find_dashes(std::span<MarkCandidate> marks, std::span<const Roa
 
 int LineGrouper::find_own_joint(std::span<MarkCandidate> marks, const GroupingParams& params, int n) {
   // Only where the own lane has a line on one side of the vehicle and none on the other.
-  double left = 1e300, right = -1e300;
+  double left = 1e300, right = -1e300;  // the nearest line's y on each side
   for (int k = 0; k < n; ++k) {
     const double y = found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm);
-    (y > 0.0 ? left : right) = y > 0.0 ? std::min(left, y) : std::max(right, y);
+    if (y > 0.0)
+      left = std::min(left, y);
+    else
+      right = std::max(right, y);
   }
   const bool have_left = left < 1e300;
   const bool have_right = right > -1e300;
@@ -810,14 +813,12 @@ int LineGrouper::find_own_joint(std::span<MarkCandidate> marks, const GroupingPa
     if (m.joint && m.line == -1)
       if (const double y = reference_y(road, curvature_, m); on_the_missing_side(y)) vote_reference_y(y_votes, y);
   int bi = -1;
-  if (strongest_window(
-          y_votes, [](double) { return true; }, bi) < params.min_marks)
-    return n;
+  if (strongest_window(y_votes, bi) < params.min_marks) return n;
   const RoadLine model = road.through(kY0MinMm + (bi + 0.5) * kY0BinMm);
   DetectedLine l;
   if (!join_joint(marks, model, static_cast<std::int16_t>(n), params, params.min_span_mm, model, kNewLineGateMm, l,
                   0) ||
-      beyond_a_yellow_line(l, n)) {
+      beyond_a_yellow_line(l.fit.y_at(kReferenceMm), n)) {
     release_line(marks, n);
     return n;
   }
@@ -860,15 +861,12 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
     // (segB's barrier foot beside a faded yellow line).
     if (side * outermost <= 0.0) continue;
     int bi = -1;
-    const int best = strongest_window(
-        y_votes, [&](double y) { return side * (y - outermost) > 0.0; }, bi);
+    const int best = strongest_window(y_votes, bi, [&](double y) { return side * (y - outermost) > 0.0; });
     if (best < params.min_dash_marks || n >= kMaxFoundLines) continue;
     const double y_ref = kY0MinMm + (bi + 0.5) * kY0BinMm;
     // A yellow line is the travelled way's edge: beyond it lie a shoulder and a barrier's
     // foot, no lane (segA's median barrier).
-    DetectedLine looked_for;
-    looked_for.fit = road.through(y_ref);
-    if (beyond_a_yellow_line(looked_for, n)) continue;
+    if (beyond_a_yellow_line(y_ref, n)) continue;
     // The previous frame's line there, when no line found continues it: this one does.
     int prior_index = -1;
     for (std::size_t k = 0; k < priors.size(); ++k)

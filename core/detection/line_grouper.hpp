@@ -127,11 +127,11 @@ class LineGrouper {
   // where free marks and those held for it (MarkCandidate::for_lines_beyond) agree on a y0.
   int find_lines_beyond(std::span<MarkCandidate> marks, std::span<const RoadLine> priors, const GroupingParams& params,
                         int n);
+  // Whether one of the n lines found continues prior k.
+  bool continues_prior(int k, int n) const;
   // A line parallel to the road's (`model`, the road's line through where it is looked
   // for), fitted as such (y0, and the slope over 6 m) and admitted among the n found;
   // it continues prior `prior_index` (-1: none). Whether it was taken.
-  // Whether one of the n lines found continues prior k.
-  bool continues_prior(int k, int n) const;
   bool add_parallel(std::span<MarkCandidate> marks, const GroupingParams& params, int& n, const RoadLine& model,
                     int prior_index);
   int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
@@ -142,11 +142,12 @@ class LineGrouper {
   // over grey bars, or far more marks). Otherwise releases its marks. Whether it was
   // taken.
   bool admit(std::span<MarkCandidate> marks, const DetectedLine& l, int& n, const GroupingParams& params);
-  // Whether `l` lies beyond a yellow line found among the first n, on the same side of
-  // the vehicle. A yellow line is the travelled way's edge (its left edge on divided
-  // roads): beyond it lie a shoulder, a barrier's foot and its blobs, no lane. Only a row
-  // of dots found from a few of them along the road's direction is refused for it.
-  bool beyond_a_yellow_line(const DetectedLine& l, int n) const;
+  // Whether a line at `y` (at the reference distance) lies beyond a yellow line found
+  // among the first n, on the same side of the vehicle. A yellow line is the travelled
+  // way's edge (its left edge on divided roads): beyond it lie a shoulder, a barrier's
+  // foot and its blobs, no lane. Refused for it: a row of dots found from a few of them
+  // along the road's direction, a joint taken as the own lane's line, a line beyond.
+  bool beyond_a_yellow_line(double y, int n) const;
   // The curvature the lines found so far share (weighted by marks), else the priors' mean.
   double shared_curvature(std::span<const RoadLine> priors, int n) const;
   // The votes' strongest cell (bi, bj) and its votes.
