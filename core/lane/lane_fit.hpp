@@ -83,6 +83,12 @@ class LaneFit {
   // (`support`, its line_support) and not placed only as a parallel of the others, which
   // is at most a dash's support whatever the number of its marks.
   SupportProblem full_support_problem(const LineSupport& support, int j) const;
+  // Solved line j's support as a dash: its picks that fit, and the blobs detection grouped
+  // with them (a dash's rounded ends). Picks hand on a paint line's bars alone, for where
+  // the line lies; the blobs were seen as much, and detection took the dash by both
+  // (GroupingParams::min_dash_marks). Counted by picks alone, a far dash of five marks,
+  // one an end, was found and never reported.
+  LineSupport dash_support(const LineSupport& support, int j) const;
   // Whether the marks of detection line `line` narrow with distance as one width does.
   SupportProblem paint_problem(int line) const;
 

@@ -54,6 +54,17 @@ TEST(LaneFit, AWellFittingSolveDropsNothing) {
   EXPECT_FALSE(fit.drop_outliers(r));
 }
 
+// The reference camera without a gyro (roll held by a loose prior), looking 2 degrees
+// up from 1.3 m: the truth the synthetic detections below are drawn at.
+LaneEstimatorOptions options_without_gyro() {
+  LaneEstimatorOptions o = default_config().estimator_options();
+  o.priors.phi_deg = Prior{0.0, 1.0};
+  return o;
+}
+CameraPose truth_pose(const LaneEstimatorOptions& o) {
+  return CameraPose{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+}
+
 // A detection of straight lines at these offsets, each with noisy picks (sigma the
 // solver's pixel_sigma) of its marks from `from_mm` to `to_mm` ahead every `step_mm`, as
 // the truth pose's camera sees them; detection's fits 50 mm off the truth.
@@ -77,6 +88,7 @@ DetectionResult detection_of_lines(const LaneEstimatorOptions& o, const CameraPo
       picks.push_back({j, px->x() + noise(rng), px->y() + noise(rng)});
       ++d.lines[j].marks;
     }
+    d.lines[j].num_picks = d.lines[j].marks;  // every mark a bar of paint, handed on
   }
   d.picks = picks;
   return d;
@@ -91,10 +103,9 @@ DetectionResult detection_of_lines(const LaneEstimatorOptions& o, const CameraPo
 // lane's lines, the roll and the width are the truth's, to within what the picks' noise
 // moves them: over independent draws, their mean within 4 standard errors of the truth.
 TEST(LaneFit, TheLaneWidthPriorHoldsForTheOwnLaneBesideAShoulder) {
-  LaneEstimatorOptions o = default_config().estimator_options();  // the reference camera
-  o.priors.phi_deg = Prior{0.0, 1.0};
+  LaneEstimatorOptions o = options_without_gyro();
   o.priors.lane_width_mm = Prior{3660.0, 300.0};
-  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  const CameraPose truth = truth_pose(o);
   std::mt19937_64 rng(27);
   LaneFit fit(o);
   constexpr int kDraws = 16;
@@ -125,9 +136,8 @@ TEST(LaneFit, TheLaneWidthPriorHoldsForTheOwnLaneBesideAShoulder) {
 // 8 m of the searched road, or, beside a supported lane, a dash a lane's width from the
 // nearest line (marks over a metre); a few marks over half a metre are neither.
 TEST(LaneFit, ALineBeyondTheOwnLaneNeedsALinesSupportOrADashBesideALane) {
-  LaneEstimatorOptions o = default_config().estimator_options();
-  o.priors.phi_deg = Prior{0.0, 1.0};
-  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  const LaneEstimatorOptions o = options_without_gyro();
+  const CameraPose truth = truth_pose(o);
   std::mt19937_64 rng(5);
   std::vector<Pick> picks;
   const DetectionResult d = detection_of_lines(o, truth,
@@ -156,6 +166,32 @@ TEST(LaneFit, ALineBeyondTheOwnLaneNeedsALinesSupportOrADashBesideALane) {
   EXPECT_NE(fit.line_problem(s, 2, true), SupportProblem::none);
 }
 
+// A far dash as detection takes it beside the road's lines: five marks over a metre, one
+// of them its rounded end, a blob that hands on no pick (LaneDetector::choose_picks). The
+// dash's support counts what detection saw of it, its end too; four bars alone are too few.
+TEST(LaneFit, ADashsEndCountsForItsSupportThoughItHandsOnNoPick) {
+  const LaneEstimatorOptions o = options_without_gyro();
+  const CameraPose truth = truth_pose(o);
+  std::mt19937_64 rng(9);
+  std::vector<Pick> picks;
+  DetectionResult d = detection_of_lines(o, truth,
+                                         {{1830.0, 6000.0, 40000.0, 1700.0},
+                                          {-1830.0, 6000.0, 40000.0, 1700.0},
+                                          {-5490.0, 20000.0, 21200.0, 400.0}},  // four bars over 1.2 m
+                                         rng, picks);
+  ASSERT_EQ(d.lines[2].num_picks, GroupingParams{}.min_dash_marks - 1);
+  LaneFit fit(o);
+  ASSERT_TRUE(fit.take(d));
+  const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+  ASSERT_TRUE(r.converged) << to_string(r.status);
+  EXPECT_EQ(fit.line_problem(r, 2, true), SupportProblem::too_few_marks) << "four bars";
+  ++d.lines[2].marks;  // and the dash's end
+  ASSERT_TRUE(fit.take(d));
+  const SolveResult& s = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+  ASSERT_TRUE(s.converged) << to_string(s.status);
+  EXPECT_EQ(fit.line_problem(s, 2, true), SupportProblem::none) << "four bars and the dash's end";
+}
+
 // Detection `d` solved from a level pose at the truth's height, its lines 0 (left) and 1
 // (right) judged as the estimator judges an own lane.
 SupportProblem solved_lane_support(const LaneEstimatorOptions& o, const CameraPose& truth, const DetectionResult& d) {
@@ -173,9 +209,8 @@ SupportProblem solved_lane_support(const LaneEstimatorOptions& o, const CameraPo
 // full line's parallel or as a line of its own a little short of a full line's reach. A
 // shorter row, or paint found so (one dash, a short line), is not.
 TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
-  LaneEstimatorOptions o = default_config().estimator_options();
-  o.priors.phi_deg = Prior{0.0, 1.0};
-  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  const LaneEstimatorOptions o = options_without_gyro();
+  const CameraPose truth = truth_pose(o);
   std::mt19937_64 rng(11);
   struct Case {
     double from_mm, to_mm, step_mm;
@@ -216,9 +251,8 @@ TEST(LaneFit, ARowOfDotsWithASlopeOfItsOwnMakesALaneBesideTheOnlyFullLine) {
 // its bars' widths: its worn pale strip or a kerb's lit top beside it is taken in on some
 // rows and not on others (TuSimple still 40: 9 to 21 px at one distance).
 TEST(LaneFit, AYellowLineIsPaintWhateverItsBarsWidths) {
-  LaneEstimatorOptions o = default_config().estimator_options();
-  o.priors.phi_deg = Prior{0.0, 1.0};
-  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  const LaneEstimatorOptions o = options_without_gyro();
+  const CameraPose truth = truth_pose(o);
   std::mt19937_64 rng(12);
   for (const bool yellow : {false, true}) {
     std::vector<Pick> picks;
@@ -249,10 +283,9 @@ TEST(LaneFit, AYellowLineIsPaintWhateverItsBarsWidths) {
 // marks. Without a gyro, the solve takes the pitch of the pose it was looked for from (a
 // search's, here 1 deg off the truth), converges there, and its line lies on the marks.
 TEST(LaneFit, ASingleLineIsSolvedAtThePitchItWasLookedFrom) {
-  LaneEstimatorOptions o = default_config().estimator_options();
-  o.priors.phi_deg = Prior{0.0, 1.0};
+  LaneEstimatorOptions o = options_without_gyro();
   o.priors.theta_deg.reset();
-  const CameraPose truth{{0.0, deg_to_rad(-2.0), 0.0}, 1300.0, o.nominal_pose.f_mm};
+  const CameraPose truth = truth_pose(o);
   std::mt19937_64 rng(13);
   std::vector<Pick> picks;
   const DetectionResult d = detection_of_lines(o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}}, rng, picks);
