@@ -83,9 +83,10 @@ class LaneFit {
   // (`support`, its line_support) and not placed only as a parallel of the others, which
   // is at most a dash's support whatever the number of its marks.
   SupportProblem full_support_problem(const LineSupport& support, int j) const;
-  // Solved line j's support as a dash: its picks that fit, and the blobs detection grouped
-  // with them (a dash's rounded ends). Picks hand on a paint line's bars alone, for where
-  // the line lies; the blobs were seen as much, and detection took the dash by both
+  // Solved line j's support as a dash: its picks that fit, and the marks detection grouped
+  // with it that handed on no pick (the blobs of a paint line, a dash's rounded ends;
+  // beyond the per-line pick cap, more of its bars). Picks are what says where the line
+  // lies; what was seen of it is all its marks, and detection took the dash by them
   // (GroupingParams::min_dash_marks). Counted by picks alone, a far dash of five marks,
   // one an end, was found and never reported.
   LineSupport dash_support(const LineSupport& support, int j) const;
