@@ -199,8 +199,7 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
       const DetectedLine& d = detection_->lines[static_cast<std::size_t>(line)];
       const bool own_slope = d.dots && d.far_mm - d.near_mm >= LineGrouper::kOwnSlopeSpanMm;
       if (!one_full || (full_lines < 2 && !own_slope) ||
-          !check_dash_support(dash_support(support[k], k == 0 ? left : right), options_.detection, GroupingParams{},
-                              lane_width_mm))
+          !has_dash_support(support[k], k == 0 ? left : right, lane_width_mm))
         return problem[k];
       continue;
     }
@@ -238,16 +237,14 @@ SupportProblem LaneFit::line_problem(const SolveResult& r, int j, bool beside_a_
   double width = 1e300;
   for (int i = 0; i < r.num_lines; ++i)
     if (i != j) width = std::min(width, std::abs(r.lines[i].y0_mm - r.lines[j].y0_mm));
-  return check_dash_support(dash_support(support, j), options_.detection, GroupingParams{}, width)
-             ? SupportProblem::none
-             : p;
+  return has_dash_support(support, j, width) ? SupportProblem::none : p;
 }
 
-LineSupport LaneFit::dash_support(const LineSupport& support, int j) const {
+bool LaneFit::has_dash_support(const LineSupport& support, int j, double lane_width_mm) const {
   const DetectedLine& d = detection_->lines[static_cast<std::size_t>(detection_line_[j])];
   LineSupport dash = support;
   dash.marks += std::max(0, d.marks - d.num_picks);
-  return dash;
+  return check_dash_support(dash, options_.detection, GroupingParams{}, lane_width_mm);
 }
 
 LaneClutter LaneFit::own_lane_clutter(const OwnLane& own, InsidePieces* line_inside) const {

@@ -83,13 +83,14 @@ class LaneFit {
   // (`support`, its line_support) and not placed only as a parallel of the others, which
   // is at most a dash's support whatever the number of its marks.
   SupportProblem full_support_problem(const LineSupport& support, int j) const;
-  // Solved line j's support as a dash: its picks that fit, and the marks detection grouped
-  // with it that handed on no pick (the blobs of a paint line, a dash's rounded ends;
-  // beyond the per-line pick cap, more of its bars). Picks are what says where the line
-  // lies; what was seen of it is all its marks, and detection took the dash by them
-  // (GroupingParams::min_dash_marks). Counted by picks alone, a far dash of five marks,
-  // one an end, was found and never reported.
-  LineSupport dash_support(const LineSupport& support, int j) const;
+  // Whether solved line j (`support`, its line_support) has a dash's support a lane's
+  // width `lane_width_mm` from a line (check_dash_support), counting its picks that fit
+  // and the marks detection grouped with it that handed on no pick (the blobs of a paint
+  // line, a dash's rounded ends; beyond the per-line pick cap, more of its bars). Picks
+  // are what says where the line lies; what was seen of it is all its marks, and
+  // detection took the dash by them (GroupingParams::min_dash_marks). Counted by picks
+  // alone, a far dash of five marks, one an end, was found and never reported.
+  bool has_dash_support(const LineSupport& support, int j, double lane_width_mm) const;
   // Whether the marks of detection line `line` narrow with distance as one width does.
   SupportProblem paint_problem(int line) const;
 
