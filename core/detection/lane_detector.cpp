@@ -45,6 +45,18 @@ constexpr double kJointLinkPx = 1.5;
 // A line's dots needed to say how far beside its joint they lie: each is placed to a
 // pixel or so (10-35 mm at 10-35 m), a few of them to a centimetre.
 constexpr int kMinDotsBesideJoint = 3;
+// A double line is two stripes of paint side by side (a no-passing line, a carpool
+// lane's edge): 10-15 cm each with 10-30 cm between them, their middles this far apart,
+// with room for an unsettled height's scale. Its second stripe is paint as the first is:
+// as wide, give or take this factor, and as bright, give or take twice; and it runs
+// beside it along most of it, at one distance (within this share of it, or the spread).
+constexpr double kMinStripeGapMm = 150.0;
+constexpr double kMaxStripeGapMm = 600.0;
+constexpr double kStripeWidthRatio = 1.6;
+constexpr double kStripeContrastRatio = 2.0;
+constexpr double kStripeGapShare = 0.2;
+constexpr double kStripeGapSpreadMm = 60.0;
+constexpr int kMinStripePairs = 8;
 // Yellow paint stands above the road mostly by its colour (on pale concrete, by its
 // colour alone): its yellowness is at least this fraction of its contrast, and above
 // the tint of grey surfaces (a few levels) by this much. White paint's is near 0.
@@ -344,6 +356,55 @@ double LaneDetector::dots_beside_joint_mm(int j) const {
   return dots / num_dots - joint / num_joint;
 }
 
+double LaneDetector::double_line_middle_mm(int j) const {
+  // Rows where the line has a bar of paint and another bar of paint that joined no line
+  // lies beside it, as wide and as bright, a double line's gap away. Marks come in scan
+  // row order: a row's bars are neighbours.
+  const std::span<const MarkCandidate> marks = result_.marks;
+  const auto paint = [](const MarkCandidate& m) { return !m.dot && !m.joint && !m.for_lines_beyond; };
+  const auto stripes = [&](const MarkCandidate& own, const MarkCandidate& other) {
+    const double gap = other.Y - own.Y;
+    return other.line < 0 && paint(other) && other.scan_row == own.scan_row && std::abs(gap) >= kMinStripeGapMm &&
+           std::abs(gap) <= kMaxStripeGapMm && other.width_px() <= kStripeWidthRatio * own.width_px() &&
+           own.width_px() <= kStripeWidthRatio * other.width_px() &&
+           other.contrast <= kStripeContrastRatio * own.contrast &&
+           own.contrast <= kStripeContrastRatio * other.contrast;
+  };
+  // Every such pair's gap, to each side; then, on the side with more, those at one gap
+  // about their mean (a second stripe is at one distance, clutter at any).
+  int own_bars = 0;
+  const auto for_each_pair = [&](const auto& take) {
+    for (std::size_t i = 0; i < marks.size(); ++i) {
+      const MarkCandidate& own = marks[i];
+      if (own.line != j || !paint(own)) continue;
+      for (std::size_t k = i; k-- > 0 && marks[k].scan_row == own.scan_row;)
+        if (stripes(own, marks[k])) take(marks[k].Y - own.Y);
+      for (std::size_t k = i + 1; k < marks.size() && marks[k].scan_row == own.scan_row; ++k)
+        if (stripes(own, marks[k])) take(marks[k].Y - own.Y);
+    }
+  };
+  for (const MarkCandidate& m : marks) own_bars += m.line == j && paint(m);
+  double sum[2] = {0.0, 0.0};
+  int count[2] = {0, 0};
+  for_each_pair([&](double gap) {
+    sum[gap > 0.0] += gap;
+    ++count[gap > 0.0];
+  });
+  const int side = count[1] > count[0] ? 1 : 0;
+  if (count[side] < kMinStripePairs) return 0.0;
+  const double mean = sum[side] / count[side];
+  const double spread = std::max(kStripeGapSpreadMm, kStripeGapShare * std::abs(mean));
+  double at_one_gap = 0.0;
+  int pairs = 0;
+  for_each_pair([&](double gap) {
+    if (std::abs(gap - mean) > spread) return;
+    at_one_gap += gap;
+    ++pairs;
+  });
+  if (pairs < kMinStripePairs || 2 * pairs < own_bars) return 0.0;
+  return 0.5 * at_one_gap / pairs;
+}
+
 void LaneDetector::choose_picks(const CameraPose& pose) {
   const CameraModel model(camera_, pose);
   const int n = result_.num_lines;
@@ -359,13 +420,14 @@ void LaneDetector::choose_picks(const CameraPose& pose) {
     // joint, the joint moved across to where its dots are: the joint is continuous and
     // sharp, so it gives the line's direction and shape better than a few scattered
     // dots; the dots, 5-15 cm beside it, are the marking (and where benchmarks label
-    // the line). Left on the joint, the line missed the labels by 20-45 px at 3-6 m.
+    // the line). Left on the joint, the line missed the labels by 20-45 px at 3-6 m. A
+    // double line's stripe hands on its bars moved to the double line's middle.
     const bool dots = line.dots;
     const bool joint = line.joints > 0;
     const auto usable_mark = [j, dots, joint](const MarkCandidate& m) {
       return m.line == j && (joint ? m.joint : m.dot == dots && !m.joint);
     };
-    const double across = joint ? dots_beside_joint_mm(j) : 0.0;
+    const double across = joint ? dots_beside_joint_mm(j) : dots ? 0.0 : double_line_middle_mm(j);
     const auto pick = [&](const MarkCandidate& m) {
       if (across != 0.0)
         if (const std::optional<Vec2> p = model.pixel_from_point(Vec3(m.X, m.Y + across, 0.0)))

@@ -73,6 +73,9 @@ class LaneDetector {
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;
+  // How far across the road the middle of line j's double line lies from its own stripe
+  // (mm, + left): half the distance to the second stripe beside it; 0 when there is none.
+  double double_line_middle_mm(int j) const;
 
   CameraSpec camera_;
   DetectionConfig config_;

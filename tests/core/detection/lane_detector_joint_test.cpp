@@ -16,8 +16,8 @@ namespace ccdlane {
 namespace {
 
 using test::concrete;
+using test::draw_band;
 using test::draw_dot;
-using test::draw_joint;
 using test::draw_sunlit_dot;
 using test::Frame;
 
@@ -38,7 +38,7 @@ struct ConcreteRoad {
 
   ConcreteRoad(bool joint, bool markers, double marker_offset_mm = kMarkerOffsetMm) {
     concrete(frame.view, 5);
-    if (joint) draw_joint(frame.view, ground, model, kJointY, 4000.0, 40000.0, kJointWidthMm, kJointGrey);
+    if (joint) draw_band(frame.view, ground, model, kJointY, 4000.0, 40000.0, kJointWidthMm, kJointGrey);
     if (markers)
       for (const double X : kMarkersX) draw_dot(frame.view, ground, model, X, kJointY + marker_offset_mm, 230);
   }
@@ -83,7 +83,7 @@ TEST(LaneDetectorJoints, AFewMarkersBesideAJointAreALineAlongTheJointWhereTheMar
 // TuSimple still 81). A marker 10.5 m past the last of them continues nothing.
 TEST(LaneDetectorJoints, MarkersBeyondTheJointsEndAreTheLinesPicksThere) {
   ConcreteRoad road(false, false);
-  draw_joint(road.frame.view, road.ground, road.model, kJointY, 4000.0, 12000.0, kJointWidthMm, kJointGrey);
+  draw_band(road.frame.view, road.ground, road.model, kJointY, 4000.0, 12000.0, kJointWidthMm, kJointGrey);
   for (const double X : {6000.0, 11000.0, 13000.0, 23500.0})
     draw_dot(road.frame.view, road.ground, road.model, X, kJointY + kMarkerOffsetMm, 230);
   LaneDetector det(road.c.camera, road.c.detection);

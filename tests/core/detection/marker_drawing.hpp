@@ -1,5 +1,5 @@
 // Frames drawn on the road with exactly known markers: raised markers (plain, or lit by a
-// low sun beside their shadow), the sealed joint between concrete slabs, and a concrete
+// low sun beside their shadow), the sealed joint between concrete slabs, stripes of paint and a concrete
 // texture; the fixture of the detector's tests of what concrete roads are marked with.
 #pragma once
 
@@ -80,11 +80,12 @@ inline void concrete(const MutableImageView& im, std::uint32_t seed) {
     }
 }
 
-// The sealed joint between two concrete slabs along the road at Y, from X_near to X_far:
-// a dark line `width_mm` wide, each pixel darkened by the share of it the joint covers on
-// the road (a far joint is a fraction of a pixel, as a lens blurs it).
-inline void draw_joint(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double Y,
-                       double X_near, double X_far, double width_mm, std::uint8_t grey) {
+// A band along the road at Y, from X_near to X_far, `width_mm` wide and `grey`: the sealed
+// joint between two concrete slabs (dark), or a stripe of paint (bright). Each pixel takes
+// the band's grey by the share of it the band covers on the road (a far joint is a
+// fraction of a pixel, as a lens blurs it).
+inline void draw_band(const MutableImageView& im, const GroundProjector& ground, const CameraModel& model, double Y,
+                      double X_near, double X_far, double width_mm, std::uint8_t grey) {
   constexpr int kSamples = 4;  // per pixel side
   for (int y = 0; y < im.height; ++y) {
     double X = 0.0, Yc = 0.0;
