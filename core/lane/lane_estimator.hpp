@@ -88,6 +88,9 @@ class LaneEstimator {
   // knows to 5 degrees on a car that pitches a few, with a picture whose own tilt (a
   // TuSimple still's 7 degrees) nobody wrote down.
   static constexpr VanishingPointSearch kLineSearch{15.0, 15.0};
+  static_assert(kLineSearch.max_yaw_error_deg == MountRefinement::kMountReachDeg &&
+                    kLineSearch.max_pitch_error_deg == MountRefinement::kMountReachDeg,
+                "a solve is the camera's as far from the mount as the search looks");
   const ldw::LdwMonitor& ldw_monitor() const { return ldw_; }
   // Why the last estimate()'s lines were not taken for a lane (reason no_lane) although
   // a line lay on each side the right distance apart; none otherwise.

@@ -74,7 +74,8 @@ Attitude MountRefinement::mount_for(const Attitude& solved) const {
 }
 
 bool MountRefinement::replaced_by(const Attitude& solved) const {
-  return !acquisition_.done && !acquisition_.adopted && off_by_more(solved, corrected_, 2 * kMountTrustDeg);
+  return !acquisition_.done && !acquisition_.adopted && off_by_more(solved, corrected_, 2 * kMountTrustDeg) &&
+         !off_by_more(solved, corrected_, kMountReachDeg);
 }
 
 void MountRefinement::adopt(const Attitude& solved) {

@@ -29,6 +29,12 @@ class MountRefinement {
   // How far the mount the picture shows may lie from the configured one before the
   // picture's is taken: a configured mount is a measurement too, within a degree or two.
   static constexpr double kMountTrustDeg = 2.0;
+  // How far from the configured mount a search looks for the road (LaneEstimator's
+  // kLineSearch): a solve farther off, in yaw or pitch, is not the camera's but a fit of
+  // clutter, and does not replace the mount (TuSimple still 40 once took a lane at 9
+  // degrees up and 17 degrees to the side, and adopting its attitude let it pass the
+  // checks against the mount).
+  static constexpr double kMountReachDeg = 15.0;
   // The ok frames whose solved yaw and pitch settle the mount at the start (1 s at 25 fps).
   static constexpr int kMountAcquisitionFrames = 25;
   // How many of the lane-width prior's sigmas the first second's mean lane width may lie

@@ -10,29 +10,20 @@
 
 #include <gtest/gtest.h>
 
-#include "app/config_loader.hpp"
 #include "core/detection/lane_detector.hpp"
 #include "tests/core/detection/marker_drawing.hpp"
 
 namespace ccdlane {
 namespace {
 
-using test::concrete;
 using test::draw_band;
-using test::Frame;
 
 constexpr double kLineY = 1800.0;  // the double line's middle
 constexpr double kStripeWidthMm = 120.0, kStripeGapMm = 300.0;  // between the stripes' middles
 constexpr std::uint8_t kPaintGrey = 230;
 
-struct Road {
-  Config c = load_config_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/camera.toml");
-  CameraPose pose = test::tusimple_pose(c);
-  GroundProjector ground{c.camera, pose};
-  CameraModel model{c.camera, pose};
-  Frame frame{c.camera};
-
-  Road() { concrete(frame.view, 11); }
+struct Road : test::TuSimpleConcreteRoad {
+  Road() : TuSimpleConcreteRoad(11) {}
   void stripe(double Y, double width_mm = kStripeWidthMm, double X_near = 4000.0) {
     draw_band(frame.view, ground, model, Y, X_near, 40000.0, width_mm, kPaintGrey);
   }

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "app/config.hpp"
+#include "app/config_loader.hpp"
 #include "base/image_view.hpp"
 #include "core/detection/ground_projector.hpp"
 #include "core/geometry/camera_model.hpp"
@@ -115,5 +117,17 @@ inline CameraPose tusimple_pose(const Config& c) {
   pose.H_mm = 1690.0;
   return pose;
 }
+
+// A concrete road (texture of `seed`) in front of TuSimple's camera at tusimple_pose, to
+// draw markers and stripes on.
+struct TuSimpleConcreteRoad {
+  Config c = load_config_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/camera.toml");
+  CameraPose pose = tusimple_pose(c);
+  GroundProjector ground{c.camera, pose};
+  CameraModel model{c.camera, pose};
+  Frame frame{c.camera};
+
+  explicit TuSimpleConcreteRoad(std::uint32_t seed) { concrete(frame.view, seed); }
+};
 
 }  // namespace ccdlane::test

@@ -1,8 +1,8 @@
 // The mount stage on made-up solves: without online refinement it only settles the start
 // (a mount 5 degrees off is replaced by the first second's mean, one within 2 degrees
-// stands, reset() starts over); with it, a frame's correction applies from the next
-// refine() on, frames without a picture neither count nor move it, a mount learned
-// before is where it starts, and one beyond the bounds is "not calibrated".
+// stands, one beyond the search's reach is not the camera's, reset() starts over); with it, a frame's correction
+// applies from the next refine() on, frames without a picture neither count nor move it, a mount learned before is
+// where it starts, and one beyond the bounds is "not calibrated".
 #include "core/lane/mount_refinement.hpp"
 
 #include <gtest/gtest.h>
@@ -61,6 +61,23 @@ TEST(MountRefinement, AMountClearlyOffIsTheFirstSecondsMeanAndResetStartsOver) {
   EXPECT_EQ(off.refine(frame(0, 6.0, 3.0), {}).status.state, OnlineMountState::off);
   off.reset();
   EXPECT_EQ(off.mount().psi, deg_to_rad(1.0));
+}
+
+// A solve farther from the configured mount than a search looks (15 degrees) is a fit of
+// clutter, not the camera (TuSimple still 40 once took a lane 17 degrees to the side):
+// it replaces nothing, and the checks against the mount see it as far off as it is.
+TEST(MountRefinement, ASolveBeyondTheSearchsReachIsNotTheMount) {
+  for (const Attitude& beyond : {solved(1.0 + 17.0, 3.0), solved(1.0, 3.0 - 16.0)}) {
+    MountRefinement m(options(false));
+    EXPECT_EQ(m.mount_for(beyond).psi, deg_to_rad(1.0));
+    EXPECT_EQ(m.mount_for(beyond).theta, deg_to_rad(3.0));
+    m.adopt(beyond);
+    EXPECT_EQ(m.mount().psi, deg_to_rad(1.0));
+    EXPECT_EQ(m.mount().theta, deg_to_rad(3.0));
+  }
+  MountRefinement within(options(false));  // 12 degrees off: TuSimple's file with a user's 5 more
+  within.adopt(solved(1.0, 3.0 + 12.0));
+  EXPECT_NEAR(rad_to_deg(within.mount().theta), 15.0, 1e-12);
 }
 
 // The height: a lane-width prior of 3.66 +- 0.3 m, a camera configured at 1.2 m. Lanes
