@@ -1,6 +1,9 @@
 // Scoring rules on hand-made lanes: mask centres per row, hits exactly up to the
-// width-scaled threshold, the 85 % rules for found lanes and false lines.
+// width-scaled threshold, the 85 % rules for found lanes and false lines, and TuSimple's
+// own benchmark.
 #include "tools/ccdlane/lane_score.hpp"
+
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -76,6 +79,47 @@ TEST(LaneScore, EightyFivePercentRules) {
   EXPECT_EQ(none.found, 0);
   EXPECT_EQ(none.reported, 0);
   EXPECT_EQ(none.false_lines, 0);
+}
+
+// TuSimple's own benchmark (lane.py's LaneEval.bench) on hand-made lanes: every sampled
+// row counts, a row where neither lane nor line has a point is a hit, a line's point where
+// the lane has none is a miss; lanes without a match are FN, lines matching no lane FP;
+// too many lines score 0, 0, 1; beyond four lanes the worst lane and one FN are forgiven.
+TEST(LaneScore, TuSimplesLaneEvalCountsEverySampledRow) {
+  const Config c = default_config();
+  const CameraModel cam(c.camera, c.nominal_pose());
+  const RoadLine a{-1800, 0.01, 1e-7}, b{1800, 0.01, 1e-7}, far_off{-4000, 0.01, 1e-7};
+  // Row 5 is above the horizon: no line has a point there.
+  std::vector<double> rows{5};
+  for (int r = 400; r < 500; r += 10) rows.push_back(r);
+  for (const RoadLine& l : {a, b, far_off}) {
+    ASSERT_FALSE(road_line_column_at_row(cam, l, 5, 500, 300000));
+    for (std::size_t k = 1; k < rows.size(); ++k) ASSERT_TRUE(road_line_column_at_row(cam, l, rows[k], 500, 300000));
+  }
+  const AnnotatedLane lane_a = lane_along(cam, a, 0.0, 400, 490);
+  AnnotatedLane lane_b;  // labelled on its first five sampled rows only
+  for (const Vec2& p : lane_along(cam, b, 0.0, 400, 440).points)
+    if (static_cast<int>(p.y()) % 10 == 0) lane_b.points.push_back(p);
+  const std::vector<AnnotatedLane> lanes{lane_a, lane_b};
+  const std::vector<RoadLine> lines{a, b, far_off};
+  const LaneEvalScore s = lane_eval_frame(lanes, rows, c.camera.Nu, cam, lines);
+  // Lane a: 11 of 11 rows. Lane b: row 5 and its five rows hit, the line's five points
+  // below them miss: 6 of 11, no match.
+  EXPECT_NEAR(s.accuracy, (1.0 + 6.0 / 11.0) / 2.0, 1e-12);
+  EXPECT_NEAR(s.fp, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(s.fn, 1.0 / 2.0, 1e-12);
+
+  const std::vector<RoadLine> too_many{a, b, far_off, a, b};
+  const LaneEvalScore t = lane_eval_frame(lanes, rows, c.camera.Nu, cam, too_many);
+  EXPECT_EQ(t.accuracy, 0.0);
+  EXPECT_EQ(t.fn, 1.0);
+
+  // Five lanes, four of them on line a and one 50 px off it: the worst is left out.
+  std::vector<AnnotatedLane> five(4, lane_a);
+  five.push_back(lane_along(cam, a, 50.0, 400, 490));
+  const LaneEvalScore f = lane_eval_frame(five, rows, c.camera.Nu, cam, {&a, 1});
+  EXPECT_NEAR(f.accuracy, 1.0, 1e-12);
+  EXPECT_EQ(f.fn, 0.0);
 }
 
 }  // namespace

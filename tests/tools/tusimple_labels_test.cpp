@@ -32,6 +32,7 @@ TEST(TuSimpleLabels, PointsThresholdsAndEgoLanes) {
   ASSERT_EQ(lanes.size(), 4u);
   EXPECT_EQ(lanes[0].points.front(), Vec2(701, 401)) << "0-based labels become 1-based pixels";
   EXPECT_EQ(lanes[3].points.size(), 3u) << "-2 is no point";
+  EXPECT_EQ(labels[0].rows, (std::vector<double>{401, 501, 601, 701})) << "the sampled rows, 1-based";
   EXPECT_DOUBLE_EQ(lanes[0].threshold_scale, 1.0);
   EXPECT_NEAR(lanes[1].threshold_scale, std::sqrt(2.0), 1e-12);
   // At the bottom row the lanes stand at 701, 101, 201 and 1301: the own lane's are the

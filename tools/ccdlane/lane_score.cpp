@@ -155,4 +155,47 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
   return score;
 }
 
+LaneEvalScore lane_eval_frame(std::span<const AnnotatedLane> lanes, std::span<const double> rows, int width,
+                              const CameraModel& camera, std::span<const RoadLine> lines, const ScoreRules& rules) {
+  constexpr double kNone = -100.0;  // lane.py's stand-in for a row without a point (-2)
+  const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
+  const std::size_t n = rows.size();
+  // Every line's column on every sampled row, 1-based, kNone outside the picture.
+  std::vector<std::vector<double>> predicted(lines.size(), std::vector<double>(n, kNone));
+  for (std::size_t k = 0; k < lines.size(); ++k)
+    for (std::size_t r = 0; r < n; ++r) {
+      const std::optional<double> x = road_line_column_at_row(camera, lines[k], rows[r], rules.near_mm, rules.far_mm);
+      if (x && *x >= 0.5 && *x <= width + 0.5) predicted[k][r] = *x;
+    }
+  LaneEvalScore s;
+  if (lanes.empty() || n == 0) return s;
+  if (lines.size() > lanes.size() + 2) return {0.0, 0.0, 1.0};
+  double sum = 0.0, worst = 1.0;
+  int matched = 0, missed = 0;
+  for (const AnnotatedLane& lane : lanes) {
+    std::vector<double> labelled(n, kNone);
+    for (const Vec2& p : lane.points)
+      for (std::size_t r = 0; r < n; ++r)
+        if (std::abs(p.y() - rows[r]) < 0.5) labelled[r] = p.x();
+    double best = 0.0;
+    for (const std::vector<double>& xs : predicted) {
+      std::size_t hits = 0;
+      for (std::size_t r = 0; r < n; ++r) hits += std::abs(xs[r] - labelled[r]) < threshold * lane.threshold_scale;
+      best = std::max(best, static_cast<double>(hits) / static_cast<double>(n));
+    }
+    (best < rules.found_fraction ? missed : matched) += 1;
+    sum += best;
+    worst = std::min(worst, best);
+  }
+  const std::size_t num_lanes = lanes.size();
+  if (num_lanes > 4 && missed > 0) --missed;
+  if (num_lanes > 4) sum -= worst;
+  const double lanes_counted = std::max(1.0, std::min(4.0, static_cast<double>(num_lanes)));
+  s.accuracy = sum / lanes_counted;
+  const int num_lines = static_cast<int>(lines.size());
+  s.fp = num_lines == 0 ? 0.0 : static_cast<double>(num_lines - matched) / num_lines;
+  s.fn = missed / lanes_counted;
+  return s;
+}
+
 }  // namespace ccdlane::cli

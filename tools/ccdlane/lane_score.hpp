@@ -70,4 +70,19 @@ struct FrameScore {
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
                        std::span<const RoadLine> lines, const ScoreRules& rules = {});
 
+// TuSimple's own benchmark on one labelled picture (LaneEval.bench of its lane.py), for
+// comparison with published figures: each line and lane is sampled at every labelled row
+// (no point: -2); a lane's accuracy with a line is the share of all the rows where both
+// have no point or the line is within the lane's threshold of it (a point of one where
+// the other has none is a miss); each lane takes its best line, and is matched with
+// found_fraction of its rows. accuracy: the lanes' best accuracies summed (beyond four
+// lanes, less the worst) over min(4, lanes); fp: the lines not matching a lane, over the
+// lines; fn: the lanes without a match (beyond four lanes, one fewer), over min(4, lanes).
+// More than two lines more than lanes scores 0, 0, 1, as TuSimple's does.
+struct LaneEvalScore {
+  double accuracy = 0.0, fp = 0.0, fn = 0.0;
+};
+LaneEvalScore lane_eval_frame(std::span<const AnnotatedLane> lanes, std::span<const double> rows, int width,
+                              const CameraModel& camera, std::span<const RoadLine> lines, const ScoreRules& rules = {});
+
 }  // namespace ccdlane::cli

@@ -76,19 +76,20 @@ class Annotations {
     tusimple_ = true;
   }
 
-  // The lanes of the frame stored in `file` (as frames.csv names it); empty when it has
-  // no annotation.
-  std::optional<std::vector<AnnotatedLane>> lanes_of(const std::string& file) const {
+  // The lanes of the frame stored in `file` (as frames.csv names it), and for a TuSimple
+  // label the rows it samples; empty when it has no annotation.
+  std::optional<LabelledPicture> lanes_of(const std::string& file) const {
     if (tusimple_) {
       for (const LabelledPicture& p : labels_)
         for (const std::string& image : p.images)
-          if (same_picture(file, image)) return p.lanes;
+          if (same_picture(file, image)) return p;
       return std::nullopt;
     }
     const std::string mask_path = path_ + "/" + stem_of(file) + ".png";
-    if (std::filesystem::exists(mask_path)) return read_mask(mask_path);
+    if (std::filesystem::exists(mask_path)) return LabelledPicture{{}, read_mask(mask_path), {}};
     const std::string culane_path = path_ + "/" + stem_of(file) + ".lines.txt";
-    if (std::filesystem::exists(culane_path)) return read_culane_lines(culane_path, width_, height_);
+    if (std::filesystem::exists(culane_path))
+      return LabelledPicture{{}, read_culane_lines(culane_path, width_, height_), {}};
     return std::nullopt;
   }
 
@@ -118,17 +119,36 @@ class Annotations {
   std::vector<LabelledPicture> labels_;
 };
 
-// The lines replay reported for one frame, and the pose they were solved at.
-FrameScore score_replayed_frame(const ReplayLine& e, const std::vector<AnnotatedLane>& lanes, const Config& config) {
-  std::vector<RoadLine> reported;
+// The camera at the pose replay solved a frame at (the configured one when it did not).
+CameraModel replayed_camera(const ReplayLine& e, const Config& config) {
   CameraPose pose = config.nominal_pose();
   if (e.attitude) {
     pose.attitude = {deg_to_rad(e.attitude->psi_deg), deg_to_rad(e.attitude->theta_deg),
                      deg_to_rad(e.attitude->phi_deg)};
     if (e.attitude->H_mm) pose.H_mm = *e.attitude->H_mm;
-    reported = e.lines;
   }
-  return score_frame(lanes, config.camera.Nu, CameraModel(config.camera, pose), reported, ScoreRules{});
+  return CameraModel(config.camera, pose);
+}
+
+// The lines replay reported for one frame (none when it was not solved).
+std::span<const RoadLine> replayed_lines(const ReplayLine& e) {
+  return e.attitude ? std::span<const RoadLine>(e.lines) : std::span<const RoadLine>{};
+}
+
+// TuSimple's benchmark summed over frames (lane.py's bench_one_submit divides by them).
+struct LaneEvalTotal {
+  double accuracy = 0.0, fp = 0.0, fn = 0.0;
+  int frames = 0;
+  void add(const LaneEvalScore& s) {
+    accuracy += s.accuracy;
+    fp += s.fp;
+    fn += s.fn;
+    ++frames;
+  }
+};
+
+Json lane_eval_json(const LaneEvalScore& s) {
+  return Json{{"accuracy", json_number(s.accuracy)}, {"fp", json_number(s.fp)}, {"fn", json_number(s.fn)}};
 }
 
 // Each frame's name, which its annotation takes: a directory's file, a video's frame
@@ -199,6 +219,7 @@ CommandAction setup_score(CLI::App& sub) {
                    "projected with the configuration's f_mm\n";
 
     FrameScore total;
+    LaneEvalTotal eval_total;
     int scored = 0, unannotated = 0;
     Json frames = Json::array();
     std::string line;
@@ -212,17 +233,24 @@ CommandAction setup_score(CLI::App& sub) {
       if (file == file_of_frame.end())
         throw UsageError(a->replay + ":" + std::to_string(line_number) + ": frame " + std::to_string(frame) +
                          " is not in " + index_name);
-      const std::optional<std::vector<AnnotatedLane>> lanes = annotations.lanes_of(file->second);
-      if (!lanes) {
+      const std::optional<LabelledPicture> labelled = annotations.lanes_of(file->second);
+      if (!labelled) {
         ++unannotated;
         continue;
       }
-      const FrameScore s = score_replayed_frame(e, *lanes, config);
+      const CameraModel camera = replayed_camera(e, config);
+      const FrameScore s = score_frame(labelled->lanes, config.camera.Nu, camera, replayed_lines(e));
       ++scored;
       total += s;
+      std::optional<LaneEvalScore> eval;
+      if (!labelled->rows.empty()) {
+        eval = lane_eval_frame(labelled->lanes, labelled->rows, config.camera.Nu, camera, replayed_lines(e));
+        eval_total.add(*eval);
+      }
       if (a->json) {
         Json j{{"frame", frame}, {"file", file->second}};
         j.update(score_json(s));
+        if (eval) j["lane_eval"] = lane_eval_json(*eval);
         frames.push_back(std::move(j));
       } else {
         std::cout << "frame " << frame << " (" << file->second << "): " << score_text(s) << '\n';
@@ -236,11 +264,20 @@ CommandAction setup_score(CLI::App& sub) {
       Json t = score_json(total);
       t["frames"] = scored;
       t["frames_without_mask"] = unannotated;
+      if (eval_total.frames > 0) {
+        const double n = eval_total.frames;
+        t["lane_eval"] = lane_eval_json({eval_total.accuracy / n, eval_total.fp / n, eval_total.fn / n});
+      }
       std::cout << Json{{"threshold_px", threshold}, {"frames", std::move(frames)}, {"total", std::move(t)}}.dump()
                 << '\n';
     } else {
       std::printf("total: %d frames scored (%d without a mask), threshold %.1f px: %s\n", scored, unannotated,
                   threshold, score_text(total).c_str());
+      if (eval_total.frames > 0) {
+        const double n = eval_total.frames;
+        std::printf("TuSimple's LaneEval over %d labelled frames: accuracy %.3f, FP %.3f, FN %.3f\n", eval_total.frames,
+                    eval_total.accuracy / n, eval_total.fp / n, eval_total.fn / n);
+      }
     }
     return std::cout.flush() ? 0 : 1;
   };

@@ -37,6 +37,11 @@ std::vector<LabelledPicture> read_tusimple_labels(const std::string& path, int w
     if (!j.contains("h_samples") || !j["h_samples"].is_array() || !j.contains("lanes") || !j["lanes"].is_array())
       throw UsageError(where + "a TuSimple label needs \"h_samples\" and \"lanes\" arrays");
     const Json& rows = j["h_samples"];
+    std::vector<double> sampled;
+    for (const Json& y : rows) {
+      if (!y.is_number()) throw UsageError(where + "h_samples and lanes hold numbers");
+      sampled.push_back(y.get<double>() + 1.0);  // to 1-based rows
+    }
     std::vector<AnnotatedLane> lanes;
     for (const Json& xs : j["lanes"]) {
       if (!xs.is_array() || xs.size() != rows.size())
@@ -50,7 +55,7 @@ std::vector<LabelledPicture> read_tusimple_labels(const std::string& path, int w
       }
       lanes.push_back(std::move(lane));
     }
-    out.push_back({std::move(images), finish(std::move(lanes), width, height)});
+    out.push_back({std::move(images), finish(std::move(lanes), width, height), std::move(sampled)});
   }
   return out;
 }

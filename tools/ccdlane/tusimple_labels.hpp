@@ -15,6 +15,7 @@ namespace ccdlane::cli {
 struct LabelledPicture {
   std::vector<std::string> images;  // "image" and "raw_file", whichever the label gives
   std::vector<AnnotatedLane> lanes;
+  std::vector<double> rows;  // "h_samples", 1-based: the rows TuSimple's own benchmark samples
 };
 
 // TuSimple's label file: one JSON object per line with "h_samples" (0-based rows),
