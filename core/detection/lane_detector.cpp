@@ -362,10 +362,10 @@ double LaneDetector::double_line_middle_mm(int j) const {
   // row order: a row's bars are neighbours.
   const std::span<const MarkCandidate> marks = result_.marks;
   const auto paint = [](const MarkCandidate& m) { return !m.dot && !m.joint && !m.for_lines_beyond; };
-  const auto stripes = [&](const MarkCandidate& own, const MarkCandidate& other) {
+  const auto stripes = [&](const MarkCandidate& own, const MarkCandidate& other) {  // on one scan row
     const double gap = other.Y - own.Y;
-    return other.line < 0 && paint(other) && other.scan_row == own.scan_row && std::abs(gap) >= kMinStripeGapMm &&
-           std::abs(gap) <= kMaxStripeGapMm && other.width_px() <= kStripeWidthRatio * own.width_px() &&
+    return other.line < 0 && paint(other) && std::abs(gap) >= kMinStripeGapMm && std::abs(gap) <= kMaxStripeGapMm &&
+           other.width_px() <= kStripeWidthRatio * own.width_px() &&
            own.width_px() <= kStripeWidthRatio * other.width_px() &&
            other.contrast <= kStripeContrastRatio * own.contrast &&
            own.contrast <= kStripeContrastRatio * other.contrast;

@@ -95,6 +95,18 @@ FrameScore& FrameScore::operator+=(const FrameScore& o) {
   return *this;
 }
 
+namespace {
+
+// A line's column on a row (1-based), where it crosses the row within the picture.
+std::optional<double> column_in_picture(const CameraModel& camera, const RoadLine& line, double row, int width,
+                                        const ScoreRules& rules) {
+  const std::optional<double> x = road_line_column_at_row(camera, line, row, rules.near_mm, rules.far_mm);
+  if (x && *x >= 0.5 && *x <= width + 0.5) return x;
+  return std::nullopt;
+}
+
+}  // namespace
+
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
                        std::span<const RoadLine> lines, const ScoreRules& rules) {
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
@@ -112,10 +124,8 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
   // Each line's column on each annotated row (once: the bisection is the cost).
   std::vector<std::map<int, double>> columns(lines.size());
   for (std::size_t k = 0; k < lines.size(); ++k)
-    for (const auto& [row, unused] : lane_columns_by_row) {
-      const std::optional<double> x = road_line_column_at_row(camera, lines[k], row, rules.near_mm, rules.far_mm);
-      if (x && *x >= 0.5 && *x <= width + 0.5) columns[k][row] = *x;
-    }
+    for (const auto& [row, unused] : lane_columns_by_row)
+      if (const std::optional<double> x = column_in_picture(camera, lines[k], row, width, rules)) columns[k][row] = *x;
 
   for (const AnnotatedLane& lane : lanes) {
     std::size_t best = 0;
@@ -160,16 +170,15 @@ LaneEvalScore lane_eval_frame(std::span<const AnnotatedLane> lanes, std::span<co
   constexpr double kNone = -100.0;  // lane.py's stand-in for a row without a point (-2)
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
   const std::size_t n = rows.size();
-  // Every line's column on every sampled row, 1-based, kNone outside the picture.
-  std::vector<std::vector<double>> predicted(lines.size(), std::vector<double>(n, kNone));
-  for (std::size_t k = 0; k < lines.size(); ++k)
-    for (std::size_t r = 0; r < n; ++r) {
-      const std::optional<double> x = road_line_column_at_row(camera, lines[k], rows[r], rules.near_mm, rules.far_mm);
-      if (x && *x >= 0.5 && *x <= width + 0.5) predicted[k][r] = *x;
-    }
   LaneEvalScore s;
   if (lanes.empty() || n == 0) return s;
   if (lines.size() > lanes.size() + 2) return {0.0, 0.0, 1.0};
+  // Every line's column on every sampled row, 1-based, kNone outside the picture.
+  std::vector<std::vector<double>> predicted(lines.size(), std::vector<double>(n, kNone));
+  for (std::size_t k = 0; k < lines.size(); ++k)
+    for (std::size_t r = 0; r < n; ++r)
+      if (const std::optional<double> x = column_in_picture(camera, lines[k], rows[r], width, rules))
+        predicted[k][r] = *x;
   double sum = 0.0, worst = 1.0;
   int matched = 0, missed = 0;
   for (const AnnotatedLane& lane : lanes) {

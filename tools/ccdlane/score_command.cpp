@@ -78,7 +78,7 @@ class Annotations {
 
   // The lanes of the frame stored in `file` (as frames.csv names it), and for a TuSimple
   // label the rows it samples; empty when it has no annotation.
-  std::optional<LabelledPicture> lanes_of(const std::string& file) const {
+  std::optional<LabelledPicture> labelled_picture_of(const std::string& file) const {
     if (tusimple_) {
       for (const LabelledPicture& p : labels_)
         for (const std::string& image : p.images)
@@ -145,6 +145,7 @@ struct LaneEvalTotal {
     fn += s.fn;
     ++frames;
   }
+  LaneEvalScore mean() const { return {accuracy / frames, fp / frames, fn / frames}; }
 };
 
 Json lane_eval_json(const LaneEvalScore& s) {
@@ -233,7 +234,7 @@ CommandAction setup_score(CLI::App& sub) {
       if (file == file_of_frame.end())
         throw UsageError(a->replay + ":" + std::to_string(line_number) + ": frame " + std::to_string(frame) +
                          " is not in " + index_name);
-      const std::optional<LabelledPicture> labelled = annotations.lanes_of(file->second);
+      const std::optional<LabelledPicture> labelled = annotations.labelled_picture_of(file->second);
       if (!labelled) {
         ++unannotated;
         continue;
@@ -264,19 +265,16 @@ CommandAction setup_score(CLI::App& sub) {
       Json t = score_json(total);
       t["frames"] = scored;
       t["frames_without_mask"] = unannotated;
-      if (eval_total.frames > 0) {
-        const double n = eval_total.frames;
-        t["lane_eval"] = lane_eval_json({eval_total.accuracy / n, eval_total.fp / n, eval_total.fn / n});
-      }
+      if (eval_total.frames > 0) t["lane_eval"] = lane_eval_json(eval_total.mean());
       std::cout << Json{{"threshold_px", threshold}, {"frames", std::move(frames)}, {"total", std::move(t)}}.dump()
                 << '\n';
     } else {
       std::printf("total: %d frames scored (%d without a mask), threshold %.1f px: %s\n", scored, unannotated,
                   threshold, score_text(total).c_str());
       if (eval_total.frames > 0) {
-        const double n = eval_total.frames;
+        const LaneEvalScore m = eval_total.mean();
         std::printf("TuSimple's LaneEval over %d labelled frames: accuracy %.3f, FP %.3f, FN %.3f\n", eval_total.frames,
-                    eval_total.accuracy / n, eval_total.fp / n, eval_total.fn / n);
+                    m.accuracy, m.fp, m.fn);
       }
     }
     return std::cout.flush() ? 0 : 1;

@@ -49,9 +49,9 @@ std::vector<LabelledPicture> read_tusimple_labels(const std::string& path, int w
       AnnotatedLane lane;
       lane.level = static_cast<int>(lanes.size()) + 1;
       for (std::size_t k = 0; k < rows.size(); ++k) {
-        if (!xs[k].is_number() || !rows[k].is_number()) throw UsageError(where + "h_samples and lanes hold numbers");
-        const double x = xs[k].get<double>(), y = rows[k].get<double>();
-        if (x >= 0.0) lane.points.emplace_back(x + 1.0, y + 1.0);  // to 1-based pixels
+        if (!xs[k].is_number()) throw UsageError(where + "h_samples and lanes hold numbers");
+        const double x = xs[k].get<double>();
+        if (x >= 0.0) lane.points.emplace_back(x + 1.0, sampled[k]);  // to 1-based pixels
       }
       lanes.push_back(std::move(lane));
     }
