@@ -60,6 +60,25 @@ void box_derivative_extrema(const std::int32_t* __restrict P, int h, int lo, int
   }
 }
 
+// P[0] = 0, P[x + 1] = row[0] + ... + row[x]. Four pixels at a time: their partial sums
+// do not wait for the running total, which is then one addition per four pixels, not a
+// chain of one per pixel (the plain loop was two fifths of the row filter's time).
+template <typename Pixel>
+void prefix_sums(const Pixel* __restrict row, int width, std::int32_t* __restrict P) {
+  std::int32_t total = 0;
+  P[0] = 0;
+  int x = 0;
+  for (; x + 4 <= width; x += 4) {
+    const std::int32_t a = row[x], ab = a + row[x + 1], abc = ab + row[x + 2], abcd = abc + row[x + 3];
+    P[x + 1] = total + a;
+    P[x + 2] = total + ab;
+    P[x + 3] = total + abc;
+    total += abcd;
+    P[x + 4] = total;
+  }
+  for (; x < width; ++x) P[x + 1] = total += row[x];
+}
+
 }  // namespace
 
 MarkScanner::MarkScanner(int max_width)
@@ -99,8 +118,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
   const Pixel* const row = full_row + x_begin;
   const int width = x_end - x_begin;
   std::int32_t* const P = prefix_.data();
-  P[0] = 0;
-  for (int x = 0; x < width; ++x) P[x + 1] = P[x] + static_cast<std::int32_t>(row[x]);
+  prefix_sums(row, width, P);
 
   // g[x]: sum of the h pixels right of the boundary x|x+1 minus the h pixels left of it.
   const int h = std::max(1, r.half_width);

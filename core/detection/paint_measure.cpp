@@ -54,15 +54,6 @@ int paint_yellowness_at(const ImageView& image, int x, int y) {
   }
 }
 
-int paint_measure_at(const ImageView& image, int x, int y) {
-  const std::uint8_t* p = image.row(y) + static_cast<std::ptrdiff_t>(bytes_per_pixel(image.format)) * x;
-  switch (image.format) {
-    case PixelFormat::rgb8: return paint_measure8(p[0], p[1], p[2]);
-    case PixelFormat::bgr8: return paint_measure8(p[2], p[1], p[0]);
-    default: return image.at(x, y);
-  }
-}
-
 void render_paint_measure(const ImageView& image, const MutableImageView& out) {
   const int shift = image.format == PixelFormat::mono16 ? std::max(0, image.significant_bits - 8) : 0;
   for (int y = 0; y < std::min(image.height, out.height); ++y) {
