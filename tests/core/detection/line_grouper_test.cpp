@@ -297,6 +297,58 @@ TEST(LineGrouper, BarsWithAStepBesideMakeOnlyALineBeyondTheLane) {
   }
 }
 
+// A line beyond the lane is not held to the own lane's scatter: its bars are mostly held
+// ones, whose edges a step beside them pulls, and they scatter about the line nearly as
+// clutter in the gate does (TuSimple's shoulder lines, solid and plain to see: 1.2-1.3
+// px). Scattered so (evenly over +-2.2 px), it is found one lane beyond the lane; a line
+// of the own lane scattered so is not.
+TEST(LineGrouper, ALineBeyondTheLaneMayScatterMoreThanTheLanesOwn) {
+  const auto scatter = [](Scene& s, std::size_t first) {
+    std::uniform_real_distribution<double> px(-2.2, 2.2);
+    for (std::size_t i = first; i < s.marks.size(); ++i) s.marks[i].Y += px(s.rng) * s.marks[i].X / 630.0;
+  };
+  {
+    Scene s;
+    s.line(1800, 0.01, 0.0);
+    s.line(-1800, 0.01, 0.0);
+    const std::size_t held = s.marks.size();
+    s.line(-5500, 0.01, 0.0, 0.0, 1, false, true);
+    scatter(s, held);
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    ASSERT_EQ(group(s, lines), 3);
+    EXPECT_NEAR(lines[2].fit.y0_mm, -5500.0, 60.0);
+  }
+  {
+    Scene s;
+    s.line(1800, 0.01, 0.0);
+    const std::size_t scattered = s.marks.size();
+    s.line(-1800, 0.01, 0.0, 0.0);
+    scatter(s, scattered);
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    ASSERT_EQ(group(s, lines), 1);
+    EXPECT_NEAR(lines[0].fit.y0_mm, 1800.0, 30.0);
+  }
+}
+
+// A line beyond the lane is continued only once both lines of the own lane were: on its
+// own, its slope (here, as a dashed line's few bars may give it, 0.03 off the road's) became
+// the road's direction the other lines were looked for along, and the own lane's left
+// line, whose prior was lost, was refused as not running along it (segB, frame 103).
+TEST(LineGrouper, ALineBeyondIsContinuedOnlyBesideTheOwnLane) {
+  Scene s;
+  s.line(1800, 0.01, 0.0);
+  s.line(-1800, 0.01, 0.0);
+  s.line(-5500, -0.02, 0.0, 0.3, 3);
+  const std::array<RoadLine, 2> priors{RoadLine{-1800.0, 0.01, 0.0}, RoadLine{-5500.0, -0.02, 0.0}};
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  const int n = group(s, lines, priors);
+  ASSERT_GE(n, 2);
+  EXPECT_NEAR(lines[0].fit.y0_mm, 1800.0, 30.0);
+  EXPECT_NEAR(lines[0].fit.m, 0.01, 0.002);
+  EXPECT_GE(lines[0].marks, 140);
+  EXPECT_NEAR(lines[1].fit.y0_mm, -1800.0, 30.0);
+}
+
 // Lanes are concrete slabs wide and their lines are set along the slabs' joints: where the
 // own lane has a line on one side only, a joint a lane's width from it on the other side
 // is the missing line, markers seen along it or not. A joint nearer than a lane's width
