@@ -35,7 +35,7 @@ int paint_yellowness_at(const ImageView& image, int x, int y);
 
 // The measure of one 0-based pixel. Inline: dot tests and gradients read it pixel by
 // pixel, and a call per pixel was about 6 % of a TuSimple still's detection time.
-inline int paint_measure_at(const ImageView& image, int x, int y) {
+[[gnu::always_inline]] inline int paint_measure_at(const ImageView& image, int x, int y) {
   const std::uint8_t* p = image.row(y) + static_cast<std::ptrdiff_t>(bytes_per_pixel(image.format)) * x;
   switch (image.format) {
     case PixelFormat::rgb8: return paint_measure8(p[0], p[1], p[2]);
