@@ -874,12 +874,13 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
     if (beyond >= params.min_separation_mm && beyond <= kMaxLaneBeyondMm) vote_reference_y(y_votes, y);
   }
   // A line beyond is not held to the own lane's scatter bound (GroupingParams::max_rms_px,
-  // set just below what clutter in the gate scatters): its bars are mostly held ones,
-  // whose edges the step beside them pulls, and they scatter about the line nearly as
-  // clutter does. TuSimple's shoulder lines, solid and plain to see, scattered 1.1-1.4 px
-  // and were not found; bounds from 1.3 to 2 times the own lane's found the same lines.
-  // What such a line needs besides: a lane beside it, the votes of a dash's marks within
-  // 300 mm of one line along the road's direction, and a line's coverage of its rows.
+  // set just below what clutter in the gate scatters): it is fitted along the road's
+  // direction as the lines found give it, 3.5 m and more from them, where the pose's
+  // error and a guessed distortion tilt it most, and its bars are mostly held ones, whose
+  // edges the step beside them pulls. TuSimple's solid shoulder lines, plain to see,
+  // scattered 1.2-1.4 px about it; bounds from 1.3 to 2 times the own lane's found the
+  // same lines. What such a line needs besides: a lane beside it, the votes of a dash's
+  // marks within 300 mm of one line along the road's direction, and a line's coverage.
   GroupingParams beyond_params = params;
   beyond_params.max_rms_px *= kBeyondRmsScale;
   for (const double side : {+1.0, -1.0}) {

@@ -297,11 +297,11 @@ TEST(LineGrouper, BarsWithAStepBesideMakeOnlyALineBeyondTheLane) {
   }
 }
 
-// A line beyond the lane is not held to the own lane's scatter: its bars are mostly held
-// ones, whose edges a step beside them pulls, and they scatter about the line nearly as
-// clutter in the gate does (TuSimple's shoulder lines, solid and plain to see: 1.2-1.3
-// px). Scattered so (evenly over +-2.2 px), it is found one lane beyond the lane; a line
-// of the own lane scattered so is not.
+// A line beyond the lane is not held to the own lane's scatter: its direction is the
+// road's as lines 3.5 m away give it, and its bars are mostly held ones, whose edges a
+// step beside them pulls (TuSimple's shoulder lines: 1.2-1.4 px). Scattered about the
+// line nearly as clutter in the gate is (evenly over +-2.2 px), it is found one lane
+// beyond the lane; a line of the own lane scattered so is not.
 TEST(LineGrouper, ALineBeyondTheLaneMayScatterMoreThanTheLanesOwn) {
   const auto scatter = [](Scene& s, std::size_t first) {
     std::uniform_real_distribution<double> px(-2.2, 2.2);
