@@ -70,9 +70,11 @@ constexpr int kMinYellowness = 20;
 
 // 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
 void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
-  auto p = [&](int dx, int dy) { return static_cast<double>(paint_measure_at(im, x + dx, y + dy)); };
-  gx = (p(1, -1) + 2 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2 * p(-1, 0) + p(-1, 1));
-  gy = (p(-1, 1) + 2 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2 * p(0, -1) + p(1, -1));
+  int p[3][3];  // each neighbour's measure read once, [row][column]
+  for (int dy = 0; dy < 3; ++dy)
+    for (int dx = 0; dx < 3; ++dx) p[dy][dx] = paint_measure_at(im, x + dx - 1, y + dy - 1);
+  gx = (p[0][2] + 2 * p[1][2] + p[2][2]) - (p[0][0] + 2 * p[1][0] + p[2][0]);
+  gy = (p[2][0] + 2 * p[2][1] + p[2][2]) - (p[0][0] + 2 * p[0][1] + p[0][2]);
 }
 
 // The rows column x of `image` stays `so` over from row y on, going `step` (y itself not
