@@ -6,14 +6,10 @@
 #include <cmath>
 
 #include "core/detection/paint_measure.hpp"
+#include "core/geometry/types.hpp"
 
 namespace ccdlane {
 namespace {
-
-// A vector's length. Not std::hypot, whose guard against overflow is a library call a
-// few times slower, run for every row planned and every candidate: these are pixel
-// gradients and road distances, nowhere near overflow.
-double length(double x, double y) { return std::sqrt(x * x + y * y); }
 
 static_assert(kMaxDetectedLines == kMaxLaneLines, "detection reports at most what the solver takes");
 
@@ -128,7 +124,7 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm, bo
     double X = 0, Y = 0, X2 = 0, Y2 = 0;
     if (!projector_.ground(col, y + 1.0, X, Y) || X < config_.min_range_mm || X > config_.max_range_mm) continue;
     if (!projector_.ground(col + 1.0, y + 1.0, X2, Y2)) continue;
-    const double mm_per_px = length(X2 - X, Y2 - Y);
+    const double mm_per_px = Vec2(X2 - X, Y2 - Y).norm();
     const double mark_px = config_.mark_width_mm / mm_per_px;
     const double min_px = config_.min_mark_width_mm / mm_per_px, max_px = config_.max_mark_width_mm / mm_per_px;
     if (mark_px < kMinMarkPx) continue;
@@ -190,7 +186,7 @@ bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkC
   const double dx = c.px() - camera_.cx, dy = c.py - camera_.cy;
   const double s = 1.0 / (1.0 + camera_.k_px2 * (dx * dx + dy * dy));
   const double ex = vp_x_ - (camera_.cx + dx * s), ey = vp_y_ - (camera_.cy + dy * s);
-  const double en = length(ex, ey), gn = length(gx, gy);
+  const double en = Vec2(ex, ey).norm(), gn = Vec2(gx, gy).norm();
   if (en < 1.0 || gn == 0.0) return true;
   return std::abs(gx * ex + gy * ey) / (gn * en) < kOrientationTolerance;
 }
@@ -204,7 +200,7 @@ int LaneDetector::dot_rows_limit(double px, double py, double X) const {
 double LaneDetector::mm_per_px_across(const MarkCandidate& c) const {
   double X_right = 0.0, Y_right = 0.0;
   if (!projector_.ground(c.px() + 1.0, c.py, X_right, Y_right)) return 0.0;
-  return length(X_right - c.X, Y_right - c.Y);
+  return Vec2(X_right - c.X, Y_right - c.Y).norm();
 }
 
 bool LaneDetector::is_dot(const ImageView& image, MarkCandidate& c, float levels_per_grey) const {

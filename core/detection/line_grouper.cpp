@@ -10,6 +10,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "core/geometry/road_line.hpp"  // own_lane_lines
+
 namespace ccdlane {
 namespace {
 
@@ -625,17 +627,12 @@ int LineGrouper::continue_priors(std::span<MarkCandidate> marks, std::span<const
   // a slope and a curvature from its few (and held) bars that the lines found after it
   // are then looked for along (segB: the yellow line lost for a frame, the solve's yaw 2
   // degrees off); it is found again beside the lane later (find_dashes, find_lines_beyond).
-  int left = -1, right = -1;
-  for (std::size_t k = 0; k < priors.size(); ++k) {
-    const double y = priors[k].y0_mm;
-    if (y > 0.0 && (left < 0 || y < priors[static_cast<std::size_t>(left)].y0_mm)) left = static_cast<int>(k);
-    if (y <= 0.0 && (right < 0 || y > priors[static_cast<std::size_t>(right)].y0_mm)) right = static_cast<int>(k);
-  }
+  const OwnLaneLines own = own_lane_lines(priors);
   int n = 0;
   for (const bool own_lane : {true, false}) {
     if (!own_lane && n < 2) break;
     for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
-      if ((static_cast<int>(k) == left || static_cast<int>(k) == right) != own_lane) continue;
+      if ((static_cast<int>(k) == own.left || static_cast<int>(k) == own.right) != own_lane) continue;
       DetectedLine l;
       if (!fit_line(marks, priors[k], kPriorGateMm, n, params, l)) continue;
       if (std::abs(l.fit.c_per_mm - priors[k].c_per_mm) > kMaxPriorCurvatureChange) {

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <span>
 
+#include "core/geometry/road_line.hpp"  // own_lane_lines
 #include "core/lane/lane_estimate.hpp"
 
 namespace ccdlane {
@@ -14,24 +15,6 @@ namespace ccdlane {
 // about 1.8 m wide, is not a lane to drive in (noise made such pairs at 2.0-2.4 m).
 constexpr double kMinLaneWidthMm = 2500.0;
 constexpr double kMaxLaneWidthMm = 5500.0;  // wider: a line in between was missed
-
-// The own lane's lines among `lines` (anything with a y0_mm): the nearest with y0 > 0
-// (left) and the nearest with y0 <= 0 (right); -1 where a side has none.
-struct OwnLaneLines {
-  int left = -1, right = -1;
-};
-template <typename Line>
-OwnLaneLines own_lane_lines(std::span<const Line> lines) {
-  OwnLaneLines own;
-  for (std::size_t j = 0; j < lines.size(); ++j) {
-    const double y0 = lines[j].y0_mm;
-    if (y0 > 0.0 && (own.left < 0 || y0 < lines[static_cast<std::size_t>(own.left)].y0_mm))
-      own.left = static_cast<int>(j);
-    if (y0 <= 0.0 && (own.right < 0 || y0 > lines[static_cast<std::size_t>(own.right)].y0_mm))
-      own.right = static_cast<int>(j);
-  }
-  return own;
-}
 
 struct LaneMetrics {
   bool has_lane = false;      // a line on each side of the vehicle
