@@ -14,6 +14,17 @@
 #include "core/ldw/lane_measurement.hpp"
 
 namespace ccdlane {
+namespace {
+
+// The picks on the solve's own lane's lines.
+int own_lane_picks(const SolveResult& r, std::span<const Pick> picks) {
+  const OwnLaneLines own =
+      own_lane_lines(std::span<const RoadLine>(r.lines.data(), static_cast<std::size_t>(r.num_lines)));
+  return static_cast<int>(std::count_if(picks.begin(), picks.end(),
+                                        [&](const Pick& p) { return p.line == own.left || p.line == own.right; }));
+}
+
+}  // namespace
 
 LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
     : config_(config),
@@ -195,8 +206,8 @@ std::optional<Attitude> LaneEstimator::attitude_from_picture(const ImageView& im
   return attitude_from_vanishing_point(config_.camera, base, vanishing_point_->x, vanishing_point_->y);
 }
 
-int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
-                                std::array<CameraPose, kMaxSearchPoses>& poses) {
+LaneEstimator::SearchPoses LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                                       std::array<CameraPose, kMaxSearchPoses>& poses) {
   // Where to start when no previous frame says: the road's vanishing point in the
   // picture, then the mount, then the mount pitched by steps that detection's tolerance
   // covers, out to the search's bound. Roll stays the gyro's (or the mount's); with a
@@ -233,7 +244,7 @@ int LaneEstimator::search_poses(const ImageView& image, const std::optional<Gx1A
       poses[n++].H_mm *= factor;
     }
   }
-  return n;
+  return {n, a};
 }
 
 LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle) const {
@@ -250,43 +261,67 @@ LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const Vehicl
 
 LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                              const VehicleInputs& vehicle) {
-  // The first starting pose whose solve is a supported lane of a lane's width at its own
-  // height with no line inside it, else the first supported one whose width needed (or
-  // needs) another height, else the first supported one with a line inside it (two lanes
-  // from a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
-  // outcome of the pose whose solve had the most picks (the lines it saw, each
-  // reported on its own support), or the first pose's when none solved (its reason is the
-  // frame's). A lane of a lane's width
-  // only at another height is the weaker evidence: from a pose a quarter too low, the own
-  // lane's line beside a solid one is too near it to be taken, and the line beyond makes
-  // a lane twice as wide with it that a height three quarters as high turns into one of
-  // a lane's width; from a pose a quarter too high, the own lane is a third too wide,
-  // which the unsettled height's tolerance still takes.
+  // Of the starting poses at the first height where one's solve is a supported lane of a
+  // lane's width at that height with no line inside it, the one whose own lane's lines
+  // hold the most picks; else the first supported one whose width needed (or needs)
+  // another height, else the first supported one with a line inside it (two lanes from
+  // a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
+  // outcome of the pose whose solve had the most picks (the lines it saw, each reported
+  // on its own support), or the first pose's when none solved (its reason is the
+  // frame's). Why not the first lane: the poses are tried in an order (the picture's
+  // vanishing point, the mount, pitched steps), and from each the detection groups
+  // other bars, so the first lane depended on how far off the configured mount was
+  // (still 0004 lost an own line from a height 10 % off). The own lane is what the
+  // search is for; its picks, not all of them, because lines beyond it come with short
+  // runs of far dashes and clutter (docs/real-roads.md). The other heights are not
+  // looked at once a lane is found: they are guesses for a height the lane's width
+  // contradicts, and this one agrees.
+  // A lane of a lane's width only at another height is the weaker evidence: from a pose
+  // a quarter too low, the own lane's line beside a solid one is too near it to be
+  // taken, and the line beyond makes a lane twice as wide with it that a height three
+  // quarters as high turns into one of a lane's width; from a pose a quarter too high,
+  // the own lane is a third too wide, which the unsettled height's tolerance still takes.
   std::array<CameraPose, kMaxSearchPoses> poses{};
-  const int n = search_poses(image, gyro, poses);
-  Attempt first;
+  const SearchPoses searched = search_poses(image, gyro, poses);
+  const int n = searched.count;
+  Attempt first, lane;
+  int lane_pose = -1, lane_picks = 0;  // lane's pose and its own lane's picks
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks
-  for (int k = 0; k < n; ++k) {
+  int k = 0;
+  for (; k < n && !(lane.solve && k % searched.per_height == 0); ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
+    const int picks = static_cast<int>(fit_.picks().size());
     if (const Found found = a.why == EstimateFailure::none ? supported(*a.solve, vehicle) : Found::nothing;
         found == Found::lane_with_a_line_inside) {
       if (line_inside < 0) line_inside = k;
     } else if (found == Found::lane) {
       if (!a.rescaled && width_agrees_with_height(*a.solve)) {
-        mount_.adopt(a.solve->pose.attitude);
-        return a;
+        if (const int own = own_lane_picks(*a.solve, fit_.picks()); own > lane_picks) {
+          lane = a;
+          lane_picks = own;
+          lane_pose = k;
+        }
+      } else if (other_height < 0) {
+        other_height = k;
       }
-      if (other_height < 0) other_height = k;
     }
     if (k == 0) first = a;
-    const int picks = static_cast<int>(fit_.picks().size());
     if (a.solve && (a.why == EstimateFailure::none || a.why == EstimateFailure::rank_deficient) && picks > most_picks) {
       most_picks = picks;
       most_seen = k;
     }
+  }
+  if (lane.solve) {
+    // The fit's buffers hold the last pose's: look again, unless that was the lane's.
+    if (lane_pose != k - 1) {
+      detection_pose_ = poses[lane_pose];
+      lane = attempt(image, gyro);
+    }
+    mount_.adopt(lane.solve->pose.attitude);
+    return lane;
   }
   if (other_height >= 0 || line_inside >= 0) {
     detection_pose_ = poses[other_height >= 0 ? other_height : line_inside];

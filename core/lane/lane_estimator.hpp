@@ -113,8 +113,13 @@ class LaneEstimator {
   // Yaw and pitch from the road's vanishing point in the picture (roll and the rest are
   // base's); empty when none is found.
   std::optional<Attitude> attitude_from_picture(const ImageView& image, const CameraPose& base);
-  int search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
-                   std::array<CameraPose, kMaxSearchPoses>& poses);
+  // The poses a search starts from: count of them, height by height, per_height at each.
+  struct SearchPoses {
+    int count = 0;
+    int per_height = 0;
+  };
+  SearchPoses search_poses(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                           std::array<CameraPose, kMaxSearchPoses>& poses);
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   // Whether a solve is a supported lane, and whether a line runs inside it.
   enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside };
