@@ -225,7 +225,7 @@ void BM_EstimateTuSimpleTracking(benchmark::State& state) {
 BENCHMARK(BM_EstimateTuSimpleTracking)->Unit(benchmark::kMicrosecond);
 
 // The whole estimate of each still alone (replay --stills): a search, which detects and
-// solves from up to eight starting poses; what a lost lane costs.
+// solves from up to 50 starting poses (without a gyro; 10 with one); what a lost lane costs.
 void BM_EstimateTuSimpleStillSearch(benchmark::State& state) {
   TuSimpleStills s;
   LaneEstimator estimator(s.config.estimator_options());
