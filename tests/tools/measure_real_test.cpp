@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -69,10 +70,10 @@ std::string scored_row(const std::string& dir, const std::string& mount) {
 
 TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
   test::TempDir tmp;
-  const std::string data = tmp.file("data"), work = tmp.file("work");
+  const std::string data = tmp.file("data"), work = tmp.file("work"), overlays = tmp.file("overlays");
   std::filesystem::create_directories(data);  // no drives/: the stills alone
-  const test::ProcessResult r = test::run_process(
-      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work});
+  const test::ProcessResult r = test::run_process({"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane",
+                                                   CCDLANE_TOOL, "--keep", work, "--overlays", overlays});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("TuSimple stills, each picture alone"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("Drives"), std::string::npos) << "no drives in the data folder: no drives' table";
@@ -98,6 +99,13 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
     EXPECT_DOUBLE_EQ(toml_number(dir + "/camera.toml", "H_mm"), row.height) << row.mount;
     EXPECT_EQ(printed_row(r.out, row.mount), scored_row(dir, row.mount)) << r.out;
   }
+  // The nominal row's stills to look at, one per still, named by its frame number.
+  for (int i = 0; i < 10; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "/%06d.png", i);
+    EXPECT_TRUE(std::filesystem::is_regular_file(overlays + name)) << name;
+  }
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(overlays), std::filesystem::directory_iterator{}), 10);
 }
 
 // A drive's row recomputed from the replay measure-real kept: frames from `from_s` on,

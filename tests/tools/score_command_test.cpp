@@ -216,5 +216,59 @@ TEST_F(ScoreCommand, ADamagedReplayLineIsOneLineNamingFileLineAndField) {
   }
 }
 
+// The rings' colours in an overlay: how many pixels are the hit points' green and how
+// many the missed points' red.
+struct RingPixels {
+  int hit = 0, missed = 0;
+};
+RingPixels ring_pixels(const std::string& png) {
+  const OwnedPicture p = read_png_picture(png);
+  RingPixels n;
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x) {
+      const std::uint8_t* c = p.view().row(y) + 3 * x;
+      n.hit += c[0] == 0 && c[1] == 255 && c[2] == 0;
+      n.missed += c[0] == 255 && c[1] == 0 && c[2] == 0;
+    }
+  return n;
+}
+
+// --overlay draws each scored frame with every annotated point as a ring, green where a
+// line hits it and red where none does: with the truth's masks nearly all green; with
+// one of the lanes shifted a metre, that lane's points red (a share of them near the
+// share of that lane's points, which the JSON says).
+TEST_F(ScoreCommand, OverlaysShowWhichAnnotatedPointsAreHit) {
+  render_masks(dir_->file("road"), dir_->file("truth-ov"), {});
+  render_masks(dir_->file("road"), dir_->file("shifted-ov"), {.shifted_line = 1});
+  for (const char* masks : {"truth-ov", "shifted-ov"}) {
+    const std::string out = dir_->file(std::string("overlay-") + masks);
+    const auto r = test::run_process({kTool, "score", kReferenceCamera, dir_->file("road"), dir_->file("r.jsonl"),
+                                      dir_->file(masks), "--json", "--overlay", out});
+    ASSERT_EQ(r.exit_status, 0) << r.err;
+    const Json s = Json::parse(r.out);
+    ASSERT_EQ(s["frames"].size(), 4u);
+    for (const Json& f : s["frames"]) {
+      char name[16];
+      std::snprintf(name, sizeof name, "/%06d.png", f["frame"].get<int>());
+      const RingPixels n = ring_pixels(out + name);
+      const double missed_share = 1.0 - f["accuracy"].get<double>();
+      const double red_share = static_cast<double>(n.missed) / (n.hit + n.missed);
+      // Rings overlap where points lie close (far rows), so pixels are not points:
+      // within a tenth of the share.
+      EXPECT_NEAR(red_share, missed_share, 0.1) << masks << name << ": " << f.dump();
+      EXPECT_GT(n.hit, 0) << masks << name;
+    }
+  }
+  // A video has no frame files to draw on; the overlay may not go inside the frames.
+  const auto video = test::run_process({kTool, "score", kReferenceCamera, dir_->file("road.mp4"), dir_->file("r.jsonl"),
+                                        dir_->file("truth-ov"), "--overlay", dir_->file("ov-video")});
+  EXPECT_EQ(video.exit_status, 2);
+  EXPECT_NE(video.err.find("--overlay needs a frame directory"), std::string::npos) << video.err;
+  const auto inside = test::run_process({kTool, "score", kReferenceCamera, dir_->file("road"), dir_->file("r.jsonl"),
+                                         dir_->file("truth-ov"), "--overlay", dir_->file("road/ov")});
+  EXPECT_EQ(inside.exit_status, 2);
+  EXPECT_NE(inside.err.find("lies inside the frame directory"), std::string::npos) << inside.err;
+}
+
 }  // namespace
 }  // namespace ccdlane

@@ -108,9 +108,10 @@ std::optional<double> column_in_picture(const CameraModel& camera, const RoadLin
 }  // namespace
 
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
-                       std::span<const RoadLine> lines, const ScoreRules& rules) {
+                       std::span<const RoadLine> lines, const ScoreRules& rules, LanePointHits* point_hits) {
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
   FrameScore score;
+  if (point_hits) point_hits->assign(lanes.size(), {});
   score.lanes = static_cast<int>(lanes.size());
   // Every row some lane covers, with that lane's centre and threshold: a line's points
   // are sampled there.
@@ -127,17 +128,21 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
     for (const auto& [row, unused] : lane_columns_by_row)
       if (const std::optional<double> x = column_in_picture(camera, lines[k], row, width, rules)) columns[k][row] = *x;
 
-  for (const AnnotatedLane& lane : lanes) {
-    std::size_t best = 0;
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    const AnnotatedLane& lane = lanes[i];
     const double lane_threshold = threshold * lane.threshold_scale;
+    const auto hit = [&](std::size_t k, const Vec2& p) {
+      const auto it = columns[k].find(static_cast<int>(p.y()));
+      return it != columns[k].end() && std::abs(it->second - p.x()) <= lane_threshold;
+    };
+    std::size_t best = 0, best_line = lines.size();
     for (std::size_t k = 0; k < lines.size(); ++k) {
-      std::size_t hits = 0;
-      for (const Vec2& p : lane.points) {
-        const auto it = columns[k].find(static_cast<int>(p.y()));
-        hits += it != columns[k].end() && std::abs(it->second - p.x()) <= lane_threshold;
-      }
-      best = std::max(best, hits);
+      const auto hits = static_cast<std::size_t>(
+          std::count_if(lane.points.begin(), lane.points.end(), [&](const Vec2& p) { return hit(k, p); }));
+      if (hits > best || best_line == lines.size()) best = hits, best_line = k;
     }
+    if (point_hits)
+      for (const Vec2& p : lane.points) (*point_hits)[i].push_back(best_line < lines.size() && hit(best_line, p));
     const bool found = !lane.points.empty() &&
                        static_cast<double>(best) >= rules.found_fraction * static_cast<double>(lane.points.size());
     score.points += lane.points.size();

@@ -67,8 +67,12 @@ struct FrameScore {
 // (and the line is in the picture); it is false when fewer than true_fraction of them
 // are within the threshold of a lane point on that row. A line on no annotated row is
 // neither counted nor false.
+// `point_hits`, when given, gets per lane (in `lanes`' order) which of its points the
+// line that hits most of them hits, in the lane's point order: what an overlay shows.
+using LanePointHits = std::vector<std::vector<bool>>;
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
-                       std::span<const RoadLine> lines, const ScoreRules& rules = {});
+                       std::span<const RoadLine> lines, const ScoreRules& rules = {},
+                       LanePointHits* point_hits = nullptr);
 
 // TuSimple's own benchmark on one labelled picture (LaneEval.bench of its lane.py), for
 // comparison with published figures: each line and lane is sampled at every labelled row

@@ -108,6 +108,27 @@ void Overlay::draw_road_line(const CameraModel& camera, const RoadLine& road, do
   }
 }
 
+void Overlay::draw_road_line_by_rows(const CameraModel& camera, const RoadLine& road, double near_mm, double far_mm,
+                                     int line_index) {
+  std::optional<double> previous;
+  for (int row = 1; row <= height_; ++row) {
+    const std::optional<double> x = road_line_column_at_row(camera, road, row, near_mm, far_mm);
+    if (x && previous) line(*previous - 1, row - 2, *x - 1, row - 1, colour(line_index));
+    previous = x;
+  }
+}
+
+void Overlay::draw_lane_point(const Vec2& point, bool hit, bool ego) {
+  const double r = ego ? 4.0 : 3.0;
+  const auto& c = hit ? kHitPoint : kMissedPoint;
+  constexpr int kSteps = 24;
+  for (int i = 0; i < kSteps; ++i) {
+    const double a0 = 2.0 * kPi * i / kSteps, a1 = 2.0 * kPi * (i + 1) / kSteps;
+    line(point.x() - 1 + r * std::cos(a0), point.y() - 1 + r * std::sin(a0), point.x() - 1 + r * std::cos(a1),
+         point.y() - 1 + r * std::sin(a1), c);
+  }
+}
+
 void Overlay::write_png(const std::string& path) const { ccdlane::write_png(path, view(), 3); }
 
 void write_paint_measure_png(const std::string& path, const ImageView& frame, int first_row, int last_row) {

@@ -3,6 +3,7 @@
 // lines; and the lane-paint measure detection scanned, as a picture of its own.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -27,6 +28,14 @@ class Overlay {
   void draw_picks(std::span<const Pick> picks);
   // A road line y = y0 + m x + c x^2 from near_mm to far_mm, projected through `camera`.
   void draw_road_line(const CameraModel& camera, const RoadLine& line, double near_mm, double far_mm, int colour);
+  // The same line as `ccdlane score` samples it: its column on each picture row it
+  // crosses between near_mm and far_mm ahead.
+  void draw_road_line_by_rows(const CameraModel& camera, const RoadLine& line, double near_mm, double far_mm,
+                              int colour);
+  // An annotated lane point (1-based pixel): a ring, green where a reported line hits it,
+  // red where none does; larger for the own lane's lines.
+  void draw_lane_point(const Vec2& point, bool hit, bool ego);
+  static constexpr std::array<std::uint8_t, 3> kHitPoint{0, 255, 0}, kMissedPoint{255, 0, 0};
 
   // The region the vanishing point was searched in, and the point with the horizon
   // through it when one was found (ideal pixels, drawn as they are: near the picture's

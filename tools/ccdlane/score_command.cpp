@@ -10,11 +10,14 @@
 #include <string>
 
 #include "app/config_loader.hpp"
+#include "base/image_buffer.hpp"
+#include "base/output_path.hpp"
 #include "drivers/frames/frame_directory.hpp"
 #include "drivers/frames/png.hpp"
 #include "tools/ccdlane/command.hpp"
 #include "tools/ccdlane/json_output.hpp"
 #include "tools/ccdlane/lane_score.hpp"
+#include "tools/ccdlane/overlay_png.hpp"
 #include "tools/ccdlane/replay_line.hpp"
 #include "tools/ccdlane/tusimple_labels.hpp"
 #include "tools/ccdlane/video_recording.hpp"
@@ -28,6 +31,7 @@ struct ScoreArgs {
   std::string replay;
   std::string annotations;
   bool json = false;
+  std::string overlay;
 };
 
 std::string stem_of(const std::string& file) {
@@ -182,6 +186,63 @@ std::map<std::uint64_t, std::string> frame_names(const ScoreArgs& args, const Co
   return file_of_frame;
 }
 
+// `--overlay DIR`: each scored frame's picture with the reported lines as they were
+// scored and every annotated point, hit or missed, as NNNNNN.png (the frame's number).
+class ScoreOverlays {
+ public:
+  ScoreOverlays(const ScoreArgs& args, const Config& config) : dir_(args.overlay) {
+    if (is_video_recording(args.frames))
+      throw UsageError("--overlay needs a frame directory; for a video, `ccdlane replay --overlay` draws the lines");
+    if (lies_within(dir_, args.frames))
+      throw UsageError(dir_ + ": is or lies inside the frame directory scored (" + args.frames +
+                       "); choose another --overlay");
+    try {
+      frames_ = std::make_unique<FrameDirectory>(args.frames);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+    for (std::size_t i = 0; i < frames_->size(); ++i) row_of_frame_[frames_->row(i).index] = i;
+    const auto header = frames_->probe_first();
+    const PixelFormat format = header ? header->format() : PixelFormat::mono8;
+    const int bits = header && format == PixelFormat::mono16 ? header->significant_bits() : 8;
+    buffer_ = std::make_unique<ImageBuffer>(config.camera.Nu, config.camera.Nv, format, bits);
+    std::error_code ec;
+    std::filesystem::create_directories(dir_, ec);
+    if (ec) throw UsageError(dir_ + ": cannot create the overlay directory: " + ec.message());
+  }
+
+  // A frame that cannot be read is said once on stderr and gets no overlay.
+  void write(std::uint64_t frame, const CameraModel& camera, std::span<const RoadLine> lines,
+             std::span<const AnnotatedLane> lanes, const LanePointHits& hits) {
+    const auto row = row_of_frame_.find(frame);  // there is one: the frame was scored
+    if (row == row_of_frame_.end()) return;
+    if (frames_->read(row->second, buffer_->view()) != PgmFault::none) {
+      std::cerr << "ccdlane score: no overlay for frame " << frame << ": " << frames_->error() << '\n';
+      return;
+    }
+    Overlay o(buffer_->view());
+    const ScoreRules rules;
+    for (std::size_t k = 0; k < lines.size(); ++k)
+      o.draw_road_line_by_rows(camera, lines[k], rules.near_mm, rules.far_mm, static_cast<int>(k));
+    for (std::size_t i = 0; i < lanes.size() && i < hits.size(); ++i)
+      for (std::size_t p = 0; p < lanes[i].points.size() && p < hits[i].size(); ++p)
+        o.draw_lane_point(lanes[i].points[p], hits[i][p], lanes[i].ego);
+    char name[32];
+    std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(frame));
+    try {
+      o.write_png(dir_ + name);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+  }
+
+ private:
+  std::string dir_;
+  std::unique_ptr<FrameDirectory> frames_;
+  std::map<std::uint64_t, std::size_t> row_of_frame_;
+  std::unique_ptr<ImageBuffer> buffer_;
+};
+
 }  // namespace
 
 CommandAction setup_score(CLI::App& sub) {
@@ -199,6 +260,10 @@ CommandAction setup_score(CLI::App& sub) {
                  "TuSimple label file (JSON Lines: h_samples, lanes, raw_file or image)")
       ->required();
   sub.add_flag("--json", a->json, "print one JSON object (per frame and total) instead of text");
+  sub.add_option("--overlay", a->overlay,
+                 "write here, per scored frame of a frame directory, its picture with the reported lines as scored "
+                 "and each annotated point as a ring, green where a line hits it and red where none does (larger "
+                 "for the own lane's lines), as NNNNNN.png (the frame's number)");
   sub.footer(
       "TuSimple's rules in image space: a lane point (the centre of a lane's pixels on a mask row, or a labelled "
       "point) is hit when a reported line, projected into the picture at the frame's solved attitude, passes "
@@ -209,6 +274,9 @@ CommandAction setup_score(CLI::App& sub) {
       "without a mask are not scored.");
   return [a] {
     const Config config = load_config_file(a->config);
+    std::unique_ptr<ScoreOverlays> overlays;
+    if (!a->overlay.empty()) overlays = std::make_unique<ScoreOverlays>(*a, config);
+    LanePointHits hits;
     std::string index_name;  // where the frame numbers come from, for errors
     const std::map<std::uint64_t, std::string> file_of_frame = frame_names(*a, config, index_name);
     std::ifstream in(a->replay);
@@ -240,7 +308,9 @@ CommandAction setup_score(CLI::App& sub) {
         continue;
       }
       const CameraModel camera = replayed_camera(e, config);
-      const FrameScore s = score_frame(labelled->lanes, config.camera.Nu, camera, replayed_lines(e));
+      const FrameScore s =
+          score_frame(labelled->lanes, config.camera.Nu, camera, replayed_lines(e), {}, overlays ? &hits : nullptr);
+      if (overlays) overlays->write(frame, camera, replayed_lines(e), labelled->lanes, hits);
       ++scored;
       total += s;
       std::optional<LaneEvalScore> eval;
