@@ -31,5 +31,25 @@ TEST(RoadLinePicture, ColumnAtRowIsTheProjectedPointOnThatRow) {
   EXPECT_NEAR((*pixels[1] - *cam.pixel_from_point(Vec3(10000, line.y_at(10000), 0))).norm(), 0.0, 1e-9);
 }
 
+// A pincushion lens (k_px2 > 0) has an edge to its field: a point far off the axis (the
+// line half a metre ahead, beside the car) has no observed pixel. The rows the line does
+// cross in the picture still have their column: the scan starts where its points begin to
+// project (with the near end off the field, TuSimple's stills scored with k_px2 = +5e-8
+// had no line on any row).
+TEST(RoadLinePicture, APincushionLensStillHasTheColumnsOfTheRowsTheLineCrosses) {
+  Config c = default_config();
+  c.camera.k_px2 = 5e-7;
+  const CameraModel cam(c.camera, c.nominal_pose());
+  const RoadLine line{-1700, 0.02, 2e-7};
+  ASSERT_FALSE(cam.pixel_from_point(Vec3(500, line.y_at(500), 0))) << "the near end lies beyond the lens's field";
+  for (const double x_mm : {4000.0, 9000.0, 25000.0, 60000.0}) {
+    const auto p = cam.pixel_from_point(Vec3(x_mm, line.y_at(x_mm), 0));
+    ASSERT_TRUE(p) << x_mm;
+    const auto column = road_line_column_at_row(cam, line, p->y(), 500, 300000);
+    ASSERT_TRUE(column) << x_mm;
+    EXPECT_NEAR(*column, p->x(), 1e-6) << x_mm;
+  }
+}
+
 }  // namespace
 }  // namespace ccdlane::cli

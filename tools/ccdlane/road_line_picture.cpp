@@ -18,8 +18,26 @@ std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, con
   return out;
 }
 
+namespace {
+
+double first_projected_mm(const CameraModel& camera, const RoadLine& line, double near_mm, double far_mm) {
+  // A pincushion lens (k_px2 > 0) has no observed pixel for a point beyond the edge of its
+  // field; along a line ahead, points come into it and stay (they only near the vanishing
+  // point), so the first that projects is found by halving.
+  if (pixel_at(camera, line, near_mm) || !pixel_at(camera, line, far_mm)) return near_mm;
+  double lo = near_mm, hi = far_mm;  // lo does not project, hi does
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (pixel_at(camera, line, mid) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+}  // namespace
+
 std::optional<double> road_line_column_at_row(const CameraModel& camera, const RoadLine& line, double row_px,
                                               double near_mm, double far_mm) {
+  near_mm = first_projected_mm(camera, line, near_mm, far_mm);
   const auto near = pixel_at(camera, line, near_mm), far = pixel_at(camera, line, far_mm);
   if (!near || !far) return std::nullopt;
   const double near_side = near->y() - row_px;
