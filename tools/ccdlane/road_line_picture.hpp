@@ -19,7 +19,8 @@ std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, con
 // The 1-based column at which the line crosses 1-based picture row `row_px`, somewhere
 // between near_mm and far_mm ahead; empty when it does not (the row is above where the
 // line ends or below where it starts). Bisection on the distance: on the road ahead, a
-// point's row falls monotonically as it gets farther.
+// point's row falls monotonically as it gets farther. Through a pincushion lens the line
+// starts where its points come into the lens's field, when near_mm's lie beyond it.
 std::optional<double> road_line_column_at_row(const CameraModel& camera, const RoadLine& line, double row_px,
                                               double near_mm, double far_mm);
 
