@@ -856,11 +856,26 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
   for (MarkCandidate& m : marks)
     if (m.line == kHeldLine) m.line = -1;
   const RoadDirection road = road_direction({found_.data(), static_cast<std::size_t>(n)}, curvature_);
-  double leftmost = -1e300, rightmost = 1e300;
-  for (int k = 0; k < n; ++k) {
-    const double y = found_[static_cast<std::size_t>(k)].fit.y_at(kReferenceMm);
-    leftmost = std::max(leftmost, y), rightmost = std::min(rightmost, y);
-  }
+  // The outermost line on each side; but a row of dots found as a parallel of the others
+  // (find_dashes) beyond another line on its side is the weakest evidence of a line there
+  // is (a few blobs of a concrete's texture make one): the line beyond is looked for past
+  // the line inside it, and where it is paint, it takes the dots' place (admit).
+  const auto outermost_on = [&](double side) {
+    double outer = 0.0, inner = 0.0;
+    bool weak = false;
+    for (int k = 0; k < n; ++k) {
+      const DetectedLine& l = found_[static_cast<std::size_t>(k)];
+      const double y = l.fit.y_at(kReferenceMm);
+      if (side * y <= side * outer) {
+        if (side * y > side * inner) inner = y;
+        continue;
+      }
+      if (side * outer > side * inner) inner = outer;
+      outer = y, weak = l.dots && l.parallel;
+    }
+    return weak && inner != 0.0 ? inner : outer;
+  };
+  const double leftmost = outermost_on(+1.0), rightmost = outermost_on(-1.0);
   // The free marks' y at the reference distance along the road's line through each (the
   // same vote as find_dashes'), on each side, from a lane's narrowest to its widest
   // beyond the outermost line.

@@ -297,6 +297,25 @@ TEST(LineGrouper, BarsWithAStepBesideMakeOnlyALineBeyondTheLane) {
   }
 }
 
+// A few dots found as a parallel of the lane's lines beyond one of them (a concrete's
+// texture makes such rows) do not hide the line one lane beyond that line: the line
+// beyond is looked for past the lane's line, and being paint, it takes the dots' place
+// (TuSimple still 68: blobs 2.5 m beyond the left line, a double line 3.6 m beyond it,
+// whose bars have a step beside them, the other stripe).
+TEST(LineGrouper, AFewDotsBeyondTheLaneDoNotHideTheLineBeyondIt) {
+  Scene s;
+  s.line(1800, 0.01, 0.0);
+  s.line(-1800, 0.01, 0.0);
+  s.dots(4300.0 + 0.01 * 10000.0, 0.01);
+  s.line(5400, 0.01, 0.0, 0.3, 1, false, true);
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines), 3);
+  EXPECT_NEAR(lines[0].fit.y0_mm, 5400.0, 30.0);
+  EXPECT_FALSE(lines[0].dots);
+  EXPECT_NEAR(lines[1].fit.y0_mm, 1800.0, 30.0);
+  EXPECT_NEAR(lines[2].fit.y0_mm, -1800.0, 30.0);
+}
+
 // A line beyond the lane is not held to the own lane's scatter: its direction is the
 // road's as lines 3.5 m away give it, and its bars are mostly held ones, whose edges a
 // step beside them pulls (TuSimple's shoulder lines: 1.2-1.4 px). Scattered about the
