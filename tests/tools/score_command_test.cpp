@@ -155,12 +155,29 @@ TEST_F(ScoreCommand, AVideoIsScoredAgainstMasksNamedByFrameNumber) {
   EXPECT_EQ(s["total"]["false_lines"], 0) << r.out;
 }
 
+// Each lane's own result says which one was missed: the shifted one (grey level 20),
+// and its points and the frame's add up to the frame's figures.
 TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {
   render_masks(dir_->file("road"), dir_->file("shifted"), {.shifted_line = 1});
   const Json s = score(dir_->file("shifted"));
   for (const Json& f : s["frames"]) {
     EXPECT_EQ(f["found"].get<int>(), f["lanes"].get<int>() - 1) << f.dump();
     EXPECT_EQ(f["false_lines"], 1) << f.dump();
+    const Json& lanes = f["lane_results"];
+    ASSERT_EQ(lanes.size(), f["lanes"].get<std::size_t>()) << f.dump();
+    int found = 0, ego = 0;
+    std::size_t points = 0, hit = 0;
+    for (const Json& l : lanes) {
+      EXPECT_EQ(l["found"].get<bool>(), l["level"].get<int>() != 20) << l.dump();
+      found += l["found"].get<bool>();
+      ego += l["ego"].get<bool>();
+      points += l["points"].get<std::size_t>();
+      hit += l["hit_points"].get<std::size_t>();
+    }
+    EXPECT_EQ(found, f["found"].get<int>());
+    EXPECT_EQ(ego, f["ego_lanes"].get<int>());
+    EXPECT_EQ(points, f["points"].get<std::size_t>());
+    EXPECT_EQ(hit, f["hit_points"].get<std::size_t>());
   }
 }
 

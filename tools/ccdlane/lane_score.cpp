@@ -74,6 +74,7 @@ void mark_ego_lanes(std::span<AnnotatedLane> lanes, int width, int height) {
     std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.y() > b.y(); });
     const LineXOnY l = fit_x_on_y(std::span<const Vec2>(pts).first(std::max<std::size_t>(2, pts.size() / 3)));
     const double x_bottom = l.mean_x + l.slope * (height - l.mean_y);
+    lane.x_bottom = x_bottom;
     if (x_bottom < centre && x_bottom > left_x) left_x = x_bottom, left = static_cast<int>(k);
     if (x_bottom >= centre && x_bottom < right_x) right_x = x_bottom, right = static_cast<int>(k);
   }

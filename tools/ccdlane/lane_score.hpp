@@ -22,6 +22,10 @@ struct AnnotatedLane {
   // multiplied by it. 1 for masks, whose lanes are scored on rows as they are.
   double threshold_scale = 1.0;
   bool ego = false;  // one of the own lane's two lines (mark_ego_lanes)
+  // Where the lane, extended by a straight line through its lowest points, crosses the
+  // picture's bottom row (1-based column; mark_ego_lanes): which side of the vehicle it
+  // is on, and how far out.
+  double x_bottom = 0.0;
 };
 
 // The lanes of an 8-bit grey mask: each grey level other than 0 is one lane. Ego lanes

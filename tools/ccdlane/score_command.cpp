@@ -1,5 +1,6 @@
 // `ccdlane score`: how well replay's lines match lane annotations in image space
 // (TuSimple's rules; the annotation format is in docs/interfaces.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -53,6 +54,26 @@ Json score_json(const FrameScore& s) {
       {"ego_lanes", s.ego_lanes},
       {"ego_found", s.ego_found},
       {"ego_accuracy", json_number(ratio(static_cast<double>(s.ego_hit_points), static_cast<double>(s.ego_points)))}};
+}
+
+// Each annotated lane of a frame, in the annotation's order: which it is (its mask's grey
+// level or its label's index; the own lane's or not, and where it meets the picture's
+// bottom row), its points and those the line that hits most of them hits, and whether
+// that is enough for it to be found.
+Json lane_results_json(std::span<const AnnotatedLane> lanes, const LanePointHits& hits) {
+  Json out = Json::array();
+  for (std::size_t i = 0; i < lanes.size() && i < hits.size(); ++i) {
+    const auto hit = std::count(hits[i].begin(), hits[i].end(), true);
+    const auto points = lanes[i].points.size();
+    out.push_back(Json{{"level", lanes[i].level},
+                       {"ego", lanes[i].ego},
+                       {"x_bottom_px", json_number(lanes[i].x_bottom)},
+                       {"points", points},
+                       {"hit_points", hit},
+                       {"found", points > 0 && static_cast<double>(hit) >=
+                                                   ScoreRules{}.found_fraction * static_cast<double>(points)}});
+  }
+  return out;
 }
 
 std::string score_text(const FrameScore& s) {
@@ -308,8 +329,8 @@ CommandAction setup_score(CLI::App& sub) {
         continue;
       }
       const CameraModel camera = replayed_camera(e, config);
-      const FrameScore s =
-          score_frame(labelled->lanes, config.camera.Nu, camera, replayed_lines(e), {}, overlays ? &hits : nullptr);
+      const FrameScore s = score_frame(labelled->lanes, config.camera.Nu, camera, replayed_lines(e), {},
+                                       overlays || a->json ? &hits : nullptr);
       if (overlays) overlays->write(frame, camera, replayed_lines(e), labelled->lanes, hits);
       ++scored;
       total += s;
@@ -322,6 +343,7 @@ CommandAction setup_score(CLI::App& sub) {
         Json j{{"frame", frame}, {"file", file->second}};
         j.update(score_json(s));
         if (eval) j["lane_eval"] = lane_eval_json(*eval);
+        j["lane_results"] = lane_results_json(labelled->lanes, hits);
         frames.push_back(std::move(j));
       } else {
         std::cout << "frame " << frame << " (" << file->second << "): " << score_text(s) << '\n';
