@@ -37,7 +37,7 @@ double toml_number(const std::string& path, const std::string& key) {
 }
 
 // A row of the stills' table as printed, e.g.
-// "nominal  10  70%  75.0%  65.9%  4.5%   63.3% 0.133 0.442".
+// "nominal  10  70%  75.0%  65.9%  4.5%  40.0%   63.3% 0.133 0.442".
 std::string printed_row(const std::string& out, const std::string& mount) {
   std::istringstream lines(out);
   for (std::string line; std::getline(lines, line);)
@@ -60,11 +60,14 @@ std::string scored_row(const std::string& dir, const std::string& mount) {
   }
   const nlohmann::json& e = t["lane_eval"];  // TuSimple's own benchmark
   char row[200];
-  std::snprintf(row, sizeof row, "%-14s %6d %5.0f%% %9.1f%% %8.1f%% %6.1f%%   %12.1f%% %5.3f %5.3f", mount.c_str(),
-                frames, 100.0 * ok / frames, 100.0 * t["ego_found"].get<double>() / t["ego_lanes"].get<double>(),
+  const double next_found = (t["found"].get<double>() - t["ego_found"].get<double>()) /
+                            std::max(1.0, t["lanes"].get<double>() - t["ego_lanes"].get<double>());
+  std::snprintf(row, sizeof row, "%-14s %6d %5.0f%% %9.1f%% %8.1f%% %6.1f%% %9.1f%%   %12.1f%% %5.3f %5.3f",
+                mount.c_str(), frames, 100.0 * ok / frames,
+                100.0 * t["ego_found"].get<double>() / t["ego_lanes"].get<double>(),
                 100.0 * t["accuracy"].get<double>(),
                 100.0 * t["false_lines"].get<double>() / std::max(1.0, t["reported_lines"].get<double>()),
-                100.0 * e["accuracy"].get<double>(), e["fp"].get<double>(), e["fn"].get<double>());
+                100.0 * next_found, 100.0 * e["accuracy"].get<double>(), e["fp"].get<double>(), e["fn"].get<double>());
   return row;
 }
 
