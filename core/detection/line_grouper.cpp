@@ -759,15 +759,22 @@ bool LineGrouper::beyond_a_yellow_line(double y, int n) const {
 }
 
 bool LineGrouper::add_parallel(std::span<MarkCandidate> marks, const GroupingParams& params, int& n,
-                               const RoadLine& model, int prior_index) {
+                               const RoadLine& model, int prior_index, double beyond_y_mm) {
   const double y_ref_mm = model.y_at(kReferenceMm);
   DetectedLine l;
-  // Beside one line alone, a row of dots may run as a pitch error tilts it (see
-  // consensus_line), up to tracking's error: a search's wider one would let chance rows
-  // of blobs across the lane pass.
-  const double tilt = n == 1 ? pitch_tilt(found_[0].fit.y_at(kReferenceMm), y_ref_mm,
-                                          std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad), params.height_mm)
-                             : 0.0;
+  // Beside one line alone, or one lane beyond the outermost line found, a row of dots may
+  // run as a pitch error tilts it (see consensus_line): the road's direction there is the
+  // one line's, or the lines' extrapolated beyond them, and a pitch error tilts a line in
+  // proportion to its distance from those. Up to tracking's error: a search's wider one
+  // would let chance rows of blobs across the lane pass. (Rows of Botts' dots one lane
+  // beyond: 14 mount rows of TuSimple's stills found 83 more of 4872 labelled lines, 14
+  // more false of 3567 reported.) Paint keeps the road's direction: an arrow's strokes
+  // beside a dash would tilt it.
+  const double from_y_mm = n == 1 ? found_[0].fit.y_at(kReferenceMm) : beyond_y_mm;
+  const double tilt = std::isnan(from_y_mm)
+                          ? 0.0
+                          : pitch_tilt(from_y_mm, y_ref_mm, std::min(params.max_pitch_error_rad, kDotRowPitchErrorRad),
+                                       params.height_mm);
   if (!fit_line(marks, model, kNewLineGateMm, n, params, l, true, tilt)) {
     release_line(marks, n);
     return false;
@@ -913,7 +920,7 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
     for (std::size_t k = 0; k < priors.size(); ++k)
       if (!continues_prior(static_cast<int>(k), n) && std::abs(priors[k].y_at(kReferenceMm) - y_ref) <= kNewLineGateMm)
         prior_index = static_cast<int>(k);
-    add_parallel(marks, beyond_params, n, road.through(y_ref), prior_index);
+    add_parallel(marks, beyond_params, n, road.through(y_ref), prior_index, outermost);
   }
   return n;
 }

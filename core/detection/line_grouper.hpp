@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -131,9 +132,11 @@ class LineGrouper {
   bool continues_prior(int k, int n) const;
   // A line parallel to the road's (`model`, the road's line through where it is looked
   // for), fitted as such (y0, and the slope over 6 m) and admitted among the n found;
-  // it continues prior `prior_index` (-1: none). Whether it was taken.
+  // it continues prior `prior_index` (-1: none). `beyond_y_mm`: where the outermost line
+  // found lies (at the reference distance) when it is looked for beyond it
+  // (find_lines_beyond), NaN otherwise. Whether it was taken.
   bool add_parallel(std::span<MarkCandidate> marks, const GroupingParams& params, int& n, const RoadLine& model,
-                    int prior_index);
+                    int prior_index, double beyond_y_mm = std::numeric_limits<double>::quiet_NaN());
   int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
                    std::array<DetectedLine, kMaxDetectedLines>& out) const;
   // Adds `l` (its marks assigned to line n) to the n lines found when it is

@@ -240,6 +240,33 @@ TEST(LineGrouper, ARowOfDotsBesideOneLineMayRunAsAPitchErrorTiltsIt) {
   }
 }
 
+// One lane beyond the lane's two lines, the road's direction is theirs extrapolated: a
+// pitch error tilts it by up to 3.7 m x tan(1.5 deg) / 1.2 m = 0.08 in slope at 3.7 m
+// from the outermost line. A row of dots so tilted, 250 mm across its 10 m (its votes
+// along the road's direction within the 300 mm window a line beyond is looked for in), is
+// found with its own slope; one tilted more than any pitch error does is not a row along
+// the road.
+TEST(LineGrouper, ARowOfDotsOneLaneBeyondMayRunAsAPitchErrorTiltsIt) {
+  for (const double slope : {0.025, -0.025, 0.15}) {
+    Scene s;
+    s.line(1800, 0.0, 0.0);
+    s.line(-1800, 0.0, 0.0);
+    s.dots(-5530.0, slope, 10000.0);
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines);
+    if (slope > 0.1) {
+      EXPECT_EQ(n, 2) << "slope " << slope;
+      continue;
+    }
+    ASSERT_EQ(n, 3) << "slope " << slope;
+    EXPECT_TRUE(lines[2].parallel);
+    EXPECT_TRUE(lines[2].dots);
+    EXPECT_EQ(lines[2].marks, 5);
+    EXPECT_NEAR(lines[2].fit.m, slope, 1e-6);
+    EXPECT_NEAR(lines[2].fit.y_at(10000.0), -5530.0, 0.1);
+  }
+}
+
 // The same kind of row of blobs 2.6 m beyond the left line: a line of dots beyond white
 // paint (the next lane's), none beyond a yellow edge line (a barrier's foot).
 TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
