@@ -144,8 +144,7 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
     }
     if (point_hits)
       for (const Vec2& p : lane.points) (*point_hits)[i].push_back(best_line < lines.size() && hit(best_line, p));
-    const bool found = !lane.points.empty() &&
-                       static_cast<double>(best) >= rules.found_fraction * static_cast<double>(lane.points.size());
+    const bool found = rules.lane_found(best, lane.points.size());
     score.points += lane.points.size();
     score.hit_points += best;
     score.found += found;

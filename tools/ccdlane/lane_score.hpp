@@ -49,6 +49,10 @@ struct ScoreRules {
   double near_mm = 500.0;
   double far_mm = 300000.0;
   static double threshold_for_width(double threshold_at_1280, int width) { return threshold_at_1280 * width / 1280.0; }
+  // Whether a lane of `points` points, `hits` of them hit by one line, is found.
+  bool lane_found(std::size_t hits, std::size_t points) const {
+    return points > 0 && static_cast<double>(hits) >= found_fraction * static_cast<double>(points);
+  }
 };
 
 struct FrameScore {

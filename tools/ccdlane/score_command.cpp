@@ -70,8 +70,7 @@ Json lane_results_json(std::span<const AnnotatedLane> lanes, const LanePointHits
                        {"x_bottom_px", json_number(lanes[i].x_bottom)},
                        {"points", points},
                        {"hit_points", hit},
-                       {"found", points > 0 && static_cast<double>(hit) >=
-                                                   ScoreRules{}.found_fraction * static_cast<double>(points)}});
+                       {"found", ScoreRules{}.lane_found(static_cast<std::size_t>(hit), points)}});
   }
   return out;
 }

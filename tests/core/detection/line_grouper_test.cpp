@@ -3,6 +3,7 @@
 // stands), the nearest lines kept, sparse clutter refused.
 #include "core/detection/line_grouper.hpp"
 
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -216,55 +217,47 @@ TEST(LineGrouper, AFewDotsParallelToALineFitTheirOwnSlopeWhenTheySpanEnough) {
   EXPECT_NEAR(lines[1].fit.y0_mm, -1800.0, 0.1);
 }
 
+// Solid lines at `paint_y0s` (ordered left to right) and, right of them, a row of five
+// dots through y_ref at 10 m running at `slope`: a row a pitch error may tilt so is found
+// with its own slope (the rightmost line); one tilted more than any pitch error does is
+// not a row along the road.
+void expect_tilted_dot_row(std::initializer_list<double> paint_y0s, double y_ref, double slope, bool within_tilt) {
+  Scene s;
+  for (const double y0 : paint_y0s) s.line(y0, 0.0, 0.0);
+  s.dots(y_ref, slope, 10000.0);
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  const int n = group(s, lines);
+  const int paint = static_cast<int>(paint_y0s.size());
+  if (!within_tilt) {
+    EXPECT_EQ(n, paint) << "slope " << slope;
+    return;
+  }
+  ASSERT_EQ(n, paint + 1) << "slope " << slope;
+  const DetectedLine& row = lines[static_cast<std::size_t>(paint)];
+  EXPECT_TRUE(row.parallel);
+  EXPECT_TRUE(row.dots);
+  EXPECT_EQ(row.marks, 5);
+  EXPECT_NEAR(row.fit.m, slope, 1e-6);
+  EXPECT_NEAR(row.fit.y_at(10000.0), y_ref, 0.1);
+}
+
 // Beside a single line, the road's direction is only as good as the detection pose's
 // pitch: an error tilts a line 3.6 m from the one found by up to 3.6 m x tan(1.5 deg) /
-// 1.2 m = 0.08 in slope. A row of dots so tilted, 200 mm across its 10 m, is found with
-// its own slope; one tilted more than any pitch error does is not a row along the road.
+// 1.2 m = 0.08 in slope. A row of dots so tilted, 200 mm across its 10 m (off the 100 mm
+// y0 bins' edges), is found with its own slope.
 TEST(LineGrouper, ARowOfDotsBesideOneLineMayRunAsAPitchErrorTiltsIt) {
-  for (const double slope : {0.02, -0.02, 0.15}) {
-    Scene s;
-    s.line(1800, 0.0, 0.0);
-    s.dots(-1830.0, slope, 10000.0);  // 200 mm across: off the 100 mm y0 bins' edges
-    std::array<DetectedLine, kMaxDetectedLines> lines{};
-    const int n = group(s, lines);
-    if (slope > 0.1) {
-      EXPECT_EQ(n, 1) << "slope " << slope;
-      continue;
-    }
-    ASSERT_EQ(n, 2) << "slope " << slope;
-    EXPECT_TRUE(lines[1].parallel);
-    EXPECT_TRUE(lines[1].dots);
-    EXPECT_EQ(lines[1].marks, 5);
-    EXPECT_NEAR(lines[1].fit.m, slope, 1e-6);
-    EXPECT_NEAR(lines[1].fit.y_at(10000.0), -1830.0, 0.1);
-  }
+  for (const double slope : {0.02, -0.02}) expect_tilted_dot_row({1800.0}, -1830.0, slope, true);
+  expect_tilted_dot_row({1800.0}, -1830.0, 0.15, false);
 }
 
 // One lane beyond the lane's two lines, the road's direction is theirs extrapolated: a
 // pitch error tilts it by up to 3.7 m x tan(1.5 deg) / 1.2 m = 0.08 in slope at 3.7 m
 // from the outermost line. A row of dots so tilted, 250 mm across its 10 m (its votes
 // along the road's direction within the 300 mm window a line beyond is looked for in), is
-// found with its own slope; one tilted more than any pitch error does is not a row along
-// the road.
+// found with its own slope.
 TEST(LineGrouper, ARowOfDotsOneLaneBeyondMayRunAsAPitchErrorTiltsIt) {
-  for (const double slope : {0.025, -0.025, 0.15}) {
-    Scene s;
-    s.line(1800, 0.0, 0.0);
-    s.line(-1800, 0.0, 0.0);
-    s.dots(-5530.0, slope, 10000.0);
-    std::array<DetectedLine, kMaxDetectedLines> lines{};
-    const int n = group(s, lines);
-    if (slope > 0.1) {
-      EXPECT_EQ(n, 2) << "slope " << slope;
-      continue;
-    }
-    ASSERT_EQ(n, 3) << "slope " << slope;
-    EXPECT_TRUE(lines[2].parallel);
-    EXPECT_TRUE(lines[2].dots);
-    EXPECT_EQ(lines[2].marks, 5);
-    EXPECT_NEAR(lines[2].fit.m, slope, 1e-6);
-    EXPECT_NEAR(lines[2].fit.y_at(10000.0), -5530.0, 0.1);
-  }
+  for (const double slope : {0.025, -0.025}) expect_tilted_dot_row({1800.0, -1800.0}, -5530.0, slope, true);
+  expect_tilted_dot_row({1800.0, -1800.0}, -5530.0, 0.15, false);
 }
 
 // The same kind of row of blobs 2.6 m beyond the left line: a line of dots beyond white
