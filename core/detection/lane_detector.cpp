@@ -13,9 +13,13 @@ namespace {
 
 static_assert(kMaxDetectedLines == kMaxLaneLines, "detection reports at most what the solver takes");
 
-constexpr int kMaxScanRows = 360;              // beyond, rows are subsampled evenly
-constexpr int kCandidatesPerPixelRow = 24;     // capacity: marks per scanned row, on average
-constexpr double kMinMarkPx = 0.8;             // marks narrower than this are not resolved
+constexpr int kMaxScanRows = 360;           // beyond, rows are subsampled evenly
+constexpr int kCandidatesPerPixelRow = 24;  // capacity: marks per scanned row, on average
+constexpr double kMinMarkPx = 0.8;          // marks narrower than this are not resolved
+// The own lane's widths its other line is looked for at in the picture (lane_metrics.hpp's
+// bounds, less the widest: a lane that wide is two lanes whose line between was missed).
+constexpr double kMinOwnLaneWidthMm = 2600.0;
+constexpr double kMaxOwnLaneWidthMm = 4800.0;
 constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
 // How far to the side rows are scanned, on the road: detection reports the lines nearest
 // the vehicle (at most 4, within 2.5 lane widths, 9 m), and grouping gates them a metre
@@ -108,6 +112,7 @@ LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& conf
       config_(config),
       scanner_(camera.Nu),
       grouper_(static_cast<int>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
+      picture_line_(camera),
       rows_(static_cast<std::size_t>(camera.Nv)),
       marks_(static_cast<std::size_t>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       joints_(marks_.size()),
@@ -499,6 +504,58 @@ std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const 
   return {marks_.data(), static_cast<std::size_t>(scan(image, pose, 0.0, false))};
 }
 
+int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey) {
+  const int n = result_.num_lines;
+  if (n < 1 || n >= kMaxDetectedLines) return kept;
+  int nearest = 0;
+  for (int j = 0; j < n; ++j) {
+    const double y0 = result_.lines[static_cast<std::size_t>(j)].fit.y0_mm;
+    if ((y0 > 0.0) != (result_.lines[0].fit.y0_mm > 0.0)) return kept;  // lines on both sides
+    if (std::abs(y0) < std::abs(result_.lines[static_cast<std::size_t>(nearest)].fit.y0_mm)) nearest = j;
+  }
+  const RoadLine beside = result_.lines[static_cast<std::size_t>(nearest)].fit;
+  const bool left_found = beside.y0_mm > 0.0;
+  const double from = left_found ? -kMaxOwnLaneWidthMm : kMinOwnLaneWidthMm;
+  const double to = left_found ? -kMinOwnLaneWidthMm : kMaxOwnLaneWidthMm;
+  const PictureLine& found =
+      picture_line_.find(image, pose, beside, from, to, config_.min_range_mm, config_.max_range_mm,
+                         config_.mark_width_mm, config_.min_contrast * static_cast<double>(levels_per_grey));
+  if (!found.found || kept + found.hits > static_cast<int>(marks_.size())) return kept;
+  // The new line goes last (rightmost) when the lines found are left of the vehicle, else
+  // first: the lines stay ordered left to right.
+  const int index = left_found ? n : 0;
+  if (!left_found) {
+    for (int j = n; j > 0; --j)
+      result_.lines[static_cast<std::size_t>(j)] = result_.lines[static_cast<std::size_t>(j - 1)];
+    for (int i = 0; i < kept; ++i)
+      if (marks_[static_cast<std::size_t>(i)].line >= 0) ++marks_[static_cast<std::size_t>(i)].line;
+  }
+  DetectedLine line;
+  line.fit = beside;
+  line.fit.y0_mm += found.offset_mm;
+  line.marks = found.hits;
+  line.parallel = true;
+  line.in_picture = true;
+  line.near_mm = 1e300, line.far_mm = 0.0;
+  for (const PictureLineHit& h : found.marks) {
+    MarkCandidate m;
+    m.left_px = h.px - h.half_width_px;
+    m.right_px = h.px + h.half_width_px;
+    m.py = h.py;
+    m.contrast = h.contrast / static_cast<double>(levels_per_grey);
+    m.X = h.X;
+    m.Y = h.Y;
+    m.line = static_cast<std::int16_t>(index);
+    m.scan_row = static_cast<std::int16_t>(h.row);
+    marks_[static_cast<std::size_t>(kept++)] = m;
+    line.near_mm = std::min(line.near_mm, h.X);
+    line.far_mm = std::max(line.far_mm, h.X);
+  }
+  result_.lines[static_cast<std::size_t>(index)] = line;
+  ++result_.num_lines;
+  return kept;
+}
+
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
                                             std::span<const RoadLine> priors) {
   result_ = DetectionResult{};
@@ -568,7 +625,8 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   int grouped = 0;
   for (const MarkCandidate& m : marks)
     if (!m.for_lines_beyond || m.line >= 0) marks_[static_cast<std::size_t>(grouped++)] = m;
-  result_.marks = marks.first(static_cast<std::size_t>(grouped));
+  grouped = add_line_in_picture(image, pose, grouped, scale);
+  result_.marks = std::span<const MarkCandidate>(marks_.data(), static_cast<std::size_t>(grouped));
   for (const MarkCandidate& m : result_.marks) result_.counters.grouped += m.line >= 0;
   choose_picks(pose);
   return result_;

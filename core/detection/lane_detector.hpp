@@ -1,6 +1,8 @@
 // Lane-mark detection on one frame: plan the rows to scan from the camera model at the
 // current pose, run the row filter, drop what cannot be paint on the road, group the
-// rest into lane lines and choose sub-pixel picks for the solver, labelled by line.
+// rest into lane lines (and, where the own lane's lines were found on one side only, look
+// for the other along its length in the picture) and choose sub-pixel picks for the
+// solver, labelled by line.
 #pragma once
 
 #include <span>
@@ -11,6 +13,7 @@
 #include "core/detection/ground_projector.hpp"
 #include "core/detection/lane_marks.hpp"
 #include "core/detection/line_grouper.hpp"
+#include "core/detection/line_in_picture.hpp"
 #include "core/detection/mark_scanner.hpp"
 
 namespace ccdlane {
@@ -70,6 +73,10 @@ class LaneDetector {
   // The picks, evenly spread over each line's marks of its kind, and a joint line's dots
   // beyond its joint's ends (at `pose`, detection's).
   void choose_picks(const CameraPose& pose);
+  // Where the lines found all lie on one side of the vehicle, the own lane's line on the
+  // other looked for along its length in the picture (line_in_picture.hpp), and added to
+  // the result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
+  int add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;
@@ -82,6 +89,7 @@ class LaneDetector {
   GroundProjector projector_;
   MarkScanner scanner_;
   LineGrouper grouper_;
+  PictureLineSearch picture_line_;
   std::vector<ScanRow> rows_;
   int num_rows_ = 0;
   std::vector<MarkCandidate> marks_;

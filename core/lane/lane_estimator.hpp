@@ -122,7 +122,9 @@ class LaneEstimator {
                            std::array<CameraPose, kMaxSearchPoses>& poses);
   Attempt search(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   // Whether a solve is a supported lane, and whether a line runs inside it.
-  enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside };
+  // What a search's pose gives: no lane, a lane, or one of the weaker kinds search() takes
+  // only when no pose gives a lane.
+  enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside, lane_with_a_line_from_the_picture };
   Found supported(const SolveResult& r, const VehicleInputs& vehicle) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   // By how much a cold start's first solve says the height is off, while the mount's
@@ -156,7 +158,7 @@ class LaneEstimator {
   CameraPose last_pose_;
   bool have_last_ = false;
   bool rescaled_ = false;  // the mount acquisition changed the height this frame
-  int misses_ = 0;  // frames in a row without an estimate
+  int misses_ = 0;         // frames in a row without an estimate
 
   // This frame's stage results, which report() turns into the estimate.
   CameraPose detection_pose_;

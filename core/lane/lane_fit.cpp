@@ -197,7 +197,7 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
     const int line = detection_line_[k == 0 ? left : right];
     if (problem[k] != SupportProblem::none) {
       const DetectedLine& d = detection_->lines[static_cast<std::size_t>(line)];
-      const bool own_slope = d.dots && d.far_mm - d.near_mm >= LineGrouper::kOwnSlopeSpanMm;
+      const bool own_slope = (d.dots && d.far_mm - d.near_mm >= LineGrouper::kOwnSlopeSpanMm) || d.in_picture;
       if (!one_full || (full_lines < 2 && !own_slope) ||
           !has_dash_support(support[k], k == 0 ? left : right, lane_width_mm))
         return problem[k];
@@ -261,6 +261,20 @@ bool LaneFit::line_inside_lane(const OwnLane& own) const {
   return is_line_inside(line);
 }
 
+bool LaneFit::line_from_picture(const OwnLane& own) const {
+  for (const int j : {own.left, own.right})
+    if (detection_->lines[static_cast<std::size_t>(detection_line_[static_cast<std::size_t>(j)])].in_picture)
+      return true;
+  return false;
+}
+
+int LaneFit::picks_from_marks() const {
+  int n = 0;
+  for (const Pick& p : picks())
+    n += !detection_->lines[static_cast<std::size_t>(detection_line_[static_cast<std::size_t>(p.line)])].in_picture;
+  return n;
+}
+
 SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
                                              const Attitude& mount, bool height_settled) const {
   if (const SupportProblem p = line_support_problem(r, own.left, own.right, own.lane_width_mm);
@@ -274,9 +288,8 @@ SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane
   // Until the start of the run has settled the height (mount_refinement.hpp), widths scale
   // with its error: a lane is one over as wide a range as the height's bound allows.
   if (!height_settled && priors.lane_width_mm)
-    priors.lane_width_mm->sigma = std::max(priors.lane_width_mm->sigma, kUnsettledHeightError *
-                                                                            priors.lane_width_mm->mean /
-                                                                            kPriorAgreementSigmas);
+    priors.lane_width_mm->sigma = std::max(priors.lane_width_mm->sigma,
+                                           kUnsettledHeightError * priors.lane_width_mm->mean / kPriorAgreementSigmas);
   if (const SupportProblem p = check_priors(priors, r.pose, own.lane_width_mm); p != SupportProblem::none) return p;
   if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, mount); p != SupportProblem::none) return p;
   if (const SupportProblem p = check_heading(own.heading_deg); p != SupportProblem::none) return p;

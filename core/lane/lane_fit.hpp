@@ -47,14 +47,21 @@ class LaneFit {
   // Why the solved lines `own` names are not a lane a car can drive at `speed_mps`
   // (lane_support.hpp); none when they are. Widths are judged loosely while the height
   // is not settled (mount_refinement.hpp).
-  SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
-                                      const Attitude& mount,
+  SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps, const Attitude& mount,
                                       bool height_settled = true) const;
   // Whether a line runs inside the lane `own` names (lane_support.hpp's
   // kMinInsideLineDashes): the lane is then two, seen from a height taken too low, or a
   // lane with a seam and a vehicle's edges in it. Not a verdict of its own: a search
   // prefers a lane without one (lane_estimator.hpp).
   bool line_inside_lane(const OwnLane& own) const;
+  // Whether one of the lines `own` names was found along its length in the picture
+  // (line_in_picture.hpp) rather than from the marks the row filter kept: the weaker
+  // evidence, which a search takes only when no pose gives a lane without it.
+  bool line_from_picture(const OwnLane& own) const;
+  // The picks of the lines found from the row filter's marks, not from the picture: what
+  // a search that finds no lane compares its poses by (a line from the picture is looked
+  // for beside any line, and adds its hits at any pose).
+  int picks_from_marks() const;
   // Why solved line j, on its own, is not a line to report (lane_support.hpp): its marks
   // cover too little of the searched road, or it was placed only as a parallel of the
   // others; beside a supported lane (beside_a_lane), a single dash a lane's width from the
@@ -106,8 +113,8 @@ class LaneFit {
   std::array<int, kMaxLaneLines> prior_index_{};     // per solver line: detection's prior_index
   std::array<int, kMaxLaneLines> detection_line_{};  // per solver line: its line in detection()
   std::vector<double> residual_px_;                  // per pick, of the last solve
-  mutable std::vector<double> scratch_;  // a median's values: the residuals', a line's paint widths'
-  SolverPriors solve_priors_;  // of the last solve
+  mutable std::vector<double> scratch_;              // a median's values: the residuals', a line's paint widths'
+  SolverPriors solve_priors_;                        // of the last solve
 };
 
 }  // namespace ccdlane

@@ -1,0 +1,117 @@
+// The own lane's other line, looked for along its whole length in the picture.
+//
+// The row filter keeps a bar only when it is told as paint or as a raised marker on its
+// own, and grouping needs several such marks. A line of Botts' dots three or four metres
+// apart, half of them lost in a car's shadow, or a line whose markers are seen 20-40 m
+// ahead as specks a few pixels wide, leaves too few. Where one of the own lane's lines is
+// found and the other is not, the pose and the found line say where the other runs in the
+// picture to within the lane's width: a one-parameter family of lines, each through the
+// road's vanishing point. Along each, every scan row either shows a bright bar between
+// two darker sides or not; the specks of concrete and asphalt are spread over every
+// candidate alike, a line's marks pile up on one. Read so, a line stands out from a few
+// dots where no single one of them would (the classic column histogram of a bird's-eye
+// view, done in the picture without warping it).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "base/image_view.hpp"
+#include "core/detection/ground_projector.hpp"
+#include "core/geometry/camera_model.hpp"
+#include "core/geometry/road_line.hpp"
+
+namespace ccdlane {
+
+// One scan row's place on a candidate line: where a bar stood out on it.
+struct PictureLineHit {
+  double px = 0, py = 0;  // 1-based observed pixel: the bar's centre
+  double half_width_px = 1;
+  double contrast = 0;  // measure levels above the brighter side
+  double X = 0, Y = 0;  // on the road at the pose, mm
+  int row = 0;          // index of the row read (far to near)
+};
+
+struct PictureLine {
+  bool found = false;
+  double offset_mm = 0;  // of the line found, from the line it was looked for beside (+ left)
+  int hits = 0;          // rows along it where a bar stands out
+  int groups = 0;        // separate places along the road they lie in (kGroupGapMm apart)
+  // Separate pieces in the picture: runs of hits on consecutive rows read. A car's back,
+  // upright, spans rows that meet the road over tens of metres: many places on the road,
+  // one piece in the picture.
+  int pieces = 0;
+  double span_mm = 0;                     // the road they spread over
+  double baseline = 0;                    // the hits a candidate has by chance: the median candidate's
+  double spread = 0;                      // and chance's standard deviation about it
+  int samples = 0;                        // rows the candidates were read on
+  std::span<const PictureLineHit> marks;  // the hits of the line found
+};
+
+class PictureLineSearch {
+ public:
+  // Sized for frames of `camera` (Nu x Nv); find() never allocates.
+  explicit PictureLineSearch(const CameraSpec& camera);
+
+  // Looks for a line parallel to `beside` (its slope and curvature), at lateral offsets
+  // from_mm..to_mm from it (signed: + left; from_mm < to_mm), over the road near_mm to
+  // far_mm ahead as seen from `pose`, for paint `mark_width_mm` wide standing
+  // `min_contrast` measure levels above both its sides.
+  const PictureLine& find(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double from_mm,
+                          double to_mm, double near_mm, double far_mm, double mark_width_mm, double min_contrast);
+
+  static constexpr double kOffsetStepMm = 40.0;
+  // The rows read: each marker this long on the road (a Botts' dot) is crossed by two of
+  // them at least, or by one where it spans less than two rows. (Detection's scan rows
+  // are thinned for paint and may pass between a dot's.)
+  static constexpr double kMarkerLengthMm = 100.0;
+  static constexpr int kMaxOffsets = 80;
+  static constexpr int kAnchorStep = 4;  // candidates projected exactly, the rest interpolated
+  // Hits this far apart along the road are separate marks (a dot's rows, a dash's).
+  static constexpr double kGroupGapMm = 1000.0;
+  // What a line needs: hits in this many separate places over this much road, and more
+  // hits than chance gives a candidate by this many of chance's standard deviations (at
+  // least a Poisson count's, the square root of the count plus one).
+  static constexpr int kMinGroups = 4;
+  static constexpr int kMinPieces = 4;
+  static constexpr double kMinSpanMm = 8000.0;
+  static constexpr int kMinHits = 6;
+  static constexpr double kMinSigmas = 5.0;
+  static constexpr double kMadToSigma = 1.4826;  // a normal spread's sigma over its MAD
+  // The search is for a few marks on a clean road: where chance alone puts more hits than
+  // this on the median candidate (a mottled, textured or noisy picture, bars everywhere),
+  // a few more on one say nothing of a line.
+  static constexpr int kMaxChanceHits = 2;
+
+ private:
+  // The bar response of columns [x0, x1) of 0-based row y into ridge_ (x0-based).
+  void ridge_row(const ImageView& image, int y, int x0, int x1, int half);
+
+  // The rows read at the pose: where, and the width paint spans on each.
+  void plan_rows(const CameraPose& pose, double near_mm, double far_mm, double mark_width_mm);
+  struct Row {
+    int y = 0;       // 0-based
+    double X = 0.0;  // road distance at the principal column, mm
+    int half = 1;    // paint's half width, pixels
+  };
+
+  CameraSpec camera_;
+  std::vector<Row> rows_;
+  int num_rows_ = 0;
+  std::vector<std::uint16_t> measure_;
+  std::vector<std::int32_t> prefix_;
+  std::vector<float> ridge_;
+  // Per offset, per scan row: the best bar the candidate passes on it (contrast 0: none).
+  struct Cell {
+    std::int16_t x = 0, y = 0, half = 0;  // 0-based pixel, the bar's half width
+    float contrast = 0.0f;
+  };
+  std::vector<Cell> cells_;
+  std::vector<Vec2> place_;  // per offset: its pixel on the row being read
+  std::vector<int> counts_;
+  std::vector<PictureLineHit> found_;
+  PictureLine result_;
+};
+
+}  // namespace ccdlane

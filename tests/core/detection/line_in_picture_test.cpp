@@ -1,0 +1,143 @@
+// The own lane's other line looked for along its length in the picture: found from a few
+// markers a lane's width from the line beside it, where it is; never in speckled concrete,
+// along a step, or at the end of the widths looked at.
+#include "core/detection/line_in_picture.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/detection/lane_detector.hpp"
+#include "tests/core/detection/marker_drawing.hpp"
+
+namespace ccdlane {
+namespace {
+
+using test::draw_band;
+using test::draw_dot;
+using test::TuSimpleConcreteRoad;
+
+constexpr double kLeftLineY = 1800.0, kLaneWidthMm = 3650.0, kDotsY = kLeftLineY - kLaneWidthMm;
+constexpr double kMinContrast = 10.0;  // DetectionConfig's min_contrast, 8-bit frames
+// A row of markers with most of them missing: five, 4-9 m apart (worn off, hidden by the
+// traffic ahead), each too few on its own for the grouping's lines.
+constexpr double kDotsX[] = {6000.0, 11500.0, 17000.0, 24000.0, 33000.0};
+
+// Concrete's aggregate: bright specks a pixel or two across, 20-40 levels above it,
+// scattered over the road as they are over real slabs.
+void speckle(const MutableImageView& im, std::uint32_t seed, int count) {
+  for (int i = 0; i < count; ++i) {
+    seed = seed * 1664525u + 1013904223u;
+    const int x = static_cast<int>((seed >> 8) % static_cast<std::uint32_t>(im.width - 2));
+    seed = seed * 1664525u + 1013904223u;
+    const int y = static_cast<int>(im.height / 3 + (seed >> 8) % static_cast<std::uint32_t>(2 * im.height / 3 - 1));
+    const auto lift = static_cast<std::uint8_t>(170 + (seed >> 28) * 2);
+    im.row(y)[x] = lift;
+    if (seed & 1u) im.row(y)[x + 1] = lift;
+  }
+}
+
+const RoadLine kLeftLine{kLeftLineY, 0.0, 0.0};
+
+// The right-hand line of the lane whose left line is kLeftLine, over 3-40 m.
+const PictureLine& look_right(PictureLineSearch& search, const TuSimpleConcreteRoad& road) {
+  return search.find(road.frame.view, road.pose, kLeftLine, -4800.0, -2600.0, 3000.0, 40000.0, 130.0, kMinContrast);
+}
+
+TEST(PictureLineSearch, AFewMarkersALanesWidthFromTheLineFoundAreItsOtherLine) {
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  PictureLineSearch search(road.c.camera);
+  const PictureLine& l = look_right(search, road);
+  ASSERT_TRUE(l.found) << l.hits << " hits in " << l.groups << " places, " << l.pieces << " pieces, chance "
+                       << l.baseline;
+  // At the markers' offset to within a candidate step (the markers' pixels are rounded).
+  EXPECT_NEAR(l.offset_mm, kDotsY - kLeftLineY, PictureLineSearch::kOffsetStepMm);
+  // Four of the five markers are hit (the farthest, 33 m off, covers a fifth of a row),
+  // and every hit lies on the line: within half a step and a pixel of it (a speck there
+  // is a hit too; the solve's fit takes it as one more pick within its noise).
+  int markers_hit = 0;
+  for (const double X : kDotsX) {
+    bool hit = false;
+    for (const PictureLineHit& h : l.marks) hit |= std::abs(h.X - X) < test::kDotRadiusMm + h.X / 200.0;
+    markers_hit += hit;
+  }
+  EXPECT_GE(markers_hit, 4);
+  for (const PictureLineHit& h : l.marks)
+    EXPECT_NEAR(h.Y, kDotsY, 0.5 * PictureLineSearch::kOffsetStepMm + h.X / 150.0) << "a hit at " << h.X << " mm";
+}
+
+TEST(PictureLineSearch, SpeckledConcreteHasNoLine) {
+  // Specks pile up on every candidate alike: none stands out by five of chance's standard
+  // deviations. Twenty textures, as dense as the aggregate of a pale slab.
+  int found = 0;
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    TuSimpleConcreteRoad road(seed);
+    speckle(road.frame.view, seed * 7919u, 6000);
+    PictureLineSearch search(road.c.camera);
+    found += look_right(search, road).found;
+  }
+  EXPECT_EQ(found, 0);
+}
+
+TEST(PictureLineSearch, AStepAlongTheRoadIsNoLine) {
+  // A shoulder of brighter concrete beyond the lane's edge, 50 levels up: bright on one
+  // side only, a shadow's border or a kerb looks the same.
+  TuSimpleConcreteRoad road(4);
+  for (int y = 0; y < road.frame.view.height; ++y)
+    for (int x = 0; x < road.frame.view.width; ++x) {
+      double X = 0, Y = 0;
+      if (road.ground.ground(x + 1.0, y + 1.0, X, Y) && Y < kDotsY) road.frame.view.row(y)[x] = 200;
+    }
+  PictureLineSearch search(road.c.camera);
+  EXPECT_FALSE(look_right(search, road).found);
+}
+
+TEST(PictureLineSearch, ALineAtTheEndOfTheWidthsLookedAtIsNotTaken) {
+  // The markers 4.82 m from the line found: the widest candidate's hits peak at the end of
+  // the widths looked at, where a line nearer or farther would peak too (the next lane's
+  // line, or a wide lane's); it is not taken for this lane's.
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kLeftLineY - 4820.0, 230);
+  PictureLineSearch search(road.c.camera);
+  const PictureLine& l = look_right(search, road);
+  EXPECT_GT(l.hits, PictureLineSearch::kMinHits);  // they are seen, at the end
+  EXPECT_NEAR(l.offset_mm, -4800.0, PictureLineSearch::kOffsetStepMm);
+  EXPECT_FALSE(l.found);
+}
+
+// The detector with a solid line on the left and the markers on the right: the grouping
+// finds the line of paint, and the markers, too few for any line it builds from marks,
+// are the lane's right line, found in the picture where they are.
+TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLine) {
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
+  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  LaneDetector det(road.c.camera, road.c.detection);
+  const DetectionResult& r = det.detect(road.frame.view, road.pose, {});
+  ASSERT_EQ(r.num_lines, 2);
+  EXPECT_FALSE(r.lines[0].in_picture);
+  EXPECT_NEAR(r.lines[0].fit.y_at(10000.0), kLeftLineY, 50.0);
+  const DetectedLine& right = r.lines[1];
+  EXPECT_TRUE(right.in_picture);
+  EXPECT_TRUE(right.parallel);
+  EXPECT_NEAR(right.fit.y_at(10000.0), kDotsY, PictureLineSearch::kOffsetStepMm + 50.0);
+  ASSERT_GT(right.num_picks, 0);
+  for (const MarkCandidate& m : r.marks)
+    if (m.line == 1) {
+      EXPECT_NEAR(m.Y, kDotsY, 0.5 * PictureLineSearch::kOffsetStepMm + m.X / 150.0) << m.X;
+    }
+  // Without the markers there is the left line alone.
+  TuSimpleConcreteRoad bare(3);
+  speckle(bare.frame.view, 11, 300);
+  draw_band(bare.frame.view, bare.ground, bare.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
+  EXPECT_EQ(det.detect(bare.frame.view, bare.pose, {}).num_lines, 1);
+}
+
+}  // namespace
+}  // namespace ccdlane
