@@ -625,7 +625,10 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   int grouped = 0;
   for (const MarkCandidate& m : marks)
     if (!m.for_lines_beyond || m.line >= 0) marks_[static_cast<std::size_t>(grouped++)] = m;
-  grouped = add_line_in_picture(image, pose, grouped, scale);
+  // The own lane's other line in the picture only from a pose a solve gave (a search's
+  // look again, or the previous frame's): from a guessed pose, a lane's width across says
+  // little of where in the picture that line runs.
+  if (!priors.empty()) grouped = add_line_in_picture(image, pose, grouped, scale);
   result_.marks = std::span<const MarkCandidate>(marks_.data(), static_cast<std::size_t>(grouped));
   for (const MarkCandidate& m : result_.marks) result_.counters.grouped += m.line >= 0;
   choose_picks(pose);

@@ -76,6 +76,7 @@ class LaneDetector {
   // Where the lines found all lie on one side of the vehicle, the own lane's line on the
   // other looked for along its length in the picture (line_in_picture.hpp), and added to
   // the result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
+  // detect() asks for it only when it has lines to go on (its pose is a solve's).
   int add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.

@@ -110,16 +110,20 @@ TEST(PictureLineSearch, ALineAtTheEndOfTheWidthsLookedAtIsNotTaken) {
   EXPECT_FALSE(l.found);
 }
 
-// The detector with a solid line on the left and the markers on the right: the grouping
+// The detector with a solid line on the left and the markers on the right, looking again
+// from a solve's pose along its line (as a search does, or a tracked frame): the grouping
 // finds the line of paint, and the markers, too few for any line it builds from marks,
-// are the lane's right line, found in the picture where they are.
+// are the lane's right line, found in the picture where they are. From a guessed pose (no
+// lines to go on) the picture is not searched.
 TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLine) {
   TuSimpleConcreteRoad road(3);
   speckle(road.frame.view, 11, 300);
   draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
   for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
   LaneDetector det(road.c.camera, road.c.detection);
-  const DetectionResult& r = det.detect(road.frame.view, road.pose, {});
+  EXPECT_EQ(det.detect(road.frame.view, road.pose, {}).num_lines, 1);
+  const RoadLine solved[] = {kLeftLine};
+  const DetectionResult& r = det.detect(road.frame.view, road.pose, solved);
   ASSERT_EQ(r.num_lines, 2);
   EXPECT_FALSE(r.lines[0].in_picture);
   EXPECT_NEAR(r.lines[0].fit.y_at(10000.0), kLeftLineY, 50.0);
@@ -136,7 +140,7 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
   TuSimpleConcreteRoad bare(3);
   speckle(bare.frame.view, 11, 300);
   draw_band(bare.frame.view, bare.ground, bare.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
-  EXPECT_EQ(det.detect(bare.frame.view, bare.pose, {}).num_lines, 1);
+  EXPECT_EQ(det.detect(bare.frame.view, bare.pose, solved).num_lines, 1);
 }
 
 }  // namespace
