@@ -6,7 +6,7 @@
 // ahead as specks a few pixels wide, leaves too few. Where one of the own lane's lines is
 // found and the other is not, the pose and the found line say where the other runs in the
 // picture to within the lane's width: a one-parameter family of lines, each through the
-// road's vanishing point. Along each, every scan row either shows a bright bar between
+// road's vanishing point. Along each, every row read either shows a bright bar between
 // two darker sides or not; the specks of concrete and asphalt are spread over every
 // candidate alike, a line's marks pile up on one. Read so, a line stands out from a few
 // dots where no single one of them would (the classic column histogram of a bird's-eye
@@ -24,7 +24,7 @@
 
 namespace ccdlane {
 
-// One scan row's place on a candidate line: where a bar stood out on it.
+// One row's place on a candidate line: where a bar stood out on it.
 struct PictureLineHit {
   double px = 0, py = 0;  // 1-based observed pixel: the bar's centre
   double half_width_px = 1;
@@ -102,7 +102,7 @@ class PictureLineSearch {
   std::vector<std::uint16_t> measure_;
   std::vector<std::int32_t> prefix_;
   std::vector<float> ridge_;
-  // Per offset, per scan row: the best bar the candidate passes on it (contrast 0: none).
+  // Per offset, per row read: the best bar the candidate passes on it (contrast 0: none).
   struct Cell {
     std::int16_t x = 0, y = 0, half = 0;  // 0-based pixel, the bar's half width
     float contrast = 0.0f;
