@@ -13,14 +13,14 @@ namespace {
 
 static_assert(kMaxDetectedLines == kMaxLaneLines, "detection reports at most what the solver takes");
 
-constexpr int kMaxScanRows = 360;           // beyond, rows are subsampled evenly
-constexpr int kCandidatesPerPixelRow = 24;  // capacity: marks per scanned row, on average
-constexpr double kMinMarkPx = 0.8;          // marks narrower than this are not resolved
+constexpr int kMaxScanRows = 360;              // beyond, rows are subsampled evenly
+constexpr int kCandidatesPerPixelRow = 24;     // capacity: marks per scanned row, on average
+constexpr double kMinMarkPx = 0.8;             // marks narrower than this are not resolved
+constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
 // The own lane's widths its other line is looked for at in the picture (lane_metrics.hpp's
 // bounds, less the widest: a lane that wide is two lanes whose line between was missed).
 constexpr double kMinOwnLaneWidthMm = 2600.0;
 constexpr double kMaxOwnLaneWidthMm = 4800.0;
-constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
 // How far to the side rows are scanned, on the road: detection reports the lines nearest
 // the vehicle (at most 4, within 2.5 lane widths, 9 m), and grouping gates them a metre
 // wide; beyond that, with room for a yaw error of 3 degrees (0.05 per mm ahead), paint

@@ -129,7 +129,6 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
       ++counts_[static_cast<std::size_t>(k)];
     }
   }
-  result_.samples = num_rows;
   int best_k = 0;
   for (int k = 1; k < offsets; ++k)
     if (counts_[static_cast<std::size_t>(k)] > counts_[static_cast<std::size_t>(best_k)]) best_k = k;

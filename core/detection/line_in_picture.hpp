@@ -45,7 +45,6 @@ struct PictureLine {
   double span_mm = 0;                     // the road they spread over
   double baseline = 0;                    // the hits a candidate has by chance: the median candidate's
   double spread = 0;                      // and chance's standard deviation about it
-  int samples = 0;                        // rows the candidates were read on
   std::span<const PictureLineHit> marks;  // the hits of the line found
 };
 

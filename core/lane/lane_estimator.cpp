@@ -158,7 +158,9 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none, rescaled};
 }
 
-bool LaneEstimator::height_unsettled() const { return config_.priors.lane_width_mm && !mount_.height_settled(); }
+bool LaneEstimator::height_unsettled() const {
+  return config_.priors.lane_width_mm && !mount_.height_settled();
+}
 
 std::optional<double> LaneEstimator::own_lane_width(const SolveResult& r) {
   const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
@@ -268,25 +270,29 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // first supported one with a line found only in the picture (line_in_picture.hpp: the
   // weakest evidence of a lane's line), else the outcome of the pose whose solve had the
   // most picks from marks (the lines it saw, each reported on its own support), or the
-  // first pose's when none solved (its reason is the frame's). Why not the first lane: the poses are tried in an order
-  // (the picture's vanishing point, the mount, pitched steps), and from each the detection groups other bars, so the
-  // first lane depended on how far off the configured mount was (still 0004 lost an own line from a height 10 % off).
-  // The own lane is what the search is for; its picks, not all of them, because lines beyond it come with short runs of
-  // far dashes and clutter (docs/real-roads.md). The other heights are not looked at once a lane is found: they are
-  // guesses for a height the lane's width contradicts, and this one agrees. A lane of a lane's width only at another
-  // height is the weaker evidence: from a pose a quarter too low, the own lane's line beside a solid one is too near it
-  // to be taken, and the line beyond makes a lane twice as wide with it that a height three quarters as high turns into
-  // one of a lane's width; from a pose a quarter too high, the own lane is a third too wide, which the unsettled
-  // height's tolerance still takes.
+  // first pose's when none solved (its reason is the frame's). Why not the first lane:
+  // the poses are tried in an order (the picture's vanishing point, the mount, pitched
+  // steps), and from each the detection groups
+  // other bars, so the first lane depended on how far off the configured mount was
+  // (still 0004 lost an own line from a height 10 % off). The own lane is what the
+  // search is for; its picks, not all of them, because lines beyond it come with short
+  // runs of far dashes and clutter (docs/real-roads.md). The other heights are not
+  // looked at once a lane is found: they are guesses for a height the lane's width
+  // contradicts, and this one agrees.
+  // A lane of a lane's width only at another height is the weaker evidence: from a pose
+  // a quarter too low, the own lane's line beside a solid one is too near it to be
+  // taken, and the line beyond makes a lane twice as wide with it that a height three
+  // quarters as high turns into one of a lane's width; from a pose a quarter too high,
+  // the own lane is a third too wide, which the unsettled height's tolerance still takes.
   std::array<CameraPose, kMaxSearchPoses> poses{};
   const SearchPoses searched = search_poses(image, gyro, poses);
   const int n = searched.count;
   Attempt first, lane;
   int lane_pose = -1, lane_picks = 0;  // lane's pose and its own lane's picks
-  int other_height = -1;               // the first pose whose lane is a lane's width only at another height
-  int line_inside = -1;                // the first pose whose lane has a line inside it
-  int from_picture = -1;               // the first pose whose lane has a line found only in the picture
-  int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks
+  int other_height = -1;  // the first pose whose lane is a lane's width only at another height
+  int line_inside = -1;   // the first pose whose lane has a line inside it
+  int from_picture = -1;  // the first pose whose lane has a line found only in the picture
+  int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks from marks
   int k = 0;
   for (; k < n && !(lane.solve && k % searched.per_height == 0); ++k) {
     detection_pose_ = poses[k];
@@ -359,8 +365,9 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
   // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
   // lane is one only with the support a real one gives (lane_support.hpp).
   if (tracked_.metrics.has_lane)
-    support_ = fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
-                                         mount_.mount(), mount_.height_settled());
+    support_ =
+        fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount(),
+                                  mount_.height_settled());
   // The mount's height learns from widths at its own scale (a cold start may have looked
   // from another: height_scale).
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)

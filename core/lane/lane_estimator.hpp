@@ -158,7 +158,7 @@ class LaneEstimator {
   CameraPose last_pose_;
   bool have_last_ = false;
   bool rescaled_ = false;  // the mount acquisition changed the height this frame
-  int misses_ = 0;         // frames in a row without an estimate
+  int misses_ = 0;  // frames in a row without an estimate
 
   // This frame's stage results, which report() turns into the estimate.
   CameraPose detection_pose_;

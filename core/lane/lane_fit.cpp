@@ -288,8 +288,9 @@ SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane
   // Until the start of the run has settled the height (mount_refinement.hpp), widths scale
   // with its error: a lane is one over as wide a range as the height's bound allows.
   if (!height_settled && priors.lane_width_mm)
-    priors.lane_width_mm->sigma = std::max(priors.lane_width_mm->sigma,
-                                           kUnsettledHeightError * priors.lane_width_mm->mean / kPriorAgreementSigmas);
+    priors.lane_width_mm->sigma = std::max(priors.lane_width_mm->sigma, kUnsettledHeightError *
+                                                                            priors.lane_width_mm->mean /
+                                                                            kPriorAgreementSigmas);
   if (const SupportProblem p = check_priors(priors, r.pose, own.lane_width_mm); p != SupportProblem::none) return p;
   if (const SupportProblem p = check_body_motion(priors, r.pose.attitude, mount); p != SupportProblem::none) return p;
   if (const SupportProblem p = check_heading(own.heading_deg); p != SupportProblem::none) return p;

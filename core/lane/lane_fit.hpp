@@ -47,7 +47,8 @@ class LaneFit {
   // Why the solved lines `own` names are not a lane a car can drive at `speed_mps`
   // (lane_support.hpp); none when they are. Widths are judged loosely while the height
   // is not settled (mount_refinement.hpp).
-  SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps, const Attitude& mount,
+  SupportProblem lane_support_problem(const SolveResult& r, const OwnLane& own, double speed_mps,
+                                      const Attitude& mount,
                                       bool height_settled = true) const;
   // Whether a line runs inside the lane `own` names (lane_support.hpp's
   // kMinInsideLineDashes): the lane is then two, seen from a height taken too low, or a
@@ -113,8 +114,8 @@ class LaneFit {
   std::array<int, kMaxLaneLines> prior_index_{};     // per solver line: detection's prior_index
   std::array<int, kMaxLaneLines> detection_line_{};  // per solver line: its line in detection()
   std::vector<double> residual_px_;                  // per pick, of the last solve
-  mutable std::vector<double> scratch_;              // a median's values: the residuals', a line's paint widths'
-  SolverPriors solve_priors_;                        // of the last solve
+  mutable std::vector<double> scratch_;  // a median's values: the residuals', a line's paint widths'
+  SolverPriors solve_priors_;  // of the last solve
 };
 
 }  // namespace ccdlane
