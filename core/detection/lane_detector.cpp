@@ -17,8 +17,9 @@ constexpr int kMaxScanRows = 360;              // beyond, rows are subsampled ev
 constexpr int kCandidatesPerPixelRow = 24;     // capacity: marks per scanned row, on average
 constexpr double kMinMarkPx = 0.8;             // marks narrower than this are not resolved
 constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
-// The own lane's widths its other line is looked for at in the picture (lane_metrics.hpp's
-// bounds, less the widest: a lane that wide is two lanes whose line between was missed).
+// The lane widths a line is looked for at in the picture, beside the own lane's line it
+// is the other line of, or beyond (lane_metrics.hpp's bounds, less the widest: a lane
+// that wide is two lanes whose line between was missed).
 constexpr double kMinOwnLaneWidthMm = 2600.0;
 constexpr double kMaxOwnLaneWidthMm = 4800.0;
 // How far to the side rows are scanned, on the road: detection reports the lines nearest
@@ -515,21 +516,44 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
   }
   const RoadLine beside = result_.lines[static_cast<std::size_t>(nearest)].fit;
   const bool left_found = beside.y0_mm > 0.0;
-  const double from = left_found ? -kMaxOwnLaneWidthMm : kMinOwnLaneWidthMm;
-  const double to = left_found ? -kMinOwnLaneWidthMm : kMaxOwnLaneWidthMm;
+  // The new line goes last (rightmost) when the lines found are left of the vehicle, else
+  // first: the lines stay ordered left to right.
+  return look_for_line_in_picture(image, pose, beside, left_found ? -1.0 : +1.0, left_found ? n : 0, kept,
+                                  levels_per_grey);
+}
+
+int LaneDetector::add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept,
+                                              float levels_per_grey) {
+  for (const double side : {+1.0, -1.0}) {
+    const int n = result_.num_lines;
+    if (n >= kMaxDetectedLines) break;
+    // Beyond the own lane's line on that side, where nothing was found beyond it.
+    int on_side = 0, own = -1;
+    for (int j = 0; j < n; ++j)
+      if (side * result_.lines[static_cast<std::size_t>(j)].fit.y0_mm > 0.0) ++on_side, own = j;
+    if (on_side != 1) continue;
+    const DetectedLine& line = result_.lines[static_cast<std::size_t>(own)];
+    // A yellow line is the travelled way's edge: beyond it lie a shoulder and a barrier,
+    // no lane (LineGrouper::find_lines_beyond's rule).
+    if (line.yellow) continue;
+    kept = look_for_line_in_picture(image, pose, line.fit, side, side > 0.0 ? 0 : n, kept, levels_per_grey);
+  }
+  return kept;
+}
+
+int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
+                                           double side, int index, int kept, float levels_per_grey) {
+  const double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
+  const double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
   const PictureLine& found =
       picture_line_.find(image, pose, beside, from, to, config_.min_range_mm, config_.max_range_mm,
                          config_.mark_width_mm, config_.min_contrast * static_cast<double>(levels_per_grey));
   if (!found.found || kept + found.hits > static_cast<int>(marks_.size())) return kept;
-  // The new line goes last (rightmost) when the lines found are left of the vehicle, else
-  // first: the lines stay ordered left to right.
-  const int index = left_found ? n : 0;
-  if (!left_found) {
-    for (int j = n; j > 0; --j)
-      result_.lines[static_cast<std::size_t>(j)] = result_.lines[static_cast<std::size_t>(j - 1)];
-    for (int i = 0; i < kept; ++i)
-      if (marks_[static_cast<std::size_t>(i)].line >= 0) ++marks_[static_cast<std::size_t>(i)].line;
-  }
+  const int n = result_.num_lines;
+  for (int j = n; j > index; --j)
+    result_.lines[static_cast<std::size_t>(j)] = result_.lines[static_cast<std::size_t>(j - 1)];
+  for (int i = 0; i < kept; ++i)
+    if (marks_[static_cast<std::size_t>(i)].line >= index) ++marks_[static_cast<std::size_t>(i)].line;
   DetectedLine line;
   line.fit = beside;
   line.fit.y0_mm += found.offset_mm;
@@ -557,7 +581,7 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
 }
 
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
-                                            std::span<const RoadLine> priors) {
+                                            std::span<const RoadLine> priors, PictureSearch picture_search) {
   result_ = DetectionResult{};
   if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return result_;
   double mean_m = 0.0, mean_c = 0.0;
@@ -628,7 +652,11 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   // The own lane's other line in the picture only from a pose a solve gave (a search's
   // look again, or the previous frame's): from a guessed pose, a lane's width across says
   // little of where in the picture that line runs.
-  if (!priors.empty()) grouped = add_line_in_picture(image, pose, grouped, scale);
+  if (!priors.empty()) {
+    grouped = add_line_in_picture(image, pose, grouped, scale);
+    if (picture_search == PictureSearch::own_lane_and_beyond)
+      grouped = add_lines_beyond_in_picture(image, pose, grouped, scale);
+  }
   result_.marks = std::span<const MarkCandidate>(marks_.data(), static_cast<std::size_t>(grouped));
   for (const MarkCandidate& m : result_.marks) result_.counters.grouped += m.line >= 0;
   choose_picks(pose);

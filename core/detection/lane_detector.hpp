@@ -1,8 +1,9 @@
 // Lane-mark detection on one frame: plan the rows to scan from the camera model at the
 // current pose, run the row filter, drop what cannot be paint on the road, group the
 // rest into lane lines (and, where the own lane's lines were found on one side only, look
-// for the other along its length in the picture) and choose sub-pixel picks for the
-// solver, labelled by line.
+// for the other along its length in the picture; on a search's second look, the next
+// lanes' lines beyond them too) and choose sub-pixel picks for the solver, labelled by
+// line.
 #pragma once
 
 #include <span>
@@ -18,6 +19,13 @@
 
 namespace ccdlane {
 
+// What detect() looks for along its length in the picture (line_in_picture.hpp), from a
+// pose a solve gave: the own lane's line on a side where none was found, and, also, the
+// next lane's line beyond each own line that has nothing found beyond it. The second
+// costs about a millisecond, which a still's second look can spend and a tracked frame,
+// whose whole budget that is, cannot.
+enum class PictureSearch { own_lane, own_lane_and_beyond };
+
 class LaneDetector {
  public:
   // Every workspace is sized here for frames of camera.Nu x camera.Nv; detect() never
@@ -28,7 +36,8 @@ class LaneDetector {
   // seen from `pose` (the best current guess: previous frame, gyro, or nominal). `priors`
   // are the previous frame's lines in the same road frame (empty on the first frame or
   // after a loss). The result stays valid until the next call.
-  const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> priors);
+  const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> priors,
+                                PictureSearch picture_search = PictureSearch::own_lane);
 
   // The bars the row filter finds on the rows of the searched range seen from `pose`,
   // without the road-plane, width, orientation and step tests or any grouping (a raised
@@ -78,6 +87,14 @@ class LaneDetector {
   // the result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
   // detect() asks for it only when it has lines to go on (its pose is a solve's).
   int add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
+  // Beyond each own lane's line with no line found beyond it (and not yellow: the
+  // travelled way's edge), the next lane's line looked for the same way.
+  int add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
+  // The line a lane's width to `side` (+1 left, -1 right) of `beside`, looked for in the
+  // picture and, when found, inserted at `index` of the result's lines (those from there
+  // on move one up, their marks with them). Returns marks in use.
+  int look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double side,
+                               int index, int kept, float levels_per_grey);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;

@@ -142,7 +142,7 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
     detection_pose_.H_mm *= scale;
     rescaled = scale != 1.0;
     const std::span<const RoadLine> solved(r->lines.data(), static_cast<std::size_t>(r->num_lines));
-    if (!fit_.take(detector_.detect(image, detection_pose_, solved), true))
+    if (!fit_.take(detector_.detect(image, detection_pose_, solved, PictureSearch::own_lane_and_beyond), true))
       return {nullptr, EstimateFailure::too_few_marks};
     r = &solve(detection_pose_, gyro);
   }

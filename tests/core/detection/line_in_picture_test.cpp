@@ -1,6 +1,7 @@
 // The own lane's other line looked for along its length in the picture: found from a few
 // markers a lane's width from the line beside it, where it is; never in speckled concrete,
-// along a step, or at the end of the widths looked at.
+// along a step, or at the end of the widths looked at. And the next lane's line beyond
+// the own lane's, looked for the same way.
 #include "core/detection/line_in_picture.hpp"
 
 #include <cmath>
@@ -141,6 +142,82 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
   speckle(bare.frame.view, 11, 300);
   draw_band(bare.frame.view, bare.ground, bare.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
   EXPECT_EQ(det.detect(bare.frame.view, bare.pose, solved).num_lines, 1);
+}
+
+// The next lane's line beyond the own lane's right line, as a few markers a lane's width
+// past it: looked for in the picture when detect() is asked to (a still's second look),
+// not otherwise (a tracked frame), and not beyond a yellow line (the travelled way's
+// edge: beyond it lie a shoulder and a barrier, and their specks and seams are no lane).
+constexpr double kRightLineY = kLeftLineY - kLaneWidthMm, kBeyondY = kRightLineY - kLaneWidthMm;
+// Seven markers over 11-33 m (nearer, 5.5 m to the side is out of the picture), a few
+// of a row's: far away each covers a fraction of a row.
+constexpr double kBeyondDotsX[] = {11500.0, 14000.0, 17000.0, 20500.0, 24000.0, 28000.0, 33000.0};
+
+// The lane's two lines of paint and the markers beyond its right line; in colour with the
+// right line yellow when `yellow_right`.
+struct LaneWithMarkersBeyond {
+  TuSimpleConcreteRoad road{3};
+  test::Frame colour{road.c.camera, PixelFormat::rgb8};
+  explicit LaneWithMarkersBeyond(bool yellow_right) {
+    speckle(road.frame.view, 11, 300);
+    draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
+    for (const double X : kBeyondDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kBeyondY, 230);
+    TuSimpleConcreteRoad right_line{3};  // its pixels: where this frame differs from the bare road
+    draw_band(right_line.frame.view, right_line.ground, right_line.model, kRightLineY, 4000.0, 40000.0, 130.0, 230);
+    const TuSimpleConcreteRoad bare{3};
+    for (int y = 0; y < road.frame.view.height; ++y)
+      for (int x = 0; x < road.frame.view.width; ++x) {
+        const bool paint = right_line.frame.view.row(y)[x] != bare.frame.view.row(y)[x];
+        if (paint) road.frame.view.row(y)[x] = right_line.frame.view.row(y)[x];
+        const std::uint8_t g = road.frame.view.row(y)[x];
+        std::uint8_t* rgb = colour.view.row(y) + 3 * x;
+        rgb[0] = g, rgb[1] = g, rgb[2] = g;
+        if (paint && yellow_right) {
+          rgb[1] = static_cast<std::uint8_t>(0.8 * g);
+          rgb[2] = static_cast<std::uint8_t>(0.25 * g);
+        }
+      }
+  }
+};
+
+TEST(LaneDetector, AFewMarkersALanesWidthBeyondTheOwnLanesLineAreTheNextLanesLine) {
+  LaneWithMarkersBeyond scene(false);
+  LaneDetector det(scene.road.c.camera, scene.road.c.detection);
+  const RoadLine solved[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
+  EXPECT_EQ(det.detect(scene.road.frame.view, scene.road.pose, solved).num_lines, 2);  // a tracked frame's
+  const DetectionResult& r =
+      det.detect(scene.road.frame.view, scene.road.pose, solved, PictureSearch::own_lane_and_beyond);
+  ASSERT_EQ(r.num_lines, 3);
+  EXPECT_FALSE(r.lines[0].in_picture);
+  EXPECT_FALSE(r.lines[1].in_picture);
+  EXPECT_NEAR(r.lines[1].fit.y_at(10000.0), kRightLineY, 50.0);
+  const DetectedLine& beyond = r.lines[2];  // ordered left to right
+  EXPECT_TRUE(beyond.in_picture);
+  EXPECT_NEAR(beyond.fit.y_at(10000.0), kBeyondY, PictureLineSearch::kOffsetStepMm + 50.0);
+  ASSERT_GT(beyond.num_picks, 0);
+  for (const MarkCandidate& m : r.marks) {
+    if (m.line == 2) {
+      EXPECT_NEAR(m.Y, kBeyondY, 0.5 * PictureLineSearch::kOffsetStepMm + m.X / 150.0) << m.X;
+    }
+    if (m.line == 1) {
+      EXPECT_NEAR(m.Y, kRightLineY, 200.0) << m.X;  // the right line's marks kept their line
+    }
+  }
+}
+
+TEST(LaneDetector, NoLaneIsLookedForBeyondAYellowLine) {
+  LaneWithMarkersBeyond grey(false), yellow(true);
+  LaneDetector det(grey.road.c.camera, grey.road.c.detection);
+  const RoadLine solved[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
+  // In colour with the right line white the markers are found beyond it, as in grey.
+  const DetectionResult& white =
+      det.detect(grey.colour.view, grey.road.pose, solved, PictureSearch::own_lane_and_beyond);
+  ASSERT_EQ(white.num_lines, 3);
+  EXPECT_FALSE(white.lines[1].yellow);
+  const DetectionResult& r =
+      det.detect(yellow.colour.view, yellow.road.pose, solved, PictureSearch::own_lane_and_beyond);
+  ASSERT_EQ(r.num_lines, 2);
+  EXPECT_TRUE(r.lines[1].yellow);
 }
 
 }  // namespace

@@ -227,8 +227,12 @@ TEST(RealPictures, UdacityP1SolidYellowCurve2) {
                  "000003.png",
                  kP1,
                  false,
-                 {{true, {{520, 197.1}, {420, 331.1}, {345, 433.4}}},     // yellow, solid
-                  {true, {{505, 805.1}, {455, 720.5}, {345, 540.0}}}}});  // white, dashed
+                 {{true, {{520, 197.1}, {420, 331.1}, {345, 433.4}}},   // yellow, solid
+                  {true, {{505, 805.1}, {455, 720.5}, {345, 540.0}}},   // white, dashed
+                  // next lane's, dashed: found along its length in the picture as a
+                  // parallel of the white line (line_in_picture.hpp), it takes that line's
+                  // shape 3.6 m across and passes its nearest dash (row 395) 3.6 px off
+                  {false, {{395, 892.5}, {368, 757.0}, {343, 641.5}}, 6.0}}});
 }
 
 TEST(RealPictures, UdacityP1SolidYellowLeft) {
