@@ -109,7 +109,8 @@ std::optional<double> column_in_picture(const CameraModel& camera, const RoadLin
 }  // namespace
 
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
-                       std::span<const RoadLine> lines, const ScoreRules& rules, LanePointHits* point_hits) {
+                       std::span<const RoadLine> lines, const ScoreRules& rules, LanePointHits* point_hits,
+                       std::vector<ReportedLineResult>* line_results) {
   const double threshold = ScoreRules::threshold_for_width(rules.threshold_px, width);
   FrameScore score;
   if (point_hits) point_hits->assign(lanes.size(), {});
@@ -155,17 +156,25 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
       score.ego_found += found;
     }
   }
+  if (line_results) line_results->assign(lines.size(), {});
   for (std::size_t k = 0; k < lines.size(); ++k) {
     if (columns[k].empty()) continue;
     std::size_t on_lane = 0;
     for (const auto& [row, x] : columns[k]) {
       const std::vector<LanePoint>& lane_xs = lane_columns_by_row[row];
-      on_lane += std::any_of(lane_xs.begin(), lane_xs.end(),
-                             [&](const LanePoint& c) { return std::abs(c.x - x) <= c.threshold; });
+      const bool on = std::any_of(lane_xs.begin(), lane_xs.end(),
+                                  [&](const LanePoint& c) { return std::abs(c.x - x) <= c.threshold; });
+      on_lane += on;
+      if (line_results && !on) (*line_results)[k].off_rows.push_back(row);
     }
     ++score.reported;
-    if (static_cast<double>(on_lane) < rules.true_fraction * static_cast<double>(columns[k].size()))
-      ++score.false_lines;
+    const bool false_line = static_cast<double>(on_lane) < rules.true_fraction * static_cast<double>(columns[k].size());
+    score.false_lines += false_line;
+    if (line_results) {
+      (*line_results)[k].points = columns[k].size();
+      (*line_results)[k].on_lane = on_lane;
+      (*line_results)[k].false_line = false_line;
+    }
   }
   return score;
 }

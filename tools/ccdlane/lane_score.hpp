@@ -77,10 +77,18 @@ struct FrameScore {
 // neither counted nor false.
 // `point_hits`, when given, gets per lane (in `lanes`' order) which of its points the
 // line that hits most of them hits, in the lane's point order: what an overlay shows.
+// `line_results`, when given, gets per reported line (in `lines`' order) its points, those
+// on a lane, and the rows (1-based) where it is on none: where a false line leaves the
+// lanes, near or far.
 using LanePointHits = std::vector<std::vector<bool>>;
+struct ReportedLineResult {
+  std::size_t points = 0, on_lane = 0;  // no points: on no annotated row, not counted
+  bool false_line = false;
+  std::vector<int> off_rows;
+};
 FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const CameraModel& camera,
                        std::span<const RoadLine> lines, const ScoreRules& rules = {},
-                       LanePointHits* point_hits = nullptr);
+                       LanePointHits* point_hits = nullptr, std::vector<ReportedLineResult>* line_results = nullptr);
 
 // TuSimple's own benchmark on one labelled picture (LaneEval.bench of its lane.py), for
 // comparison with published figures: each line and lane is sampled at every labelled row

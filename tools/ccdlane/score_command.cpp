@@ -75,6 +75,19 @@ Json lane_results_json(std::span<const AnnotatedLane> lanes, const LanePointHits
   return out;
 }
 
+// Each reported line of a frame, in the replay's order: its points (its columns on the
+// annotated rows), those on a lane, whether it is false, and the rows where it is off.
+Json line_results_json(std::span<const ReportedLineResult> lines) {
+  Json out = Json::array();
+  for (std::size_t k = 0; k < lines.size(); ++k)
+    out.push_back(Json{{"line", k},
+                       {"points", lines[k].points},
+                       {"on_lane_points", lines[k].on_lane},
+                       {"false", lines[k].false_line},
+                       {"off_rows", lines[k].off_rows}});
+  return out;
+}
+
 std::string score_text(const FrameScore& s) {
   char text[240];
   std::snprintf(text, sizeof text,
@@ -297,6 +310,7 @@ CommandAction setup_score(CLI::App& sub) {
     std::unique_ptr<ScoreOverlays> overlays;
     if (!a->overlay.empty()) overlays = std::make_unique<ScoreOverlays>(*a, config);
     LanePointHits hits;
+    std::vector<ReportedLineResult> line_results;
     std::string index_name;  // where the frame numbers come from, for errors
     const std::map<std::uint64_t, std::string> file_of_frame = frame_names(*a, config, index_name);
     std::ifstream in(a->replay);
@@ -329,7 +343,7 @@ CommandAction setup_score(CLI::App& sub) {
       }
       const CameraModel camera = replayed_camera(e, config);
       const FrameScore s = score_frame(labelled->lanes, config.camera.Nu, camera, replayed_lines(e), {},
-                                       overlays || a->json ? &hits : nullptr);
+                                       overlays || a->json ? &hits : nullptr, a->json ? &line_results : nullptr);
       if (overlays) overlays->write(frame, camera, replayed_lines(e), labelled->lanes, hits);
       ++scored;
       total += s;
@@ -343,6 +357,7 @@ CommandAction setup_score(CLI::App& sub) {
         j.update(score_json(s));
         if (eval) j["lane_eval"] = lane_eval_json(*eval);
         j["lane_results"] = lane_results_json(labelled->lanes, hits);
+        j["line_results"] = line_results_json(line_results);
         frames.push_back(std::move(j));
       } else {
         std::cout << "frame " << frame << " (" << file->second << "): " << score_text(s) << '\n';
