@@ -518,8 +518,8 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
   const bool left_found = beside.y0_mm > 0.0;
   // The new line goes last (rightmost) when the lines found are left of the vehicle, else
   // first: the lines stay ordered left to right.
-  return look_for_line_in_picture(image, pose, beside, left_found ? -1.0 : +1.0, left_found ? n : 0, kept,
-                                  levels_per_grey);
+  return look_for_line_in_picture(image, pose, beside, left_found ? -1.0 : +1.0, left_found ? n : 0,
+                                  ChanceRule::clean_road, kept, levels_per_grey);
 }
 
 int LaneDetector::add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept,
@@ -536,18 +536,20 @@ int LaneDetector::add_lines_beyond_in_picture(const ImageView& image, const Came
     // A yellow line is the travelled way's edge: beyond it lie a shoulder and a barrier,
     // no lane (LineGrouper::find_lines_beyond's rule).
     if (line.yellow) continue;
-    kept = look_for_line_in_picture(image, pose, line.fit, side, side > 0.0 ? 0 : n, kept, levels_per_grey);
+    kept = look_for_line_in_picture(image, pose, line.fit, side, side > 0.0 ? 0 : n, ChanceRule::any_road, kept,
+                                    levels_per_grey);
   }
   return kept;
 }
 
 int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
-                                           double side, int index, int kept, float levels_per_grey) {
+                                           double side, int index, ChanceRule chance, int kept,
+                                           float levels_per_grey) {
   const double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
   const double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
   const PictureLine& found =
       picture_line_.find(image, pose, beside, from, to, config_.min_range_mm, config_.max_range_mm,
-                         config_.mark_width_mm, config_.min_contrast * static_cast<double>(levels_per_grey));
+                         config_.mark_width_mm, config_.min_contrast * static_cast<double>(levels_per_grey), chance);
   if (!found.found || kept + found.hits > static_cast<int>(marks_.size())) return kept;
   const int n = result_.num_lines;
   for (int j = n; j > index; --j)

@@ -88,13 +88,13 @@ class LaneDetector {
   // detect() asks for it only when it has lines to go on (its pose is a solve's).
   int add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
   // Beyond each own lane's line with no line found beyond it (and not yellow: the
-  // travelled way's edge), the next lane's line looked for the same way.
+  // travelled way's edge), the next lane's line looked for the same way, on any road.
   int add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
   // The line a lane's width to `side` (+1 left, -1 right) of `beside`, looked for in the
-  // picture and, when found, inserted at `index` of the result's lines (those from there
-  // on move one up, their marks with them). Returns marks in use.
+  // picture by `chance`'s rule and, when found, inserted at `index` of the result's lines
+  // (those from there on move one up, their marks with them). Returns marks in use.
   int look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double side,
-                               int index, int kept, float levels_per_grey);
+                               int index, ChanceRule chance, int kept, float levels_per_grey);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;

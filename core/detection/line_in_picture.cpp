@@ -63,7 +63,7 @@ void PictureLineSearch::ridge_row(const ImageView& image, int y, int x0, int x1,
 
 const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
                                            double from_mm, double to_mm, double near_mm, double far_mm,
-                                           double mark_width_mm, double min_contrast) {
+                                           double mark_width_mm, double min_contrast, ChanceRule chance) {
   result_ = PictureLine{};
   const int offsets = std::clamp(static_cast<int>((to_mm - from_mm) / kOffsetStepMm) + 1, 0, kMaxOffsets);
   if (offsets < 3 || image.width != camera_.Nu || image.height != camera_.Nv) return result_;
@@ -169,7 +169,8 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
   result_.marks = std::span<const PictureLineHit>(found_.data(), static_cast<std::size_t>(n));
   // Above chance, and not at either end of the widths looked at (a line nearer or farther
   // than those would peak beyond them).
-  result_.found = n >= kMinHits && median <= kMaxChanceHits && n >= median + kMinSigmas * result_.spread &&
+  const bool clean = chance == ChanceRule::any_road || median <= kMaxChanceHits;
+  result_.found = n >= kMinHits && clean && n >= median + kMinSigmas * result_.spread &&
                   best_k >= 2 && best_k < offsets - 2 && result_.groups >= kMinGroups && result_.pieces >= kMinPieces &&
                   result_.span_mm >= kMinSpanMm;
   return result_;

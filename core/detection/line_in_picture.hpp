@@ -48,6 +48,14 @@ struct PictureLine {
   std::span<const PictureLineHit> marks;  // the hits of the line found
 };
 
+// Whether a line may be taken where chance alone puts hits on most candidates. The own
+// lane's other line is looked for on a clean road only: a lane that one line of bars and
+// one from the picture would make is no lane where the picture is bars everywhere (bright
+// noise made such lanes). Beyond a lane found, a line is there on most roads (freeways
+// have several lanes), and on a textured one (concrete's specks and seams) it needs only
+// to stand out from the texture's hits by kMinSigmas of their spread.
+enum class ChanceRule { clean_road, any_road };
+
 class PictureLineSearch {
  public:
   // Sized for frames of `camera` (Nu x Nv); find() never allocates.
@@ -58,7 +66,8 @@ class PictureLineSearch {
   // far_mm ahead as seen from `pose`, for paint `mark_width_mm` wide standing
   // `min_contrast` measure levels above both its sides.
   const PictureLine& find(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double from_mm,
-                          double to_mm, double near_mm, double far_mm, double mark_width_mm, double min_contrast);
+                          double to_mm, double near_mm, double far_mm, double mark_width_mm, double min_contrast,
+                          ChanceRule chance = ChanceRule::clean_road);
 
   static constexpr double kOffsetStepMm = 40.0;
   // The rows read: each marker this long on the road (a Botts' dot) is crossed by two of
@@ -78,9 +87,9 @@ class PictureLineSearch {
   static constexpr int kMinHits = 6;
   static constexpr double kMinSigmas = 5.0;
   static constexpr double kMadToSigma = 1.4826;  // a normal spread's sigma over its MAD
-  // The search is for a few marks on a clean road: where chance alone puts more hits than
-  // this on the median candidate (a mottled, textured or noisy picture, bars everywhere),
-  // a few more on one say nothing of a line.
+  // ChanceRule::clean_road: where chance alone puts more hits than this on the median
+  // candidate (a mottled, textured or noisy picture, bars everywhere), a few more on one
+  // say nothing of a line.
   static constexpr int kMaxChanceHits = 2;
 
  private:

@@ -178,6 +178,18 @@ TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {
     EXPECT_EQ(ego, f["ego_lanes"].get<int>());
     EXPECT_EQ(points, f["points"].get<std::size_t>());
     EXPECT_EQ(hit, f["hit_points"].get<std::size_t>());
+    // Each reported line's own result: the one false line is off its rows, the others on
+    // theirs, and they add up to the frame's reported and false lines.
+    int reported = 0, false_lines = 0;
+    for (const Json& l : f["line_results"]) {
+      const auto line_points = l["points"].get<std::size_t>(), on = l["on_lane_points"].get<std::size_t>();
+      reported += line_points > 0;
+      false_lines += l["false"].get<bool>();
+      EXPECT_EQ(l["off_rows"].size(), line_points - on) << l.dump();
+      EXPECT_EQ(l["false"].get<bool>(), static_cast<double>(on) < 0.85 * static_cast<double>(line_points)) << l.dump();
+    }
+    EXPECT_EQ(reported, f["reported_lines"].get<int>());
+    EXPECT_EQ(false_lines, f["false_lines"].get<int>());
   }
 }
 
