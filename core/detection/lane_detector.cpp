@@ -22,6 +22,10 @@ constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and
 // that wide is two lanes whose line between was missed).
 constexpr double kMinOwnLaneWidthMm = 2600.0;
 constexpr double kMaxOwnLaneWidthMm = 4800.0;
+// A line with marks on this share of the scan rows it spans is solid: dashes (3 m of 12,
+// Europe's 6 of 18) cover a quarter to a third of them; a solid line loses some to
+// occlusion, wear and shadow.
+constexpr double kSolidLineCoverage = 0.6;
 // How far to the side rows are scanned, on the road: detection reports the lines nearest
 // the vehicle (at most 4, within 2.5 lane widths, 9 m), and grouping gates them a metre
 // wide; beyond that, with room for a yaw error of 3 degrees (0.05 per mm ahead), paint
@@ -533,13 +537,31 @@ int LaneDetector::add_lines_beyond_in_picture(const ImageView& image, const Came
       if (side * result_.lines[static_cast<std::size_t>(j)].fit.y0_mm > 0.0) ++on_side, own = j;
     if (on_side != 1) continue;
     const DetectedLine& line = result_.lines[static_cast<std::size_t>(own)];
-    // A yellow line is the travelled way's edge: beyond it lie a shoulder and a barrier,
-    // no lane (LineGrouper::find_lines_beyond's rule).
-    if (line.yellow) continue;
+    // A yellow line is the travelled way's edge, and so is a solid white one on the
+    // outside (lanes of one direction are parted by broken lines): beyond either lie a
+    // shoulder, its edge and a barrier, no lane (LineGrouper::find_lines_beyond's rule for
+    // yellow; a shoulder's edge against gravel is a bright strip along the road too). A
+    // row of markers is no edge line, and far off, where scan rows lie farther apart than
+    // its markers, it has one on every row.
+    const bool solid = !line.dots && scan_row_coverage(own, kept) >= kSolidLineCoverage;
+    if (line.yellow || solid) continue;
     kept = look_for_line_in_picture(image, pose, line.fit, side, side > 0.0 ? 0 : n, ChanceRule::any_road, kept,
                                     levels_per_grey);
   }
   return kept;
+}
+
+double LaneDetector::scan_row_coverage(int j, int kept) const {
+  int first = -1, last = -1, rows = 0, previous = -1;
+  for (int i = 0; i < kept; ++i) {
+    const MarkCandidate& m = marks_[static_cast<std::size_t>(i)];
+    if (m.line != j) continue;
+    first = first < 0 ? m.scan_row : std::min<int>(first, m.scan_row);
+    last = std::max<int>(last, m.scan_row);
+    rows += m.scan_row != previous;  // a row's marks are neighbours
+    previous = m.scan_row;
+  }
+  return first < 0 ? 0.0 : static_cast<double>(rows) / (last - first + 1);
 }
 
 int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside,

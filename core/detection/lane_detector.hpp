@@ -87,9 +87,11 @@ class LaneDetector {
   // the result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
   // detect() asks for it only when it has lines to go on (its pose is a solve's).
   int add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
-  // Beyond each own lane's line with no line found beyond it (and not yellow: the
-  // travelled way's edge), the next lane's line looked for the same way, on any road.
+  // Beyond each own lane's line with no line found beyond it (and not yellow or solid:
+  // the travelled way's edge), the next lane's line looked for the same way, on any road.
   int add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
+  // The share of the scan rows line j's marks (of marks_[0, kept)) span that hold one.
+  double scan_row_coverage(int j, int kept) const;
   // The line a lane's width to `side` (+1 left, -1 right) of `beside`, looked for in the
   // picture by `chance`'s rule and, when found, inserted at `index` of the result's lines
   // (those from there on move one up, their marks with them). Returns marks in use.

@@ -167,24 +167,28 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
 
 // The next lane's line beyond the own lane's right line, as a few markers a lane's width
 // past it: looked for in the picture when detect() is asked to (a still's second look),
-// not otherwise (a tracked frame), and not beyond a yellow line (the travelled way's
-// edge: beyond it lie a shoulder and a barrier, and their specks and seams are no lane).
+// not otherwise (a tracked frame), and not beyond a yellow or a solid line (the travelled
+// way's edge: beyond it lie a shoulder and a barrier, and their specks, seams and edges
+// are no lane).
 constexpr double kRightLineY = kLeftLineY - kLaneWidthMm, kBeyondY = kRightLineY - kLaneWidthMm;
 // Seven markers over 11-33 m (nearer, 5.5 m to the side is out of the picture), a few
 // of a row's: far away each covers a fraction of a row.
 constexpr double kBeyondDotsX[] = {11500.0, 14000.0, 17000.0, 20500.0, 24000.0, 28000.0, 33000.0};
 
-// The lane's two lines of paint and the markers beyond its right line; in colour with the
-// right line yellow when `yellow_right`.
+// The lane's two lines of paint, the left one solid, the right one dashed (3 m dashes,
+// 9 m gaps) or solid, and the markers beyond its right line; in colour with the right
+// line yellow when `yellow_right`.
 struct LaneWithMarkersBeyond {
   TuSimpleConcreteRoad road{3};
   test::Frame colour{road.c.camera, PixelFormat::rgb8};
-  explicit LaneWithMarkersBeyond(bool yellow_right) {
+  explicit LaneWithMarkersBeyond(bool yellow_right, bool solid_right = false) {
     speckle(road.frame.view, 11, 300);
     draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
     for (const double X : kBeyondDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kBeyondY, 230);
     TuSimpleConcreteRoad right_line{3};  // its pixels: where this frame differs from the bare road
-    draw_band(right_line.frame.view, right_line.ground, right_line.model, kRightLineY, 4000.0, 40000.0, 130.0, 230);
+    for (double X = 4000.0; X < 40000.0; X += solid_right ? 36000.0 : 12000.0)
+      draw_band(right_line.frame.view, right_line.ground, right_line.model, kRightLineY, X,
+                solid_right ? 40000.0 : X + 3000.0, 130.0, 230);
     const TuSimpleConcreteRoad bare{3};
     for (int y = 0; y < road.frame.view.height; ++y)
       for (int x = 0; x < road.frame.view.width; ++x) {
@@ -224,6 +228,16 @@ TEST(LaneDetector, AFewMarkersALanesWidthBeyondTheOwnLanesLineAreTheNextLanesLin
       EXPECT_NEAR(m.Y, kRightLineY, 200.0) << m.X;  // the right line's marks kept their line
     }
   }
+}
+
+TEST(LaneDetector, NoLaneIsLookedForBeyondASolidLine) {
+  LaneWithMarkersBeyond solid(false, true);
+  LaneDetector det(solid.road.c.camera, solid.road.c.detection);
+  const RoadLine solved[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
+  const DetectionResult& r =
+      det.detect(solid.road.frame.view, solid.road.pose, solved, PictureSearch::own_lane_and_beyond);
+  ASSERT_EQ(r.num_lines, 2);
+  EXPECT_NEAR(r.lines[1].fit.y_at(10000.0), kRightLineY, 50.0);
 }
 
 TEST(LaneDetector, NoLaneIsLookedForBeyondAYellowLine) {
