@@ -76,8 +76,13 @@ class PictureLineSearch {
   static constexpr double kMarkerLengthMm = 100.0;
   static constexpr int kMaxOffsets = 80;
   static constexpr int kAnchorStep = 4;  // candidates projected exactly, the rest interpolated
-  // Hits this far apart along the road are separate marks (a dot's rows, a dash's).
-  static constexpr double kGroupGapMm = 1000.0;
+  // Hits this far apart along the road are separate marks (a dot's rows, a dash's): half
+  // the closest spacing of a line's markers (Caltrans' Botts' dots, 1.2 m) as a pose whose
+  // height is 25 % off measures it (0.9 m). A metre merged such dots into one place when
+  // the pose shrank the road (a still's first solve, a search's guessed height), and a
+  // row of them 4-12 m ahead was refused for being in too few places. A patch's hits on
+  // alternate rows near the camera (rows there 50-100 mm apart) are still one place.
+  static constexpr double kGroupGapMm = 500.0;
   // What a line needs: hits in this many separate places over this much road, and more
   // hits than chance gives a candidate by this many of chance's standard deviations (at
   // least a Poisson count's, the square root of the count plus one).

@@ -264,7 +264,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
                                              const VehicleInputs& vehicle) {
   // Of the starting poses at the first height where one's solve is a supported lane of a
   // lane's width at that height with no line inside it, the one whose own lane's lines
-  // hold the most picks; else the first supported one whose width needed (or needs)
+  // hold the most picks (of those within a count's spread of the most, the one whose
+  // picks fit best); else the first supported one whose width needed (or needs)
   // another height, else the first supported one with a line inside it (two lanes from
   // a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
   // first supported one with a line found only in the picture (line_in_picture.hpp: the
@@ -288,7 +289,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   const SearchPoses searched = search_poses(image, gyro, poses);
   const int n = searched.count;
   Attempt first, lane;
-  int lane_pose = -1, lane_picks = 0;  // lane's pose and its own lane's picks
+  int lane_pose = -1, lane_picks = 0;  // lane's pose, the most own-lane picks of a lane
+  double lane_rms_px = 0.0;             // and lane's fit
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int from_picture = -1;  // the first pose whose lane has a line found only in the picture
@@ -305,9 +307,17 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       if (from_picture < 0) from_picture = k;
     } else if (found == Found::lane) {
       if (!a.rescaled && width_agrees_with_height(*a.solve)) {
-        if (const int own = own_lane_picks(*a.solve, fit_.picks()); own > lane_picks) {
+        // More picks than the best lane's by more than a count's own spread (its Poisson
+        // sigma); within it, the count says nothing, and the lane its picks fit better is
+        // taken (still 0004 from a mount pitched a degree down: 42 picks against 41 and
+        // a line beyond, its left line off its labels near the camera).
+        const int own = own_lane_picks(*a.solve, fit_.picks());
+        const double spread = std::sqrt(static_cast<double>(lane_picks));
+        if (own > lane_picks + spread ||
+            (lane_pose >= 0 && own >= lane_picks - spread && a.solve->rms_px < lane_rms_px)) {
           lane = a;
-          lane_picks = own;
+          lane_picks = std::max(own, lane_picks);
+          lane_rms_px = a.solve->rms_px;
           lane_pose = k;
         }
       } else if (other_height < 0) {

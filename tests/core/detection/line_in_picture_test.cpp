@@ -73,6 +73,28 @@ TEST(PictureLineSearch, AFewMarkersALanesWidthFromTheLineFoundAreItsOtherLine) {
     EXPECT_NEAR(h.Y, kDotsY, 0.5 * PictureLineSearch::kOffsetStepMm + h.X / 150.0) << "a hit at " << h.X << " mm";
 }
 
+TEST(PictureLineSearch, DotsFourFeetApartAreSeparatePlacesSeenFromAPoseTooLow) {
+  // Caltrans' pattern: groups of four Botts' dots 1.22 m apart, repeating every 14.6 m.
+  // Looked for from a pose 25 % too low (a search's guessed height), which measures the
+  // road 0.75 times as long and as wide: the dots are 0.92 m apart as it sees them, and
+  // still each a place of its own.
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  std::vector<double> dots_x;
+  for (double group = 5000.0; group < 40000.0; group += 14630.0)
+    for (int k = 0; k < 4; ++k) dots_x.push_back(group + 1220.0 * k);
+  for (const double X : dots_x) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  CameraPose low = road.pose;
+  low.H_mm *= 0.75;
+  const RoadLine left_seen_low{0.75 * kLeftLineY, 0.0, 0.0};
+  PictureLineSearch search(road.c.camera);
+  const PictureLine& l = search.find(road.frame.view, low, left_seen_low, -4800.0, -2600.0, 3000.0, 40000.0, 130.0,
+                                     kMinContrast);
+  ASSERT_TRUE(l.found) << l.hits << " hits in " << l.groups << " places, " << l.pieces << " pieces";
+  EXPECT_NEAR(l.offset_mm, 0.75 * (kDotsY - kLeftLineY), 2.0 * PictureLineSearch::kOffsetStepMm);
+  EXPECT_GE(l.groups, 8);  // of the 12 dots, those in view and hit
+}
+
 TEST(PictureLineSearch, SpeckledConcreteHasNoLine) {
   // Specks pile up on every candidate alike: none stands out by five of chance's standard
   // deviations, by either rule. Twenty textures, as dense as the aggregate of a pale slab.
