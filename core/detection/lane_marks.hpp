@@ -70,9 +70,10 @@ struct DetectedLine {
   bool dots = false;      // most of its marks are dots (a row of raised markers)
   int joints = 0;         // of its marks, pieces of the joint its markers are set along
   bool yellow = false;    // most of its marks are yellow paint
-  // Found along its length in the picture, a lane's width from the own lane's other line
-  // (line_in_picture.hpp): its marks lie in several places over many metres of road, more
-  // of them than chance puts on any line there.
+  // Found along its length in the picture, a lane's width from a line found: the own
+  // lane's other line, or the next lane's beyond (line_in_picture.hpp): its marks lie in
+  // several places over many metres of road, more of them than chance puts on any line
+  // there.
   bool in_picture = false;
 };
 
