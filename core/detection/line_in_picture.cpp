@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/detection/paint_measure.hpp"
 
@@ -81,18 +82,24 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
     // Each candidate's place on this row: projected every kAnchorStep candidates and in
     // between interpolated (over 160 mm across the road the projection is straight to a
     // hundredth of a pixel).
-    bool seen = true;
+    // Each anchor is projected once: a step's end is the next step's start.
+    const auto anchor = [&](int k) {
+      return model.pixel_from_point(Vec3(X, beside.y_at(X) + from_mm + k * kOffsetStepMm, 0.0));
+    };
+    std::optional<Vec2> a = anchor(0);
+    bool seen = a.has_value();
     for (int k = 0; k < offsets && seen; k += kAnchorStep) {
       const int next = std::min(k + kAnchorStep, offsets - 1);
-      const auto a = model.pixel_from_point(Vec3(X, beside.y_at(X) + from_mm + k * kOffsetStepMm, 0.0));
-      const auto b = model.pixel_from_point(Vec3(X, beside.y_at(X) + from_mm + next * kOffsetStepMm, 0.0));
-      if (!a || !b)
+      const std::optional<Vec2> b = next > k ? anchor(next) : a;
+      if (!b) {
         seen = false;
-      else
-        for (int j = k; j <= next; ++j) {
-          const double t = next > k ? static_cast<double>(j - k) / (next - k) : 0.0;
-          place_[static_cast<std::size_t>(j)] = *a + t * (*b - *a);
-        }
+        break;
+      }
+      for (int j = k; j <= next; ++j) {
+        const double t = next > k ? static_cast<double>(j - k) / (next - k) : 0.0;
+        place_[static_cast<std::size_t>(j)] = *a + t * (*b - *a);
+      }
+      a = b;
     }
     for (int k = 0; k < offsets; ++k) cell_at(k, i) = Cell{};
     if (!seen) continue;
