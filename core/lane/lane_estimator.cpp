@@ -273,13 +273,12 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // most picks from marks (the lines it saw, each reported on its own support), or the
   // first pose's when none solved (its reason is the frame's). Why not the first lane:
   // the poses are tried in an order (the picture's vanishing point, the mount, pitched
-  // steps), and from each the detection groups
-  // other bars, so the first lane depended on how far off the configured mount was
-  // (still 0004 lost an own line from a height 10 % off). The own lane is what the
-  // search is for; its picks, not all of them, because lines beyond it come with short
-  // runs of far dashes and clutter (docs/real-roads.md). The other heights are not
-  // looked at once a lane is found: they are guesses for a height the lane's width
-  // contradicts, and this one agrees.
+  // steps), and from each the detection groups other bars, so the first lane depended on
+  // how far off the configured mount was (still 0004 lost an own line from a height 10 %
+  // off). The own lane is what the search is for; its picks, not all of them, because
+  // lines beyond it come with short runs of far dashes and clutter (docs/real-roads.md).
+  // The other heights are not looked at once a lane is found: they are guesses for a
+  // height the lane's width contradicts, and this one agrees.
   // A lane of a lane's width only at another height is the weaker evidence: from a pose
   // a quarter too low, the own lane's line beside a solid one is too near it to be
   // taken, and the line beyond makes a lane twice as wide with it that a height three
@@ -289,8 +288,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   const SearchPoses searched = search_poses(image, gyro, poses);
   const int n = searched.count;
   Attempt first, lane;
-  int lane_pose = -1, lane_picks = 0;  // lane's pose, the most own-lane picks of a lane
-  double lane_rms_px = 0.0;             // and lane's fit
+  int lane_pose = -1, lane_picks = 0;  // lane's pose, and the most own-lane picks of a lane
+  double lane_rms_px = 0.0;            // lane's solve: its picks' rms, pixels
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int from_picture = -1;  // the first pose whose lane has a line found only in the picture

@@ -193,6 +193,8 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
 // way's edge: beyond it lie a shoulder and a barrier, and their specks, seams and edges
 // are no lane).
 constexpr double kRightLineY = kLeftLineY - kLaneWidthMm, kBeyondY = kRightLineY - kLaneWidthMm;
+// The lane's two lines as a solve gave them: what detect() looks again along.
+const RoadLine kSolvedLane[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
 // Seven markers over 11-33 m (nearer, 5.5 m to the side is out of the picture), a few
 // of a row's: far away each covers a fraction of a row.
 constexpr double kBeyondDotsX[] = {11500.0, 14000.0, 17000.0, 20500.0, 24000.0, 28000.0, 33000.0};
@@ -230,10 +232,9 @@ struct LaneWithMarkersBeyond {
 TEST(LaneDetector, AFewMarkersALanesWidthBeyondTheOwnLanesLineAreTheNextLanesLine) {
   LaneWithMarkersBeyond scene(false);
   LaneDetector det(scene.road.c.camera, scene.road.c.detection);
-  const RoadLine solved[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
-  EXPECT_EQ(det.detect(scene.road.frame.view, scene.road.pose, solved).num_lines, 2);  // a tracked frame's
+  EXPECT_EQ(det.detect(scene.road.frame.view, scene.road.pose, kSolvedLane).num_lines, 2);  // a tracked frame's
   const DetectionResult& r =
-      det.detect(scene.road.frame.view, scene.road.pose, solved, PictureSearch::own_lane_and_beyond);
+      det.detect(scene.road.frame.view, scene.road.pose, kSolvedLane, PictureSearch::own_lane_and_beyond);
   ASSERT_EQ(r.num_lines, 3);
   EXPECT_FALSE(r.lines[0].in_picture);
   EXPECT_FALSE(r.lines[1].in_picture);
@@ -255,9 +256,8 @@ TEST(LaneDetector, AFewMarkersALanesWidthBeyondTheOwnLanesLineAreTheNextLanesLin
 TEST(LaneDetector, NoLaneIsLookedForBeyondASolidLine) {
   LaneWithMarkersBeyond solid(false, true);
   LaneDetector det(solid.road.c.camera, solid.road.c.detection);
-  const RoadLine solved[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
   const DetectionResult& r =
-      det.detect(solid.road.frame.view, solid.road.pose, solved, PictureSearch::own_lane_and_beyond);
+      det.detect(solid.road.frame.view, solid.road.pose, kSolvedLane, PictureSearch::own_lane_and_beyond);
   ASSERT_EQ(r.num_lines, 2);
   EXPECT_NEAR(r.lines[1].fit.y_at(10000.0), kRightLineY, 50.0);
 }
@@ -265,14 +265,13 @@ TEST(LaneDetector, NoLaneIsLookedForBeyondASolidLine) {
 TEST(LaneDetector, NoLaneIsLookedForBeyondAYellowLine) {
   LaneWithMarkersBeyond grey(false), yellow(true);
   LaneDetector det(grey.road.c.camera, grey.road.c.detection);
-  const RoadLine solved[] = {kLeftLine, RoadLine{kRightLineY, 0.0, 0.0}};
   // In colour with the right line white the markers are found beyond it, as in grey.
   const DetectionResult& white =
-      det.detect(grey.colour.view, grey.road.pose, solved, PictureSearch::own_lane_and_beyond);
+      det.detect(grey.colour.view, grey.road.pose, kSolvedLane, PictureSearch::own_lane_and_beyond);
   ASSERT_EQ(white.num_lines, 3);
   EXPECT_FALSE(white.lines[1].yellow);
   const DetectionResult& r =
-      det.detect(yellow.colour.view, yellow.road.pose, solved, PictureSearch::own_lane_and_beyond);
+      det.detect(yellow.colour.view, yellow.road.pose, kSolvedLane, PictureSearch::own_lane_and_beyond);
   ASSERT_EQ(r.num_lines, 2);
   EXPECT_TRUE(r.lines[1].yellow);
 }
