@@ -22,6 +22,10 @@ constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and
 // that wide is two lanes whose line between was missed).
 constexpr double kMinOwnLaneWidthMm = 2600.0;
 constexpr double kMaxOwnLaneWidthMm = 4800.0;
+// A tracked frame looks for the own lane's other line this far either side of where the
+// previous frame had it: a lane's width changes by centimetres from one frame to the next,
+// and 31 candidates still measure chance's hits about the line (PictureLineSearch).
+constexpr double kTrackedWindowMm = 600.0;
 // A line with marks on this share of the scan rows it spans is solid: dashes (3 m of 12,
 // Europe's 6 of 18) cover a quarter to a third of them; a solid line loses some to
 // occlusion, wear and shadow.
@@ -509,7 +513,8 @@ std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const 
   return {marks_.data(), static_cast<std::size_t>(scan(image, pose, 0.0, false))};
 }
 
-int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey) {
+int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> tracked,
+                                      int kept, float levels_per_grey) {
   const int n = result_.num_lines;
   if (n < 1 || n >= kMaxDetectedLines) return kept;
   int nearest = 0;
@@ -520,10 +525,19 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
   }
   const RoadLine beside = result_.lines[static_cast<std::size_t>(nearest)].fit;
   const bool left_found = beside.y0_mm > 0.0;
+  const double side = left_found ? -1.0 : +1.0;
+  // The previous frame's own line on that side, if it had one a lane's width away.
+  std::optional<double> last;
+  const OwnLaneLines own = own_lane_lines(tracked);
+  const int other = left_found ? own.right : own.left;
+  if (other >= 0) {
+    const double offset = tracked[static_cast<std::size_t>(other)].y0_mm - beside.y0_mm;
+    if (side * offset >= kMinOwnLaneWidthMm && side * offset <= kMaxOwnLaneWidthMm) last = offset;
+  }
   // The new line goes last (rightmost) when the lines found are left of the vehicle, else
   // first: the lines stay ordered left to right.
-  return look_for_line_in_picture(image, pose, beside, left_found ? -1.0 : +1.0, left_found ? n : 0,
-                                  ChanceRule::clean_road, kept, levels_per_grey);
+  return look_for_line_in_picture(image, pose, beside, side, left_found ? n : 0, ChanceRule::clean_road, kept,
+                                  levels_per_grey, last);
 }
 
 int LaneDetector::add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept,
@@ -565,10 +579,14 @@ double LaneDetector::scan_row_coverage(int j, int kept) const {
 }
 
 int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
-                                           double side, int index, ChanceRule chance, int kept,
-                                           float levels_per_grey) {
-  const double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
-  const double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
+                                           double side, int index, ChanceRule chance, int kept, float levels_per_grey,
+                                           std::optional<double> near_mm) {
+  double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
+  double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
+  if (near_mm) {
+    from = std::max(from, *near_mm - kTrackedWindowMm);
+    to = std::min(to, *near_mm + kTrackedWindowMm);
+  }
   const PictureLine& found =
       picture_line_.find(image, pose, beside, from, to, config_.min_range_mm, config_.max_range_mm,
                          config_.mark_width_mm, config_.min_contrast * static_cast<double>(levels_per_grey), chance);
@@ -677,7 +695,8 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   // look again, or the previous frame's): from a guessed pose, a lane's width across says
   // little of where in the picture that line runs.
   if (!priors.empty()) {
-    grouped = add_line_in_picture(image, pose, grouped, scale);
+    const bool tracked = picture_search == PictureSearch::own_lane;
+    grouped = add_line_in_picture(image, pose, tracked ? priors : std::span<const RoadLine>{}, grouped, scale);
     if (picture_search == PictureSearch::own_lane_and_beyond)
       grouped = add_lines_beyond_in_picture(image, pose, grouped, scale);
   }

@@ -6,6 +6,7 @@
 // line.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -23,7 +24,10 @@ namespace ccdlane {
 // pose a solve gave: the own lane's line on a side where none was found, and, also, the
 // next lane's line beyond each own line that has nothing found beyond it. The second
 // costs about a millisecond, which a still's second look can spend and a tracked frame,
-// whose whole budget that is, cannot.
+// whose whole budget that is, cannot. A tracked frame (own_lane, with the previous frame's
+// lines as priors) looks for the own lane's other line only near where the previous frame
+// had it, when it had it (kTrackedWindowMm); a second look, whose lines are its first
+// solve's, across every lane width.
 enum class PictureSearch { own_lane, own_lane_and_beyond };
 
 class LaneDetector {
@@ -86,7 +90,10 @@ class LaneDetector {
   // other looked for along its length in the picture (line_in_picture.hpp), and added to
   // the result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
   // detect() asks for it only when it has lines to go on (its pose is a solve's).
-  int add_line_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
+  // `tracked`: lines of the previous frame, near one of which on that side the line is
+  // looked for; empty: across every own lane's width.
+  int add_line_in_picture(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> tracked, int kept,
+                          float levels_per_grey);
   // Beyond each own lane's line with no line found beyond it (and not yellow or solid:
   // the travelled way's edge), the next lane's line looked for the same way, on any road.
   int add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept, float levels_per_grey);
@@ -95,8 +102,11 @@ class LaneDetector {
   // The line a lane's width to `side` (+1 left, -1 right) of `beside`, looked for in the
   // picture by `chance`'s rule and, when found, inserted at `index` of the result's lines
   // (those from there on move one up, their marks with them). Returns marks in use.
+  // `near_mm`: where the line was last (its offset from `beside`, signed), to look within
+  // kTrackedWindowMm of; none: across the own lane's widths.
   int look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double side,
-                               int index, ChanceRule chance, int kept, float levels_per_grey);
+                               int index, ChanceRule chance, int kept, float levels_per_grey,
+                               std::optional<double> near_mm = std::nullopt);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;

@@ -54,12 +54,26 @@ void PictureLineSearch::ridge_row(const ImageView& image, int y, int x0, int x1,
     return static_cast<double>(prefix_[static_cast<std::size_t>(to) + 1] - prefix_[static_cast<std::size_t>(from)]) /
            (to - from + 1);
   };
-  for (int x = x0; x < x1; ++x) {
+  const auto clipped = [&](int x) {
     const double centre = mean(x - core, x + core);
     const double left = mean(x - gap - side + 1, x - gap), right = mean(x + gap, x + gap + side - 1);
     const double r = centre - std::max(left, right);
     ridge_[static_cast<std::size_t>(x)] = std::isfinite(r) ? static_cast<float>(r) : 0.0f;
+  };
+  // Where every window lies inside [a, b) (all but a picture's edge columns), the sums
+  // need no clipping: integer differences and two multiplications a column.
+  const int inner_begin = std::clamp(a + gap + side - 1, x0, x1),
+            inner_end = std::clamp(b - gap - side + 1, inner_begin, x1);
+  const std::int32_t* const P = prefix_.data();
+  const float per_core = 1.0f / static_cast<float>(2 * core + 1), per_side = 1.0f / static_cast<float>(side);
+  for (int x = x0; x < inner_begin; ++x) clipped(x);
+  for (int x = inner_begin; x < inner_end; ++x) {
+    const std::int32_t centre = P[x + core + 1] - P[x - core];
+    const std::int32_t left = P[x - gap + 1] - P[x - gap - side + 1], right = P[x + gap + side] - P[x + gap];
+    ridge_[static_cast<std::size_t>(x)] =
+        static_cast<float>(centre) * per_core - static_cast<float>(std::max(left, right)) * per_side;
   }
+  for (int x = inner_end; x < x1; ++x) clipped(x);
 }
 
 const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
@@ -177,8 +191,8 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
   // Above chance, and not at either end of the widths looked at (a line nearer or farther
   // than those would peak beyond them).
   const bool clean = chance == ChanceRule::any_road || median <= kMaxChanceHits;
-  result_.found = n >= kMinHits && clean && n >= median + kMinSigmas * result_.spread &&
-                  best_k >= 2 && best_k < offsets - 2 && result_.groups >= kMinGroups && result_.pieces >= kMinPieces &&
+  result_.found = n >= kMinHits && clean && n >= median + kMinSigmas * result_.spread && best_k >= 2 &&
+                  best_k < offsets - 2 && result_.groups >= kMinGroups && result_.pieces >= kMinPieces &&
                   result_.span_mm >= kMinSpanMm;
   return result_;
 }

@@ -88,8 +88,8 @@ TEST(PictureLineSearch, DotsFourFeetApartAreSeparatePlacesSeenFromAPoseTooLow) {
   low.H_mm *= 0.75;
   const RoadLine left_seen_low{0.75 * kLeftLineY, 0.0, 0.0};
   PictureLineSearch search(road.c.camera);
-  const PictureLine& l = search.find(road.frame.view, low, left_seen_low, -4800.0, -2600.0, 3000.0, 40000.0, 130.0,
-                                     kMinContrast);
+  const PictureLine& l =
+      search.find(road.frame.view, low, left_seen_low, -4800.0, -2600.0, 3000.0, 40000.0, 130.0, kMinContrast);
   ASSERT_TRUE(l.found) << l.hits << " hits in " << l.groups << " places, " << l.pieces << " pieces";
   EXPECT_NEAR(l.offset_mm, 0.75 * (kDotsY - kLeftLineY), 2.0 * PictureLineSearch::kOffsetStepMm);
   EXPECT_GE(l.groups, 8);  // of the 12 dots, those in view and hit
@@ -185,6 +185,28 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
   speckle(bare.frame.view, 11, 300);
   draw_band(bare.frame.view, bare.ground, bare.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
   EXPECT_EQ(det.detect(bare.frame.view, bare.pose, solved).num_lines, 1);
+}
+
+// A tracked frame (the previous frame's lines as priors) looks for the other line within
+// kTrackedWindowMm (600 mm) of where the previous frame had it: found where the previous
+// frame had it a few centimetres off, not where it had it 900 mm off (a different line),
+// while a second look (PictureSearch::own_lane_and_beyond) looks across every lane width.
+TEST(LaneDetector, ATrackedFrameLooksForTheOtherLineNearWhereThePreviousFrameHadIt) {
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
+  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  LaneDetector det(road.c.camera, road.c.detection);
+  const RoadLine near_last[] = {kLeftLine, RoadLine{kDotsY + 80.0, 0.0, 0.0}};
+  const DetectionResult& near = det.detect(road.frame.view, road.pose, near_last);
+  ASSERT_EQ(near.num_lines, 2);
+  EXPECT_TRUE(near.lines[1].in_picture);
+  EXPECT_NEAR(near.lines[1].fit.y_at(10000.0), kDotsY, PictureLineSearch::kOffsetStepMm + 50.0);
+  const RoadLine far_last[] = {kLeftLine, RoadLine{kDotsY + 900.0, 0.0, 0.0}};
+  EXPECT_EQ(det.detect(road.frame.view, road.pose, far_last).num_lines, 1);
+  const DetectionResult& again = det.detect(road.frame.view, road.pose, far_last, PictureSearch::own_lane_and_beyond);
+  ASSERT_EQ(again.num_lines, 2);
+  EXPECT_NEAR(again.lines[1].fit.y_at(10000.0), kDotsY, PictureLineSearch::kOffsetStepMm + 50.0);
 }
 
 // The next lane's line beyond the own lane's right line, as a few markers a lane's width
