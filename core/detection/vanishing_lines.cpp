@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-
 namespace ccdlane {
 namespace {
 
@@ -21,15 +20,21 @@ constexpr double kRhoBinPx = 4.0;
 // the centre of a bar whose width is uneven (least-squares passes).
 constexpr double kGatherPx = 6.0;
 constexpr double kOnLinePx = 2.5;
-constexpr float kMaxBarWeight = 3.0f;       // a bar of high contrast counts as three faint ones
-constexpr double kContrastUnit = 20.0;      // grey levels of one unit of weight
-constexpr double kPointTolerancePx = 6.0;   // a line passes through a point this near it
+constexpr float kMaxBarWeight = 3.0f;      // a bar of high contrast counts as three faint ones
+constexpr double kContrastUnit = 20.0;     // grey levels of one unit of weight
+constexpr double kPointTolerancePx = 6.0;  // a line passes through a point this near it
 constexpr double kChanceSigmas = 4.0;
 constexpr double kBesidePx = 40.0;
 constexpr float kBarsPerRow = 6.0f;
-// A line runs to a point above it: its bars reach at least this far below the point (a
-// few bars beyond it are the far side's, or clutter near the horizon).
+// A line runs to a point above it: its bars reach at least this far below the point, and
+// at most this share of the rows they span lie above it (a few bars beyond it are the
+// far side's, or clutter near the horizon). Road marks lie between the horizon and the
+// picture's bottom; a line of bars that runs on well above the point is a car's edge, a
+// pole or a roadside's (TuSimple still 36 from a mount pitched 5 degrees off: a line of
+// bars over rows 256-516 and one over rows 254-680, crossing at row 429 of the road,
+// outvoted the lane's lines meeting at the horizon, row 247).
 constexpr double kBelowPointPx = 20.0;
+constexpr double kMaxShareAbovePoint = 0.25;
 
 double angle_of_bin(int j) { return -kMaxAngleRad + (j + 0.5) * (2.0 * kMaxAngleRad / kAngleBins); }
 
@@ -142,7 +147,9 @@ std::size_t VanishingLineFinder::row_of(int i) const {
   return static_cast<std::size_t>(std::clamp(static_cast<int>(iy_[static_cast<std::size_t>(i)]), 0, camera_.Nv - 1));
 }
 
-bool VanishingLineFinder::below(const BarLine& l, double y) { return l.y_bottom >= y + kBelowPointPx; }
+bool VanishingLineFinder::below(const BarLine& l, double y) {
+  return l.y_bottom >= y + kBelowPointPx && y - l.y_top <= kMaxShareAbovePoint * (l.y_bottom - l.y_top);
+}
 
 double VanishingLineFinder::across(const BarLine& l, double x, double y) const {
   return std::abs(l.x_bottom + l.slope * (y - y_bottom_) - x) / std::hypot(1.0, l.slope);

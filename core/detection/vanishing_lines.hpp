@@ -65,17 +65,17 @@ class VanishingLineFinder {
   bool fit_line(int bi, int bj, BarLine& out);
   void choose_point(const VanishingPoint& region);
   double across(const BarLine& l, double x, double y) const;  // distance from l, pixels
-  static bool below(const BarLine& l, double y);                // l's bars run below row y
-  std::size_t row_of(int i) const;                              // bar i's picture row
+  static bool below(const BarLine& l, double y);              // l's bars run below row y, most of them
+  std::size_t row_of(int i) const;                            // bar i's picture row
   double chance_bars(double x_bottom, double slope, double top, double bottom) const;
 
   CameraSpec camera_;
   VanishingPointSearch search_;
-  std::vector<double> ix_, iy_;  // the bars' ideal pixel centres
+  std::vector<double> ix_, iy_;    // the bars' ideal pixel centres
   std::vector<float> contrast_w_;  // their weights by contrast (add)
   std::vector<float> w_;           // and shared with their rows' other bars (find: from all bars added so far)
-  std::vector<char> used_;       // on a line found
-  std::vector<int> row_bars_;    // bars per picture row
+  std::vector<char> used_;         // on a line found
+  std::vector<int> row_bars_;      // bars per picture row
   int n_ = 0;
   std::vector<float> votes_;  // kAngleBins x x_bins_ (rho)
   std::array<double, kAngleBins> cos_{}, sin_{};
