@@ -154,16 +154,23 @@ TEST(PictureLineSearch, ALineAtTheEndOfTheWidthsLookedAtIsNotTaken) {
   EXPECT_FALSE(l.found);
 }
 
+// Speckled concrete with the lane's left line of paint and the few markers of its right
+// line (kDotsX).
+struct LineAndMarkers : TuSimpleConcreteRoad {
+  LineAndMarkers() : TuSimpleConcreteRoad(3) {
+    speckle(frame.view, 11, 300);
+    draw_band(frame.view, ground, model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
+    for (const double X : kDotsX) draw_dot(frame.view, ground, model, X, kDotsY, 230);
+  }
+};
+
 // The detector with a solid line on the left and the markers on the right, looking again
 // from a solve's pose along its line (as a search does, or a tracked frame): the grouping
 // finds the line of paint, and the markers, too few for any line it builds from marks,
 // are the lane's right line, found in the picture where they are. From a guessed pose (no
 // lines to go on) the picture is not searched.
 TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLine) {
-  TuSimpleConcreteRoad road(3);
-  speckle(road.frame.view, 11, 300);
-  draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
-  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  const LineAndMarkers road;
   LaneDetector det(road.c.camera, road.c.detection);
   EXPECT_EQ(det.detect(road.frame.view, road.pose, {}).num_lines, 1);
   const RoadLine solved[] = {kLeftLine};
@@ -192,10 +199,7 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
 // frame had it a few centimetres off, not where it had it 900 mm off (a different line),
 // while a second look (PictureSearch::own_lane_and_beyond) looks across every lane width.
 TEST(LaneDetector, ATrackedFrameLooksForTheOtherLineNearWhereThePreviousFrameHadIt) {
-  TuSimpleConcreteRoad road(3);
-  speckle(road.frame.view, 11, 300);
-  draw_band(road.frame.view, road.ground, road.model, kLeftLineY, 4000.0, 40000.0, 130.0, 230);
-  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  const LineAndMarkers road;
   LaneDetector det(road.c.camera, road.c.detection);
   const RoadLine near_last[] = {kLeftLine, RoadLine{kDotsY + 80.0, 0.0, 0.0}};
   const DetectionResult& near = det.detect(road.frame.view, road.pose, near_last);
