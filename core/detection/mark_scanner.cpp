@@ -173,6 +173,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
   // of blurred or partly covered marks, the bar test below applies the full minimum.
   const auto edge_threshold = static_cast<std::int32_t>(std::ceil(0.5f * min_contrast * static_cast<float>(h)));
   int n_rising = 0, n_falling = 0;
+  int rising_since_fall = -1, falling_since_rise = -1;
   Edge* rising = rising_.data();
   Edge* falling = falling_.data();
   // The extrema flagged in one vector pass, then the flags read eight at a time. A
@@ -190,12 +191,18 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
       word &= ~(std::uint64_t{0xff} << (8 * k));
       // Written to both lists, counted in one: which one is a coin toss on a textured
       // row, and a branch on it was mispredicted half the time.
+      // Each edge's partner: the last edge of the other kind since the previous one of
+      // its own kind (a peak's sub-pixel offset is under half a pixel, so the order of the
+      // positions is the order of the pixels).
       const bool is_rising = flag[x] == 1;
       const std::int32_t sign = is_rising ? 1 : -1;
       const std::int32_t v = sign * g[x];
-      const Edge e{static_cast<float>(x) + 0.5f + peak_offset(sign * g[x - 1], v, sign * g[x + 1]), v};
+      const Edge e{static_cast<float>(x) + 0.5f + peak_offset(sign * g[x - 1], v, sign * g[x + 1]), v,
+                   is_rising ? falling_since_rise : rising_since_fall};
       rising[n_rising] = e;
       falling[n_falling] = e;
+      rising_since_fall = is_rising ? n_rising : -1;
+      falling_since_rise = is_rising ? -1 : n_falling;
       n_rising += is_rising;
       n_falling += !is_rising;
     }
@@ -208,11 +215,9 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
   // are kept (flagged) down to a dot's lit cap when the row asks for dots.
   const float min_width = std::min(r.min_width_px, r.min_dot_width_px);
   const int flank = std::max(2, static_cast<int>(std::lround(r.mark_px)));
-  int ri = 0;
   for (int fi = 0; fi < n_falling && count < capacity; ++fi) {
     const float b = falling[fi].x;
-    int last = -1;
-    while (ri < n_rising && rising[ri].x < b) last = ri++;
+    const int last = falling[fi].partner;
     if (last < 0) continue;
     const float a = rising[last].x;
     const float w = b - a;
@@ -255,14 +260,14 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
   }
   count =
       dots_.scan(row, P, x_begin, width, r, scan_row_index, min_contrast, to_8bit, out, first_of_row, count, capacity);
-  return scan_joints(row, x_begin, width, r, scan_row_index, min_contrast, to_8bit, n_rising, n_falling, out,
-                     first_of_row, count, capacity);
+  return scan_joints(row, x_begin, width, r, scan_row_index, min_contrast, to_8bit, n_rising, out, first_of_row, count,
+                     capacity);
 }
 
 template <typename Pixel>
 int MarkScanner::scan_joints(const Pixel* row, int x_begin, int width, const ScanRow& r, int scan_row_index,
-                             float min_contrast, float to_8bit, int n_rising, int n_falling, MarkCandidate* out,
-                             int first_of_row, int count, int capacity) const {
+                             float min_contrast, float to_8bit, int n_rising, MarkCandidate* out, int first_of_row,
+                             int count, int capacity) const {
   if (!(r.max_joint_px > 0.0f)) return count;
   const std::int32_t* const P = prefix_.data();
   const Edge* const rising = rising_.data();
@@ -274,11 +279,9 @@ int MarkScanner::scan_joints(const Pixel* row, int x_begin, int width, const Sca
   const float max_span = r.max_joint_px + static_cast<float>(h) + 1.0f;
   const int flank = std::max(2, static_cast<int>(std::lround(r.mark_px)));
   const int row_end = count;
-  int fi = 0;
   for (int ri = 0; ri < n_rising && count < capacity; ++ri) {
     const float b = rising[ri].x;
-    int last = -1;
-    while (fi < n_falling && falling[fi].x < b) last = fi++;
+    const int last = rising[ri].partner;
     if (last < 0 || b - falling[last].x > max_span) continue;
     // A line's two edges are alike; a step's other edge (texture beside it) is not.
     const std::int32_t fall = falling[last].strength, rise = rising[ri].strength;

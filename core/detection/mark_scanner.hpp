@@ -29,16 +29,19 @@ class MarkScanner {
   struct Edge {
     float x;  // 0-based position of the edge (between pixels: x + 0.5 of the left one)
     std::int32_t strength;
+    // A falling edge's rising one before it, with no falling one between (a bar's two
+    // edges); a rising edge's falling one so (a joint's); -1: none.
+    std::int32_t partner;
   };
   template <typename Pixel>
   int scan_row(const Pixel* row, int x_begin, int x_end, const ScanRow& r, int scan_row, float min_contrast,
                float to_8bit, MarkCandidate* out, int count, int capacity);
 
-  // Joints along a row: each rising edge paired with the last falling one before it.
+  // Joints along a row: each rising edge paired with its partner, the last falling one
+  // before it.
   template <typename Pixel>
   int scan_joints(const Pixel* row, int x_begin, int width, const ScanRow& r, int scan_row, float min_contrast,
-                  float to_8bit, int n_rising, int n_falling, MarkCandidate* out, int first_of_row, int count,
-                  int capacity) const;
+                  float to_8bit, int n_rising, MarkCandidate* out, int first_of_row, int count, int capacity) const;
 
   std::vector<std::uint16_t> measure_;  // a colour row's paint measure
   std::vector<std::int32_t> prefix_;    // prefix sums of the row (65535 x 2^15 pixels fit)
