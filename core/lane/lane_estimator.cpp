@@ -55,6 +55,7 @@ CameraPose LaneEstimator::nominal_pose() const {
 void LaneEstimator::reset_lines() {
   have_last_ = false;
   misses_ = 0;
+  without_lane_ = 0;
   last_pose_ = nominal_pose();
   tracker_.reset();
 }
@@ -93,6 +94,11 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
   }
   warn(in);
   report(in);
+  if (estimate_.ok || state_ != EstimatorState::tracking) {
+    without_lane_ = 0;
+  } else if (++without_lane_ >= kMaxTrackedFramesWithoutLane) {
+    reset_lines();
+  }
   mount_.refine(estimate_, in.vehicle);
   if (rescaled_) {
     // The height changed: the lines, their filters and the warning's state are at the old

@@ -74,6 +74,8 @@ class LaneEstimator {
   // bound: a picture's own tilt nobody wrote down (a TuSimple still's 7 degrees) and a
   // user's 5, for when the vanishing point is not found (TuSimple's "pitch -5", 12 off:
   // own lines 70.6 -> 80.0 % with 9 -> 12 here).
+  // A second at 25 frames/s: longer than a dash gap or a truck hides both lines.
+  static constexpr int kMaxTrackedFramesWithoutLane = 25;
   static constexpr double kSearchPitchStepDeg = 3.0;
   static constexpr double kSearchPitchDeg = 12.0;
   // And, while the mount's height is not settled, at the configured height times and
@@ -159,6 +161,10 @@ class LaneEstimator {
   bool have_last_ = false;
   bool rescaled_ = false;  // the mount acquisition changed the height this frame
   int misses_ = 0;  // frames in a row without an estimate
+  // Tracked frames in a row without a lane (ok): a track of lines that makes no lane for
+  // kMaxTrackedFramesWithoutLane frames is searched afresh, as it may be a wrong start's
+  // (a first frame's lane of the wrong lines, which each frame's priors keep finding).
+  int without_lane_ = 0;
 
   // This frame's stage results, which report() turns into the estimate.
   CameraPose detection_pose_;

@@ -446,13 +446,10 @@ TEST(LaneEstimator, ASearchFindsTheOwnLaneBetweenDashesFromAHeightFarOff) {
 // (too short for a line's support, and paint: no lane beside a single full line), every
 // other line painted over. The estimate is no lane, and it reports the lines that have a
 // line's support on their own: the left line, not the piece.
-TEST(LaneEstimator, WithoutALaneTheOwnSidesLinesAreReportedOnTheirOwnSupport) {
-  Config c = small_camera();
-  c.synth.weave_mm = 0.0;
-  c.synth.dashed = DashedLines::none;
-  Drive d(c);
-  LaneEstimator est(c.estimator_options());
-  const SynthFrame f = d.render(0);
+// Frame k of a straight drive with every line painted over but the own lane's left line
+// and, when `right_piece`, a 4 m piece of its right line 8-12 m ahead.
+SynthFrame render_left_line(Drive& d, const Config& c, std::uint64_t k, bool right_piece) {
+  const SynthFrame f = d.render(k);
   const CameraModel camera(c.camera, f.pose);
   const std::uint8_t asphalt = static_cast<std::uint8_t>(c.synth.asphalt_grey);
   for (int y = 0; y < d.view.height; ++y)
@@ -460,9 +457,25 @@ TEST(LaneEstimator, WithoutALaneTheOwnSidesLinesAreReportedOnTheirOwnSupport) {
       const std::optional<Vec3> p = camera.ground_point_from_pixel(Vec2(x + 1.0, y + 1.0));
       if (!p) continue;
       const bool left_line = p->y() > 0.0 && p->y() < 0.75 * f.lane_width_mm;
-      const bool right_piece = p->y() < 0.0 && p->y() > -0.75 * f.lane_width_mm && p->x() > 8000.0 && p->x() < 12000.0;
-      if (!left_line && !right_piece) d.px[static_cast<std::size_t>(y * d.view.width + x)] = asphalt;
+      const bool piece =
+          right_piece && p->y() < 0.0 && p->y() > -0.75 * f.lane_width_mm && p->x() > 8000.0 && p->x() < 12000.0;
+      if (!left_line && !piece) d.px[static_cast<std::size_t>(y * d.view.width + x)] = asphalt;
     }
+  return f;
+}
+
+Config straight_solid_lines() {
+  Config c = small_camera();
+  c.synth.weave_mm = 0.0;
+  c.synth.dashed = DashedLines::none;
+  return c;
+}
+
+TEST(LaneEstimator, WithoutALaneTheOwnSidesLinesAreReportedOnTheirOwnSupport) {
+  const Config c = straight_solid_lines();
+  Drive d(c);
+  LaneEstimator est(c.estimator_options());
+  const SynthFrame f = render_left_line(d, c, 0, true);
   const LaneEstimate& e = est.estimate(d.view, 0, f.t_ns, f.gyro);
   EXPECT_FALSE(e.ok);
   EXPECT_EQ(e.reason, EstimateFailure::no_lane) << to_string(e.reason);
@@ -481,6 +494,25 @@ TEST(LaneEstimator, WithoutALaneTheOwnSidesLinesAreReportedOnTheirOwnSupport) {
     EXPECT_EQ(s.reason, EstimateFailure::no_lane) << pitch_off << ": " << to_string(s.reason);
     ASSERT_EQ(s.num_lines, 1) << pitch_off;
     EXPECT_NEAR(s.lines[0].y0_mm, f.lane_width_mm / 2.0, f.lane_width_mm / 4.0) << pitch_off << ": the left line";
+  }
+}
+
+// A track of lines that makes no lane (one line: a first frame's wrong lines, which each
+// frame's priors keep finding, are such a track) is searched afresh after
+// kMaxTrackedFramesWithoutLane frames, and tracked again after that search; a drive whose
+// lane is ok tracks throughout (AMountFiveDegreesOffIsFoundFromThePicture).
+TEST(LaneEstimator, ATrackWithoutALaneIsSearchedAfreshAfterASecond) {
+  const Config c = straight_solid_lines();
+  Drive d(c);
+  LaneEstimator est(c.estimator_options());
+  const int n = LaneEstimator::kMaxTrackedFramesWithoutLane;
+  for (int k = 0; k <= 2 * n + 2; ++k) {
+    const SynthFrame f = render_left_line(d, c, static_cast<std::uint64_t>(k), false);
+    const LaneEstimate& e = est.estimate(d.view, static_cast<std::uint64_t>(k), f.t_ns, f.gyro);
+    ASSERT_FALSE(e.ok) << k;
+    ASSERT_EQ(e.num_lines, 1) << k;
+    // Searches at 0, n + 1, 2n + 2: each search's frame is followed by n tracked ones.
+    EXPECT_EQ(e.state, k % (n + 1) == 0 ? EstimatorState::searching : EstimatorState::tracking) << k;
   }
 }
 
