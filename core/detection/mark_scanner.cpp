@@ -74,24 +74,21 @@ inline void add_prefix4(__m128i v, __m128i& carry, std::int32_t* __restrict out)
   carry = _mm_shuffle_epi32(v, _MM_SHUFFLE(3, 3, 3, 3));
 }
 
-// Eight pixels at a time, as two vectors of four 32-bit lanes (SSE2, x86-64's baseline).
-inline int prefix_sums_vector(const std::uint16_t* __restrict row, int width, std::int32_t* __restrict P) {
-  __m128i carry = _mm_setzero_si128();
-  const __m128i zero = _mm_setzero_si128();
-  int x = 0;
-  for (; x + 8 <= width; x += 8) {
-    const __m128i px = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x));
-    add_prefix4(_mm_unpacklo_epi16(px, zero), carry, P + x + 1);
-    add_prefix4(_mm_unpackhi_epi16(px, zero), carry, P + x + 5);
-  }
-  return x;
+// Eight pixels as eight 16-bit lanes.
+inline __m128i load8(const std::uint16_t* px) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(px)); }
+inline __m128i load8(const std::uint8_t* px) {
+  return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(px)), _mm_setzero_si128());
 }
-inline int prefix_sums_vector(const std::uint8_t* __restrict row, int width, std::int32_t* __restrict P) {
+
+// Eight pixels at a time, as two vectors of four 32-bit lanes (SSE2, x86-64's baseline);
+// returns how many pixels it summed.
+template <typename Pixel>
+int prefix_sums_vector(const Pixel* __restrict row, int width, std::int32_t* __restrict P) {
   __m128i carry = _mm_setzero_si128();
   const __m128i zero = _mm_setzero_si128();
   int x = 0;
   for (; x + 8 <= width; x += 8) {
-    const __m128i px = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + x)), zero);
+    const __m128i px = load8(row + x);
     add_prefix4(_mm_unpacklo_epi16(px, zero), carry, P + x + 1);
     add_prefix4(_mm_unpackhi_epi16(px, zero), carry, P + x + 5);
   }
@@ -190,10 +187,9 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
       const int x = word_start + k;
       word &= ~(std::uint64_t{0xff} << (8 * k));
       // Written to both lists, counted in one: which one is a coin toss on a textured
-      // row, and a branch on it was mispredicted half the time.
-      // Each edge's partner: the last edge of the other kind since the previous one of
-      // its own kind (a peak's sub-pixel offset is under half a pixel, so the order of the
-      // positions is the order of the pixels).
+      // row, and a branch on it was mispredicted half the time. Each edge's partner is the
+      // last edge of the other kind since the previous one of its own kind (a peak's
+      // sub-pixel offset is under half a pixel: the positions' order is the pixels').
       const bool is_rising = flag[x] == 1;
       const std::int32_t sign = is_rising ? 1 : -1;
       const std::int32_t v = sign * g[x];
@@ -211,8 +207,9 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
   auto mean = [P, width](int a, int b) { return row_mean(P, width, a, b); };
 
   const int first_of_row = count;
-  // Pair each falling edge with the last rising edge before it. Bars narrower than paint
-  // are kept (flagged) down to a dot's lit cap when the row asks for dots.
+  // Pair each falling edge with its partner, the last rising edge before it. Bars
+  // narrower than paint are kept (flagged) down to a dot's lit cap when the row asks for
+  // dots.
   const float min_width = std::min(r.min_width_px, r.min_dot_width_px);
   const int flank = std::max(2, static_cast<int>(std::lround(r.mark_px)));
   for (int fi = 0; fi < n_falling && count < capacity; ++fi) {

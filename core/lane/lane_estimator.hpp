@@ -68,14 +68,15 @@ class LaneEstimator {
   // The online mount refinement after the last estimate(): what the daemon reports and
   // keeps in its state file (status off when not configured).
   const MountRefinementResult& mount_refinement() const { return mount_.result(); }
+  // A track that makes no lane for this many frames in a row is searched afresh: a second
+  // at 25 frames/s, longer than a dash gap or a truck hides both lines.
+  static constexpr int kMaxTrackedFramesWithoutLane = 25;
   // A search without a previous frame also starts from the mount pitched by these steps,
   // out to this bound (detection loses lines from a pose a degree or two off; the solve
   // from what it finds, and the look again from the solved pose, bring it back). The
   // bound: a picture's own tilt nobody wrote down (a TuSimple still's 7 degrees) and a
   // user's 5, for when the vanishing point is not found (TuSimple's "pitch -5", 12 off:
   // own lines 70.6 -> 80.0 % with 9 -> 12 here).
-  // A second at 25 frames/s: longer than a dash gap or a truck hides both lines.
-  static constexpr int kMaxTrackedFramesWithoutLane = 25;
   static constexpr double kSearchPitchStepDeg = 3.0;
   static constexpr double kSearchPitchDeg = 12.0;
   // And, while the mount's height is not settled, at the configured height times and
@@ -160,7 +161,7 @@ class LaneEstimator {
   CameraPose last_pose_;
   bool have_last_ = false;
   bool rescaled_ = false;  // the mount acquisition changed the height this frame
-  int misses_ = 0;  // frames in a row without an estimate
+  int misses_ = 0;         // frames in a row without an estimate
   // Tracked frames in a row without a lane (ok): a track of lines that makes no lane for
   // kMaxTrackedFramesWithoutLane frames is searched afresh, as it may be a wrong start's
   // (a first frame's lane of the wrong lines, which each frame's priors keep finding).
