@@ -14,6 +14,10 @@
 namespace ccdlane {
 namespace {
 
+// What the row filter measures of paint (and of the clutter here, at its worst), grey
+// levels over the road beside it.
+constexpr double kPaintContrast = 60.0;
+
 struct Scene {
   std::vector<MarkCandidate> marks;
   std::mt19937 rng{7};
@@ -27,9 +31,24 @@ struct Scene {
       const double X = 5000.0 + 35000.0 * row / 149.0;
       MarkCandidate mk;
       mk.X = X;
+      mk.contrast = kPaintContrast;
       mk.yellow = yellow;
       mk.for_lines_beyond = for_lines_beyond;
       mk.Y = y0 + m * X + c * X * X + noise_px * X / 630.0 * n(rng);
+      mk.scan_row = static_cast<std::int16_t>(row);
+      marks.push_back(mk);
+    }
+  }
+  // A mark of this contrast on every scan row between near_mm and far_mm, on a straight
+  // line through y_ref at x_ref with this slope (a dash, or a faint stretch of old paint).
+  void stretch(double y_ref, double x_ref, double slope, double near_mm, double far_mm, double contrast) {
+    for (int row = 0; row < 150; ++row) {
+      const double X = 5000.0 + 35000.0 * row / 149.0;
+      if (X < near_mm || X > far_mm) continue;
+      MarkCandidate mk;
+      mk.X = X;
+      mk.Y = y_ref + slope * (X - x_ref);
+      mk.contrast = contrast;
       mk.scan_row = static_cast<std::int16_t>(row);
       marks.push_back(mk);
     }
@@ -42,6 +61,7 @@ struct Scene {
       MarkCandidate mk;
       mk.X = 15000.0 - 2500.0 * k;
       mk.Y = y_ref + slope * (mk.X - x_ref);
+      mk.contrast = kPaintContrast;
       const double width_px = 630.0 * 100.0 / mk.X;
       mk.left_px = 600.0 - 0.5 * width_px;
       mk.right_px = 600.0 + 0.5 * width_px;
@@ -59,6 +79,7 @@ struct Scene {
       MarkCandidate mk;
       mk.X = 5000.0 + 35000.0 * row / 149.0;
       mk.Y = y0 + m * mk.X;
+      mk.contrast = kPaintContrast;
       const double width_px = 3.0;
       mk.left_px = 600.0 - 0.5 * width_px;
       mk.right_px = 600.0 + 0.5 * width_px;
@@ -74,6 +95,7 @@ struct Scene {
       MarkCandidate mk;
       mk.X = x(rng);
       mk.Y = y(rng);
+      mk.contrast = kPaintContrast;
       mk.scan_row = static_cast<std::int16_t>(row(rng));
       marks.push_back(mk);
     }
@@ -135,6 +157,7 @@ TEST(LineGrouper, ASingleDashParallelToTheRoadsLinesIsALine) {
   for (int row = 40; row < 48; ++row) {  // the dash: 8 rows, X from 14.4 to 16.1 m
     const double X = 5000.0 + 35000.0 * row / 149.0;
     MarkCandidate mk;
+    mk.contrast = kPaintContrast;
     mk.X = X;
     mk.Y = 1800 + 0.01 * X + c * X * X + X / 630.0 * n(s.rng);
     mk.scan_row = static_cast<std::int16_t>(row);
@@ -143,6 +166,7 @@ TEST(LineGrouper, ASingleDashParallelToTheRoadsLinesIsALine) {
   for (int row = 60; row < 68; ++row) {  // across the road's direction: a slope of 0.3
     const double X = 5000.0 + 35000.0 * row / 149.0;
     MarkCandidate mk;
+    mk.contrast = kPaintContrast;
     mk.X = X;
     mk.Y = -9000 + 0.3 * (X - 20000.0);
     mk.scan_row = static_cast<std::int16_t>(row);
@@ -170,6 +194,23 @@ TEST(LineGrouper, ContinuesThePreviousFramesLines) {
   EXPECT_EQ(lines[1].prior_index, 3);
   EXPECT_EQ(lines[2].prior_index, 0);
   EXPECT_NEAR(lines[1].fit.y0_mm, -1950, 30);
+}
+
+// A dashed line with a dash near and one far, and between them a faint scar of old paint
+// (or a tar seam) 15 cm inside the line: the scar has more marks than the dashes, the paint
+// far more contrast. The line is the paint's.
+TEST(LineGrouper, TheLineFollowsBrightPaintOverAFaintScarWithMoreMarks) {
+  Scene s;
+  s.line(1650, 0.0, 0.0);
+  s.stretch(-1950, 0.0, 0.0, 6000, 9000, 80.0);
+  s.stretch(-1950, 0.0, 0.0, 18000, 21000, 80.0);
+  s.stretch(-1800, 0.0, 0.0, 9000, 18000, 12.0);
+  const RoadLine priors[] = {{1650, 0, 0}, {-1950, 0, 0}};
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  ASSERT_EQ(group(s, lines, priors), 2);
+  EXPECT_EQ(lines[1].prior_index, 1);
+  EXPECT_NEAR(lines[1].fit.y0_mm, -1950, 30);
+  EXPECT_NEAR(lines[1].fit.m, 0.0, 0.002);
 }
 
 // A previous frame took a barrier's foot (grey bars 3.4 m left) for the left line; the
@@ -431,6 +472,7 @@ TEST(LineGrouper, ARunRefusedBesideALineDoesNotHideTheRoadsOtherLines) {
   s.line(1800, 0.0, 0.0);
   for (int row = 0; row < 240; ++row) {  // a mark on every row: near rows are dense
     MarkCandidate mk;
+    mk.contrast = kPaintContrast;
     mk.X = 12000.0 - 8000.0 * row / 239.0;
     mk.Y = 2400.0;
     mk.scan_row = static_cast<std::int16_t>(150 + row);
@@ -462,6 +504,7 @@ TEST(LineGrouper, ALineSlantedAcrossTheRoadsDirectionIsNoLaneLine) {
     for (int row = 0; row < 60; ++row) {
       const double X = 20000.0 - 12000.0 * row / 59.0;
       MarkCandidate mk;
+      mk.contrast = kPaintContrast;
       mk.X = X;
       mk.Y = -5400.0 + slant * (X - 8000.0);
       mk.scan_row = static_cast<std::int16_t>(60 + row);
