@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/detection/contrast_threshold.hpp"
 #include "core/detection/paint_measure.hpp"
 #include "core/geometry/types.hpp"
 
@@ -489,11 +490,12 @@ void LaneDetector::choose_picks(const CameraPose& pose) {
 int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm, bool joints) {
   plan_rows(pose, curvature_per_mm, joints);
   const float scale = paint_measure_levels_per_grey(image);
-  const float min_contrast = static_cast<float>(config_.min_contrast) * scale;
+  min_contrast_ = frame_contrast_threshold(image, {rows_.data(), static_cast<std::size_t>(num_rows_)},
+                                          static_cast<float>(config_.min_contrast), scale);
   const int capacity = static_cast<int>(marks_.size());
   int count = 0;
   for (int r = 0; r < num_rows_ && count < capacity; ++r)
-    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, min_contrast, 1.0f / scale, marks_.data(),
+    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, min_contrast_, 1.0f / scale, marks_.data(),
                           count, capacity);
   return count;
 }
@@ -589,7 +591,7 @@ int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraP
   }
   const PictureLine& found =
       picture_line_.find(image, pose, beside, from, to, config_.min_range_mm, config_.max_range_mm,
-                         config_.mark_width_mm, config_.min_contrast * static_cast<double>(levels_per_grey), chance);
+                         config_.mark_width_mm, static_cast<double>(min_contrast_), chance);
   if (!found.found || kept + found.hits > static_cast<int>(marks_.size())) return kept;
   const int n = result_.num_lines;
   for (int j = n; j > index; --j)

@@ -127,6 +127,7 @@ class LaneDetector {
   std::vector<std::uint8_t> linked_;  // and whether each is linked
   std::vector<Pick> picks_;
   DetectionResult result_;
+  float min_contrast_ = 0.0f;       // this frame's (contrast_threshold.hpp), measure levels
   double vp_x_ = 0.0, vp_y_ = 0.0;  // ideal pixel of the road's vanishing point
   bool have_vp_ = false;
 };

@@ -245,6 +245,28 @@ TEST(LaneDetector, SixteenBitFramesGiveTheSameLines) {
   for (int j = 0; j < r8.num_lines; ++j) EXPECT_NEAR(r16.lines[j].fit.y0_mm, r8.lines[j].fit.y0_mm, 20.0);
 }
 
+// Dusk, or an underexposed camera: the whole scene a quarter as bright, the paint 8 grey
+// levels above the asphalt (below the configured 10) and the sensor clean. Paint's
+// contrast falls with the road's light; the threshold follows it (contrast_threshold.hpp).
+TEST(LaneDetector, PaintOnADimRoadIsFoundAtTheContrastItHasThere) {
+  Config c = highway();
+  c.synth.asphalt_grey = 24.0;
+  c.synth.texture_grey = 2.5;
+  c.synth.paint_grey = 32.0;
+  c.synth.sky_grey = 46.0;
+  c.synth.verge_grey = 17.0;
+  c.synth.noise_sigma = 0.3;
+  test::RenderedRoad road(c);
+  LaneDetector det(c.camera, c.detection);
+  for (std::uint64_t k : {3u, 30u}) {
+    const SynthFrame f = road.render(k);
+    const DetectionResult& r = det.detect(road.view, f.pose, {});
+    ASSERT_EQ(r.num_lines, 4) << "frame " << k;
+    EXPECT_EQ(match(r, f), (std::vector<int>{0, 1, 2, 3})) << "frame " << k;
+    for (int j = 0; j < 4; ++j) EXPECT_NEAR(r.lines[j].fit.y0_mm, f.y0_mm[j], 60.0) << "frame " << k << " line " << j;
+  }
+}
+
 TEST(LaneDetector, RowsOfTheHoodAndAboveTheRegionOfInterestAreNotScanned) {
   Config c = highway();
   c.detection.roi_top_px = 320;

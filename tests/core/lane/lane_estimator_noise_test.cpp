@@ -34,7 +34,8 @@ struct NoiseTally {
 
 // `frames` noise frames cycling through every texture and strength, one estimator over
 // the whole sequence (its tracker and lane filter carry over, as in a drive).
-NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint64_t seed, bool with_gyro = true) {
+NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint64_t seed, bool with_gyro = true,
+                     std::span<const test::NoiseTexture> textures = test::kNoiseTextures) {
   test::NoiseFrames noise(c.camera.Nu, c.camera.Nv, format, seed + seed_offset());
   LaneEstimator est(c.estimator_options());
   const Attitude nominal = c.nominal_pose().attitude;
@@ -44,8 +45,7 @@ NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint6
   NoiseTally tally;
   constexpr int kLevels = 5;
   for (int k = 0; k < frames; ++k) {
-    const test::NoiseTexture texture =
-        test::kNoiseTextures[static_cast<std::size_t>(k) % std::size(test::kNoiseTextures)];
+    const test::NoiseTexture texture = textures[static_cast<std::size_t>(k) % textures.size()];
     const double level = static_cast<double>((k / 5) % kLevels) / (kLevels - 1);
     const ImageView& image = noise.render(texture, level);
     // Half the frames with the gyro's reading, half without (a recording without one).
@@ -66,6 +66,17 @@ NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint6
 TEST(LaneEstimatorNoise, NoLaneInGreyNoise) {
   const Config c = default_config();  // the reference camera, 800x600, as the issue ran it
   const NoiseTally t = run_noise(c, PixelFormat::mono8, frame_count(), 17);
+  EXPECT_EQ(t.ok, 0) << t.ok << " of " << t.frames << " noise frames ok; the first: " << t.first_ok;
+  EXPECT_EQ(t.departures, 0);
+  EXPECT_EQ(t.warnings, 0);
+}
+
+// Dark pictures are where the contrast threshold is lowered (contrast_threshold.hpp):
+// faint bars on a dark, noisy grey make no lane either.
+TEST(LaneEstimatorNoise, NoLaneInDarkNoise) {
+  const Config c = default_config();
+  constexpr test::NoiseTexture kDark[] = {test::NoiseTexture::dark_bars};
+  const NoiseTally t = run_noise(c, PixelFormat::mono8, frame_count() / 4, 41, true, kDark);
   EXPECT_EQ(t.ok, 0) << t.ok << " of " << t.frames << " noise frames ok; the first: " << t.first_ok;
   EXPECT_EQ(t.departures, 0);
   EXPECT_EQ(t.warnings, 0);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "base/image_view.hpp"
@@ -16,6 +17,10 @@ enum class NoiseTexture : std::uint8_t {
   salt_and_pepper,  // a grey picture with a share of pixels black or white
   bright_blobs,     // bright discs and rectangles at random on a noisy grey
   bright_bars,      // bright thin bars, random length and direction, on a noisy grey
+  // A night's or an underpass's: a dark grey (8-33) with sensor noise, faint bars 4-20
+  // levels above it (where a dim road's lowered contrast threshold lets bars through,
+  // contrast_threshold.hpp) and a few bright lamps. Not in kNoiseTextures: its own test.
+  dark_bars,
 };
 inline constexpr NoiseTexture kNoiseTextures[] = {NoiseTexture::uniform, NoiseTexture::gaussian,
                                                   NoiseTexture::salt_and_pepper, NoiseTexture::bright_blobs,
@@ -28,6 +33,7 @@ inline const char* to_string(NoiseTexture t) {
     case NoiseTexture::salt_and_pepper: return "salt_and_pepper";
     case NoiseTexture::bright_blobs: return "bright_blobs";
     case NoiseTexture::bright_bars: return "bright_bars";
+    case NoiseTexture::dark_bars: return "dark_bars";
   }
   return "?";
 }
@@ -60,6 +66,13 @@ class NoiseFrames {
         gaussian(90.0 + 40.0 * unit(), 3.0 + 10.0 * level);
         for (int i = 0, n = 5 + static_cast<int>(60 * level); i < n; ++i) bar();
         break;
+      case NoiseTexture::dark_bars: {
+        const double dark = 8.0 + 25.0 * unit();
+        gaussian(dark, 0.5 + 3.0 * level);
+        for (int i = 0, n = 5 + static_cast<int>(60 * level); i < n; ++i) bar(dark + 4.0 + 16.0 * unit());
+        for (int i = 0, n = 1 + below(4); i < n; ++i) blob();
+        break;
+      }
     }
     return view_;
   }
@@ -112,11 +125,12 @@ class NoiseFrames {
       for (int x = std::max(0, cx - r); x < std::min(width_, cx + r); ++x)
         if (!disc || (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) put(x, y, grey);
   }
-  // A bright bar 2..12 px wide and 10..150 px long in any direction.
-  void bar() {
+  // A bright bar 2..12 px wide and 10..150 px long in any direction, of a random
+  // brightness (or `grey`).
+  void bar(double grey = -1.0) {
     const double x0 = unit() * width_, y0 = unit() * height_, angle = unit() * 3.14159265358979;
     const double length = 10.0 + 140.0 * unit(), half_width = 1.0 + 5.0 * unit();
-    const double grey = 150.0 + 105.0 * unit();
+    if (grey < 0.0) grey = 150.0 + 105.0 * unit();
     const double dx = std::cos(angle), dy = std::sin(angle);
     const int reach = static_cast<int>(length + half_width) + 1;
     for (int y = std::max(0, static_cast<int>(y0) - reach); y < std::min(height_, static_cast<int>(y0) + reach); ++y)

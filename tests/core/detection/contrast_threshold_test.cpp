@@ -1,0 +1,82 @@
+// The frame's contrast threshold: as configured on a daylight road, in proportion to the
+// road's level on a dim one, held above the picture's noise, and never below its floor.
+#include "core/detection/contrast_threshold.hpp"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace ccdlane {
+namespace {
+
+constexpr int kFlatWidth = 640, kFlatHeight = 200;
+constexpr float kConfiguredContrast = 10.0f;
+
+// A flat grey picture at `level` with Gaussian noise `sigma` (8-bit), and every other row
+// planned as a scan row across its whole width.
+struct FlatRoad {
+  std::vector<std::uint8_t> px;
+  std::vector<ScanRow> rows;
+  ImageView view;
+
+  FlatRoad(double level, double sigma, std::uint32_t seed = 3) : px(kFlatWidth * kFlatHeight) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (std::uint8_t& p : px) p = static_cast<std::uint8_t>(std::clamp(std::lround(level + sigma * n(rng)), 0L, 255L));
+    for (int y = 0; y < kFlatHeight; y += 2) {
+      ScanRow r;
+      r.y = y;
+      r.x_begin = 0;
+      r.x_end = kFlatWidth;
+      rows.push_back(r);
+    }
+    view = {px.data(), kFlatWidth, kFlatHeight, kFlatWidth, PixelFormat::mono8, 8};
+  }
+  float threshold() const { return frame_contrast_threshold(view, rows, kConfiguredContrast, 1.0f); }
+};
+
+TEST(FrameContrastThreshold, ADaylightRoadKeepsTheConfiguredContrast) {
+  EXPECT_FLOAT_EQ(FlatRoad(kDaylightRoadLevel + 30.0, 1.0).threshold(), kConfiguredContrast);
+  EXPECT_FLOAT_EQ(FlatRoad(200.0, 0.5).threshold(), kConfiguredContrast);
+}
+
+TEST(FrameContrastThreshold, ADimRoadLowersItInProportionToTheRoadsLevel) {
+  // Clean enough that the noise does not hold it up (9 x 0.2 = 1.8 levels): 35 of a
+  // daylight road's 70 is half the contrast. The median of rounded levels is the level.
+  EXPECT_NEAR(FlatRoad(35.0, 0.2).threshold(), 0.5f * kConfiguredContrast, 0.15f);
+  EXPECT_NEAR(FlatRoad(49.0, 0.2).threshold(), 0.7f * kConfiguredContrast, 0.15f);
+}
+
+TEST(FrameContrastThreshold, NoiseHoldsItUp) {
+  // At 35 the level alone says 5; noise of 0.8 levels (its estimate from rounded pixels
+  // within a few per cent) says 9 x 0.8 = 7.2.
+  EXPECT_NEAR(FlatRoad(35.0, 0.8).threshold(), static_cast<float>(kThresholdNoiseSigmas * 0.8), 0.4f);
+  // Noise beyond daylight's margin never raises it above the configured contrast.
+  EXPECT_FLOAT_EQ(FlatRoad(35.0, 3.0).threshold(), kConfiguredContrast);
+}
+
+TEST(FrameContrastThreshold, ADarkCleanPictureStopsAtTheFloor) {
+  EXPECT_FLOAT_EQ(FlatRoad(8.0, 0.0).threshold(), static_cast<float>(kMinThresholdShare) * kConfiguredContrast);
+}
+
+TEST(FrameContrastThreshold, SixteenBitLevelsScaleWithTheirDepth) {
+  // The same dim road at 12 bits: measure levels per grey level 4095 / 255.
+  const FlatRoad grey(35.0, 0.2);
+  std::vector<std::uint16_t> px16(grey.px.size());
+  const float per_grey = 4095.0f / 255.0f;
+  for (std::size_t i = 0; i < px16.size(); ++i)
+    px16[i] = static_cast<std::uint16_t>(std::lround(grey.px[i] * static_cast<double>(per_grey)));
+  const ImageView v16{reinterpret_cast<const std::uint8_t*>(px16.data()), kFlatWidth, kFlatHeight, 2 * kFlatWidth,
+                      PixelFormat::mono16, 12};
+  EXPECT_NEAR(frame_contrast_threshold(v16, grey.rows, kConfiguredContrast, per_grey) / per_grey, grey.threshold(), 0.2f);
+}
+
+TEST(FrameContrastThreshold, NoRowsKeepTheConfiguredContrast) {
+  const FlatRoad road(20.0, 0.2);
+  EXPECT_FLOAT_EQ(frame_contrast_threshold(road.view, {}, kConfiguredContrast, 1.0f), kConfiguredContrast);
+}
+
+}  // namespace
+}  // namespace ccdlane
