@@ -11,8 +11,8 @@
 namespace ccdlane {
 namespace {
 
-constexpr int kRowStep = 4;
-constexpr int kPixelStep = 8;
+constexpr int kRowStep = 8;
+constexpr int kPixelStep = 16;
 // A difference larger than this is an edge (paint, a car, a shadow's border), not noise.
 constexpr int kMaxNoiseStep = 20;
 // The standard deviation of a Gaussian from the mean absolute difference of two of its

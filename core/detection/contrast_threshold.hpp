@@ -15,7 +15,7 @@ namespace ccdlane {
 // proportion to the road's median level on the scan rows, up to a daylight road's
 // (kDaylightRoadLevel), and at least kThresholdNoiseSigmas times the pixel noise measured
 // on the same rows (adjacent pixels' differences): the margin over noise `min_contrast`
-// has on a daylight road. Sampled on every fourth row, every eighth pixel; nothing is
+// has on a daylight road. Sampled on every eighth row, every sixteenth pixel; nothing is
 // allocated. Returns measure levels (min_contrast times levels_per_grey, or less).
 float frame_contrast_threshold(const ImageView& image, std::span<const ScanRow> rows, float min_contrast,
                                float levels_per_grey);
