@@ -35,8 +35,8 @@ float frame_contrast_threshold(const ImageView& image, std::span<const ScanRow> 
       const int d = std::abs(paint_measure_at(image, x + 1, row.y) - v);
       const auto grey = static_cast<int>(static_cast<float>(v) / levels_per_grey);
       ++levels[static_cast<std::size_t>(std::clamp(grey, 0, 511))];
-      differences += std::min(static_cast<double>(d) / static_cast<double>(levels_per_grey),
-                              static_cast<double>(kMaxNoiseStep));
+      differences +=
+          std::min(static_cast<double>(d) / static_cast<double>(levels_per_grey), static_cast<double>(kMaxNoiseStep));
       ++samples;
     }
   }
@@ -45,8 +45,9 @@ float frame_contrast_threshold(const ImageView& image, std::span<const ScanRow> 
   int below = 0, median = 0;
   while (median < 511 && 2 * (below += levels[static_cast<std::size_t>(median)]) < samples) ++median;
   const double noise = kSigmaPerMeanDifference * differences / samples;
-  const double share = std::clamp(std::max(median / kDaylightRoadLevel, kThresholdNoiseSigmas * noise / static_cast<double>(min_contrast)),
-                                  kMinThresholdShare, 1.0);
+  const double share = std::clamp(
+      std::max(median / kDaylightRoadLevel, kThresholdNoiseSigmas * noise / static_cast<double>(min_contrast)),
+      kMinThresholdShare, 1.0);
   return configured * static_cast<float>(share);
 }
 

@@ -491,7 +491,7 @@ int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double cu
   plan_rows(pose, curvature_per_mm, joints);
   const float scale = paint_measure_levels_per_grey(image);
   min_contrast_ = frame_contrast_threshold(image, {rows_.data(), static_cast<std::size_t>(num_rows_)},
-                                          static_cast<float>(config_.min_contrast), scale);
+                                           static_cast<float>(config_.min_contrast), scale);
   const int capacity = static_cast<int>(marks_.size());
   int count = 0;
   for (int r = 0; r < num_rows_ && count < capacity; ++r)

@@ -322,11 +322,10 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
   // alike, the scar and the far dash made the line, 20 cm off the near dash (segA's
   // lane width 5 % short for three frames).
   auto consensus = [&](const RoadLine& h) {
-    double count = 0;
+    double count = 0.0;
     for (int k = 0; k < g; ++k) {
       const MarkCandidate& m = gated(k);
-      if (std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m, true))
-        count += m.contrast;
+      if (std::abs(m.Y - h.y_at(m.X)) <= kConsensusTolerance * pixel_tolerance_mm(params, m, true)) count += m.contrast;
     }
     return count;
   };
@@ -469,8 +468,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
   }
 
   // 2. RANSAC among them: the model, or a straight line through two gated marks, that
-  // has the most gated marks' contrast within a few pixels. Clutter inside a wide gate would pull
-  // a plain least-squares fit off the line; the consensus does not care about it.
+  // has the most gated marks' contrast within a few pixels. Clutter inside a wide gate
+  // would pull a plain least-squares fit off the line; the consensus does not care about it.
   const RoadLine looked_for = model;
   model = consensus_line(marks, g, model, line, params, parallel, slope_freedom);
 

@@ -68,9 +68,14 @@ TEST(FrameContrastThreshold, SixteenBitLevelsScaleWithTheirDepth) {
   const float per_grey = 4095.0f / 255.0f;
   for (std::size_t i = 0; i < px16.size(); ++i)
     px16[i] = static_cast<std::uint16_t>(std::lround(grey.px[i] * static_cast<double>(per_grey)));
-  const ImageView v16{reinterpret_cast<const std::uint8_t*>(px16.data()), kFlatWidth, kFlatHeight, 2 * kFlatWidth,
-                      PixelFormat::mono16, 12};
-  EXPECT_NEAR(frame_contrast_threshold(v16, grey.rows, kConfiguredContrast, per_grey) / per_grey, grey.threshold(), 0.2f);
+  const ImageView v16{reinterpret_cast<const std::uint8_t*>(px16.data()),
+                      kFlatWidth,
+                      kFlatHeight,
+                      2 * kFlatWidth,
+                      PixelFormat::mono16,
+                      12};
+  EXPECT_NEAR(frame_contrast_threshold(v16, grey.rows, kConfiguredContrast, per_grey) / per_grey, grey.threshold(),
+              0.2f);
 }
 
 TEST(FrameContrastThreshold, NoRowsKeepTheConfiguredContrast) {
