@@ -3,6 +3,7 @@
 // replay and the daemon run it, must give no ok frame and no departure or warning. The
 // truth is that these pictures hold no lane at all; one ok frame is a failure.
 #include <cstdlib>
+#include <span>
 #include <string>
 
 #include <gtest/gtest.h>
