@@ -164,5 +164,27 @@ TEST(MeasureReal, EachDrivesRowIsItsReplaySummedUpFromTheFourthSecondWhenTheMoun
   }
 }
 
+// A drive recorded as a frame directory (`ccdlane record --out DIR`, as a user records
+// their own car) is measured as a video is: its row is its replay's, and it is named by
+// the directory. The video's first 50 frames, recorded.
+TEST(MeasureReal, ADriveRecordedAsAFrameDirectoryIsMeasuredAsAVideoIs) {
+  test::TempDir tmp;
+  const std::string source = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives";
+  const std::string drives = tmp.file("drives"), work = tmp.file("work");
+  std::filesystem::create_directories(drives);
+  std::filesystem::copy_file(source + "/camera.toml", drives + "/camera.toml");
+  const test::ProcessResult rec =
+      test::run_process({CCDLANE_TOOL, "record", "video:" + source + "/project_video_segA.mp4", "--out",
+                         drives + "/segA_recorded", "--count", "50"});
+  ASSERT_EQ(rec.exit_status, 0) << rec.err;
+  const test::ProcessResult r = test::run_process(
+      {"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane", CCDLANE_TOOL, "--keep", work});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  const std::string row = drive_row(work + "/drives/nominal/segA_recorded.jsonl", "segA_recorded", "nominal", 0.0);
+  ASSERT_FALSE(row.empty()) << r.out;
+  EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
+  EXPECT_NE(row.find(" 50 "), std::string::npos) << "all 50 recorded frames measured: " << row;
+}
+
 }  // namespace
 }  // namespace ccdlane
