@@ -193,6 +193,24 @@ SupportProblem LaneFit::line_support_problem(const SolveResult& r, int left, int
   // line. On a road marked with dots alone, the lane's other line is often the only full
   // one.
   const bool one_full = (problem[0] == SupportProblem::none) != (problem[1] == SupportProblem::none);
+  // On a bend a dashed lane's lines both leave the view after a dash or two, and each may
+  // be a single dash (a 3-lane road at 150 m radius: the solid edge lines are seen along
+  // the bend, the own lane's dashes one each). Both may be, when two other lines are
+  // fully supported (they give the road's direction and curvature, which the solve
+  // shares; a dash only says where its line is) and each dash lies a lane's width from
+  // one of them, as well as from the other dash.
+  if (problem[0] != SupportProblem::none && problem[1] != SupportProblem::none) {
+    if (full_lines < 2) return problem[0];
+    for (int k = 0; k < 2; ++k) {
+      const int j = k == 0 ? left : right;
+      double beside = 1e300;  // the nearest fully supported line
+      for (int i = 0; i < r.num_lines; ++i)
+        if (full[i] == SupportProblem::none) beside = std::min(beside, std::abs(r.lines[i].y0_mm - r.lines[j].y0_mm));
+      if (!has_dash_support(support[k], j, beside) || !has_dash_support(support[k], j, lane_width_mm))
+        return problem[k];
+    }
+    return SupportProblem::none;
+  }
   for (int k = 0; k < 2; ++k) {
     const int line = detection_line_[k == 0 ? left : right];
     if (problem[k] != SupportProblem::none) {

@@ -203,6 +203,40 @@ SupportProblem solved_lane_support(const LaneEstimatorOptions& o, const CameraPo
   return fit.lane_support_problem(r, own, 25.0, truth.attitude, true);
 }
 
+// On a bend a dashed lane's lines leave the view after a dash or two: both own lines
+// may be single dashes (seven marks over 1.8 m each), when two other lines are fully
+// supported (the solid edge lines, which give the road's direction) and each dash lies a
+// lane's width from one of them. With one full line, or with a dash farther than a lane
+// from every full line, the dashes make no lane.
+TEST(LaneFit, BothOwnLinesMayBeADashBesideTwoFullLines) {
+  const LaneEstimatorOptions o = options_without_gyro();
+  const CameraPose truth = truth_pose(o);
+  std::mt19937_64 rng(21);
+  const LineMarks left_dash{1830.0, 14000.0, 15800.0, 300.0}, right_dash{-1830.0, 9000.0, 10800.0, 300.0};
+  const LineMarks left_edge{5490.0, 6000.0, 40000.0, 1700.0}, right_edge{-5490.0, 6000.0, 40000.0, 1700.0};
+  const LineMarks far_right{-9000.0, 6000.0, 40000.0, 1700.0};  // two lanes beyond the right dash
+  const auto support = [&](const DetectionResult& detected) {
+    DetectionResult d = detected;
+    for (const int j : {0, 1}) d.lines[j].parallel = true;  // found beside the road's other lines
+    LaneFit fit(o);
+    EXPECT_TRUE(fit.take(d));
+    const SolveResult& r = fit.solve(CameraPose{{}, truth.H_mm, truth.f_mm}, std::nullopt);
+    EXPECT_TRUE(r.converged) << to_string(r.status);
+    EXPECT_EQ(r.num_lines, d.num_lines);
+    const OwnLane own{0, 1, r.lines[0].y0_mm - r.lines[1].y0_mm, 0.0, 0.0};
+    return fit.lane_support_problem(r, own, 10.0, truth.attitude, true);
+  };
+  std::vector<Pick> picks;
+  EXPECT_EQ(support(detection_of_lines(o, truth, {left_dash, right_dash, left_edge, right_edge}, rng, picks)),
+            SupportProblem::none);
+  EXPECT_EQ(support(detection_of_lines(o, truth, {left_dash, right_dash, left_edge}, rng, picks)),
+            SupportProblem::too_few_marks)
+      << "one full line";
+  EXPECT_EQ(support(detection_of_lines(o, truth, {left_dash, right_dash, left_edge, far_right}, rng, picks)),
+            SupportProblem::too_few_marks)
+      << "the right dash two lanes from every full line";
+}
+
 // A lane of one full line and a row of dots: on a road with a single full line, the row
 // is the lane's other line when its marks span enough road to have fitted their own slope
 // (LineGrouper::kOwnSlopeSpanMm: two groups of dots), whether detection found it as the
