@@ -18,6 +18,9 @@ constexpr int kMaxScanRows = 360;              // beyond, rows are subsampled ev
 constexpr int kCandidatesPerPixelRow = 24;     // capacity: marks per scanned row, on average
 constexpr double kMinMarkPx = 0.8;             // marks narrower than this are not resolved
 constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
+// Bends this sharp or sharper turn the road's tangent 40 m ahead (max_range_mm) by 5.7
+// degrees or more: bars are judged against the tangent's point there.
+constexpr double kTangentRadiusMm = 400000.0;
 // The lane widths a line is looked for at in the picture, beside the own lane's line it
 // is the other line of, or beyond (lane_metrics.hpp's bounds, less the widest: a lane
 // that wide is two lanes whose line between was missed).
@@ -200,7 +203,13 @@ bool LaneDetector::points_to_vanishing_point(const ImageView& image, const MarkC
   // The bar's way to the vanishing point, in ideal pixels.
   const double dx = c.px() - camera_.cx, dy = c.py - camera_.cy;
   const double s = 1.0 / (1.0 + camera_.k_px2 * (dx * dx + dy * dy));
-  const double ex = vp_x_ - (camera_.cx + dx * s), ey = vp_y_ - (camera_.cy + dy * s);
+  // On a bend the road runs towards another point at each distance: its tangent's, the
+  // slope m + 2 c X of y = y0 + m x + c x^2 there (a mark 12 m ahead on a 80 m bend runs
+  // 8.6 degrees off the straight road, and near the horizon that turns its way in the
+  // picture by tens of degrees).
+  double vx = vp_x_, vy = vp_y_;
+  if (road_c_per_mm_ != 0.0 && !projector_.vanishing_point(road_m_ + 2.0 * road_c_per_mm_ * c.X, vx, vy)) return true;
+  const double ex = vx - (camera_.cx + dx * s), ey = vy - (camera_.cy + dy * s);
   const double en = Vec2(ex, ey).norm(), gn = Vec2(gx, gy).norm();
   if (en < 1.0 || gn == 0.0) return true;
   return std::abs(gx * ex + gy * ey) / (gn * en) < kOrientationTolerance;
@@ -625,7 +634,8 @@ int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraP
 }
 
 const DetectionResult& LaneDetector::detect(const ImageView& image, const CameraPose& pose,
-                                            std::span<const RoadLine> priors, PictureSearch picture_search) {
+                                            std::span<const RoadLine> priors, PictureSearch picture_search,
+                                            bool bend_confirmed) {
   result_ = DetectionResult{};
   if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return result_;
   double mean_m = 0.0, mean_c = 0.0;
@@ -635,6 +645,14 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   }
   const int count = scan(image, pose, mean_c, true);
   have_vp_ = projector_.vanishing_point(mean_m, vp_x_, vp_y_);
+  road_m_ = mean_m;
+  // The tangent's point (points_to_vanishing_point) from a curvature the previous frame's
+  // lane had; a search's first solve, which a look again starts from, has its curvature
+  // from a few marks, and lines tracked without a lane may be clutter's.
+  // Only a bend sharper than kTangentRadiusMm: on a gentler one the straight road's point
+  // is within a few degrees of every tangent's in the searched range, and the tangent of
+  // a slightly wrong curvature (a word taken for a line) lets other bars in.
+  road_c_per_mm_ = bend_confirmed && std::abs(mean_c) * 2.0 * kTangentRadiusMm >= 1.0 ? mean_c : 0.0;
   const float scale = paint_measure_levels_per_grey(image);
   result_.counters.scan_rows = num_rows_;
   result_.counters.candidates = count;

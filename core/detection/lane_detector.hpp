@@ -39,9 +39,12 @@ class LaneDetector {
   // Detects lane lines in `image` (Nu x Nv, mono8 or mono16 with its significant_bits),
   // seen from `pose` (the best current guess: previous frame, gyro, or nominal). `priors`
   // are the previous frame's lines in the same road frame (empty on the first frame or
-  // after a loss). The result stays valid until the next call.
+  // after a loss). `bend_confirmed`: the priors' curvature is a lane's that the previous
+  // frame found (not a search's first solve, nor lines a track of clutter carries): bars
+  // are then judged against the road's tangent at their distance. The result stays valid
+  // until the next call.
   const DetectionResult& detect(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> priors,
-                                PictureSearch picture_search = PictureSearch::own_lane);
+                                PictureSearch picture_search = PictureSearch::own_lane, bool bend_confirmed = false);
 
   // The bars the row filter finds on the rows of the searched range seen from `pose`,
   // without the road-plane, width, orientation and step tests or any grouping (a raised
@@ -130,6 +133,7 @@ class LaneDetector {
   float min_contrast_ = 0.0f;       // this frame's (contrast_threshold.hpp), measure levels
   double vp_x_ = 0.0, vp_y_ = 0.0;  // ideal pixel of the road's vanishing point
   bool have_vp_ = false;
+  double road_m_ = 0.0, road_c_per_mm_ = 0.0;  // the previous frame's lines' mean slope and curvature
 };
 
 }  // namespace ccdlane

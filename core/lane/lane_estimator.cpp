@@ -53,7 +53,7 @@ CameraPose LaneEstimator::nominal_pose() const {
 }
 
 void LaneEstimator::reset_lines() {
-  have_last_ = false;
+  have_last_ = track_had_lane_ = false;
   misses_ = 0;
   without_lane_ = 0;
   last_pose_ = nominal_pose();
@@ -94,6 +94,7 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
   }
   warn(in);
   report(in);
+  track_had_lane_ = track_had_lane_ || estimate_.ok;
   if (estimate_.ok || state_ != EstimatorState::tracking) {
     without_lane_ = 0;
   } else if (++without_lane_ >= kMaxTrackedFramesWithoutLane) {
@@ -135,7 +136,11 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   const bool cold = !have_last_;
   bool rescaled = false;
   const std::span<const RoadLine> priors = cold ? std::span<const RoadLine>{} : tracker_.priors();
-  if (!fit_.take(detector_.detect(image, detection_pose_, priors))) return {nullptr, EstimateFailure::too_few_marks};
+  // The tracked lines say how the road bends once they made a lane: a track of clutter,
+  // which never does, keeps judging bars by the straight road's point.
+  const bool bend_confirmed = !cold && track_had_lane_;
+  if (!fit_.take(detector_.detect(image, detection_pose_, priors, PictureSearch::own_lane, bend_confirmed)))
+    return {nullptr, EstimateFailure::too_few_marks};
   const SolveResult* r = &solve(detection_pose_, gyro);
 
   if (cold && r->converged && !r->rank_deficient) {

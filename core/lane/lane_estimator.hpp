@@ -160,8 +160,9 @@ class LaneEstimator {
   MountRefinement mount_;
   CameraPose last_pose_;
   bool have_last_ = false;
-  bool rescaled_ = false;  // the mount acquisition changed the height this frame
-  int misses_ = 0;         // frames in a row without an estimate
+  bool track_had_lane_ = false;  // the lines tracked made a lane (ok) since they were found
+  bool rescaled_ = false;        // the mount acquisition changed the height this frame
+  int misses_ = 0;               // frames in a row without an estimate
   // Tracked frames in a row without a lane (ok): a track of lines that makes no lane for
   // kMaxTrackedFramesWithoutLane frames is searched afresh, as it may be a wrong start's
   // (a first frame's lane of the wrong lines, which each frame's priors keep finding).

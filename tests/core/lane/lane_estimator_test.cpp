@@ -187,6 +187,50 @@ TEST(LaneEstimator, CurvedRoadsWithinTheSolversSigmasOfTheTruth) {
   EXPECT_EQ(frames, 40);
 }
 
+// Sharp bends, 120 m radius either way (a ramp, a city street), driven at 36 km/h (0.8
+// m/s^2 sideways), on a three-lane road with dashed inner lines, seen by the reference
+// camera (800x600): every frame ok, with the lane's width and the offset within 3 of the
+// solver's sigmas of the truth. On such a bend the own lane's dashed lines leave the view
+// after a dash or two (both may be single dashes beside the solid edge lines), and a
+// mark 12 m ahead runs 5.7 degrees off the straight road's direction, which near the
+// horizon turns its way in the picture by tens of degrees: while tracking a lane,
+// detection judges each bar against the point of the road's tangent at its distance.
+// (Before both: 90 of these 180 frames ok; docs/real-roads.md.)
+TEST(LaneEstimator, SharpBendsAreFoundAtEveryFrame) {
+  int frames = 0, ok = 0, within = 0, checks = 0;
+  for (const double radius_m : {120.0, -120.0}) {
+    Config c = default_config();
+    c.solver.line_model = LineModel::shared_curvature;
+    c.synth.curvature_per_mm = 1.0 / (2.0 * radius_m * 1000.0);
+    c.synth.dashed = DashedLines::inner;
+    c.synth.speed_mps = 10.0;
+    c.vehicle.speed_kmh = 36.0;
+    Drive d(c);
+    LaneEstimator est(c.estimator_options());
+    for (std::uint64_t k = 0; k < 90; ++k) {
+      const SynthFrame f = d.render(k);
+      const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+      ++frames;
+      if (!e.ok) {
+        ADD_FAILURE() << "R " << radius_m << " frame " << k << ": " << to_string(e.reason) << " ("
+                      << to_string(est.support_problem()) << ")";
+        continue;
+      }
+      ++ok;
+      int left = -1;
+      for (int j = 0; j + 1 < e.num_lines; ++j)
+        if (e.lines[j].y0_mm > 0 && e.lines[j + 1].y0_mm < 0) left = j;
+      ASSERT_GE(left, 0);
+      const double sigma_width = std::hypot(e.lines[left].sigma_y0_mm, e.lines[left + 1].sigma_y0_mm);
+      within += std::abs(e.lateral_offset_mm - f.lateral_offset_mm) <= 3.0 * 0.5 * sigma_width;
+      within += std::abs(e.lane_width_mm - c.synth.lane_width_mm) <= 3.0 * sigma_width;
+      checks += 2;
+    }
+  }
+  EXPECT_EQ(ok, frames);
+  EXPECT_EQ(within, checks);
+}
+
 TEST(LaneEstimator, IdsFollowTheRoadThroughALaneChangeAndDepartureIsFlagged) {
   Config c = small_camera();
   c.synth.lane_change_at_s = 1.0;
