@@ -133,7 +133,9 @@ class LaneDetector {
   float min_contrast_ = 0.0f;       // this frame's (contrast_threshold.hpp), measure levels
   double vp_x_ = 0.0, vp_y_ = 0.0;  // ideal pixel of the road's vanishing point
   bool have_vp_ = false;
-  double road_m_ = 0.0, road_c_per_mm_ = 0.0;  // the previous frame's lines' mean slope and curvature
+  // The priors' mean slope, and their mean curvature where bars are judged against the
+  // road's tangent (detect's bend_confirmed, a bend sharper than kTangentRadiusMm), else 0.
+  double road_m_ = 0.0, road_c_per_mm_ = 0.0;
 };
 
 }  // namespace ccdlane

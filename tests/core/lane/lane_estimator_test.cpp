@@ -195,7 +195,8 @@ TEST(LaneEstimator, CurvedRoadsWithinTheSolversSigmasOfTheTruth) {
 // mark 12 m ahead runs 5.7 degrees off the straight road's direction, which near the
 // horizon turns its way in the picture by tens of degrees: while tracking a lane,
 // detection judges each bar against the point of the road's tangent at its distance.
-// (Before both: 90 of these 180 frames ok; docs/real-roads.md.)
+// (Before both, replayed at daemon/ccdlane.toml's camera: 90 of these 180 frames ok;
+// docs/real-roads.md. This test itself was not run on the code before them.)
 TEST(LaneEstimator, SharpBendsAreFoundAtEveryFrame) {
   int frames = 0, ok = 0, within = 0, checks = 0;
   for (const double radius_m : {120.0, -120.0}) {
