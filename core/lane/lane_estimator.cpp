@@ -258,14 +258,18 @@ LaneEstimator::SearchPoses LaneEstimator::search_poses(const ImageView& image, c
   return {n, a};
 }
 
+double LaneEstimator::motion_speed_mps(const VehicleInputs& vehicle, const OwnLane& own) const {
+  return judged_speed_mps(vehicle.speed_mps, config_.ldw.vehicle.speed_mps(std::nullopt), own.curvature_per_m);
+}
+
 LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle) const {
   // Whether this solve is a lane, judged as the track stage would judge it, on a copy of
   // the tracker (nothing is committed) and against the mount acquisition would take.
   const Attitude mount = mount_.mount_for(r.pose.attitude);
   LaneTracker scratch = tracker_;
   const TrackedLines t = track_lines(scratch, r, fit_, rad_to_deg(mount.psi), config_.detection.departure_mm);
-  if (!t.metrics.has_lane || fit_.lane_support_problem(r, t.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps),
-                                                       mount, mount_.height_settled()) != SupportProblem::none)
+  if (!t.metrics.has_lane || fit_.lane_support_problem(r, t.own, motion_speed_mps(vehicle, t.own), mount,
+                                                       mount_.height_settled()) != SupportProblem::none)
     return Found::nothing;
   if (fit_.line_from_picture(t.own)) return Found::lane_with_a_line_from_the_picture;
   return fit_.line_inside_lane(t.own) ? Found::lane_with_a_line_inside : Found::lane;
@@ -386,7 +390,7 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
   // lane is one only with the support a real one gives (lane_support.hpp).
   if (tracked_.metrics.has_lane)
     support_ =
-        fit_.lane_support_problem(r, tracked_.own, config_.ldw.vehicle.speed_mps(vehicle.speed_mps), mount_.mount(),
+        fit_.lane_support_problem(r, tracked_.own, motion_speed_mps(vehicle, tracked_.own), mount_.mount(),
                                   mount_.height_settled());
   // The mount's height learns from widths at its own scale (a cold start may have looked
   // from another: height_scale).

@@ -129,6 +129,8 @@ class LaneEstimator {
   // only when no pose gives a lane.
   enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside, lane_with_a_line_from_the_picture };
   Found supported(const SolveResult& r, const VehicleInputs& vehicle) const;
+  // The speed the lane's motion is judged at (lane_support.hpp, judged_speed_mps).
+  double motion_speed_mps(const VehicleInputs& vehicle, const OwnLane& own) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
   // By how much a cold start's first solve says the height is off, while the mount's
   // height is not settled: the lane-width prior's mean over the width of the lane it

@@ -96,6 +96,15 @@ SupportProblem check_paint_width_spread(double spread, const DetectionConfig& de
   return spread < mix ? SupportProblem::none : SupportProblem::not_paint;
 }
 
+double judged_speed_mps(std::optional<double> measured_mps, double configured_mps, double curvature_per_m) {
+  if (measured_mps) return *measured_mps;
+  const double curvature = std::abs(curvature_per_m);
+  if (configured_mps * configured_mps * curvature <= kMaxLateralAccelerationMps2) return configured_mps;
+  // A billionth slower: at the bend's own speed the acceleration is the bound itself, which
+  // rounding may put a bit above it.
+  return std::max(kMinUnmeasuredSpeedMps, (1.0 - 1e-9) * std::sqrt(kMaxLateralAccelerationMps2 / curvature));
+}
+
 SupportProblem check_motion(double speed_mps, double heading_deg, double curvature_per_m) {
   const double lateral_speed = speed_mps * std::abs(std::sin(deg_to_rad(heading_deg)));
   const double lateral_acceleration = speed_mps * speed_mps * std::abs(curvature_per_m);

@@ -3,6 +3,7 @@
 // solve that agrees with its priors (the gyro's pitch and roll, a configured lane width).
 #pragma once
 
+#include <optional>
 #include <span>
 
 #include "core/detection/detection_config.hpp"
@@ -196,6 +197,17 @@ bool is_line_inside(const InsidePieces& pieces);
 // The lateral speed and acceleration of a vehicle at `speed_mps` with this heading
 // (degrees) in a lane of this curvature (1/m).
 SupportProblem check_motion(double speed_mps, double heading_deg, double curvature_per_m);
+
+// Without a measured speed, the slowest a lane's bend is taken to be driven at.
+constexpr double kMinUnmeasuredSpeedMps = 10.0;
+// The speed check_motion judges a lane of this curvature (1/m) at: the vehicle's measured
+// speed; without one, the configured speed ([vehicle] speed_kmh) unless the bend is too
+// sharp for it, then the speed a car takes the bend at (kMaxLateralAccelerationMps2), not
+// below kMinUnmeasuredSpeedMps. A drive replayed from a video has no speed: at the
+// configured 72 km/h every bend sharper than 100 m radius was refused, which a car takes
+// at 36 km/h on a country road or in a town. So without a speed the lateral acceleration
+// bounds the bend at 25 m radius.
+double judged_speed_mps(std::optional<double> measured_mps, double configured_mps, double curvature_per_m);
 
 // The solved pose and own lane width against the priors of the solve (angles in degrees,
 // lengths in mm; a prior left empty is not checked).

@@ -3,6 +3,7 @@
 // replay and the daemon run it, must give no ok frame and no departure or warning. The
 // truth is that these pictures hold no lane at all; one ok frame is a failure.
 #include <cstdlib>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -36,13 +37,14 @@ struct NoiseTally {
 // `frames` noise frames cycling through every texture and strength, one estimator over
 // the whole sequence (its tracker and lane filter carry over, as in a drive).
 NoiseTally run_noise(const Config& c, PixelFormat format, int frames, std::uint64_t seed, bool with_gyro = true,
-                     std::span<const test::NoiseTexture> textures = test::kNoiseTextures) {
+                     std::span<const test::NoiseTexture> textures = test::kNoiseTextures,
+                     std::optional<double> speed_mps = 25.0) {
   test::NoiseFrames noise(c.camera.Nu, c.camera.Nv, format, seed + seed_offset());
   LaneEstimator est(c.estimator_options());
   const Attitude nominal = c.nominal_pose().attitude;
   const Gx1Angles gyro{rad_to_deg(nominal.phi), -rad_to_deg(nominal.theta), 0.0};
   VehicleInputs vehicle;
-  vehicle.speed_mps = 25.0;
+  vehicle.speed_mps = speed_mps;
   NoiseTally tally;
   constexpr int kLevels = 5;
   for (int k = 0; k < frames; ++k) {
@@ -97,6 +99,18 @@ TEST(LaneEstimatorNoise, NoLaneInNoiseWithALaneWidthPriorAndNoGyro) {
   Config c = default_config();
   c.prior.lane_width_mm = Prior{3600.0, 300.0};
   const NoiseTally t = run_noise(c, PixelFormat::mono8, frame_count() / 4, 41, false);
+  EXPECT_EQ(t.ok, 0) << t.ok << " of " << t.frames << " noise frames ok; the first: " << t.first_ok;
+  EXPECT_EQ(t.departures, 0);
+  EXPECT_EQ(t.warnings, 0);
+}
+
+// A video replayed, or a daemon without a gateway, has no speed: a lane's bend is then
+// judged at the speed a car takes it at (judged_speed_mps), down to 36 km/h, where the
+// configured 72 km/h would refuse it.
+TEST(LaneEstimatorNoise, NoLaneInNoiseWithoutASpeed) {
+  const Config c = default_config();
+  const NoiseTally t =
+      run_noise(c, PixelFormat::mono8, frame_count() / 4, 53, true, test::kNoiseTextures, std::nullopt);
   EXPECT_EQ(t.ok, 0) << t.ok << " of " << t.frames << " noise frames ok; the first: " << t.first_ok;
   EXPECT_EQ(t.departures, 0);
   EXPECT_EQ(t.warnings, 0);

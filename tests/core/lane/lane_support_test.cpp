@@ -372,5 +372,27 @@ TEST(LaneSupport, TheLanesHeadingAndBendMustBeDrivableAtTheSpeed) {
   EXPECT_EQ(check_motion(0.0, 9.9, 1.0), SupportProblem::none);
 }
 
+// Without a measured speed a bend is judged at the configured speed while that can take
+// it, else at the speed a car takes it at, down to kMinUnmeasuredSpeedMps; a measured
+// speed is always the one.
+TEST(LaneSupport, WithoutASpeedABendIsJudgedAtTheSpeedItIsTakenAt) {
+  const double configured = 20.0;  // 72 km/h: bends down to 100 m radius
+  EXPECT_EQ(judged_speed_mps(30.0, configured, 1.0 / 50.0), 30.0);
+  EXPECT_EQ(judged_speed_mps(std::nullopt, configured, 1.0 / 150.0), configured);
+  EXPECT_EQ(judged_speed_mps(std::nullopt, configured, -1.0 / 100.0), configured);
+  for (const double radius_m : {99.0, 60.0, 25.5}) {
+    const double v = judged_speed_mps(std::nullopt, configured, -1.0 / radius_m);
+    EXPECT_NEAR(v, std::sqrt(kMaxLateralAccelerationMps2 * radius_m), 1e-6) << radius_m;
+    EXPECT_EQ(check_motion(v, 0.0, -1.0 / radius_m), SupportProblem::none) << radius_m;
+  }
+  // Sharper than a car takes at kMinUnmeasuredSpeedMps (25 m): no lane a car follows.
+  const double v = judged_speed_mps(std::nullopt, configured, 1.0 / 20.0);
+  EXPECT_EQ(v, kMinUnmeasuredSpeedMps);
+  EXPECT_EQ(check_motion(v, 0.0, 1.0 / 20.0), SupportProblem::implausible_motion);
+  // And a lane's heading is judged at that speed too.
+  EXPECT_EQ(check_motion(judged_speed_mps(std::nullopt, configured, 0.0), 6.0, 0.0),
+            SupportProblem::implausible_motion);
+}
+
 }  // namespace
 }  // namespace ccdlane
