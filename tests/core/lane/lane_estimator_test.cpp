@@ -188,6 +188,17 @@ TEST(LaneEstimator, CurvedRoadsWithinTheSolversSigmasOfTheTruth) {
   EXPECT_EQ(frames, 40);
 }
 
+// A three-lane road with dashed inner lines bending at this radius (m, + left), driven at
+// 36 km/h, seen by the reference camera (800x600) and solved with a shared curvature.
+Config bend(double radius_m) {
+  Config c = default_config();
+  c.solver.line_model = LineModel::shared_curvature;
+  c.synth.curvature_per_mm = 1.0 / (2.0 * radius_m * 1000.0);
+  c.synth.dashed = DashedLines::inner;
+  c.synth.speed_mps = 10.0;
+  return c;
+}
+
 // Sharp bends, 120 m radius either way (a ramp, a city street), driven at 36 km/h (0.8
 // m/s^2 sideways), on a three-lane road with dashed inner lines, seen by the reference
 // camera (800x600): every frame ok, with the lane's width and the offset within 3 of the
@@ -201,11 +212,7 @@ TEST(LaneEstimator, CurvedRoadsWithinTheSolversSigmasOfTheTruth) {
 TEST(LaneEstimator, SharpBendsAreFoundAtEveryFrame) {
   int frames = 0, ok = 0, within = 0, checks = 0;
   for (const double radius_m : {120.0, -120.0}) {
-    Config c = default_config();
-    c.solver.line_model = LineModel::shared_curvature;
-    c.synth.curvature_per_mm = 1.0 / (2.0 * radius_m * 1000.0);
-    c.synth.dashed = DashedLines::inner;
-    c.synth.speed_mps = 10.0;
+    Config c = bend(radius_m);
     c.vehicle.speed_kmh = 36.0;
     Drive d(c);
     LaneEstimator est(c.estimator_options());
@@ -242,11 +249,7 @@ TEST(LaneEstimator, SharpBendsAreFoundAtEveryFrame) {
 TEST(LaneEstimator, WithoutASpeedABendIsJudgedAtTheSpeedItIsTakenAt) {
   int ok = 0;
   for (const double radius_m : {80.0, -80.0}) {
-    Config c = default_config();
-    c.solver.line_model = LineModel::shared_curvature;
-    c.synth.curvature_per_mm = 1.0 / (2.0 * radius_m * 1000.0);
-    c.synth.dashed = DashedLines::inner;
-    c.synth.speed_mps = 10.0;
+    const Config c = bend(radius_m);
     const double configured_mps = c.vehicle.speed_kmh / 3.6;
     ASSERT_GT(configured_mps * configured_mps / std::abs(radius_m), kMaxLateralAccelerationMps2);
     Drive d(c);
