@@ -259,7 +259,7 @@ LaneEstimator::SearchPoses LaneEstimator::search_poses(const ImageView& image, c
 }
 
 double LaneEstimator::motion_speed_mps(const VehicleInputs& vehicle, const OwnLane& own) const {
-  return judged_speed_mps(vehicle.speed_mps, config_.ldw.vehicle.speed_mps(std::nullopt), own.curvature_per_m);
+  return judged_speed_mps(vehicle.speed_mps, config_.ldw.vehicle.configured_speed_mps(), own.curvature_per_m);
 }
 
 LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const VehicleInputs& vehicle) const {

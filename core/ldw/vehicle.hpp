@@ -15,7 +15,8 @@ struct VehicleConfig {
   double camera_left_of_centre_mm = 0.0;         // negative: right of the vehicle's centre line
 
   // The speed driven: the vehicle's input when there is one, else speed_kmh.
-  double speed_mps(const std::optional<double>& input_mps) const { return input_mps.value_or(speed_kmh / 3.6); }
+  double speed_mps(const std::optional<double>& input_mps) const { return input_mps.value_or(configured_speed_mps()); }
+  double configured_speed_mps() const { return speed_kmh / 3.6; }
 
   bool operator==(const VehicleConfig&) const = default;
 };
