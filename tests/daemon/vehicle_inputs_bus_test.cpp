@@ -214,7 +214,7 @@ TEST(VehicleInputsBus, TheRightIndicatorOnTheBusSuppressesTheWarning) {
 TEST(VehicleInputsBus, AGatewayThatFellSilentIsAVehicleFault) {
   ldw::ScenarioSpec spec = drift_right();
   spec.drive.duration_s = 0.2;  // 7 frames at 30 Hz
-  const double configured_mps = spec.vehicle.speed_kmh / 3.6;
+  const double configured_mps = spec.vehicle.configured_speed_mps();
   const std::vector<Seen> seen = run_drive(spec, [](const Gateway& gw, const VehicleFrame& truth) {
     if (truth.index == 0) gw.publish(12.5, std::nullopt, vehicle_state_t::TURN_INDICATOR_LEFT);
     // The gateway falls silent; by frame 3 its last message is older than the maximum age.

@@ -250,7 +250,7 @@ TEST(LaneEstimator, WithoutASpeedABendIsJudgedAtTheSpeedItIsTakenAt) {
   int ok = 0;
   for (const double radius_m : {80.0, -80.0}) {
     const Config c = bend(radius_m);
-    const double configured_mps = c.vehicle.speed_kmh / 3.6;
+    const double configured_mps = c.vehicle.configured_speed_mps();
     ASSERT_GT(configured_mps * configured_mps / std::abs(radius_m), kMaxLateralAccelerationMps2);
     Drive d(c);
     LaneEstimator measured(c.estimator_options()), unmeasured(c.estimator_options());
