@@ -72,6 +72,27 @@ bool check_dash_support(const LineSupport& line, const DetectionConfig& detectio
          line.near_mm >= detection.min_range_mm / kRangeSlack && line.far_mm <= detection.max_range_mm * kRangeSlack;
 }
 
+double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line) {
+  const auto counts = [&](const MarkCandidate& m) {
+    return m.line == detection_line && !m.dot && m.X > 0.0 && m.width_px() > 0.0;
+  };
+  const auto all = static_cast<std::size_t>(std::count_if(marks.begin(), marks.end(), counts));
+  if (all < 3) return std::nan("");
+  std::array<std::pair<double, double>, kMaxPaintSlopeMarks> v;  // (log distance, log width)
+  const std::size_t step = (all + v.size() - 1) / v.size();
+  std::size_t n = 0, seen = 0;
+  for (const MarkCandidate& m : marks)
+    if (counts(m) && seen++ % step == 0) v[n++] = {std::log(m.X), std::log(m.width_px())};
+  std::sort(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n));
+  std::array<double, kMaxPaintSlopeMarks> slopes;
+  const std::size_t half = n / 2;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i + half < n; ++i)
+    if (const double dx = v[i + half].first - v[i].first; dx > 1e-9)
+      slopes[k++] = (v[i + half].second - v[i].second) / dx;
+  return k == 0 ? std::nan("") : median_in_place(std::span(slopes).first(k));
+}
+
 SupportProblem check_paint_width(double slope) {
   return std::abs(slope - kPaintWidthSlope) <= kPaintWidthSlopeTolerance ? SupportProblem::none
                                                                          : SupportProblem::not_paint;

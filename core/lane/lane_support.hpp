@@ -3,6 +3,7 @@
 // solve that agrees with its priors (the gyro's pitch and roll, a configured lane width).
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <span>
 
@@ -146,8 +147,20 @@ constexpr double kMaxDashLaneWidthMm = 5000.0;
 
 // The slope of log(width px) against log(road distance) over a detection line's marks of
 // its majority kind (DetectedLine::dots: a line is judged by that kind, as its picks are;
-// dots of one size narrow as paint does) is line_grouper.hpp's width_distance_slope.
+// dots of one size narrow as paint does): paint_width_slope for paint, line_grouper.hpp's
+// width_distance_slope for dots.
 SupportProblem check_paint_width(double slope);
+
+// The slope for a line's paint marks (not dots): the median of the slopes between each
+// mark and the one half the line's marks farther on, so that it says what most marks say.
+// A least-squares slope follows a few odd marks at the line's ends: a noise bar of one
+// pixel width with one thin mark of something else 20 m beyond it sloped -0.6, as paint
+// does, where its other 41 marks said 0. A dot's rows are chords of it, whose widths
+// spread by nature; over dots the least-squares slope averages them, so dots keep it.
+// NaN with fewer than 3 marks or all at one distance; at most kMaxPaintSlopeMarks marks
+// are taken (every k-th of a longer line).
+inline constexpr std::size_t kMaxPaintSlopeMarks = 256;
+double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line);
 
 // One line's paint has one width on the road: log(width px x distance) is the same for
 // most of its marks but for edge noise and blur. Most, not all: a worn dash reads half as

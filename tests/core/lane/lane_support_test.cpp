@@ -43,6 +43,36 @@ TEST(LaneSupport, PaintOfOneRoadWidthSlopesMinusOneAndBarsOfOnePixelWidthZero) {
   EXPECT_EQ(check_paint_width(std::nan("")), SupportProblem::not_paint);
 }
 
+// Paint's slope is what most of its marks say. Noise frame (seed 53, frame 109): an 11 px
+// bar over 7.5-17 m and one 1.5 px mark of something else at 37 m; least squares sloped
+// it -0.6, as paint, and with a thin bar beside it the frame was a lane.
+TEST(LaneSupport, APaintLinesSlopeIsWhatMostOfItsMarksSay) {
+  std::vector<MarkCandidate> marks;
+  for (double x = 7500; x <= 17000; x += 250) marks.push_back(mark(0, x, 11.0));
+  marks.push_back(mark(0, 37000, 1.5));
+  EXPECT_LT(width_distance_slope(marks, 0, false), -0.25);  // least squares: the far mark's
+  EXPECT_NEAR(paint_width_slope(marks, 0), 0.0, 1e-12);
+  EXPECT_EQ(check_paint_width(paint_width_slope(marks, 0)), SupportProblem::not_paint);
+  // Paint whose far end a row cuts (a quarter of its width) and with one blob beside it
+  // near the car keeps its slope.
+  std::vector<MarkCandidate> paint;
+  for (double x = 5000; x <= 25000; x += 500) paint.push_back(mark(1, x, 60000.0 / x));
+  paint.push_back(mark(1, 25500, 0.25 * 60000.0 / 25500));
+  paint.push_back(mark(1, 5200, 30.0));
+  EXPECT_NEAR(paint_width_slope(paint, 1), -1.0, 1e-12);
+  // Undetermined as the least-squares slope is; dots are not paint's marks.
+  EXPECT_TRUE(std::isnan(paint_width_slope({paint.data(), 2}, 1)));
+  const std::vector<MarkCandidate> one_distance{mark(0, 9000, 5), mark(0, 9000, 6), mark(0, 9000, 7)};
+  EXPECT_TRUE(std::isnan(paint_width_slope(one_distance, 0)));
+  std::vector<MarkCandidate> dots = paint;
+  for (MarkCandidate& m : dots) m.dot = true;
+  EXPECT_TRUE(std::isnan(paint_width_slope(dots, 1)));
+  // A line longer than the buffer is taken every k-th mark: the same slope.
+  std::vector<MarkCandidate> long_line;
+  for (int i = 0; i < 1000; ++i) long_line.push_back(mark(2, 4000.0 + 30.0 * i, 90000.0 / (4000.0 + 30.0 * i)));
+  EXPECT_NEAR(paint_width_slope(long_line, 2), -1.0, 1e-12);
+}
+
 TEST(LaneSupport, ALineNeedsMarksOverEnoughRoadInsideTheSearchedRange) {
   const DetectionConfig d;  // 3..40 m searched, min_marks 8
   std::vector<Pick> picks;
