@@ -18,9 +18,6 @@ constexpr int kMaxScanRows = 360;              // beyond, rows are subsampled ev
 constexpr int kCandidatesPerPixelRow = 24;     // capacity: marks per scanned row, on average
 constexpr double kMinMarkPx = 0.8;             // marks narrower than this are not resolved
 constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and the way to the vanishing point
-// Bends this sharp or sharper turn the road's tangent 40 m ahead (max_range_mm) by 5.7
-// degrees or more: bars are judged against the tangent's point there.
-constexpr double kTangentRadiusMm = 400000.0;
 // The lane widths a line is looked for at in the picture, beside the own lane's line it
 // is the other line of, or beyond (lane_metrics.hpp's bounds, less the widest: a lane
 // that wide is two lanes whose line between was missed).

@@ -30,6 +30,11 @@ namespace ccdlane {
 // solve's, across every lane width.
 enum class PictureSearch { own_lane, own_lane_and_beyond };
 
+// Bends this sharp or sharper turn the road's tangent 40 m ahead (max_range_mm) by 5.7
+// degrees or more: on them, with the bend confirmed (detect's bend_confirmed), bars are
+// judged against the tangent's point at their distance.
+inline constexpr double kTangentRadiusMm = 400000.0;
+
 class LaneDetector {
  public:
   // Every workspace is sized here for frames of camera.Nu x camera.Nv; detect() never

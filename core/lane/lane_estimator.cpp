@@ -132,6 +132,18 @@ const SolveResult& LaneEstimator::solve(const CameraPose& initial, const std::op
   return *solution_;
 }
 
+namespace {
+
+// Two lines or more whose mean curvature is a bend sharper than kTangentRadiusMm.
+bool bends_sharply(std::span<const RoadLine> lines) {
+  if (lines.size() < 2) return false;
+  double mean_c = 0.0;
+  for (const RoadLine& l : lines) mean_c += l.c_per_mm / static_cast<double>(lines.size());
+  return std::abs(mean_c) * 2.0 * kTangentRadiusMm >= 1.0;
+}
+
+}  // namespace
+
 LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
   const bool cold = !have_last_;
   bool rescaled = false;
@@ -142,6 +154,7 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   if (!fit_.take(detector_.detect(image, detection_pose_, priors, PictureSearch::own_lane, bend_confirmed)))
     return {nullptr, EstimateFailure::too_few_marks};
   const SolveResult* r = &solve(detection_pose_, gyro);
+  bool bent = false;
 
   if (cold && r->converged && !r->rank_deficient) {
     // Cold start: look again from where the first solve put the camera, along its lines
@@ -153,8 +166,11 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
     detection_pose_.H_mm *= scale;
     rescaled = scale != 1.0;
     const std::span<const RoadLine> solved(r->lines.data(), static_cast<std::size_t>(r->num_lines));
-    if (!fit_.take(detector_.detect(image, detection_pose_, solved, PictureSearch::own_lane_and_beyond), true))
-      return {nullptr, EstimateFailure::too_few_marks};
+    bent = bends_sharply(solved);
+    if (!fit_.take(detector_.detect(image, detection_pose_, solved, PictureSearch::own_lane_and_beyond,
+                                    look_along_bend_ && bent),
+                   true))
+      return {nullptr, EstimateFailure::too_few_marks, false, bent};
     r = &solve(detection_pose_, gyro);
   }
   if (r->converged && fit_.drop_outliers(*r)) {
@@ -165,8 +181,9 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   // Parameters the picks do not determine leave the cost flat along them, so the solve may
   // wander there without converging: the reason is then that, not the solver.
   if (!r->converged)
-    return {nullptr, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed};
-  return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none, rescaled};
+    return {nullptr, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed, false,
+            bent};
+  return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none, rescaled, bent};
 }
 
 bool LaneEstimator::height_unsettled() const {
@@ -309,10 +326,12 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int from_picture = -1;  // the first pose whose lane has a line found only in the picture
   int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks from marks
+  int bent = -1;  // the first pose whose first solve bent sharply (Attempt::bent)
   int k = 0;
   for (; k < n && !(lane.solve && k % searched.per_height == 0); ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
+    if (a.bent && bent < 0) bent = k;
     const int picks = fit_.picks_from_marks();
     if (const Found found = a.why == EstimateFailure::none ? supported(*a.solve, vehicle) : Found::nothing;
         found == Found::lane_with_a_line_inside) {
@@ -359,7 +378,25 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
     mount_.adopt(a.solve->pose.attitude);
     return a;
   }
-  if (n == 1) return first;
+  // No lane, and a pose's first solve saw a sharp bend: on one, the marks beyond 10-20 m
+  // run tens of degrees off the way to the straight road's point, and the look again
+  // refused them (a still on a 60 m bend found its dashed lines' near dashes and none
+  // beyond). Looked at again along the bend, as a tracked frame is. Only here: the
+  // search's own first solves take their curvature from a few marks, and judged along
+  // it every still's bars moved (TuSimple's nominal row lost 2 points of own lines).
+  bool looked_along_bend = false;
+  if (bent >= 0) {
+    detection_pose_ = poses[bent];
+    look_along_bend_ = true;
+    const Attempt a = attempt(image, gyro);
+    look_along_bend_ = false;
+    looked_along_bend = true;
+    if (a.why == EstimateFailure::none && supported(*a.solve, vehicle) == Found::lane) {
+      mount_.adopt(a.solve->pose.attitude);
+      return a;
+    }
+  }
+  if (n == 1 && !looked_along_bend) return first;
   // No lane: the pose that saw most, else the first (the fit's buffers hold the last
   // pose's: look again).
   detection_pose_ = poses[most_seen >= 0 ? most_seen : 0];
