@@ -181,8 +181,7 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
   // Parameters the picks do not determine leave the cost flat along them, so the solve may
   // wander there without converging: the reason is then that, not the solver.
   if (!r->converged)
-    return {nullptr, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed, false,
-            bent};
+    return {nullptr, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::solver_failed, false, bent};
   return {r, r->rank_deficient ? EstimateFailure::rank_deficient : EstimateFailure::none, rescaled, bent};
 }
 
@@ -326,7 +325,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int from_picture = -1;  // the first pose whose lane has a line found only in the picture
   int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks from marks
-  int bent = -1;  // the first pose whose first solve bent sharply (Attempt::bent)
+  int bent = -1;                       // the first pose whose first solve bent sharply (Attempt::bent)
   int k = 0;
   for (; k < n && !(lane.solve && k % searched.per_height == 0); ++k) {
     detection_pose_ = poses[k];

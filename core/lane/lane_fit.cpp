@@ -234,11 +234,9 @@ SupportProblem LaneFit::paint_problem(int line) const {
   // others (TuSimple still 40: 9 to 21 px at one distance).
   if (detected.yellow) return SupportProblem::none;
   const bool dots = detected.dots;
-  const double slope = dots ? width_distance_slope(detection_->marks, line, true)
-                            : paint_width_slope(detection_->marks, line);
-  if (const SupportProblem p = check_paint_width(slope);
-      p != SupportProblem::none || dots)
-    return p;
+  const double slope =
+      dots ? width_distance_slope(detection_->marks, line, true) : paint_width_slope(detection_->marks, line);
+  if (const SupportProblem p = check_paint_width(slope); p != SupportProblem::none || dots) return p;
   return check_paint_width_spread(paint_width_spread(detection_->marks, line, scratch_), options_.detection);
 }
 
