@@ -83,13 +83,14 @@ double paint_width_slope(std::span<const MarkCandidate> marks, int detection_lin
   std::size_t n = 0, seen = 0;
   for (const MarkCandidate& m : marks)
     if (counts(m) && seen++ % step == 0) v[n++] = {std::log(m.X), std::log(m.width_px())};
-  std::sort(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n));
-  std::array<double, kMaxPaintSlopeMarks> slopes;
-  const std::size_t half = n / 2;
+  // Theil-Sen: the median of the slopes between every two marks at least 5 % apart in
+  // distance (nearer pairs say more of edge noise than of the slope).
+  std::array<double, kMaxPaintSlopeMarks*(kMaxPaintSlopeMarks - 1) / 2> slopes;
   std::size_t k = 0;
-  for (std::size_t i = 0; i + half < n; ++i)
-    if (const double dx = v[i + half].first - v[i].first; dx > 1e-9)
-      slopes[k++] = (v[i + half].second - v[i].second) / dx;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j)
+      if (const double dx = v[j].first - v[i].first; std::abs(dx) > kMinPaintSlopeLogSpan)
+        slopes[k++] = (v[j].second - v[i].second) / dx;
   return k == 0 ? std::nan("") : median_in_place(std::span(slopes).first(k));
 }
 

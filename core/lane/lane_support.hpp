@@ -151,15 +151,17 @@ constexpr double kMaxDashLaneWidthMm = 5000.0;
 // width_distance_slope for dots.
 SupportProblem check_paint_width(double slope);
 
-// The slope for a line's paint marks (not dots): the median of the slopes between each
-// mark and the one half the line's marks farther on, so that it says what most marks say.
-// A least-squares slope follows a few odd marks at the line's ends: a noise bar of one
-// pixel width with one thin mark of something else 20 m beyond it sloped -0.6, as paint
-// does, where its other 41 marks said 0. A dot's rows are chords of it, whose widths
-// spread by nature; over dots the least-squares slope averages them, so dots keep it.
-// NaN with fewer than 3 marks or all at one distance; at most kMaxPaintSlopeMarks marks
-// are taken (every k-th of a longer line).
-inline constexpr std::size_t kMaxPaintSlopeMarks = 256;
+// The slope for a line's paint marks (not dots): Theil-Sen's, the median of the slopes
+// between every two marks (at least kMinPaintSlopeLogSpan apart in log distance), so that
+// it says what most marks say. A least-squares slope follows a few odd marks at the
+// line's ends: a noise bar of one pixel width with one thin mark of something else 20 m
+// beyond it sloped -0.6, as paint does, where its other 41 marks said 0. A dot's rows are
+// chords of it, whose widths spread by nature; over dots the least-squares slope averages
+// them, so dots keep it. NaN with fewer than 3 marks or all at one distance; at most
+// kMaxPaintSlopeMarks marks are taken (every k-th of a longer line: the pairs are its
+// square, on the stack).
+inline constexpr std::size_t kMaxPaintSlopeMarks = 64;
+inline constexpr double kMinPaintSlopeLogSpan = 0.05;
 double paint_width_slope(std::span<const MarkCandidate> marks, int detection_line);
 
 // One line's paint has one width on the road: log(width px x distance) is the same for

@@ -67,6 +67,17 @@ TEST(LaneSupport, APaintLinesSlopeIsWhatMostOfItsMarksSay) {
   std::vector<MarkCandidate> dots = paint;
   for (MarkCandidate& m : dots) m.dot = true;
   EXPECT_TRUE(std::isnan(paint_width_slope(dots, 1)));
+  // segA frame 121's right line, as detected: three dashes reading 9, 9 and 6 px. Paired
+  // half the line apart its marks sloped -0.11 (not paint); every pair says paint.
+  const double segA[][2] = {{8449, 8.82},  {8609, 8.50},  {9120, 8.82},  {9302, 8.72},  {9494, 8.58},
+                            {9899, 9.67},  {11329, 9.03}, {11897, 7.89}, {12522, 6.50}, {16178, 9.60},
+                            {16544, 11.62}, {16932, 9.36}, {17336, 9.39}, {17758, 10.15}, {18202, 9.16},
+                            {18669, 8.52}, {19158, 9.40}, {19676, 8.30}, {20220, 8.93}, {31518, 5.12},
+                            {32202, 6.24}, {32922, 6.66}, {33675, 6.75}, {34465, 6.03}, {35287, 6.29},
+                            {36149, 4.08}};
+  std::vector<MarkCandidate> dashes;
+  for (const auto& [x, w] : segA) dashes.push_back(mark(3, x, w));
+  EXPECT_EQ(check_paint_width(paint_width_slope(dashes, 3)), SupportProblem::none) << paint_width_slope(dashes, 3);
   // A line longer than the buffer is taken every k-th mark: the same slope.
   std::vector<MarkCandidate> long_line;
   for (int i = 0; i < 1000; ++i) long_line.push_back(mark(2, 4000.0 + 30.0 * i, 90000.0 / (4000.0 + 30.0 * i)));
