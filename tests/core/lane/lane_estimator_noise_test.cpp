@@ -94,14 +94,19 @@ TEST(LaneEstimatorNoise, NoLaneInColourNoise) {
 }
 
 // Without a gyro but with a lane-width prior the roll is observable and every solve is
-// full rank: only the support checks stand between noise and a lane.
+// full rank: only the support checks stand between noise and a lane. Seed 53 as well:
+// its frame 109 (an 11 px bar and one thin far mark of something else, which a
+// least-squares width slope took for paint) was a lane until paint_width_slope.
 TEST(LaneEstimatorNoise, NoLaneInNoiseWithALaneWidthPriorAndNoGyro) {
   Config c = default_config();
   c.prior.lane_width_mm = Prior{3600.0, 300.0};
-  const NoiseTally t = run_noise(c, PixelFormat::mono8, frame_count() / 4, 41, false);
-  EXPECT_EQ(t.ok, 0) << t.ok << " of " << t.frames << " noise frames ok; the first: " << t.first_ok;
-  EXPECT_EQ(t.departures, 0);
-  EXPECT_EQ(t.warnings, 0);
+  for (const std::uint64_t seed : {41, 53}) {
+    const NoiseTally t = run_noise(c, PixelFormat::mono8, frame_count() / 4, seed, false);
+    EXPECT_EQ(t.ok, 0) << "seed " << seed << ": " << t.ok << " of " << t.frames
+                       << " noise frames ok; the first: " << t.first_ok;
+    EXPECT_EQ(t.departures, 0);
+    EXPECT_EQ(t.warnings, 0);
+  }
 }
 
 // A video replayed, or a daemon without a gateway, has no speed: a lane's bend is then
