@@ -649,7 +649,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   // Only a bend sharper than kTangentRadiusMm: on a gentler one the straight road's point
   // is within a few degrees of every tangent's in the searched range, and the tangent of
   // a slightly wrong curvature (a word taken for a line) lets other bars in.
-  road_c_per_mm_ = bend_confirmed && std::abs(mean_c) * 2.0 * kTangentRadiusMm >= 1.0 ? mean_c : 0.0;
+  road_c_per_mm_ = bend_confirmed && bends_sharper_than_tangent_radius(mean_c) ? mean_c : 0.0;
   const float scale = paint_measure_levels_per_grey(image);
   result_.counters.scan_rows = num_rows_;
   result_.counters.candidates = count;

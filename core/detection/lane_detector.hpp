@@ -6,6 +6,8 @@
 // line.
 #pragma once
 
+#include <cmath>
+
 #include <optional>
 #include <span>
 #include <vector>
@@ -34,6 +36,9 @@ enum class PictureSearch { own_lane, own_lane_and_beyond };
 // degrees or more: on them, with the bend confirmed (detect's bend_confirmed), bars are
 // judged against the tangent's point at their distance.
 inline constexpr double kTangentRadiusMm = 400000.0;
+inline bool bends_sharper_than_tangent_radius(double c_per_mm) {
+  return std::abs(c_per_mm) * 2.0 * kTangentRadiusMm >= 1.0;
+}
 
 class LaneDetector {
  public:

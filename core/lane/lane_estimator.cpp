@@ -139,12 +139,13 @@ bool bends_sharply(std::span<const RoadLine> lines) {
   if (lines.size() < 2) return false;
   double mean_c = 0.0;
   for (const RoadLine& l : lines) mean_c += l.c_per_mm / static_cast<double>(lines.size());
-  return std::abs(mean_c) * 2.0 * kTangentRadiusMm >= 1.0;
+  return bends_sharper_than_tangent_radius(mean_c);
 }
 
 }  // namespace
 
-LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro) {
+LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                               bool along_bend) {
   const bool cold = !have_last_;
   bool rescaled = false;
   const std::span<const RoadLine> priors = cold ? std::span<const RoadLine>{} : tracker_.priors();
@@ -168,7 +169,7 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
     const std::span<const RoadLine> solved(r->lines.data(), static_cast<std::size_t>(r->num_lines));
     bent = bends_sharply(solved);
     if (!fit_.take(detector_.detect(image, detection_pose_, solved, PictureSearch::own_lane_and_beyond,
-                                    look_along_bend_ && bent),
+                                    along_bend && bent),
                    true))
       return {nullptr, EstimateFailure::too_few_marks, false, bent};
     r = &solve(detection_pose_, gyro);
@@ -383,19 +384,16 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // beyond). Looked at again along the bend, as a tracked frame is. Only here: the
   // search's own first solves take their curvature from a few marks, and judged along
   // it every still's bars moved (TuSimple's nominal row lost 2 points of own lines).
-  bool looked_along_bend = false;
   if (bent >= 0) {
     detection_pose_ = poses[bent];
-    look_along_bend_ = true;
-    const Attempt a = attempt(image, gyro);
-    look_along_bend_ = false;
-    looked_along_bend = true;
+    const Attempt a = attempt(image, gyro, true);
     if (a.why == EstimateFailure::none && supported(*a.solve, vehicle) == Found::lane) {
       mount_.adopt(a.solve->pose.attitude);
       return a;
     }
   }
-  if (n == 1 && !looked_along_bend) return first;
+  // `first` is the fit's buffers' only while no other attempt followed it.
+  if (n == 1 && bent < 0) return first;
   // No lane: the pose that saw most, else the first (the fit's buffers hold the last
   // pose's: look again).
   detection_pose_ = poses[most_seen >= 0 ? most_seen : 0];

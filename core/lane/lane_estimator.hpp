@@ -110,11 +110,13 @@ class LaneEstimator {
     EstimateFailure why = EstimateFailure::none;
     bool rescaled = false;  // the first solve's lane width moved the height (height_scale)
     // A cold attempt's first solve had two lines or more bending sharper than
-    // kTangentRadiusMm: looked at again along that bend (look_along_bend_), its far marks
-    // may be seen where the straight road's point refused them.
+    // kTangentRadiusMm: looked at again along that bend (attempt's along_bend), its far
+    // marks may be seen where the straight road's point refused them.
     bool bent = false;
   };
-  Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro);
+  // `along_bend`: a cold attempt's look again judges bars against the road's tangent when
+  // its first solve bent sharply (search() asks it once it found no lane).
+  Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro, bool along_bend = false);
   static constexpr int kMaxSearchAttitudes = 10;
   static constexpr int kMaxSearchPoses = kSearchHeights * kMaxSearchAttitudes;
   // Yaw and pitch from the road's vanishing point in the picture (roll and the rest are
@@ -166,9 +168,6 @@ class LaneEstimator {
   MountRefinement mount_;
   CameraPose last_pose_;
   bool have_last_ = false;
-  // A search that found no lane looks again along the bend a pose's first solve showed
-  // (search()): the look again then judges bars against the road's tangent.
-  bool look_along_bend_ = false;
   bool track_had_lane_ = false;  // the lines tracked made a lane (ok) since they were found
   bool rescaled_ = false;        // the mount acquisition changed the height this frame
   int misses_ = 0;               // frames in a row without an estimate

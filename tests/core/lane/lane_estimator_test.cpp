@@ -199,6 +199,21 @@ Config bend(double radius_m) {
   return c;
 }
 
+// Of an ok estimate on a synthetic bend: its lateral offset and lane width each within 3
+// of the solver's sigmas of the truth (`within` of `checks`). False when the own lane's
+// two lines are not among its lines.
+bool tally_truth(const LaneEstimate& e, const SynthFrame& f, const Config& c, int& within, int& checks) {
+  int left = -1;
+  for (int j = 0; j + 1 < e.num_lines; ++j)
+    if (e.lines[j].y0_mm > 0 && e.lines[j + 1].y0_mm < 0) left = j;
+  if (left < 0) return false;
+  const double sigma_width = std::hypot(e.lines[left].sigma_y0_mm, e.lines[left + 1].sigma_y0_mm);
+  within += std::abs(e.lateral_offset_mm - f.lateral_offset_mm) <= 3.0 * 0.5 * sigma_width;
+  within += std::abs(e.lane_width_mm - c.synth.lane_width_mm) <= 3.0 * sigma_width;
+  checks += 2;
+  return true;
+}
+
 // Sharp bends, 120 m radius either way (a ramp, a city street), driven at 36 km/h (0.8
 // m/s^2 sideways), on a three-lane road with dashed inner lines, seen by the reference
 // camera (800x600): every frame ok, with the lane's width and the offset within 3 of the
@@ -226,14 +241,7 @@ TEST(LaneEstimator, SharpBendsAreFoundAtEveryFrame) {
         continue;
       }
       ++ok;
-      int left = -1;
-      for (int j = 0; j + 1 < e.num_lines; ++j)
-        if (e.lines[j].y0_mm > 0 && e.lines[j + 1].y0_mm < 0) left = j;
-      ASSERT_GE(left, 0);
-      const double sigma_width = std::hypot(e.lines[left].sigma_y0_mm, e.lines[left + 1].sigma_y0_mm);
-      within += std::abs(e.lateral_offset_mm - f.lateral_offset_mm) <= 3.0 * 0.5 * sigma_width;
-      within += std::abs(e.lane_width_mm - c.synth.lane_width_mm) <= 3.0 * sigma_width;
-      checks += 2;
+      ASSERT_TRUE(tally_truth(e, f, c, within, checks)) << "R " << radius_m << " frame " << k;
     }
   }
   EXPECT_EQ(ok, frames);
@@ -260,14 +268,7 @@ TEST(LaneEstimator, StillsOfSharpBendsAreLanes) {
       ++stills;
       if (!e.ok) continue;
       ++ok;
-      int left = -1;
-      for (int j = 0; j + 1 < e.num_lines; ++j)
-        if (e.lines[j].y0_mm > 0 && e.lines[j + 1].y0_mm < 0) left = j;
-      ASSERT_GE(left, 0) << "R " << radius_m << " still " << k;
-      const double sigma_width = std::hypot(e.lines[left].sigma_y0_mm, e.lines[left + 1].sigma_y0_mm);
-      within += std::abs(e.lateral_offset_mm - f.lateral_offset_mm) <= 3.0 * 0.5 * sigma_width;
-      within += std::abs(e.lane_width_mm - c.synth.lane_width_mm) <= 3.0 * sigma_width;
-      checks += 2;
+      ASSERT_TRUE(tally_truth(e, f, c, within, checks)) << "R " << radius_m << " still " << k;
     }
   }
   // 74 of 80 when this was written (the old search: about 22). The floor is that less two
