@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -45,13 +46,18 @@ std::string printed_row(const std::string& out, const std::string& mount) {
   return "";
 }
 
-// The same row from `ccdlane score` of the replay measure-real kept in `dir`, with
-// TuSimple's own benchmark last.
-std::string scored_row(const std::string& dir, const std::string& mount) {
+// `ccdlane score` (JSON) of the replay measure-real kept in `dir`.
+nlohmann::json score_json(const std::string& dir) {
   const test::ProcessResult s = test::run_process({CCDLANE_TOOL, "score", dir + "/camera.toml", dir + "/stills",
                                                    dir + "/stills.jsonl", kStills + "/labels.jsonl", "--json"});
   EXPECT_EQ(s.exit_status, 0) << s.err;
-  const nlohmann::json t = nlohmann::json::parse(s.out)["total"];
+  return s.exit_status == 0 ? nlohmann::json::parse(s.out) : nlohmann::json::object();
+}
+
+// The same row from `ccdlane score` of the replay measure-real kept in `dir`, with
+// TuSimple's own benchmark last.
+std::string scored_row(const std::string& dir, const std::string& mount) {
+  const nlohmann::json t = score_json(dir)["total"];
   int frames = 0, ok = 0;
   std::istringstream replay(test::read_file(dir + "/stills.jsonl"));
   for (std::string line; std::getline(replay, line);) {
@@ -109,6 +115,95 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
     EXPECT_TRUE(std::filesystem::is_regular_file(overlays + name)) << name;
   }
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(overlays), std::filesystem::directory_iterator{}), 10);
+}
+
+// Where a false line leaves its lane, by the rule --misses states: the third of the
+// still's labelled rows (first to last row any lane is labelled on) most of its rows off
+// a lane lie in.
+std::string where_off(const std::vector<int>& off, int first_row, int last_row) {
+  const double third = (last_row - first_row) / 3.0;
+  std::size_t near = 0, far = 0;
+  for (const int r : off) near += r > last_row - third, far += r < first_row + third;
+  if (2 * near > off.size()) return "near the car";
+  if (2 * far > off.size()) return "far";
+  return "along";
+}
+
+// --misses lists, of the nominal row, exactly the stills `ccdlane score` says lost an own
+// line or reported a false one, with their own lines found, each false line's points on
+// a lane and where it leaves it; and the stills at least half of the rows lost an own
+// line in.
+TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFalseOne) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), work = tmp.file("work");
+  std::filesystem::create_directories(data);
+  const test::ProcessResult r = test::run_process(
+      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work, "--misses"});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  const std::size_t list = r.out.find("Nominal row, the stills that lost an own line or reported a false one\n");
+  ASSERT_NE(list, std::string::npos) << r.out;
+
+  std::map<std::string, std::pair<int, int>> rows;  // image -> first and last labelled row
+  std::istringstream labels(test::read_file(kStills + "/labels.jsonl"));
+  for (std::string line; std::getline(labels, line);) {
+    const nlohmann::json l = nlohmann::json::parse(line);
+    int first = 1 << 20, last = -1;
+    for (const auto& lane : l["lanes"])
+      for (std::size_t i = 0; i < lane.size(); ++i)
+        if (lane[i].get<int>() >= 0)
+          first = std::min(first, l["h_samples"][i].get<int>()), last = std::max(last, l["h_samples"][i].get<int>());
+    rows[std::filesystem::path(l["image"].get<std::string>()).filename().string()] = {first, last};
+  }
+  std::string expected;
+  int false_lines = 0, listed = 0;
+  const nlohmann::json nominal = score_json(work + "/tusimple/nominal");
+  for (const nlohmann::json& f : nominal["frames"]) {
+    std::vector<std::string> falses;
+    const std::string file = std::filesystem::path(f["file"].get<std::string>()).filename().string();
+    for (const nlohmann::json& l : f["line_results"]) {
+      if (!l["false"].get<bool>()) continue;
+      const std::vector<int> off = l["off_rows"].get<std::vector<int>>();
+      ASSERT_FALSE(off.empty()) << "a false line is off its lane somewhere";
+      falses.push_back("line " + std::to_string(l["line"].get<int>()) + ": " +
+                       std::to_string(l["on_lane_points"].get<int>()) + " of " +
+                       std::to_string(l["points"].get<int>()) + ", " +
+                       where_off(off, rows.at(file).first, rows.at(file).second) + ", rows " +
+                       std::to_string(*std::min_element(off.begin(), off.end())) + "-" +
+                       std::to_string(*std::max_element(off.begin(), off.end())));
+    }
+    const int own = f["ego_found"].get<int>(), labelled = f["ego_lanes"].get<int>();
+    if (own == labelled && falses.empty()) continue;
+    false_lines += static_cast<int>(falses.size());
+    ++listed;
+    std::string joined;
+    for (const std::string& x : falses) joined += (joined.empty() ? "" : "; ") + x;
+    char row[400];
+    std::snprintf(row, sizeof row, "%5d %-20s %2d/%-2d  %s\n", f["frame"].get<int>(), file.c_str(), own, labelled,
+                  joined.empty() ? "-" : joined.c_str());
+    expected += row;
+  }
+  ASSERT_GT(listed, 0) << "the ten stills lose or add a line somewhere: the list has something to show";
+  const std::size_t body = r.out.find('\n', r.out.find('\n', list) + 1) + 1;  // after the title and header
+  EXPECT_EQ(r.out.substr(body, expected.size()), expected) << r.out;
+  EXPECT_NE(r.out.find("(of " + std::to_string(false_lines) + ")\n", body), std::string::npos) << r.out;
+
+  // The stills lost in at least half of the rows measured (each a kept replay).
+  std::map<int, int> lost;
+  int measured = 0;
+  for (const auto& dir : std::filesystem::directory_iterator(work + "/tusimple")) {
+    if (!std::filesystem::is_regular_file(dir.path() / "stills.jsonl")) continue;
+    ++measured;
+    const nlohmann::json scored = score_json(dir.path().string());
+    for (const nlohmann::json& f : scored["frames"])
+      lost[f["frame"].get<int>()] += f["ego_found"].get<int>() < f["ego_lanes"].get<int>();
+  }
+  std::string often;
+  for (const auto& [frame, n] : lost)
+    if (2 * n >= measured) often += (often.empty() ? "" : ", ") + std::to_string(frame);
+  EXPECT_NE(r.out.find("stills that lost an own line in at least half of the " + std::to_string(measured) +
+                       " rows: " + (often.empty() ? "none" : often) + "\n"),
+            std::string::npos)
+      << r.out;
 }
 
 // A drive's row recomputed from the replay measure-real kept: frames from `from_s` on,
