@@ -206,6 +206,53 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
       << r.out;
 }
 
+// --held replays each still 60 times in a row (one picture, frames 40 ms apart: a car
+// standing still) and its line is what those replays say: the stills ok on each of the
+// last 20 frames, the share of frames ok, the others by number.
+TEST(MeasureReal, EachHeldStillIsOnePictureReplayedSixtyTimesAndCountedByItsReplay) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), work = tmp.file("work");
+  std::filesystem::create_directories(data);
+  const test::ProcessResult r = test::run_process(
+      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work, "--held"});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(kStills + "/images"))
+    names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  ASSERT_EQ(names.size(), 10u);
+  int steady = 0, ok = 0, frames = 0;
+  std::string unsteady;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string held = work + "/tusimple/held/" + names[i];
+    std::istringstream csv(test::read_file(held + "/frames.csv"));
+    std::string line;
+    std::getline(csv, line);  // header
+    int listed = 0;
+    for (; std::getline(csv, line); ++listed) {
+      EXPECT_NE(line.find("/" + names[i] + ".jpg,"), std::string::npos) << line;
+      EXPECT_EQ(line.substr(line.find(',') + 1), std::to_string(listed * 40000000LL)) << line;
+    }
+    EXPECT_EQ(listed, 60) << held;
+    std::vector<bool> oks;
+    std::istringstream replay(test::read_file(held + ".jsonl"));
+    for (std::string l; std::getline(replay, l);) oks.push_back(nlohmann::json::parse(l)["ok"].get<bool>());
+    ASSERT_EQ(oks.size(), 60u) << held;
+    frames += 60;
+    ok += static_cast<int>(std::count(oks.begin(), oks.end(), true));
+    if (std::all_of(oks.end() - 20, oks.end(), [](bool b) { return b; }))
+      ++steady;
+    else
+      unsteady += (unsteady.empty() ? "" : ", ") + std::to_string(i);
+  }
+  char expected[300];
+  std::snprintf(expected, sizeof expected,
+                "steady (ok on each of the last 20 frames): %d of 10; frames ok %.1f%%; not steady: %s\n", steady,
+                100.0 * ok / frames, unsteady.empty() ? "none" : unsteady.c_str());
+  EXPECT_NE(r.out.find(expected), std::string::npos) << expected << "not in\n" << r.out;
+  EXPECT_LT(ok, frames) << "the ten stills held are not all ok: the count has something to show";
+}
+
 // A drive's row recomputed from the replay measure-real kept: frames from `from_s` on,
 // the share ok, the ok frames' lane width (mean, m, and sd over the mean), the median
 // change of the lateral offset between consecutive ok frames, and the warnings fired.
