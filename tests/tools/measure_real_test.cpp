@@ -129,16 +129,23 @@ std::string where_off(const std::vector<int>& off, int first_row, int last_row) 
   return "along";
 }
 
+// measure-real on the repository's ten stills alone (an empty data folder: no drives),
+// its replays kept in `work`, with `option` added.
+test::ProcessResult measure_ten_stills(const test::TempDir& tmp, const std::string& work, const std::string& option) {
+  const std::string data = tmp.file("data");
+  std::filesystem::create_directories(data);
+  return test::run_process(
+      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work, option});
+}
+
 // --misses lists, of the nominal row, exactly the stills `ccdlane score` says lost an own
 // line or reported a false one, with their own lines found, each false line's points on
 // a lane and where it leaves it; and the stills at least half of the rows lost an own
 // line in.
 TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFalseOne) {
   test::TempDir tmp;
-  const std::string data = tmp.file("data"), work = tmp.file("work");
-  std::filesystem::create_directories(data);
-  const test::ProcessResult r = test::run_process(
-      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work, "--misses"});
+  const std::string work = tmp.file("work");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, "--misses");
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   const std::size_t list = r.out.find("Nominal row, the stills that lost an own line or reported a false one\n");
   ASSERT_NE(list, std::string::npos) << r.out;
@@ -211,10 +218,8 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
 // last 20 frames, the share of frames ok, the others by number.
 TEST(MeasureReal, EachHeldStillIsOnePictureReplayedSixtyTimesAndCountedByItsReplay) {
   test::TempDir tmp;
-  const std::string data = tmp.file("data"), work = tmp.file("work");
-  std::filesystem::create_directories(data);
-  const test::ProcessResult r = test::run_process(
-      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work, "--held"});
+  const std::string work = tmp.file("work");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, "--held");
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(kStills + "/images"))
