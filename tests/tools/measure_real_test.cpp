@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/json_lines.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -59,10 +60,9 @@ nlohmann::json score_json(const std::string& dir) {
 std::string scored_row(const std::string& dir, const std::string& mount) {
   const nlohmann::json t = score_json(dir)["total"];
   int frames = 0, ok = 0;
-  std::istringstream replay(test::read_file(dir + "/stills.jsonl"));
-  for (std::string line; std::getline(replay, line);) {
+  for (const nlohmann::json& e : test::json_lines(test::read_file(dir + "/stills.jsonl"))) {
     ++frames;
-    ok += nlohmann::json::parse(line)["ok"].get<bool>();
+    ok += e["ok"].get<bool>();
   }
   const nlohmann::json& e = t["lane_eval"];  // TuSimple's own benchmark
   char row[200];
@@ -151,9 +151,7 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
   ASSERT_NE(list, std::string::npos) << r.out;
 
   std::map<std::string, std::pair<int, int>> rows;  // image -> first and last labelled row
-  std::istringstream labels(test::read_file(kStills + "/labels.jsonl"));
-  for (std::string line; std::getline(labels, line);) {
-    const nlohmann::json l = nlohmann::json::parse(line);
+  for (const nlohmann::json& l : test::json_lines(test::read_file(kStills + "/labels.jsonl"))) {
     int first = 1 << 20, last = -1;
     for (const auto& lane : l["lanes"])
       for (std::size_t i = 0; i < lane.size(); ++i)
@@ -240,8 +238,8 @@ TEST(MeasureReal, EachHeldStillIsOnePictureReplayedSixtyTimesAndCountedByItsRepl
     }
     EXPECT_EQ(listed, 60) << held;
     std::vector<bool> oks;
-    std::istringstream replay(test::read_file(held + ".jsonl"));
-    for (std::string l; std::getline(replay, l);) oks.push_back(nlohmann::json::parse(l)["ok"].get<bool>());
+    for (const nlohmann::json& e : test::json_lines(test::read_file(held + ".jsonl")))
+      oks.push_back(e["ok"].get<bool>());
     ASSERT_EQ(oks.size(), 60u) << held;
     frames += 60;
     ok += static_cast<int>(std::count(oks.begin(), oks.end(), true));
@@ -262,9 +260,7 @@ TEST(MeasureReal, EachHeldStillIsOnePictureReplayedSixtyTimesAndCountedByItsRepl
 // the share ok, the ok frames' lane width (mean, m, and sd over the mean), the median
 // change of the lateral offset between consecutive ok frames, and the warnings fired.
 std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s) {
-  std::vector<nlohmann::json> kept;
-  std::istringstream lines(test::read_file(replay));
-  for (std::string line; std::getline(lines, line);) kept.push_back(nlohmann::json::parse(line));
+  std::vector<nlohmann::json> kept = test::json_lines(test::read_file(replay));
   if (kept.empty()) return "";
   const auto t0 = kept.front()["t_ns"].get<std::int64_t>();
   std::erase_if(kept, [&](const nlohmann::json& e) {

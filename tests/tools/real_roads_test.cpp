@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/median.hpp"
+#include "tests/support/json_lines.hpp"
 #include "tests/support/run_process.hpp"
 
 namespace ccdlane {
@@ -26,13 +27,7 @@ using Json = nlohmann::json;
 const std::string kTool = CCDLANE_TOOL;
 const std::string kData = std::string(CCDLANE_TEST_DATA_DIR) + "/real";
 
-std::vector<Json> json_lines(const std::string& text) {
-  std::vector<Json> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) out.push_back(Json::parse(line));
-  return out;
-}
+using test::json_lines;
 
 // The share of a drive's frames that are ok, the lane width's spread relative to its
 // mean, and the warnings fired; the lane filter's lateral velocity (its median over the

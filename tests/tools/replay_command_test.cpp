@@ -23,6 +23,7 @@
 #include "drivers/frames/png.hpp"
 #include "drivers/frames/video_reader.hpp"
 #include "drivers/frames/video_writer.hpp"
+#include "tests/support/json_lines.hpp"
 #include "tests/support/run_process.hpp"
 #include "tests/support/test_video.hpp"
 
@@ -33,12 +34,7 @@ using Json = nlohmann::json;
 const std::string kTool = CCDLANE_TOOL;
 const std::string kReferenceCamera = std::string(CCDLANE_SOURCE_DIR) + "/tools/demo/reference-camera.toml";
 
-std::vector<Json> json_lines(const std::string& text) {
-  std::vector<Json> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) out.push_back(Json::parse(line));
-  return out;
-}
+using test::json_lines;
 
 struct Stats {
   std::vector<double> v;
