@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -254,6 +255,35 @@ TEST(MeasureReal, EachHeldStillIsOnePictureReplayedSixtyTimesAndCountedByItsRepl
                 100.0 * ok / frames, unsteady.empty() ? "none" : unsteady.c_str());
   EXPECT_NE(r.out.find(expected), std::string::npos) << expected << "not in\n" << r.out;
   EXPECT_LT(ok, frames) << "the ten stills held are not all ok: the count has something to show";
+}
+
+// Without --ccdlane (nor CCDLANE), measure-real takes the ccdlane the README's commands
+// built in its checkout: build/ci's (tools/run-tests) or build/demo's (tools/run-demo, the
+// main command). With neither, it says where it looked and what builds one.
+TEST(MeasureReal, FindsTheDemosBuildAndSaysWhatToRunWithoutOne) {
+  test::TempDir tmp;
+  const std::string checkout = tmp.file("checkout"), data = tmp.file("data");
+  std::filesystem::create_directories(checkout + "/tools");
+  std::filesystem::create_directories(data);
+  std::filesystem::copy_file(kMeasureReal, checkout + "/tools/measure-real");
+  const std::vector<std::string> measure = {"env", "-u",         "CCDLANE", "python3", checkout + "/tools/measure-real",
+                                            data,  "--tusimple", kStills};
+  bool on_path = false;
+  std::istringstream path(std::getenv("PATH") ? std::getenv("PATH") : "");
+  for (std::string dir; std::getline(path, dir, ':');) on_path = on_path || std::filesystem::exists(dir + "/ccdlane");
+  if (!on_path) {
+    const test::ProcessResult none = test::run_process(measure);
+    EXPECT_EQ(none.exit_status, 1);
+    EXPECT_NE(none.err.find(checkout + "/build/demo/tools/ccdlane"), std::string::npos) << none.err;
+    EXPECT_NE(none.err.find("tools/run-demo"), std::string::npos) << none.err;
+    EXPECT_NE(none.err.find("--ccdlane PATH"), std::string::npos) << none.err;
+  }
+  std::filesystem::create_directories(checkout + "/build/demo/tools");
+  std::filesystem::create_symlink(CCDLANE_TOOL, checkout + "/build/demo/tools/ccdlane");
+  const test::ProcessResult r = test::run_process(measure);
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("TuSimple stills, each picture alone"), std::string::npos) << r.out;
+  if (on_path) GTEST_SKIP() << "a ccdlane on PATH: the case without one is not seen here";
 }
 
 // A drive's row recomputed from the replay measure-real kept: frames from `from_s` on,
