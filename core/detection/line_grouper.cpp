@@ -638,8 +638,15 @@ int LineGrouper::continue_priors(std::span<MarkCandidate> marks, std::span<const
     if (!own_lane && n < 2) break;
     for (std::size_t k = 0; k < priors.size() && n < kMaxFoundLines; ++k) {
       if ((static_cast<int>(k) == own.left || static_cast<int>(k) == own.right) != own_lane) continue;
+      // By its paint, else by a slabs' joint with markers along it: fit_line takes a joint
+      // only where markers are most of the marks it gates, and a joint's pieces lie on
+      // every scan row (held still 3: a lane's line of 57 pieces and 3 markers, found by
+      // a search's find_own_joint, lost on the next frame, which looked for it as paint).
       DetectedLine l;
-      if (!fit_line(marks, priors[k], kPriorGateMm, n, params, l)) continue;
+      if (!fit_line(marks, priors[k], kPriorGateMm, n, params, l) &&
+          !join_joint(marks, priors[k], static_cast<std::int16_t>(n), params, params.min_span_mm, priors[k],
+                      kPriorGateMm, l, params.min_joint_dots))
+        continue;
       if (std::abs(l.fit.c_per_mm - priors[k].c_per_mm) > kMaxPriorCurvatureChange) {
         release_line(marks, n);
         continue;

@@ -60,6 +60,20 @@ void LaneEstimator::reset_lines() {
   tracker_.reset();
 }
 
+void LaneEstimator::rescale_lines() {
+  // On a flat road the picture fixes every distance only in proportion to the height, so
+  // the road seen from the new height is the old one scaled about the camera: offsets by
+  // the ratio, curvatures by its inverse. Searching afresh instead lost lanes the tracked
+  // lines held (held stills 36 and 75: a lane tracked for a second at the height the
+  // search took, none found by the search at the acquired one; docs/real-roads.md).
+  if (!have_last_) {
+    last_pose_ = nominal_pose();
+    return;
+  }
+  tracker_.rescale(mount_.height_mm() / last_pose_.H_mm);
+  last_pose_.H_mm = mount_.height_mm();
+}
+
 void LaneEstimator::miss() {
   // A frame or two without an estimate (a damaged frame, a truck in the way): the last
   // pose and the lines, coasting, are still the best guess. After that, start afresh.
@@ -102,10 +116,11 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
   }
   mount_.refine(estimate_, in.vehicle);
   if (rescaled_) {
-    // The height changed: the lines, their filters and the warning's state are at the old
-    // scale. The next frame searches from the new height (once per run, after a second).
+    // The height changed (once per run, after a second): the lines and the warning's
+    // state are at the old scale. The lines go on rescaled; the warning's filter, whose
+    // noise is the old scale's too, starts afresh.
     rescaled_ = false;
-    reset_lines();
+    rescale_lines();
     ldw_.reset();
   }
   return estimate_;
@@ -145,8 +160,8 @@ bool bends_sharply(std::span<const RoadLine> lines) {
 }  // namespace
 
 LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro,
-                                               bool along_bend) {
-  const bool cold = !have_last_;
+                                              bool along_bend, bool afresh) {
+  const bool cold = !have_last_ || afresh;
   bool rescaled = false;
   const std::span<const RoadLine> priors = cold ? std::span<const RoadLine>{} : tracker_.priors();
   // The tracked lines say how the road bends once they made a lane: a track of clutter,
@@ -406,12 +421,39 @@ const SolveResult* LaneEstimator::detect_and_fit(const ImageView& image, const s
   if (have_last_) {
     detection_pose_ = guess_pose(gyro);
     a = attempt(image, gyro);
+    // A rank-deficient solve is the frame's (roll without a gyro), not the priors'.
+    if (a.why != EstimateFailure::rank_deficient &&
+        !(a.why == EstimateFailure::none && supported(*a.solve, vehicle) == Found::lane))
+      a = look_afresh(image, gyro, vehicle);
   } else {
     a = search(image, gyro, vehicle);
   }
   if (!a.solve) return fail(a.why);
   if (a.why == EstimateFailure::rank_deficient) failure_ = a.why;  // what was determined is still shown
   return a.solve;
+}
+
+LaneEstimator::Attempt LaneEstimator::look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                                  const VehicleInputs& vehicle) {
+  // The previous frame's lines can hold a frame off the lane its picture shows: a line
+  // continued onto clutter beside it that the solve then drops, a few yellow marks taking
+  // a white line's place. Looked at as a search's pose is, from the same pose: without
+  // them, then along its own first solve's lines. Two looks where a search takes up to
+  // fifty; taken only as the lane a search would take (at the mount's height, without a
+  // line inside it), the lines then starting afresh. Otherwise the tracked look again
+  // (the fit's buffers hold this one's), and its lines coast on as before.
+  const CameraPose tracked_from = detection_pose_;
+  const LaneTracker tracked = tracker_;
+  tracker_.reset();  // judged as a search's lane is, against no previous lines
+  const Attempt fresh = attempt(image, gyro, false, true);
+  if (fresh.why == EstimateFailure::none && !fresh.rescaled && width_agrees_with_height(*fresh.solve) &&
+      supported(*fresh.solve, vehicle) == Found::lane) {
+    state_ = EstimatorState::searching;
+    return fresh;
+  }
+  tracker_ = tracked;
+  detection_pose_ = tracked_from;
+  return attempt(image, gyro);
 }
 
 void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {

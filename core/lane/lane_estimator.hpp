@@ -115,8 +115,13 @@ class LaneEstimator {
     bool bent = false;
   };
   // `along_bend`: a cold attempt's look again judges bars against the road's tangent when
-  // its first solve bent sharply (search() asks it once it found no lane).
-  Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro, bool along_bend = false);
+  // its first solve bent sharply (search() asks it once it found no lane). `afresh`: cold
+  // although a previous frame's lines are tracked (look_afresh).
+  Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro, bool along_bend = false,
+                  bool afresh = false);
+  // A tracked frame's attempt that made no lane, looked at once more from its pose
+  // without the previous frame's lines; the tracked attempt again unless that is a lane.
+  Attempt look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   static constexpr int kMaxSearchAttitudes = 10;
   static constexpr int kMaxSearchPoses = kSearchHeights * kMaxSearchAttitudes;
   // Yaw and pitch from the road's vanishing point in the picture (roll and the rest are
@@ -157,6 +162,9 @@ class LaneEstimator {
   CameraPose guess_pose(const std::optional<Gx1Angles>& gyro) const;
   CameraPose nominal_pose() const;  // the configured position with the mount in use
   void reset_lines();
+  // The mount's height changed: the tracked lines, measured at the last pose's height,
+  // are scaled to the new one.
+  void rescale_lines();
   void miss();
 
   LaneEstimatorOptions config_;  // nominal_pose.attitude: the configured mount (mount_ has the one in use)

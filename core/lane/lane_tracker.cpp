@@ -85,4 +85,12 @@ void LaneTracker::coast() {
   count_ = kept;
 }
 
+void LaneTracker::rescale(double factor) {
+  for (int k = 0; k < count_; ++k) {
+    RoadLine& l = lines_[static_cast<std::size_t>(k)];
+    l.y0_mm *= factor;
+    l.c_per_mm /= factor;
+  }
+}
+
 }  // namespace ccdlane

@@ -29,6 +29,11 @@ class LaneTracker {
   // A frame without lines: everything coasts one frame.
   void coast();
 
+  // The lines seen from `factor` times the height they were measured at (the picture of
+  // a flat road fixes every distance only in proportion to the height): offsets scale
+  // by it, curvatures by its inverse, slopes stay.
+  void rescale(double factor);
+
   // Forgets everything.
   void reset() { count_ = 0; }
 

@@ -462,6 +462,43 @@ TEST(LineGrouper, AJointALanesWidthFromTheOwnLanesOnlyLineIsTheOtherLine) {
   }
 }
 
+// The previous frame's line along a slabs' joint with three markers on it, where the
+// frame shows it alone (the lane's other line hidden) and five blobs (a patch's stains)
+// run 400 mm beside it, within the prior's gate: looked for as paint, the gated marks'
+// consensus is the blobs' row (the joint's pieces are no paint), too few dots for a line,
+// and the joint looked for about that row is not there. Looked for about the prior, the
+// joint is the line, its markers on it (held still 3: a line of 57 pieces and 3 markers
+// lost so). A joint without markers is a seam, and no line.
+TEST(LineGrouper, APriorAlongAJointWithMarkersIsContinuedByItsJoint) {
+  const std::array<RoadLine, 2> priors{RoadLine{1800.0, 0.01, 0.0}, RoadLine{-1800.0, 0.01, 0.0}};
+  for (const bool markers : {true, false}) {
+    Scene s;
+    s.joint(-1800.0, 0.01);
+    s.dots(-1400.0, 0.01);
+    if (markers) {
+      const std::size_t blobs = s.marks.size();
+      s.dots(-1800.0, 0.01);
+      // Three of the five, 5 m apart (15, 10 and 5 m ahead).
+      s.marks.erase(s.marks.begin() + static_cast<std::ptrdiff_t>(blobs) + 3);
+      s.marks.erase(s.marks.begin() + static_cast<std::ptrdiff_t>(blobs) + 1);
+    }
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines, priors);
+    int on_joint = 0;
+    for (int j = 0; j < n; ++j) on_joint += std::abs(lines[j].fit.y0_mm + 1800.0) < 30.0;
+    if (!markers) {
+      EXPECT_EQ(on_joint, 0) << "a bare joint";
+      continue;
+    }
+    ASSERT_EQ(n, 1);
+    EXPECT_EQ(lines[0].prior_index, 1);
+    EXPECT_NEAR(lines[0].fit.y0_mm, -1800.0, 30.0);
+    EXPECT_NEAR(lines[0].fit.m, 0.01, 0.002);
+    EXPECT_GT(lines[0].joints, 140);
+    EXPECT_TRUE(lines[0].dots);
+  }
+}
+
 // The previous frame's line with, 600 mm beside it over the nearest 8 m, a run of bars
 // too near it to be a lane line (a gore's edge, a barrier's foot, a seam): the run is
 // refused. Near marks vote for the same y0 at every slope, so its marks, were they left

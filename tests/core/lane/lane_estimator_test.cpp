@@ -528,6 +528,43 @@ TEST(LaneEstimator, AHeightAQuarterOffIsTakenFromTheLaneWidthOnEachStill) {
   }
 }
 
+// The same height a quarter off on a drive: the first frame searches and looks again from
+// the height the width says; after kMountAcquisitionFrames frames the mount's height is
+// taken from their mean width, and the tracked lines go on at it, rescaled (the frame
+// after is tracked, its lines keep their ids), where they were searched for afresh.
+TEST(LaneEstimator, AHeightAQuarterOffIsAcquiredOnADriveAndTheLinesGoOn) {
+  for (const double factor : {0.75, 1.25}) {
+    const Config truth = small_camera();
+    Drive d(truth);
+    Config configured = truth;
+    configured.H_mm *= factor;
+    configured.prior.lane_width_mm = Prior{3600.0, 300.0};
+    LaneEstimator est(configured.estimator_options());
+    std::vector<int> ids;
+    for (std::uint64_t k = 0; k < 2 * MountRefinement::kMountAcquisitionFrames; ++k) {
+      const SynthFrame f = d.render(k);
+      const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+      ASSERT_TRUE(e.ok) << "height x" << factor << " frame " << k << ": " << to_string(e.reason);
+      EXPECT_EQ(e.state, k == 0 ? EstimatorState::searching : EstimatorState::tracking) << "x" << factor << " " << k;
+      // Until then the search's height may be a step's (kSearchHeightStep) whose lane is
+      // within the prior's trust of its mean: the road seen is the true one scaled by
+      // the height's error. From then on, the height is the one the widths say.
+      const double sigma_width = std::hypot(e.lines[1].sigma_y0_mm, e.lines[2].sigma_y0_mm);
+      const double scale = k < MountRefinement::kMountAcquisitionFrames ? truth.H_mm / e.H_mm : 1.0;
+      EXPECT_NEAR(e.lane_width_mm * scale, 3600.0, 3.0 * sigma_width * scale) << "x" << factor << " frame " << k;
+      if (k >= MountRefinement::kMountAcquisitionFrames) {
+        EXPECT_NEAR(e.H_mm, truth.H_mm, 3.0 * sigma_width / 3600.0 * truth.H_mm) << "x" << factor << " frame " << k;
+      }
+      std::vector<int> now;
+      for (int j = 0; j < e.num_lines; ++j) now.push_back(e.lines[static_cast<std::size_t>(j)].id);
+      if (k > 0) {
+        EXPECT_EQ(now, ids) << "x" << factor << " frame " << k;
+      }
+      ids = now;
+    }
+  }
+}
+
 // The same with the own lane's lines dashed and the next lanes' solid, configured up to a
 // third too low: lanes look a third narrower, too narrow for two lines (a dash and the
 // solid line beyond) to be taken as a lane's, and dashes give few marks at a detection
@@ -637,6 +674,29 @@ TEST(LaneEstimator, ATrackWithoutALaneIsSearchedAfreshAfterASecond) {
     ASSERT_EQ(e.num_lines, 1) << k;
     // Searches at 0, n + 1, 2n + 2: each search's frame is followed by n tracked ones.
     EXPECT_EQ(e.state, k % (n + 1) == 0 ? EstimatorState::searching : EstimatorState::tracking) << k;
+  }
+}
+
+// A bump pitches the camera 2 degrees down for one frame. Without a gyro, each frame's
+// look starts from the previous frame's pose: the frame after the bump is looked at from
+// the bumped pitch, its lines projected splay out of the previous frame's, and the track
+// finds no lane. That frame looks once more from the same pose as a search's pose does,
+// with the search's wider pitch tolerance and no previous lines, and the lane is there
+// (state searching); the frames after it track again. Every frame is ok.
+TEST(LaneEstimator, AFrameTheTrackMissesIsLookedAtAfreshFromTheSamePose) {
+  Config c = small_camera();
+  c.prior.phi_deg = Prior{0.0, 1.0};  // no gyro: roll from the prior
+  Drive d(c);
+  LaneEstimator est(c.estimator_options());
+  constexpr std::uint64_t kBump = 10;
+  for (std::uint64_t k = 0; k < 14; ++k) {
+    SynthFrame f = d.drive.frame(k);
+    if (k == kBump) f.pose.attitude.theta += deg_to_rad(2.0);
+    d.renderer.render(f, d.view);
+    const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, std::nullopt);
+    ASSERT_TRUE(e.ok) << "frame " << k << ": " << to_string(e.reason);
+    EXPECT_EQ(e.state, k == 0 || k == kBump + 1 ? EstimatorState::searching : EstimatorState::tracking) << k;
+    EXPECT_NEAR(e.theta_deg, rad_to_deg(f.pose.attitude.theta), 3 * e.sigma_theta_deg) << "frame " << k;
   }
 }
 

@@ -26,6 +26,28 @@ TEST(LaneTracker, FirstFrameCountsLeftToRightThenIdsStay) {
   EXPECT_EQ(update(t, {1600, -2000, -5600}, {1, 2, 3}), (std::vector<int>{1, 2, 3}));
 }
 
+// Seen from a height 1.2 times the one they were measured at, the same picture's lines
+// lie 1.2 times as far to the side and bend 1.2 times less (y = y0 + m x + c x^2 with x
+// and y both scaled); their slopes and ids stay. The point 20 m ahead of the old height's
+// line is on the rescaled line 24 m ahead.
+TEST(LaneTracker, RescaledLinesAreTheSameRoadSeenFromAnotherHeight) {
+  LaneTracker t;
+  std::vector<RoadLine> l{{1800.0, 0.01, 2e-7}, {-1800.0, 0.01, 2e-7}};
+  std::vector<int> prior{-1, -1}, ids(2);
+  t.update(l, prior, ids);
+  t.rescale(1.2);
+  ASSERT_EQ(t.priors().size(), 2u);
+  for (std::size_t j = 0; j < 2; ++j) {
+    const RoadLine& r = t.priors()[j];
+    EXPECT_NEAR(r.y0_mm, 1.2 * l[j].y0_mm, 1e-9);
+    EXPECT_DOUBLE_EQ(r.m, l[j].m);
+    EXPECT_NEAR(r.y_at(1.2 * 20000.0), 1.2 * l[j].y_at(20000.0), 1e-6);
+  }
+  std::vector<int> again(2);
+  t.update(l, std::vector<int>{0, 1}, again);
+  EXPECT_EQ(again, ids);
+}
+
 TEST(LaneTracker, AMissedLineCoastsWithTheRoadAndKeepsItsId) {
   LaneTracker t;
   update(t, {1800, -1800}, {-1, -1});
