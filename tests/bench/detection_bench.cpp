@@ -224,6 +224,48 @@ void BM_EstimateTuSimpleTracking(benchmark::State& state) {
 }
 BENCHMARK(BM_EstimateTuSimpleTracking)->Unit(benchmark::kMicrosecond);
 
+// The whole estimate on the stills whose lane the track does not keep (tracked frames
+// without a lane among the 60 frames of the warm-up): from then on, each frame as it
+// comes, a tracked one without a lane looking again afresh (four detections where it
+// costs one), a search after a second of them. What a lost lane costs frame by frame
+// until it is found again; `searching` is the share of the frames timed that searched.
+void BM_EstimateTuSimpleLostTrack(benchmark::State& state) {
+  TuSimpleStills s;
+  std::vector<std::unique_ptr<LaneEstimator>> estimators;
+  std::vector<std::size_t> stills;
+  constexpr std::uint64_t kWarmUpFrames = 60;
+  for (std::size_t i = 0; i < s.pixels.size(); ++i) {
+    auto estimator = std::make_unique<LaneEstimator>(s.config.estimator_options());
+    bool lost = false;
+    for (std::uint64_t f = 0; f < kWarmUpFrames; ++f) {
+      const LaneEstimate& e = estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
+      lost = lost || (!e.ok && e.state == EstimatorState::tracking);
+    }
+    if (!lost) continue;
+    estimators.push_back(std::move(estimator));
+    stills.push_back(i);
+  }
+  if (stills.empty()) {
+    state.SkipWithError("every still's lane is tracked");
+    return;
+  }
+  std::uint64_t frame = kWarmUpFrames;
+  std::size_t k = 0;
+  int searching = 0;
+  for (auto _ : state) {
+    const std::int64_t t_ns = static_cast<std::int64_t>(frame) * 40000000;
+    searching += estimators[k]->estimate(s.view(stills[k]), frame, t_ns, std::nullopt).state ==
+                 EstimatorState::searching;
+    if (++k == stills.size()) {
+      k = 0;
+      ++frame;
+    }
+  }
+  state.counters["stills"] = static_cast<double>(stills.size());
+  state.counters["searching"] = benchmark::Counter(searching, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_EstimateTuSimpleLostTrack)->Unit(benchmark::kMicrosecond);
+
 // The whole estimate of each still alone (replay --stills): a search, which detects and
 // solves from up to 50 starting poses (without a gyro; 10 with one); what a lost lane costs.
 void BM_EstimateTuSimpleStillSearch(benchmark::State& state) {
