@@ -4,6 +4,7 @@
 // Frames are rendered once up front.
 //   build/tests/bench/detection_bench --benchmark_min_time=2
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -184,84 +185,81 @@ void BM_DetectionTuSimpleStills(benchmark::State& state) {
 }
 BENCHMARK(BM_DetectionTuSimpleStills)->Unit(benchmark::kMicrosecond);
 
-// The whole estimate of a tracking frame on those stills (detection, solve, lines and
-// the warning's filter): each still has its own estimator, which sees the same picture
-// again and again, as a drive's next frame from the pose it solved. Timing starts after
-// 60 frames (the mount's height settles after a second, and its change starts a new
-// search); stills whose lane was not tracked through the last 20 of them are left out:
-// a lost lane's frame is a search, timed below. The per-frame budget (1 ms) is this.
-void BM_EstimateTuSimpleTracking(benchmark::State& state) {
+// The stills held: each still has its own estimator, which sees the same picture again
+// and again, as a drive's next frame from the pose it solved. Timing starts after
+// kWarmUpFrames frames (the mount's height settles after a second); the stills kept are
+// those whose warm-up estimates `keep` takes (it sees each one's ok and state in order).
+struct HeldStills {
+  static constexpr std::uint64_t kWarmUpFrames = 60;
   TuSimpleStills s;
   std::vector<std::unique_ptr<LaneEstimator>> estimators;
   std::vector<std::size_t> stills;
-  constexpr std::uint64_t kWarmUpFrames = 60, kTrackedFrames = 20;
-  for (std::size_t i = 0; i < s.pixels.size(); ++i) {
-    auto estimator = std::make_unique<LaneEstimator>(s.config.estimator_options());
-    bool tracked = true;
-    for (std::uint64_t f = 0; f < kWarmUpFrames; ++f) {
-      const LaneEstimate& e = estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
-      if (f >= kWarmUpFrames - kTrackedFrames) tracked = tracked && e.ok && e.state == EstimatorState::tracking;
+  std::uint64_t frame = kWarmUpFrames;
+  std::size_t next = 0;
+
+  template <typename Keep>
+  explicit HeldStills(Keep keep) {
+    for (std::size_t i = 0; i < s.pixels.size(); ++i) {
+      auto estimator = std::make_unique<LaneEstimator>(s.config.estimator_options());
+      std::vector<std::pair<bool, EstimatorState>> warm_up;
+      for (std::uint64_t f = 0; f < kWarmUpFrames; ++f) {
+        const LaneEstimate& e = estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
+        warm_up.emplace_back(e.ok, e.state);
+      }
+      if (!keep(warm_up)) continue;
+      estimators.push_back(std::move(estimator));
+      stills.push_back(i);
     }
-    if (!tracked) continue;
-    estimators.push_back(std::move(estimator));
-    stills.push_back(i);
   }
-  if (stills.empty()) {
+  // The next still's next frame, the stills in turn.
+  const LaneEstimate& estimate_next() {
+    const std::int64_t t_ns = static_cast<std::int64_t>(frame) * 40000000;
+    const LaneEstimate& e = estimators[next]->estimate(s.view(stills[next]), frame, t_ns, std::nullopt);
+    if (++next == stills.size()) {
+      next = 0;
+      ++frame;
+    }
+    return e;
+  }
+};
+
+// The whole estimate of a tracking frame on those stills (detection, solve, lines and
+// the warning's filter), on the stills whose lane was tracked through the last 20 frames
+// of the warm-up: a lost lane's frames are timed below. The per-frame budget (1 ms) is this.
+void BM_EstimateTuSimpleTracking(benchmark::State& state) {
+  HeldStills held([](const std::vector<std::pair<bool, EstimatorState>>& warm_up) {
+    constexpr std::size_t kTrackedFrames = 20;
+    for (std::size_t f = warm_up.size() - kTrackedFrames; f < warm_up.size(); ++f)
+      if (!warm_up[f].first || warm_up[f].second != EstimatorState::tracking) return false;
+    return true;
+  });
+  if (held.stills.empty()) {
     state.SkipWithError("no still is tracked");
     return;
   }
-  std::uint64_t frame = kWarmUpFrames;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const std::int64_t t_ns = static_cast<std::int64_t>(frame) * 40000000;
-    benchmark::DoNotOptimize(estimators[k]->estimate(s.view(stills[k]), frame, t_ns, std::nullopt).ok);
-    if (++k == stills.size()) {
-      k = 0;
-      ++frame;
-    }
-  }
-  state.counters["stills"] = static_cast<double>(stills.size());
+  for (auto _ : state) benchmark::DoNotOptimize(held.estimate_next().ok);
+  state.counters["stills"] = static_cast<double>(held.stills.size());
 }
 BENCHMARK(BM_EstimateTuSimpleTracking)->Unit(benchmark::kMicrosecond);
 
-// The whole estimate on the stills whose lane the track does not keep (tracked frames
-// without a lane among the 60 frames of the warm-up): from then on, each frame as it
-// comes, a tracked one without a lane looking again afresh (four detections where it
-// costs one), a search after a second of them. What a lost lane costs frame by frame
-// until it is found again; `searching` is the share of the frames timed that searched.
+// The whole estimate on the stills whose lane the track does not keep (a tracked frame
+// without a lane in the warm-up): each frame as it comes, a tracked one without a lane
+// looking again afresh (four detections where it costs one), a search after a second of
+// them. What a lost lane costs frame by frame until it is found again; `searching` is the
+// share of the frames timed that searched (or took the look again's lane).
 void BM_EstimateTuSimpleLostTrack(benchmark::State& state) {
-  TuSimpleStills s;
-  std::vector<std::unique_ptr<LaneEstimator>> estimators;
-  std::vector<std::size_t> stills;
-  constexpr std::uint64_t kWarmUpFrames = 60;
-  for (std::size_t i = 0; i < s.pixels.size(); ++i) {
-    auto estimator = std::make_unique<LaneEstimator>(s.config.estimator_options());
-    bool lost = false;
-    for (std::uint64_t f = 0; f < kWarmUpFrames; ++f) {
-      const LaneEstimate& e = estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
-      lost = lost || (!e.ok && e.state == EstimatorState::tracking);
-    }
-    if (!lost) continue;
-    estimators.push_back(std::move(estimator));
-    stills.push_back(i);
-  }
-  if (stills.empty()) {
+  HeldStills held([](const std::vector<std::pair<bool, EstimatorState>>& warm_up) {
+    for (const auto& [ok, state_of] : warm_up)
+      if (!ok && state_of == EstimatorState::tracking) return true;
+    return false;
+  });
+  if (held.stills.empty()) {
     state.SkipWithError("every still's lane is tracked");
     return;
   }
-  std::uint64_t frame = kWarmUpFrames;
-  std::size_t k = 0;
   int searching = 0;
-  for (auto _ : state) {
-    const std::int64_t t_ns = static_cast<std::int64_t>(frame) * 40000000;
-    searching += estimators[k]->estimate(s.view(stills[k]), frame, t_ns, std::nullopt).state ==
-                 EstimatorState::searching;
-    if (++k == stills.size()) {
-      k = 0;
-      ++frame;
-    }
-  }
-  state.counters["stills"] = static_cast<double>(stills.size());
+  for (auto _ : state) searching += held.estimate_next().state == EstimatorState::searching;
+  state.counters["stills"] = static_cast<double>(held.stills.size());
   state.counters["searching"] = benchmark::Counter(searching, benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_EstimateTuSimpleLostTrack)->Unit(benchmark::kMicrosecond);

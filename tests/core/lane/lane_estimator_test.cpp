@@ -502,6 +502,15 @@ TEST(LaneEstimator, OnlineRefinementFromAMountFiveDegreesOffConverges) {
   EXPECT_NEAR(s.estimate.theta_deg, -5.0 + pitch_sum / used, 3 * s.sigma.theta_deg);
 }
 
+// The small camera configured `factor` times its height, with a lane-width prior of the
+// rendered lanes' width.
+Config height_off(const Config& truth, double factor) {
+  Config configured = truth;
+  configured.H_mm *= factor;
+  configured.prior.lane_width_mm = Prior{3600.0, 300.0};
+  return configured;
+}
+
 // A height known only roughly: configured a quarter off, with a lane-width prior. Each
 // frame alone (a still: reset before it) searches; the first solve's lane is a quarter
 // too narrow or too wide, and the look again is from the height the prior's width says.
@@ -511,10 +520,7 @@ TEST(LaneEstimator, AHeightAQuarterOffIsTakenFromTheLaneWidthOnEachStill) {
   for (const double factor : {0.75, 1.25}) {
     const Config truth = small_camera();
     Drive d(truth);
-    Config configured = truth;
-    configured.H_mm *= factor;
-    configured.prior.lane_width_mm = Prior{3600.0, 300.0};
-    LaneEstimator est(configured.estimator_options());
+    LaneEstimator est(height_off(truth, factor).estimator_options());
     for (std::uint64_t k = 0; k < 30; k += 3) {
       est.reset();
       const SynthFrame f = d.render(k);
@@ -536,10 +542,7 @@ TEST(LaneEstimator, AHeightAQuarterOffIsAcquiredOnADriveAndTheLinesGoOn) {
   for (const double factor : {0.75, 1.25}) {
     const Config truth = small_camera();
     Drive d(truth);
-    Config configured = truth;
-    configured.H_mm *= factor;
-    configured.prior.lane_width_mm = Prior{3600.0, 300.0};
-    LaneEstimator est(configured.estimator_options());
+    LaneEstimator est(height_off(truth, factor).estimator_options());
     std::vector<int> ids;
     for (std::uint64_t k = 0; k < 2 * MountRefinement::kMountAcquisitionFrames; ++k) {
       const SynthFrame f = d.render(k);
@@ -582,10 +585,7 @@ TEST(LaneEstimator, ASearchFindsTheOwnLaneBetweenDashesFromAHeightFarOff) {
     Config truth = small_camera();
     truth.synth.dashed = DashedLines::inner;
     Drive d(truth);
-    Config configured = truth;
-    configured.H_mm *= factor;
-    configured.prior.lane_width_mm = Prior{3600.0, 300.0};
-    LaneEstimator est(configured.estimator_options());
+    LaneEstimator est(height_off(truth, factor).estimator_options());
     int ok = 0;
     for (std::uint64_t k = 0; k < 30; k += 3) {
       est.reset();
