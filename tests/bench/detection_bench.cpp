@@ -203,7 +203,8 @@ struct HeldStills {
       auto estimator = std::make_unique<LaneEstimator>(s.config.estimator_options());
       std::vector<std::pair<bool, EstimatorState>> warm_up;
       for (std::uint64_t f = 0; f < kWarmUpFrames; ++f) {
-        const LaneEstimate& e = estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
+        const LaneEstimate& e =
+            estimator->estimate(s.view(i), f, static_cast<std::int64_t>(f) * 40000000, std::nullopt);
         warm_up.emplace_back(e.ok, e.state);
       }
       if (!keep(warm_up)) continue;
