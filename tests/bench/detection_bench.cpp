@@ -238,8 +238,13 @@ void BM_EstimateTuSimpleTracking(benchmark::State& state) {
     state.SkipWithError("no still is tracked");
     return;
   }
-  for (auto _ : state) benchmark::DoNotOptimize(held.estimate_next().ok);
+  std::int64_t tracked = 0;
+  for (auto _ : state) {
+    const LaneEstimate& e = held.estimate_next();
+    tracked += e.ok && e.state == EstimatorState::tracking;
+  }
   state.counters["stills"] = static_cast<double>(held.stills.size());
+  state.counters["tracked"] = benchmark::Counter(static_cast<double>(tracked), benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_EstimateTuSimpleTracking)->Unit(benchmark::kMicrosecond);
 
