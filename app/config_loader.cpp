@@ -438,6 +438,7 @@ void read_synth(TableReader& r, Config& c) {
   r.boolean("hard_shadows", s.hard_shadows);
   r.boolean("barrier", s.barrier);
   r.boolean("road_markings", s.road_markings);
+  r.boolean("crosswalks", s.crosswalks);
   r.reject_unknown();
 
   require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");

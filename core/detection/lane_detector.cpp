@@ -50,6 +50,21 @@ constexpr double kDotBlurPx = 2.0;
 // where the dome (10 cm) spans this many pixels: fewer, and cap and shadow blur into one.
 constexpr double kDotDiameterMm = 100.0;
 constexpr double kMinShadowedDotPx = 2.5;
+// A zebra crossing's bars run along the road as lane lines do, a dash long, 0.3-0.6 m
+// wide and as far apart (continental crossings: 0.5 m bars 0.5 m apart in Europe, 12-24
+// in. bars 1-5 ft apart in the US), across every lane; so do a hatched area's stripes
+// and the strokes of a word. Lane lines lie a lane's width apart on a row (a double
+// line's two, or a line and a marker beside it, within half a metre), so this many bars
+// in a row across the road, each within kMaxCrossingGapMm of the next, are none of them
+// a line's: beside a line, a bar of the crossing is a dash to grouping.
+constexpr int kMinCrossingBars = 4;
+constexpr double kMaxCrossingGapMm = 1500.0;
+// A crossing's bars are one paint in one light: the weakest at least this share of the
+// strongest's contrast. Concrete's seams and texture beside a line are bars too, of a
+// tenth to a third of paint's contrast (segB), and no crossing with it. Bars with a step
+// beside them (held for a line beyond, lane_marks.hpp) are kerbs, seams and slab edges:
+// not a crossing's either.
+constexpr double kCrossingContrastRatio = 0.5;
 constexpr double kRowsPerMarkerForEveryFourth = 4.0;
 // Joints between concrete slabs are sealed cuts a centimetre or two wide; with blur and
 // a worn edge, this wide at most.
@@ -127,6 +142,8 @@ LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& conf
       marks_(static_cast<std::size_t>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       joints_(marks_.size()),
       linked_(marks_.size()),
+      row_bars_(marks_.size()),
+      crossing_(marks_.size()),
       picks_(static_cast<std::size_t>(config.max_picks)) {}
 
 void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm, bool joints) {
@@ -312,6 +329,49 @@ int LaneDetector::keep_one_sun(int kept) {
   }
   result_.counters.dots -= kept - n;
   result_.counters.against_the_sun = kept - n;
+  return n;
+}
+
+int LaneDetector::drop_crossings(int kept) {
+  // Candidates come in scan-row order; a row's bars (not markers, not joints: neither is
+  // a crossing's) sorted by where they lie across the road.
+  int n = 0;
+  for (int begin = 0; begin < kept;) {
+    const std::int16_t row = marks_[static_cast<std::size_t>(begin)].scan_row;
+    int end = begin, bars = 0;
+    for (; end < kept && marks_[static_cast<std::size_t>(end)].scan_row == row; ++end) {
+      const MarkCandidate& c = marks_[static_cast<std::size_t>(end)];
+      if (!c.dot && !c.joint && !c.for_lines_beyond) row_bars_[static_cast<std::size_t>(bars++)] = end;
+    }
+    const auto bar = [this](int k) -> const MarkCandidate& {
+      return marks_[static_cast<std::size_t>(row_bars_[static_cast<std::size_t>(k)])];
+    };
+    const auto across = [this](int a, int b) {
+      return marks_[static_cast<std::size_t>(a)].Y < marks_[static_cast<std::size_t>(b)].Y;
+    };
+    std::sort(row_bars_.begin(), row_bars_.begin() + bars, across);
+    // Runs of bars each within kMaxCrossingGapMm of the next, of one paint's contrast.
+    for (int a = 0; a < bars;) {
+      int b = a + 1;
+      double weakest = bar(a).contrast, strongest = weakest;
+      for (; b < bars && bar(b).Y - bar(b - 1).Y <= kMaxCrossingGapMm; ++b) {
+        weakest = std::min(weakest, bar(b).contrast);
+        strongest = std::max(strongest, bar(b).contrast);
+      }
+      if (b - a >= kMinCrossingBars && weakest >= kCrossingContrastRatio * strongest)
+        for (int k = a; k < b; ++k) crossing_[static_cast<std::size_t>(row_bars_[static_cast<std::size_t>(k)])] = 1;
+      a = b;
+    }
+    for (int i = begin; i < end; ++i) {
+      if (crossing_[static_cast<std::size_t>(i)]) {
+        crossing_[static_cast<std::size_t>(i)] = 0;
+        ++result_.counters.crossing_bars;
+        continue;
+      }
+      marks_[static_cast<std::size_t>(n++)] = marks_[static_cast<std::size_t>(i)];
+    }
+    begin = end;
+  }
   return n;
 }
 
@@ -695,6 +755,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   }
   kept = keep_one_sun(kept);
   kept = keep_linked_joints(kept);
+  kept = drop_crossings(kept);
   const std::span<MarkCandidate> marks(marks_.data(), static_cast<std::size_t>(kept));
   GroupingParams params;
   params.min_marks = config_.min_marks;

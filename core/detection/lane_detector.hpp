@@ -94,6 +94,9 @@ class LaneDetector {
   // the line to the vanishing point through them (cracks and specks; a joint runs along
   // the road); returns how many are left.
   int keep_linked_joints(int kept);
+  // Drops the bars of marks_[0, kept) that stand side by side across the road on their
+  // row, a crossing's (kMinCrossingBars); returns how many are left.
+  int drop_crossings(int kept);
   // Whether candidate c is yellow paint (colour frames only).
   static bool is_yellow(const ImageView& image, const MarkCandidate& c);
   // The picks, evenly spread over each line's marks of its kind, and a joint line's dots
@@ -138,6 +141,8 @@ class LaneDetector {
   std::vector<MarkCandidate> marks_;
   std::vector<int> joints_;           // keep_linked_joints' indices into marks_,
   std::vector<std::uint8_t> linked_;  // and whether each is linked
+  std::vector<int> row_bars_;         // drop_crossings' bars of one row, by their place across
+  std::vector<std::uint8_t> crossing_;  // and whether each mark is a crossing's
   std::vector<Pick> picks_;
   DetectionResult result_;
   float min_contrast_ = 0.0f;       // this frame's (contrast_threshold.hpp), measure levels

@@ -89,6 +89,7 @@ struct DetectionCounters {
   int dots = 0;               // short blobs (Botts' dots, raised markers) among those kept
   int against_the_sun = 0;    // markers whose shadow falls the other way than most (dropped)
   int joints = 0;             // joints between slabs among those kept
+  int crossing_bars = 0;      // bars side by side across the road on a row: a crossing's (dropped)
   int yellow = 0;             // yellow paint among those kept
   int grouped = 0;            // on a reported line
 };

@@ -173,6 +173,26 @@ bool marking_paint(double u, double v, double reach) {
   return in_letter(kStop[i], a / kLetterMm, in_box / kLetterWidthMm);
 }
 
+// A zebra crossing in the road's frame: u along the road from its stop line's near side,
+// v across from the road's right edge line (+ left), the road w wide between its edge
+// lines. Bars of a crossing run along the road, as lane lines do, a lane mark's length
+// and three times its width: what a town's street shows beside its lines.
+constexpr double kCrossingPeriodMm = 80000.0;
+constexpr double kStopLineDepthMm = 500.0;
+constexpr double kCrossingStartMm = 2500.0, kCrossingBarLengthMm = 3000.0;
+constexpr double kCrossingBarWidthMm = 400.0, kCrossingBarPeriodMm = 1000.0;
+constexpr double kCrossingFromEdgeMm = 300.0;  // the first bar's right side from the edge line
+
+bool crossing_paint(double u, double v, double w, double reach) {
+  if (v < -reach || v > w + reach) return false;
+  if (u >= -reach && u <= kStopLineDepthMm + reach) return true;
+  const double a = u - kCrossingStartMm;
+  if (a < -reach || a > kCrossingBarLengthMm + reach) return false;
+  if (reach > 0.0) return true;  // near the bars: look closer
+  const double b = v - kCrossingFromEdgeMm;
+  return b >= 0.0 && b <= w - 2 * kCrossingFromEdgeMm && wrap(b, kCrossingBarPeriodMm) <= kCrossingBarWidthMm;
+}
+
 }  // namespace
 
 template <typename Inside>
@@ -191,6 +211,13 @@ double RoadRenderer::supersampled(const GroundProjector& v, double px, double py
 
 bool RoadRenderer::marking_at(double X, double Y, double reach) const {
   const double bend = c_ * X * X;
+  if (scene_.crosswalks && num_lines_ >= 2) {
+    const double right = lines_[num_lines_ - 1].y0 + bend, width = lines_[0].y0 - lines_[num_lines_ - 1].y0;
+    const double u = wrap(X + odometer_, kCrossingPeriodMm);
+    if (crossing_paint(u, Y - right, width, reach) || crossing_paint(u - kCrossingPeriodMm, Y - right, width, reach))
+      return true;
+  }
+  if (!scene_.road_markings) return false;
   for (int j = 0; j + 1 < num_lines_; ++j) {
     const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + bend;
     if (std::abs(Y - centre) > std::max(kArrowHeadHalfMm, kWordHalfMm) + reach) continue;
@@ -366,7 +393,7 @@ void RoadRenderer::render_radiance(const GroundProjector& v) {
         int line = 0;
         const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY, line);
         if (cover > 0.0) value = value + cover * (lines_[line].paint - value);
-        if (scene_.road_markings)
+        if (scene_.road_markings || scene_.crosswalks)
           if (const double m = marking_coverage(v, px, py, X, Y, fpX, fpY); m > 0.0)
             value = value + m * (tinted(scene_.paint_grey, kNeutral) - value);
         if (scene_.shadow_depth > 0.0) value = shadow_at(X, Y, sh_c, sh_s, shadow_offset) * value;

@@ -52,8 +52,9 @@ class RoadRenderer {
   double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY,
                         int& line) const;
   bool paint_at(double X, double Y) const;
-  // [synth] road_markings: how much of the pixel around (X, Y) (footprint fpX, fpY) is
-  // an arrow's or a letter's paint, and whether the point (X, Y) is.
+  // [synth] road_markings and crosswalks: how much of the pixel around (X, Y) (footprint
+  // fpX, fpY) is an arrow's, a letter's or a crossing's paint, and whether the point
+  // (X, Y) is.
   double marking_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
                           double fpY) const;
   bool marking_at(double X, double Y, double reach) const;

@@ -68,6 +68,9 @@ struct SynthConfig {
                                  //   arrow (5 m, shaft 0.25 m wide) and 25 m on the word STOP
                                  //   (letters 2.5 m long, strokes 0.15 m): white paint of a
                                  //   lane mark's width running along the road
+  bool crosswalks = false;       // every 80 m, a town's zebra crossing between the edge lines:
+                                 //   bars 3 m along the road, 0.4 m wide, 0.6 m apart, and a
+                                 //   stop line 0.5 m deep 2 m before them
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

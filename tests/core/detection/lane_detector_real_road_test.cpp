@@ -205,6 +205,18 @@ TEST(LaneDetectorRealRoad, ArrowsAndWordsInTheLanes) {
   for (std::uint64_t k : {0u, 5u, 14u, 20u, 27u, 41u, 52u}) expect_every_line_and_nothing_else(c, k, "markings");
 }
 
+// A town's zebra crossing and its stop line across the road: bars 0.4 m wide along the
+// road (a lane mark's direction, three times its width, a dash's length), 0.6 m apart,
+// over the lane lines too, and a band 0.5 m deep across it. The frames put the crossing
+// far (30 m), mid-range (20, 10 m) and near (5, 2.5 m). Wider than paint
+// (DetectionConfig::max_mark_width_mm), its bars are no line's marks.
+TEST(LaneDetectorRealRoad, AZebraCrossingAcrossTheRoad) {
+  Config c = colour_highway();
+  c.synth.crosswalks = true;
+  c.synth.dashed = DashedLines::none;
+  for (std::uint64_t k : {60u, 72u, 84u, 90u, 93u}) expect_every_line_and_nothing_else(c, k, "crossing");
+}
+
 TEST(LaneDetectorRealRoad, EverythingAtOnce) {
   Config c = colour_highway();
   c.synth.yellow_left_edge = c.synth.hard_shadows = c.synth.barrier = true;
