@@ -52,12 +52,14 @@ constexpr double kDotDiameterMm = 100.0;
 constexpr double kMinShadowedDotPx = 2.5;
 // A zebra crossing's bars run along the road as lane lines do, a dash long, 0.3-0.6 m
 // wide and as far apart (continental crossings: 0.5 m bars 0.5 m apart in Europe, 12-24
-// in. bars 1-5 ft apart in the US), across every lane; so do a hatched area's stripes
-// and the strokes of a word. Lane lines lie a lane's width apart on a row (a double
-// line's two, or a line and a marker beside it, within half a metre), so this many bars
-// in a row across the road, each within kMaxCrossingGapMm of the next, are none of them
-// a line's: beside a line, a bar of the crossing is a dash to grouping.
+// in. bars 1-5 ft apart in the US), across every lane. Lane lines lie a lane's width
+// apart on a row, and are narrower: 10-20 cm, and a double line's two stripes, a
+// buffer's two double lines (California's HOV lanes: four stripes within 2 m) or a line
+// and a marker beside it lie closer. This many bars at least kMinCrossingBarMm wide in a
+// row across the road, each within kMaxCrossingGapMm of the next, are none of them a
+// line's: beside a line, a bar of the crossing is a dash to grouping.
 constexpr int kMinCrossingBars = 4;
+constexpr double kMinCrossingBarMm = 250.0;
 constexpr double kMaxCrossingGapMm = 1500.0;
 // A crossing's bars are one paint in one light: the weakest at least this share of the
 // strongest's contrast. Concrete's seams and texture beside a line are bars too, of a
@@ -333,15 +335,19 @@ int LaneDetector::keep_one_sun(int kept) {
 }
 
 int LaneDetector::drop_crossings(int kept) {
-  // Candidates come in scan-row order; a row's bars (not markers, not joints: neither is
-  // a crossing's) sorted by where they lie across the road.
+  // Candidates come in scan-row order; a row's bars of a crossing's width (not markers,
+  // not joints: neither is a crossing's) sorted by where they lie across the road.
   int n = 0;
   for (int begin = 0; begin < kept;) {
     const std::int16_t row = marks_[static_cast<std::size_t>(begin)].scan_row;
     int end = begin, bars = 0;
     for (; end < kept && marks_[static_cast<std::size_t>(end)].scan_row == row; ++end) {
       const MarkCandidate& c = marks_[static_cast<std::size_t>(end)];
-      if (!c.dot && !c.joint && !c.for_lines_beyond) row_bars_[static_cast<std::size_t>(bars++)] = end;
+      if (c.dot || c.joint || c.for_lines_beyond) continue;
+      // Across one row the road's millimetres per pixel are one (a flat road, level).
+      const double mm_per_px =
+          config_.mark_width_mm / static_cast<double>(rows_[static_cast<std::size_t>(c.scan_row)].mark_px);
+      if ((c.right_px - c.left_px) * mm_per_px >= kMinCrossingBarMm) row_bars_[static_cast<std::size_t>(bars++)] = end;
     }
     const auto bar = [this](int k) -> const MarkCandidate& {
       return marks_[static_cast<std::size_t>(row_bars_[static_cast<std::size_t>(k)])];

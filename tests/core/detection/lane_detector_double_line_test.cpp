@@ -88,5 +88,31 @@ TEST(LaneDetectorDoubleLine, AStripeWithAShortSecondOneBesideItStaysWhereItIs) {
   EXPECT_LT(a.worst, 10.0);
 }
 
+// A buffer beside a carpool lane (California): two double lines 1.2 m apart, four stripes
+// of paint within 1.5 m on every row, as close as a zebra crossing's bars but of a lane
+// line's width: no crossing (lane_detector.cpp, kMinCrossingBarMm), and the line found is
+// the buffer's. Bars 0.3 m wide (the US's narrowest), 1 m apart, a dash long across the
+// road are a crossing: dropped, and no line there.
+TEST(LaneDetectorDoubleLine, ABuffersTwoDoubleLinesAreNoCrossing) {
+  constexpr double kBufferMm = 1200.0;  // between the inner stripes' middles
+  const double outer = kLineY + 2 * kStripeGapMm + kBufferMm;
+  Road buffer;
+  for (const double Y : {kLineY, kLineY + kStripeGapMm, outer - kStripeGapMm, outer}) buffer.stripe(Y);
+  LaneDetector det(buffer.c.camera, buffer.c.detection);
+  const DetectionResult& r = det.detect(buffer.frame.view, buffer.pose, {});
+  EXPECT_EQ(r.counters.crossing_bars, 0);
+  ASSERT_EQ(r.num_lines, 1);
+  const double at = r.lines[0].fit.y_at(10000.0);
+  EXPECT_TRUE(at > kLineY - 50.0 && at < outer + 50.0) << at;
+
+  Road crossing;
+  for (int k = 0; k < 5; ++k)
+    draw_band(crossing.frame.view, crossing.ground, crossing.model, -2000.0 + 1000.0 * k, 12000.0, 15000.0, 300.0,
+              kPaintGrey);
+  const DetectionResult& x = det.detect(crossing.frame.view, crossing.pose, {});
+  EXPECT_GT(x.counters.crossing_bars, 20);
+  EXPECT_EQ(x.num_lines, 0);
+}
+
 }  // namespace
 }  // namespace ccdlane
