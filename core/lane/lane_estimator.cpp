@@ -379,6 +379,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
     }
   }
   if (lane.solve) {
+    search_found_from_ = poses[lane_pose];
+    have_search_pose_ = true;
     // The fit's buffers hold the last pose's: look again, unless that was the lane's.
     if (lane_pose != k - 1) {
       detection_pose_ = poses[lane_pose];
@@ -441,19 +443,38 @@ LaneEstimator::Attempt LaneEstimator::look_afresh(const ImageView& image, const 
                                                   const VehicleInputs& vehicle) {
   // The previous frame's lines can hold a frame off the lane its picture shows: a line
   // continued onto clutter beside it that the solve then drops, a few yellow marks taking
-  // a white line's place. Looked at as a search's pose is, from the same pose: without
-  // them, then along its own first solve's lines. Two looks where a search takes up to
-  // fifty; taken only as the lane a search would take (at the mount's height, without a
-  // line inside it), the lines then starting afresh. Otherwise the tracked look again
-  // (the fit's buffers hold this one's), and its lines coast on as before.
+  // a white line's place. Looked at as a search's pose is, from the same pose (without
+  // them, then along its own first solve's lines), then from the pose the last search
+  // found its lane from. Four looks where a search takes up to a hundred; taken only as
+  // the lane a search would take (at the mount's height, without a line inside it), the
+  // lines then starting afresh. Otherwise the tracked look again (the fit's buffers hold
+  // the last look's), and its lines coast on as before.
   const CameraPose tracked_from = detection_pose_;
   const LaneTracker tracked = tracker_;
   tracker_.reset();  // judged as a search's lane is, against no previous lines
+  const auto a_lane = [&](const Attempt& a) {
+    return a.why == EstimateFailure::none && !a.rescaled && width_agrees_with_height(*a.solve) &&
+           supported(*a.solve, vehicle) == Found::lane;
+  };
   const Attempt fresh = attempt(image, gyro, false, true);
-  if (fresh.why == EstimateFailure::none && !fresh.rescaled && width_agrees_with_height(*fresh.solve) &&
-      supported(*fresh.solve, vehicle) == Found::lane) {
+  if (a_lane(fresh)) {
     state_ = EstimatorState::searching;
     return fresh;
+  }
+  // Then from the pose the last search found the lane from, at the height and roll of
+  // now: the lane a search found from one starting pose is not always found again from
+  // the pose its solve gave, nor from the next frame's (held stills 39, 71, 79 and 81
+  // alternated or lost their lane for a second at a time; still 0002 from a mount 15 %
+  // too high lost it once its height was settled).
+  if (have_search_pose_) {
+    detection_pose_ = search_found_from_;
+    detection_pose_.H_mm = tracked_from.H_mm;
+    detection_pose_.attitude.phi = tracked_from.attitude.phi;
+    const Attempt again = attempt(image, gyro, false, true);
+    if (a_lane(again)) {
+      state_ = EstimatorState::searching;
+      return again;
+    }
   }
   tracker_ = tracked;
   detection_pose_ = tracked_from;

@@ -120,7 +120,8 @@ class LaneEstimator {
   Attempt attempt(const ImageView& image, const std::optional<Gx1Angles>& gyro, bool along_bend = false,
                   bool afresh = false);
   // A tracked frame's attempt that made no lane, looked at once more from its pose
-  // without the previous frame's lines; the tracked attempt again unless that is a lane.
+  // without the previous frame's lines, then from the pose the last search found its
+  // lane from; the tracked attempt again unless one of them is a lane.
   Attempt look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   static constexpr int kMaxSearchAttitudes = 10;
   static constexpr int kMaxSearchPoses = kSearchHeights * kMaxSearchAttitudes;
@@ -192,6 +193,11 @@ class LaneEstimator {
   TrackedLines tracked_;
   SupportProblem support_ = SupportProblem::none;
   LaneEstimate estimate_;
+
+  // The pose the last search found its lane from (a starting pose, before its solve):
+  // where a lost lane is looked for once more before a search (look_afresh).
+  CameraPose search_found_from_;
+  bool have_search_pose_ = false;
 
   // The search without a previous frame (docs/real-roads.md).
   VanishingLineFinder line_finder_;
