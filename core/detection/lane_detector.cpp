@@ -340,13 +340,12 @@ int LaneDetector::drop_crossings(int kept) {
   int n = 0;
   for (int begin = 0; begin < kept;) {
     const std::int16_t row = marks_[static_cast<std::size_t>(begin)].scan_row;
+    // Across one row the road's millimetres per pixel are one (a flat road, level).
+    const double mm_per_px = config_.mark_width_mm / static_cast<double>(rows_[static_cast<std::size_t>(row)].mark_px);
     int end = begin, bars = 0;
     for (; end < kept && marks_[static_cast<std::size_t>(end)].scan_row == row; ++end) {
       const MarkCandidate& c = marks_[static_cast<std::size_t>(end)];
       if (c.dot || c.joint || c.for_lines_beyond) continue;
-      // Across one row the road's millimetres per pixel are one (a flat road, level).
-      const double mm_per_px =
-          config_.mark_width_mm / static_cast<double>(rows_[static_cast<std::size_t>(c.scan_row)].mark_px);
       if ((c.right_px - c.left_px) * mm_per_px >= kMinCrossingBarMm) row_bars_[static_cast<std::size_t>(bars++)] = end;
     }
     const auto bar = [this](int k) -> const MarkCandidate& {

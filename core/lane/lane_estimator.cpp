@@ -42,6 +42,7 @@ LaneEstimator::LaneEstimator(const LaneEstimatorOptions& config)
 void LaneEstimator::reset() {
   mount_.reset();
   reset_lines();
+  have_search_pose_ = false;  // a search's pose is of the mount it was found at
   ldw_.reset_mount();
 }
 
