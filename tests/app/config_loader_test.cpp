@@ -1,9 +1,7 @@
 // The TOML schema: defaults, every table, and errors that name file, line and key.
 #include "app/config_loader.hpp"
 
-#include <grp.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/as_user.hpp"
 #include "tests/support/config_error.hpp"
 
 namespace ccdlane {
@@ -237,31 +236,6 @@ TEST(ConfigLoader, AnEndlessFileIsReadOnlyUpToOneMegabyte) {
   EXPECT_EQ(load_error("/dev/zero"), "/dev/zero: larger than 1 MB: not a configuration file");
 }
 
-// The error of loading `path` as another user: a forked child that becomes `uid` (root
-// reads any file whatever its permissions: CI runs as root), its message through a pipe.
-std::string load_error_as(uid_t uid, const std::string& path) {
-  int fds[2];
-  if (::pipe(fds) != 0) return "(no pipe)";
-  const pid_t child = ::fork();
-  if (child < 0) return "(no fork)";
-  if (child == 0) {
-    ::close(fds[0]);
-    if (::setgroups(0, nullptr) != 0 || ::setresgid(uid, uid, uid) != 0 || ::setresuid(uid, uid, uid) != 0) _exit(11);
-    const std::string text = load_error(path);
-    _exit(::write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size()) ? 0 : 12);
-  }
-  ::close(fds[1]);
-  std::string text;
-  char buf[1024];
-  ssize_t n;
-  while ((n = ::read(fds[0], buf, sizeof buf)) > 0) text.append(buf, static_cast<std::size_t>(n));
-  ::close(fds[0]);
-  int status = 0;
-  if (::waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return "(the child failed: " + std::to_string(status) + ")";
-  return text;
-}
-
 TEST(ConfigLoader, AFileThatCannotBeOpenedSaysWhy) {
   EXPECT_EQ(load_error("/nonexistent/ccdlane.toml"),
             "/nonexistent/ccdlane.toml: cannot read the configuration file: No such file or directory");
@@ -273,7 +247,15 @@ TEST(ConfigLoader, AFileThatCannotBeOpenedSaysWhy) {
   ::chmod(path.c_str(), 0);
   const std::string expected = path + ": cannot read the configuration file: Permission denied";
   if (::geteuid() == 0) {
-    EXPECT_EQ(load_error_as(65534, path), expected) << "as nobody";
+    // Root reads any file whatever its permissions (CI runs as root): as nobody.
+    const test::ChildRun nobody = test::run_as_user(
+        test::kNobody, [] { return true; },
+        [&path](int fd) {
+          const std::string text = load_error(path);
+          return ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()) ? 0 : 12;
+        });
+    EXPECT_TRUE(nobody.exited_with(0)) << nobody.status;
+    EXPECT_EQ(nobody.out, expected) << "as nobody";
   } else {
     EXPECT_EQ(load_error(path), expected);
   }

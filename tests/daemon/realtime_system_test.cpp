@@ -1,11 +1,9 @@
 // Real-time set-up with the real system calls: as root the settings take effect; as an
 // unprivileged user they are refused, said once, and the process carries on.
 #include <fcntl.h>
-#include <grp.h>
 #include <pthread.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -16,6 +14,7 @@
 
 #include "base/log.hpp"
 #include "daemon/realtime.hpp"
+#include "tests/support/as_user.hpp"
 
 namespace ccdlane {
 namespace {
@@ -60,35 +59,25 @@ TEST(RealtimeSetupSystem, AsAnUnprivilegedUserItDegrades) {
   GTEST_SKIP() << "AddressSanitizer turns mlockall into a no-op that succeeds";
 #endif
   if (geteuid() != 0) GTEST_SKIP() << "needs root to become nobody";
-  int fds[2];
-  ASSERT_EQ(pipe(fds), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    set_log_output(fds[1], false);
-    const rlimit none{0, 0};
-    if (setrlimit(RLIMIT_MEMLOCK, &none) != 0 || setrlimit(RLIMIT_RTPRIO, &none) != 0) _exit(10);
-    if (setgroups(0, nullptr) != 0 || setresgid(65534, 65534, 65534) != 0 || setresuid(65534, 65534, 65534) != 0)
-      _exit(11);
-    RealtimeConfig config;
-    config.mlock = true;
-    RealtimeSetup rt(config);
-    const bool locked = rt.lock_memory();
-    const bool fifo1 = rt.apply_to_current_thread("capture", 20);
-    const bool fifo2 = rt.apply_to_current_thread("processing", 20);
-    void* still_works = malloc(64 << 20);  // no MCL_FUTURE left behind to make this fail
-    _exit(!locked && !fifo1 && !fifo2 && still_works != nullptr && rt.refusals() == 3 ? 0 : 12);
-  }
-  close(fds[1]);
-  std::string text;
-  char buf[4096];
-  ssize_t n;
-  while ((n = read(fds[0], buf, sizeof buf)) > 0) text.append(buf, static_cast<std::size_t>(n));
-  close(fds[0]);
-  int status = 0;
-  ASSERT_EQ(waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << text;
+  const test::ChildRun child = test::run_as_user(
+      test::kNobody,
+      [] {
+        const rlimit none{0, 0};
+        return setrlimit(RLIMIT_MEMLOCK, &none) == 0 && setrlimit(RLIMIT_RTPRIO, &none) == 0;
+      },
+      [](int fd) {
+        set_log_output(fd, false);
+        RealtimeConfig config;
+        config.mlock = true;
+        RealtimeSetup rt(config);
+        const bool locked = rt.lock_memory();
+        const bool fifo1 = rt.apply_to_current_thread("capture", 20);
+        const bool fifo2 = rt.apply_to_current_thread("processing", 20);
+        void* still_works = malloc(64 << 20);  // no MCL_FUTURE left behind to make this fail
+        return !locked && !fifo1 && !fifo2 && still_works != nullptr && rt.refusals() == 3 ? 0 : 12;
+      });
+  const std::string& text = child.out;
+  EXPECT_TRUE(child.exited_with(0)) << child.status << ": " << text;
   EXPECT_EQ(count_of(text, "\n"), 2) << text;
   EXPECT_EQ(count_of(text, "cannot lock memory (mlockall: "), 1) << text;
   EXPECT_EQ(count_of(text, "SCHED_FIFO priority 20 for the capture thread refused (Operation not permitted)"), 1)
