@@ -123,6 +123,8 @@ void copy_line(const From& from, To& to) {
   to.marks = from.marks;
   to.confidence = from.confidence;
   to.sigma_y0_mm = from.sigma_y0_mm;
+  to.near_mm = from.near_mm;
+  to.far_mm = from.far_mm;
 }
 
 }  // namespace

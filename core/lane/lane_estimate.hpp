@@ -41,6 +41,10 @@ struct EstimatedLine {
   int marks = 0;            // picks on this line
   double confidence = 0.0;  // 0..1
   double sigma_y0_mm = kUndetermined;
+  // Where this frame's picks on the line lie, road x ahead (mm), an isolated end mark left
+  // out (lane_support.hpp's LineSupport): the stretch the line is seen over, its view range.
+  // Beyond it the line is the model's extrapolation. 0, 0 without picks.
+  double near_mm = 0.0, far_mm = 0.0;
 };
 
 // The lane departure warning at this frame: the LDW monitor's result, as it made it.

@@ -6,6 +6,8 @@
 #include <span>
 #include <utility>
 
+#include "core/lane/lane_support.hpp"
+
 namespace ccdlane {
 namespace {
 
@@ -57,6 +59,9 @@ TrackedLines track_lines(LaneTracker& tracker, const SolveResult& r, const LaneF
     const double line_rms = marks[j] > 0 ? std::sqrt(sum2[j] / marks[j]) : 0.0;
     out.confidence = marks[j] / (marks[j] + kConfidenceMarks) / (1.0 + line_rms * line_rms);
     out.sigma_y0_mm = r.sigma.y0_mm[j];
+    const LineSupport seen = line_support(picks, r.points_mm, order[k]);
+    out.near_mm = seen.near_mm;
+    out.far_mm = seen.far_mm;
   }
   const LaneMetrics& m = t.metrics = lane_metrics({t.lines.data(), static_cast<std::size_t>(n)},
                                                   rad_to_deg(r.pose.attitude.psi), mount_psi_deg, departure_mm);

@@ -31,6 +31,8 @@ LaneEstimate sample_estimate() {
     l.marks = 9 - i;
     l.confidence = 0.97 - 0.1 * i;
     l.sigma_y0_mm = i == 2 ? kUndetermined : 20.0 + i;
+    l.near_mm = 4100.0 + i;
+    l.far_mm = 61000.0 - 1000.0 * i;
   }
   e.lane_width_mm = 3601.0;
   e.lateral_offset_mm = -49.0;
@@ -101,6 +103,8 @@ void expect_equal(const LaneEstimate& a, const LaneEstimate& b) {
     EXPECT_EQ(x.marks, y.marks);
     expect_same(x.confidence, y.confidence, "confidence");
     expect_same(x.sigma_y0_mm, y.sigma_y0_mm, "sigma y0");
+    expect_same(x.near_mm, y.near_mm, "near");
+    expect_same(x.far_mm, y.far_mm, "far");
   }
   expect_same(a.lane_width_mm, b.lane_width_mm, "width");
   expect_same(a.lateral_offset_mm, b.lateral_offset_mm, "offset");

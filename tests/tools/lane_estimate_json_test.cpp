@@ -18,8 +18,8 @@ LaneEstimate sample() {
   e.H_mm = 1400.0;
   e.sigma_psi_deg = 0.04;
   e.num_lines = 2;
-  e.lines[0] = {3, 1751.0, 0.0012, 0.0, 9, 0.97, 22.0};
-  e.lines[1] = {4, -1850.0, 0.0012, 0.0, 11, 0.9, kUndetermined};
+  e.lines[0] = {3, 1751.0, 0.0012, 0.0, 9, 0.97, 22.0, 4200.0, 38500.0};
+  e.lines[1] = {4, -1850.0, 0.0012, 0.0, 11, 0.9, kUndetermined, 3900.0, 21000.0};
   e.lane_width_mm = 3601.0;
   e.lateral_offset_mm = 49.5;
   e.heading_deg = 0.07;
@@ -35,8 +35,10 @@ LaneEstimate sample() {
 TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
   const Json j = lane_estimate_json(sample());
   EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"state":"tracking","psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
-                      R"("H_mm":1400.0,"lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97},)"
-                      R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9}],)"
+                      R"("H_mm":1400.0,"lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97,)"
+                      R"("near_mm":4200.0,"far_mm":38500.0},)"
+                      R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9,)"
+                      R"("near_mm":3900.0,"far_mm":21000.0}],)"
                       R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"curvature_per_m":0.002,)"
                       R"("radius_of_curvature_m":500.0,"departure":"left",)"
                       R"("rms_px":0.5,"iterations":5,"latency_us":180,)"

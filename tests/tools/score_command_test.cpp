@@ -173,6 +173,8 @@ TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {
       ego += l["ego"].get<bool>();
       points += l["points"].get<std::size_t>();
       hit += l["hit_points"].get<std::size_t>();
+      EXPECT_EQ(l["missed_rows"].size(), l["points"].get<std::size_t>() - l["hit_points"].get<std::size_t>())
+          << l.dump();
     }
     EXPECT_EQ(found, f["found"].get<int>());
     EXPECT_EQ(ego, f["ego_lanes"].get<int>());

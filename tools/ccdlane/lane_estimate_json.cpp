@@ -62,7 +62,9 @@ Json lane_estimate_json(const LaneEstimate& e, bool sigmas) {
                          {"m", json_number(l.m)},
                          {"c_per_mm", json_number(l.c_per_mm)},
                          {"marks", l.marks},
-                         {"confidence", json_number(l.confidence)}});
+                         {"confidence", json_number(l.confidence)},
+                         {"near_mm", json_number(l.near_mm)},
+                         {"far_mm", json_number(l.far_mm)}});
   }
   j["lines"] = std::move(lines);
   j["lane_width_mm"] = e.ok ? json_number(e.lane_width_mm) : null;

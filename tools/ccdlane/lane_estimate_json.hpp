@@ -8,7 +8,7 @@
 namespace ccdlane::cli {
 
 // {"frame", "t_ns", "ok", ["reason",] "psi_deg", "theta_deg", "phi_deg", "H_mm", "lines": [{"id",
-// "y0_mm", "m", "c_per_mm", "marks", "confidence"}], "lane_width_mm",
+// "y0_mm", "m", "c_per_mm", "marks", "confidence", "near_mm", "far_mm"}], "lane_width_mm",
 // "lateral_offset_mm", "heading_deg", "curvature_per_m", "radius_of_curvature_m",
 // "departure", "rms_px", "iterations", "latency_us"}. The radius is null on a straight
 // lane (curvature exactly 0, as the straight line model always gives).

@@ -58,19 +58,23 @@ Json score_json(const FrameScore& s) {
 
 // Each annotated lane of a frame, in the annotation's order: which it is (its mask's grey
 // level or its label's index; the own lane's or not, and where it meets the picture's
-// bottom row), its points and those the line that hits most of them hits, and whether
-// that is enough for it to be found.
+// bottom row), its points and those the line that hits most of them hits, whether
+// that is enough for it to be found, and the rows of the points that line misses.
 Json lane_results_json(std::span<const AnnotatedLane> lanes, const LanePointHits& hits) {
   Json out = Json::array();
   for (std::size_t i = 0; i < lanes.size() && i < hits.size(); ++i) {
     const auto hit = std::count(hits[i].begin(), hits[i].end(), true);
     const auto points = lanes[i].points.size();
+    std::vector<int> missed_rows;
+    for (std::size_t j = 0; j < points && j < hits[i].size(); ++j)
+      if (!hits[i][j]) missed_rows.push_back(static_cast<int>(lanes[i].points[j].y()));
     out.push_back(Json{{"level", lanes[i].level},
                        {"ego", lanes[i].ego},
                        {"x_bottom_px", json_number(lanes[i].x_bottom)},
                        {"points", points},
                        {"hit_points", hit},
-                       {"found", ScoreRules{}.lane_found(static_cast<std::size_t>(hit), points)}});
+                       {"found", ScoreRules{}.lane_found(static_cast<std::size_t>(hit), points)},
+                       {"missed_rows", missed_rows}});
   }
   return out;
 }

@@ -44,5 +44,39 @@ TEST(TrackedLines, OrdersLeftToRightAndNamesTheOwnLaneInTheSolvesOrder) {
   EXPECT_DOUBLE_EQ(t.own.lane_width_mm, 3600.0);
 }
 
+// Each line's view range is where its own picks lie on the road, whatever order the
+// lines come out in; an end pick far from all others does not stretch it.
+TEST(TrackedLines, EachLinesViewRangeIsWhereItsPicksLie) {
+  LaneEstimatorOptions o;
+  LaneFit fit(o);
+  std::vector<Pick> picks;
+  std::vector<Vec2> points_mm;
+  DetectionResult d;
+  d.num_lines = 2;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 10; ++i) {
+      picks.push_back({j, 100.0 + i, 300.0 + i});
+      points_mm.emplace_back(4000.0 * (j + 1) + 2000.0 * i, j == 0 ? -1800.0 : 1800.0);
+    }
+  picks.push_back({1, 200.0, 250.0});  // line 1's last pick, 40 m beyond its others
+  points_mm.emplace_back(8000.0 + 2000.0 * 9 + 40000.0, 1800.0);
+  d.picks = picks;
+  ASSERT_TRUE(fit.take(d));
+
+  SolveResult r;
+  r.num_lines = 2;
+  r.lines[0] = {-1800.0, 0.0, 0.0};
+  r.lines[1] = {1800.0, 0.0, 0.0};
+  r.points_mm = points_mm;
+  LaneTracker tracker;
+  const TrackedLines t = track_lines(tracker, r, fit, 0.0, 900.0);
+  ASSERT_EQ(t.num_lines, 2);
+  EXPECT_EQ(t.lines[0].y0_mm, 1800.0);  // the solve's line 1, left
+  EXPECT_DOUBLE_EQ(t.lines[0].near_mm, 8000.0);
+  EXPECT_DOUBLE_EQ(t.lines[0].far_mm, 26000.0) << "the isolated pick at 66 m is left out";
+  EXPECT_DOUBLE_EQ(t.lines[1].near_mm, 4000.0);
+  EXPECT_DOUBLE_EQ(t.lines[1].far_mm, 22000.0);
+}
+
 }  // namespace
 }  // namespace ccdlane
