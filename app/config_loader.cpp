@@ -439,6 +439,7 @@ void read_synth(TableReader& r, Config& c) {
   r.boolean("barrier", s.barrier);
   r.boolean("road_markings", s.road_markings);
   r.boolean("crosswalks", s.crosswalks);
+  r.boolean("sealed_cracks", s.sealed_cracks);
   r.reject_unknown();
 
   require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #include "core/synth/random.hpp"
 
@@ -31,6 +32,15 @@ constexpr double kBarrierHeightMm = 810.0;
 constexpr double kBarrierFootMm = 250.0;
 constexpr double kBarrierGrey = 135.0;
 constexpr double kBarrierFootGrey = 220.0;
+
+// A crack sealed along the road ([synth] sealed_cracks): two bands of sealant, the road's
+// surface between them, set right of each lane's centre and wandering a little along it
+// as a crack does.
+constexpr double kSealantWidthMm = 40.0;
+constexpr double kSealantApartMm = 150.0;  // centre to centre: 110 mm of road between
+constexpr double kSealantFromCentreMm = -1350.0;
+constexpr double kSealantWanderMm = 80.0, kSealantWanderPeriodMm = 25000.0;
+constexpr double kSealantGrey = 40.0;
 
 using Rgb = RoadRenderer::Rgb;
 Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
@@ -264,6 +274,22 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
   return supersampled(v, px, py, [this](double sx, double sy) { return paint_at(sx, sy); });
 }
 
+double RoadRenderer::sealant_coverage(double X, double Y, double fpY) const {
+  // The share of the pixel's width across the road (fpY, at least a millimetre) on sealant.
+  const double half = 0.5 * std::max(fpY, 1.0);
+  const double wander = kSealantWanderMm * std::sin(2.0 * std::numbers::pi * (X + odometer_) / kSealantWanderPeriodMm);
+  double covered = 0.0;
+  for (int j = 0; j + 1 < num_lines_; ++j) {
+    const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + c_ * X * X + kSealantFromCentreMm + wander;
+    for (const double side : {-0.5, 0.5}) {
+      const double c = centre + side * kSealantApartMm;
+      covered += std::max(0.0, std::min(Y + half, c + 0.5 * kSealantWidthMm) -
+                                   std::max(Y - half, c - 0.5 * kSealantWidthMm));
+    }
+  }
+  return std::min(1.0, covered / (2.0 * half));
+}
+
 Rgb RoadRenderer::tinted(double grey, const Rgb& tint) const {
   return scene_.colour ? grey * tint : Rgb{grey, grey, grey};
 }
@@ -390,6 +416,9 @@ void RoadRenderer::render_radiance(const GroundProjector& v) {
         const double fpX = 0.5 * (std::abs(dXa) + std::abs(dXb)), fpY = 0.5 * (std::abs(dYa) + std::abs(dYb));
         const double footprint = 2.0 * std::sqrt(fpX * fpY) + 1e-9;
         value = shade_ground(X, Y, footprint);
+        if (scene_.sealed_cracks)
+          if (const double m = sealant_coverage(X, Y, fpY); m > 0.0)
+            value = value + m * (tinted(kSealantGrey, kNeutral) - value);
         int line = 0;
         const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY, line);
         if (cover > 0.0) value = value + cover * (lines_[line].paint - value);

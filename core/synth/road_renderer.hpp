@@ -49,6 +49,9 @@ class RoadRenderer {
   void expose(std::uint64_t frame_index, const MutableImageView& out);
 
   Rgb shade_ground(double X, double Y, double footprint) const;
+  // [synth] sealed_cracks: the share of a pixel at (X, Y), fpY wide across the road, that
+  // is crack sealant.
+  double sealant_coverage(double X, double Y, double fpY) const;
   double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY,
                         int& line) const;
   bool paint_at(double X, double Y) const;

@@ -71,6 +71,10 @@ struct SynthConfig {
   bool crosswalks = false;       // every 80 m, a town's zebra crossing between the edge lines:
                                  //   bars 3 m along the road, 0.4 m wide, 0.6 m apart, and a
                                  //   stop line 0.5 m deep 2 m before them
+  bool sealed_cracks = false;    // in every lane, 0.9 m right of its centre, a crack sealed
+                                 //   along the road: two bands of black sealant 40 mm wide,
+                                 //   150 mm apart, with the road's own surface between them
+                                 //   (a strip a lane mark's width, brighter than its sides)
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

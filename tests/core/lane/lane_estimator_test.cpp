@@ -135,6 +135,21 @@ TEST(LaneEstimator, AZebraCrossingLeavesTheLaneAlone) {
   expect_markings_leave_the_lane_alone(c, 40, 100);
 }
 
+// A crack sealed along every lane, 0.9 m right of its centre: two black bands of sealant
+// 150 mm apart, the road's surface between them a strip a lane mark's width that stands
+// above both its sides as paint does. On concrete and on asphalt, with the reference
+// camera at its own 800x600 (at 400x300 the strip is a pixel or two wide from 10 m on, and
+// nothing takes it for paint; docs/real-roads.md has where it is taken).
+TEST(LaneEstimator, ASealedCrackAlongTheLaneLeavesTheLaneAlone) {
+  for (const RoadSurface surface : {RoadSurface::concrete, RoadSurface::asphalt}) {
+    SCOPED_TRACE(surface == RoadSurface::concrete ? "concrete" : "asphalt");
+    Config c = default_config();
+    c.synth.sealed_cracks = true;
+    c.synth.surface = surface;
+    expect_markings_leave_the_lane_alone(c, 0, 60);
+  }
+}
+
 // Bends of radius 300 to 2000 m, both ways, on colour frames of a concrete road with a
 // yellow left edge line, solved with one shared curvature ([solver] line_model = "curved"):
 // yaw, pitch, the lateral offset and the curvature within 3 of the solver's own sigmas.
