@@ -43,16 +43,16 @@ TEST(FrameContrastThreshold, ADaylightRoadKeepsTheConfiguredContrast) {
 }
 
 TEST(FrameContrastThreshold, ADimRoadLowersItInProportionToTheRoadsLevel) {
-  // Clean enough that the noise does not hold it up (9 x 0.2 = 1.8 levels): 35 of a
+  // Clean enough that the noise does not hold it up (6 x 0.2 = 1.2 levels): 35 of a
   // daylight road's 70 is half the contrast. The median of rounded levels is the level.
   EXPECT_NEAR(FlatRoad(35.0, 0.2).threshold(), 0.5f * kConfiguredContrast, 0.15f);
   EXPECT_NEAR(FlatRoad(49.0, 0.2).threshold(), 0.7f * kConfiguredContrast, 0.15f);
 }
 
 TEST(FrameContrastThreshold, NoiseHoldsItUp) {
-  // At 35 the level alone says 5; noise of 0.8 levels (its estimate from rounded pixels
-  // within a few per cent) says 9 x 0.8 = 7.2.
-  EXPECT_NEAR(FlatRoad(35.0, 0.8).threshold(), static_cast<float>(kThresholdNoiseSigmas * 0.8), 0.4f);
+  // At 35 the level alone says 5; noise of 1.2 levels (its estimate from rounded pixels
+  // within a few per cent) says 6 x 1.2 = 7.2.
+  EXPECT_NEAR(FlatRoad(35.0, 1.2).threshold(), static_cast<float>(kThresholdNoiseSigmas * 1.2), 0.4f);
   // Noise beyond daylight's margin never raises it above the configured contrast.
   EXPECT_FLOAT_EQ(FlatRoad(35.0, 3.0).threshold(), kConfiguredContrast);
 }
