@@ -283,8 +283,8 @@ double RoadRenderer::sealant_coverage(double X, double Y, double fpY) const {
     const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + c_ * X * X + kSealantFromCentreMm + wander;
     for (const double side : {-0.5, 0.5}) {
       const double c = centre + side * kSealantApartMm;
-      covered += std::max(0.0, std::min(Y + half, c + 0.5 * kSealantWidthMm) -
-                                   std::max(Y - half, c - 0.5 * kSealantWidthMm));
+      covered +=
+          std::max(0.0, std::min(Y + half, c + 0.5 * kSealantWidthMm) - std::max(Y - half, c - 0.5 * kSealantWidthMm));
     }
   }
   return std::min(1.0, covered / (2.0 * half));

@@ -107,7 +107,9 @@ void expect_interfaces_md_shape(const ordered_json& j) {
   for (const ordered_json& line : j["lines"]) {
     std::vector<std::string> line_keys;
     for (const auto& [key, value] : line.items()) line_keys.push_back(key);
-    EXPECT_EQ(line_keys, (std::vector<std::string>{"id", "y0_mm", "m", "c_per_mm", "marks", "confidence", "near_mm", "far_mm"})) << j;
+    EXPECT_EQ(line_keys,
+              (std::vector<std::string>{"id", "y0_mm", "m", "c_per_mm", "marks", "confidence", "near_mm", "far_mm"}))
+        << j;
   }
   const std::string departure = j["departure"].get<std::string>();
   EXPECT_TRUE(departure == "none" || departure == "left" || departure == "right") << j;

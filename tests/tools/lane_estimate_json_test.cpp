@@ -34,21 +34,23 @@ LaneEstimate sample() {
 
 TEST(LaneEstimateJson, TheDocumentedFieldsInOrder) {
   const Json j = lane_estimate_json(sample());
-  EXPECT_EQ(j.dump(), R"({"frame":12,"t_ns":400000000,"ok":true,"state":"tracking","psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
-                      R"("H_mm":1400.0,"lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97,)"
-                      R"("near_mm":4200.0,"far_mm":38500.0},)"
-                      R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9,)"
-                      R"("near_mm":3900.0,"far_mm":21000.0}],)"
-                      R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"curvature_per_m":0.002,)"
-                      R"("radius_of_curvature_m":500.0,"departure":"left",)"
-                      R"("rms_px":0.5,"iterations":5,"latency_us":180,)"
-                      R"("ldw":{"available":false,"reason":"no_lane","warning":"none","fired":"none","warnings":0,)"
-                      R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
-                      R"("lateral_velocity_mps":null,"speed_mps":0.0,"turn_indicator":"none","track":"lost",)"
-                      R"("state":{"offset_mm":null,"heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,)"
-                      R"("pitch_deg":null,"roll_deg":null,"heading_bias_deg":null},"sigma":{"offset_mm":null,)"
-                      R"("heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
-                      R"("heading_bias_deg":null,"lateral_velocity_mps":null}}})");
+  EXPECT_EQ(
+      j.dump(),
+      R"({"frame":12,"t_ns":400000000,"ok":true,"state":"tracking","psi_deg":1.05,"theta_deg":0.71,"phi_deg":-2.7,)"
+      R"("H_mm":1400.0,"lines":[{"id":3,"y0_mm":1751.0,"m":0.0012,"c_per_mm":0.0,"marks":9,"confidence":0.97,)"
+      R"("near_mm":4200.0,"far_mm":38500.0},)"
+      R"({"id":4,"y0_mm":-1850.0,"m":0.0012,"c_per_mm":0.0,"marks":11,"confidence":0.9,)"
+      R"("near_mm":3900.0,"far_mm":21000.0}],)"
+      R"("lane_width_mm":3601.0,"lateral_offset_mm":49.5,"heading_deg":0.07,"curvature_per_m":0.002,)"
+      R"("radius_of_curvature_m":500.0,"departure":"left",)"
+      R"("rms_px":0.5,"iterations":5,"latency_us":180,)"
+      R"("ldw":{"available":false,"reason":"no_lane","warning":"none","fired":"none","warnings":0,)"
+      R"("dlc_left_mm":null,"dlc_right_mm":null,"tlc_left_s":null,"tlc_right_s":null,)"
+      R"("lateral_velocity_mps":null,"speed_mps":0.0,"turn_indicator":"none","track":"lost",)"
+      R"("state":{"offset_mm":null,"heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,)"
+      R"("pitch_deg":null,"roll_deg":null,"heading_bias_deg":null},"sigma":{"offset_mm":null,)"
+      R"("heading_deg":null,"curvature_per_m":null,"lane_width_mm":null,"pitch_deg":null,"roll_deg":null,)"
+      R"("heading_bias_deg":null,"lateral_velocity_mps":null}}})");
 }
 
 TEST(LaneEstimateJson, LdwObjectWithTheDocumentedNames) {

@@ -109,7 +109,8 @@ TEST_F(MonitorCommand, JsonIsOneObjectPerLaneMessageWithTheReplayFields) {
     ASSERT_EQ(j["lines"].size(), 4u);  // the default synthetic road: 3 lanes
     std::vector<std::string> line_keys;
     for (auto it = j["lines"][0].begin(); it != j["lines"][0].end(); ++it) line_keys.push_back(it.key());
-    EXPECT_EQ(line_keys, (std::vector<std::string>{"id", "y0_mm", "m", "c_per_mm", "marks", "confidence", "near_mm", "far_mm"}));
+    EXPECT_EQ(line_keys,
+              (std::vector<std::string>{"id", "y0_mm", "m", "c_per_mm", "marks", "confidence", "near_mm", "far_mm"}));
     // Left to right, 3.6 m apart as rendered.
     EXPECT_NEAR(j["lines"][0]["y0_mm"].get<double>() - j["lines"][1]["y0_mm"].get<double>(), 3600.0, 100.0);
   }
