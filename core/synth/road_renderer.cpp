@@ -38,7 +38,7 @@ constexpr double kBarrierFootGrey = 220.0;
 // as a crack does.
 constexpr double kSealantWidthMm = 40.0;
 constexpr double kSealantApartMm = 150.0;  // centre to centre: 110 mm of road between
-constexpr double kSealantFromCentreMm = -1350.0;
+constexpr double kSealantFromCentreMm = -900.0;
 constexpr double kSealantWanderMm = 80.0, kSealantWanderPeriodMm = 25000.0;
 constexpr double kSealantGrey = 40.0;
 
