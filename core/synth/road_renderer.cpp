@@ -219,17 +219,20 @@ double RoadRenderer::supersampled(const GroundProjector& v, double px, double py
   return samples ? static_cast<double>(hits) / samples : 0.0;
 }
 
+double RoadRenderer::lane_centre_mm(int j, double X) const {
+  return 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + c_ * X * X;
+}
+
 bool RoadRenderer::marking_at(double X, double Y, double reach) const {
-  const double bend = c_ * X * X;
   if (scene_.crosswalks && num_lines_ >= 2) {
-    const double right = lines_[num_lines_ - 1].y0 + bend, width = lines_[0].y0 - lines_[num_lines_ - 1].y0;
+    const double right = lines_[num_lines_ - 1].y0 + c_ * X * X, width = lines_[0].y0 - lines_[num_lines_ - 1].y0;
     const double u = wrap(X + odometer_, kCrossingPeriodMm);
     if (crossing_paint(u, Y - right, width, reach) || crossing_paint(u - kCrossingPeriodMm, Y - right, width, reach))
       return true;
   }
   if (!scene_.road_markings) return false;
   for (int j = 0; j + 1 < num_lines_; ++j) {
-    const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + bend;
+    const double centre = lane_centre_mm(j, X);
     if (std::abs(Y - centre) > std::max(kArrowHeadHalfMm, kWordHalfMm) + reach) continue;
     const double u = wrap(X + odometer_ + kLaneStaggerMm * j, kMarkingPeriodMm);
     if (marking_paint(u, Y - centre, reach) || marking_paint(u - kMarkingPeriodMm, Y - centre, reach)) return true;
@@ -280,7 +283,7 @@ double RoadRenderer::sealant_coverage(double X, double Y, double fpY) const {
   const double wander = kSealantWanderMm * std::sin(2.0 * std::numbers::pi * (X + odometer_) / kSealantWanderPeriodMm);
   double covered = 0.0;
   for (int j = 0; j + 1 < num_lines_; ++j) {
-    const double centre = 0.5 * (lines_[j].y0 + lines_[j + 1].y0) + c_ * X * X + kSealantFromCentreMm + wander;
+    const double centre = lane_centre_mm(j, X) + kSealantFromCentreMm + wander;
     for (const double side : {-0.5, 0.5}) {
       const double c = centre + side * kSealantApartMm;
       covered +=

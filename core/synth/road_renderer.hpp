@@ -61,6 +61,8 @@ class RoadRenderer {
   double marking_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
                           double fpY) const;
   bool marking_at(double X, double Y, double reach) const;
+  // The middle of the lane between lines j and j + 1, X ahead (the road's bend with it).
+  double lane_centre_mm(int j, double X) const;
   // The share of n x n sub-samples of pixel (px, py) on the road for which inside(X, Y)
   // holds (n = [synth] supersample).
   template <typename Inside>
