@@ -23,9 +23,10 @@ constexpr double kOrientationTolerance = 0.5;  // sin(30 deg): between a bar and
 // that wide is two lanes whose line between was missed).
 constexpr double kMinOwnLaneWidthMm = 2600.0;
 constexpr double kMaxOwnLaneWidthMm = 4800.0;
-// A tracked frame looks for the own lane's other line this far either side of where the
-// previous frame had it: a lane's width changes by centimetres from one frame to the next,
-// and 31 candidates still measure chance's hits about the line (PictureLineSearch).
+// A tracked frame takes the own lane's other line only this far either side of where the
+// previous frame had it: a lane's width changes by centimetres from one frame to the next.
+// Chance's hits are still measured across every lane width (PictureLineSearch::Window):
+// within 600 mm of a dashed line of paint, its own bars are most candidates' hits.
 constexpr double kTrackedWindowMm = 600.0;
 // A line with marks on this share of the scan rows it spans is solid: dashes (3 m of 12,
 // Europe's 6 of 18) cover a quarter to a third of them; a solid line loses some to
@@ -655,14 +656,19 @@ int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraP
                                            double side, int index, ChanceRule chance, int kept, float levels_per_grey,
                                            std::optional<double> near_mm) {
   double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
-  double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
+  const double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
+  // Chance is measured across every lane width, the line taken only near its last place,
+  // with a candidate on that place (the grid of candidates starts a whole number of steps
+  // from it): a line a few hits above the minimum is found where it was last found.
+  std::optional<PictureLineSearch::Window> taken;
   if (near_mm) {
-    from = std::max(from, *near_mm - kTrackedWindowMm);
-    to = std::min(to, *near_mm + kTrackedWindowMm);
+    taken = PictureLineSearch::Window{*near_mm - kTrackedWindowMm, *near_mm + kTrackedWindowMm};
+    from =
+        *near_mm - std::floor((*near_mm - from) / PictureLineSearch::kOffsetStepMm) * PictureLineSearch::kOffsetStepMm;
   }
   const PictureLine& found =
       picture_line_.find(image, pose, beside, from, to, config_.min_range_mm, config_.max_range_mm,
-                         config_.mark_width_mm, static_cast<double>(min_contrast_), chance);
+                         config_.mark_width_mm, static_cast<double>(min_contrast_), chance, taken);
   if (!found.found || kept + found.hits > static_cast<int>(marks_.size())) return kept;
   const int n = result_.num_lines;
   for (int j = n; j > index; --j)

@@ -78,7 +78,8 @@ void PictureLineSearch::ridge_row(const ImageView& image, int y, int x0, int x1,
 
 const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
                                            double from_mm, double to_mm, double near_mm, double far_mm,
-                                           double mark_width_mm, double min_contrast, ChanceRule chance) {
+                                           double mark_width_mm, double min_contrast, ChanceRule chance,
+                                           std::optional<Window> taken) {
   result_ = PictureLine{};
   const int offsets = std::clamp(static_cast<int>((to_mm - from_mm) / kOffsetStepMm) + 1, 0, kMaxOffsets);
   if (offsets < 3 || image.width != camera_.Nu || image.height != camera_.Nv) return result_;
@@ -157,8 +158,16 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
       ++counts_[static_cast<std::size_t>(k)];
     }
   }
-  int best_k = 0;
-  for (int k = 1; k < offsets; ++k)
+  // The candidates the line may be taken from: all, or the window's.
+  int first_k = 0, end_k = offsets;
+  if (taken) {
+    first_k = std::clamp(static_cast<int>(std::ceil((taken->from_mm - from_mm) / kOffsetStepMm - 1e-9)), 0, offsets);
+    end_k =
+        std::clamp(static_cast<int>(std::floor((taken->to_mm - from_mm) / kOffsetStepMm + 1e-9)) + 1, first_k, offsets);
+  }
+  if (end_k - first_k < 3) return result_;
+  int best_k = first_k;
+  for (int k = first_k + 1; k < end_k; ++k)
     if (counts_[static_cast<std::size_t>(k)] > counts_[static_cast<std::size_t>(best_k)]) best_k = k;
   // Chance: the median candidate's hits, and their spread about it (the median absolute
   // deviation, as a standard deviation's estimate): a texture's hits are not spread as
@@ -195,11 +204,11 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
   result_.hits = n;
   result_.span_mm = n > 0 ? far - near : 0.0;
   result_.marks = std::span<const PictureLineHit>(found_.data(), static_cast<std::size_t>(n));
-  // Above chance, and not at either end of the widths looked at (a line nearer or farther
-  // than those would peak beyond them).
+  // Above chance, and not at either end of the widths it may be taken at (a line nearer
+  // or farther than those would peak beyond them).
   const bool clean = chance == ChanceRule::any_road || median <= kMaxChanceHits;
-  result_.found = n >= kMinHits && clean && n >= median + kMinSigmas * result_.spread && best_k >= 2 &&
-                  best_k < offsets - 2 && result_.groups >= kMinGroups && result_.pieces >= kMinPieces &&
+  result_.found = n >= kMinHits && clean && n >= median + kMinSigmas * result_.spread && best_k >= first_k + 2 &&
+                  best_k < end_k - 2 && result_.groups >= kMinGroups && result_.pieces >= kMinPieces &&
                   result_.span_mm >= kMinSpanMm;
   return result_;
 }

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -65,9 +66,18 @@ class PictureLineSearch {
   // from_mm..to_mm from it (signed: + left; from_mm < to_mm), over the road near_mm to
   // far_mm ahead as seen from `pose`, for paint `mark_width_mm` wide standing
   // `min_contrast` measure levels above both its sides.
+  // `taken`, when given, narrows where the line may be taken (a tracked frame's window
+  // about where the previous frame had it) without narrowing where chance is measured:
+  // every offset from_mm..to_mm still counts for chance. Measured inside a window a
+  // lane's line fills, chance is the line's own hits (its bars are read by the
+  // candidates either side of it), and a dashed line of paint was refused there as a
+  // textured road.
+  struct Window {
+    double from_mm = 0.0, to_mm = 0.0;
+  };
   const PictureLine& find(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double from_mm,
                           double to_mm, double near_mm, double far_mm, double mark_width_mm, double min_contrast,
-                          ChanceRule chance = ChanceRule::clean_road);
+                          ChanceRule chance = ChanceRule::clean_road, std::optional<Window> taken = std::nullopt);
 
   static constexpr double kOffsetStepMm = 40.0;
   // The rows read: each marker this long on the road (a Botts' dot) is crossed by two of

@@ -154,6 +154,57 @@ TEST(PictureLineSearch, ALineAtTheEndOfTheWidthsLookedAtIsNotTaken) {
   EXPECT_FALSE(l.found);
 }
 
+TEST(PictureLineSearch, ATrackedWindowTakesALineWhoseOwnHitsFillIt) {
+  // A dashed line of paint (3 m dashes, 9 m gaps) where the markers were, with a rough
+  // strip of concrete beside it (a patch, worn paint: specks 200-700 mm right of the
+  // line), looked for as a tracked frame looks for it: taken only within
+  // kTrackedWindowMm (600 mm) of where the previous frame had it. The line's bars and
+  // the strip's specks are most of the window's candidates' hits: chance measured there
+  // alone is the line's surroundings, and the road looks textured (TuSimple still 37,
+  // held: its right line of dashes lost on every tracked frame). Measured across every
+  // lane width, chance is the road's.
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  for (double X = 4000.0; X < 40000.0; X += 12000.0)
+    draw_band(road.frame.view, road.ground, road.model, kDotsY, X, X + 3000.0, 130.0, 230);
+  std::uint32_t seed = 17;
+  for (int i = 0; i < 400; ++i) {  // the strip's specks, 3-40 m ahead
+    seed = seed * 1664525u + 1013904223u;
+    const double X = 3000.0 + (seed >> 8) % 37000u;
+    seed = seed * 1664525u + 1013904223u;
+    const double Y = kDotsY - 200.0 - (seed >> 8) % 500u;
+    if (const auto px = road.model.pixel_from_point(Vec3(X, Y, 0.0)))
+      if (px->x() >= 1.0 && px->x() < road.frame.view.width - 1 && px->y() >= 1.0 && px->y() < road.frame.view.height)
+        road.frame.view.row(static_cast<int>(px->y()) - 1)[static_cast<int>(px->x()) - 1] = 190;
+  }
+  const double last = kDotsY - kLeftLineY, window = 600.0;
+  PictureLineSearch search(road.c.camera);
+  const PictureLine& narrow = search.find(road.frame.view, road.pose, kLeftLine, last - window, last + window, 3000.0,
+                                          40000.0, 130.0, kMinContrast);
+  EXPECT_GT(narrow.baseline, PictureLineSearch::kMaxChanceHits) << "chance measured within the window";
+  EXPECT_FALSE(narrow.found);
+  const PictureLine& l =
+      search.find(road.frame.view, road.pose, kLeftLine, -4800.0, -2600.0, 3000.0, 40000.0, 130.0, kMinContrast,
+                  ChanceRule::clean_road, PictureLineSearch::Window{last - window, last + window});
+  ASSERT_TRUE(l.found) << l.hits << " hits, chance " << l.baseline << " +- " << l.spread;
+  EXPECT_LE(l.baseline, PictureLineSearch::kMaxChanceHits);
+  EXPECT_NEAR(l.offset_mm, last, PictureLineSearch::kOffsetStepMm);
+}
+
+TEST(PictureLineSearch, ATrackedWindowTakesNoLineOutsideIt) {
+  // The markers a lane's width away, the window 900 mm off them: chance across every
+  // width, but the line, outside the window, is not taken (nor its edge's hits).
+  TuSimpleConcreteRoad road(3);
+  speckle(road.frame.view, 11, 300);
+  for (const double X : kDotsX) draw_dot(road.frame.view, road.ground, road.model, X, kDotsY, 230);
+  const double last = kDotsY - kLeftLineY + 900.0;
+  PictureLineSearch search(road.c.camera);
+  EXPECT_FALSE(search
+                   .find(road.frame.view, road.pose, kLeftLine, -4800.0, -2600.0, 3000.0, 40000.0, 130.0, kMinContrast,
+                         ChanceRule::clean_road, PictureLineSearch::Window{last - 600.0, last + 600.0})
+                   .found);
+}
+
 // Speckled concrete with the lane's left line of paint and the few markers of its right
 // line (kDotsX).
 struct LineAndMarkers : TuSimpleConcreteRoad {
