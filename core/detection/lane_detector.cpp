@@ -591,12 +591,33 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
                                       int kept, float levels_per_grey) {
   const int n = result_.num_lines;
   if (n < 1 || n >= kMaxDetectedLines) return kept;
-  int nearest = 0;
-  for (int j = 0; j < n; ++j) {
-    const double y0 = result_.lines[static_cast<std::size_t>(j)].fit.y0_mm;
-    if ((y0 > 0.0) != (result_.lines[0].fit.y0_mm > 0.0)) return kept;  // lines on both sides
-    if (std::abs(y0) < std::abs(result_.lines[static_cast<std::size_t>(nearest)].fit.y0_mm)) nearest = j;
+  // The nearest line on each side (lines are ordered left to right: largest y0 first).
+  int left = -1, right = -1;
+  for (int j = 0; j < n; ++j)
+    if (result_.lines[static_cast<std::size_t>(j)].fit.y0_mm > 0.0)
+      left = j;
+    else if (right < 0)
+      right = j;
+  // A line on each side, two lanes apart or more, and a tracked frame: the line beyond
+  // was found on one side, the own lane's line there was not (its dashes held for a step
+  // beside them, its dots too few), though the previous frame had it. It is looked for
+  // where it was, as when nothing was found on that side, and no nearer the line beyond
+  // than a lane's width (TuSimple still 37 held: its right line lost on every tracked
+  // frame that found the next lane's). A search's look again does not: on stills of 50-60 m
+  // bends the lane it took so was 40-60 mm off where another pose's search put it.
+  std::optional<double> widest;
+  if (left >= 0 && right >= 0) {
+    const double apart = result_.lines[static_cast<std::size_t>(left)].fit.y0_mm -
+                         result_.lines[static_cast<std::size_t>(right)].fit.y0_mm;
+    if (apart < 2.0 * kMinOwnLaneWidthMm || tracked.empty()) return kept;
+    widest = apart - kMinOwnLaneWidthMm;
   }
+  const int nearest = left < 0    ? right
+                      : right < 0 ? left
+                      : result_.lines[static_cast<std::size_t>(left)].fit.y0_mm <
+                              -result_.lines[static_cast<std::size_t>(right)].fit.y0_mm
+                          ? left
+                          : right;
   const RoadLine beside = result_.lines[static_cast<std::size_t>(nearest)].fit;
   const bool left_found = beside.y0_mm > 0.0;
   const double side = left_found ? -1.0 : +1.0;
@@ -608,10 +629,11 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
     const double offset = tracked[static_cast<std::size_t>(other)].y0_mm - beside.y0_mm;
     if (side * offset >= kMinOwnLaneWidthMm && side * offset <= kMaxOwnLaneWidthMm) last = offset;
   }
-  // The new line goes last (rightmost) when the lines found are left of the vehicle, else
-  // first: the lines stay ordered left to right.
-  return look_for_line_in_picture(image, pose, beside, side, left_found ? n : 0, ChanceRule::clean_road, kept,
-                                  levels_per_grey, last);
+  if (widest && !last) return kept;
+  // The new line goes right after the line it is looked for beside when that is left of
+  // the vehicle, else right before it: the lines stay ordered left to right.
+  return look_for_line_in_picture(image, pose, beside, side, left_found ? nearest + 1 : nearest, ChanceRule::clean_road,
+                                  kept, levels_per_grey, last, widest);
 }
 
 int LaneDetector::add_lines_beyond_in_picture(const ImageView& image, const CameraPose& pose, int kept,
@@ -654,15 +676,22 @@ double LaneDetector::scan_row_coverage(int j, int kept) const {
 
 int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside,
                                            double side, int index, ChanceRule chance, int kept, float levels_per_grey,
-                                           std::optional<double> near_mm) {
+                                           std::optional<double> near_mm, std::optional<double> widest_mm) {
   double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
   const double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
   // Chance is measured across every lane width, the line taken only near its last place,
   // with a candidate on that place (the grid of candidates starts a whole number of steps
   // from it): a line a few hits above the minimum is found where it was last found.
   std::optional<PictureLineSearch::Window> taken;
+  if (widest_mm) {  // no farther than this from `beside`
+    taken = side > 0.0 ? PictureLineSearch::Window{from, std::min(to, *widest_mm)}
+                       : PictureLineSearch::Window{std::max(from, -*widest_mm), to};
+  }
   if (near_mm) {
-    taken = PictureLineSearch::Window{*near_mm - kTrackedWindowMm, *near_mm + kTrackedWindowMm};
+    const PictureLineSearch::Window near{*near_mm - kTrackedWindowMm, *near_mm + kTrackedWindowMm};
+    taken = taken
+                ? PictureLineSearch::Window{std::max(taken->from_mm, near.from_mm), std::min(taken->to_mm, near.to_mm)}
+                : near;
     from =
         *near_mm - std::floor((*near_mm - from) / PictureLineSearch::kOffsetStepMm) * PictureLineSearch::kOffsetStepMm;
   }

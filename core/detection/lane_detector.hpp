@@ -102,9 +102,11 @@ class LaneDetector {
   // The picks, evenly spread over each line's marks of its kind, and a joint line's dots
   // beyond its joint's ends (at `pose`, detection's).
   void choose_picks(const CameraPose& pose);
-  // Where the lines found all lie on one side of the vehicle, the own lane's line on the
-  // other looked for along its length in the picture (line_in_picture.hpp), and added to
-  // the result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
+  // Where the lines found all lie on one side of the vehicle, or (a tracked frame) the
+  // nearest on either side are two lanes apart or more where the previous frame had the
+  // own lane's line between them, the own lane's line on the other side of the nearest
+  // looked for along its length in the picture (line_in_picture.hpp), and added to the
+  // result's lines with its hits as marks. `kept`: marks_ in use. Returns marks in use.
   // detect() asks for it only when it has lines to go on (its pose is a solve's).
   // `tracked`: lines of the previous frame, near one of which on that side the line is
   // looked for; empty: across every own lane's width.
@@ -119,10 +121,12 @@ class LaneDetector {
   // picture by `chance`'s rule and, when found, inserted at `index` of the result's lines
   // (those from there on move one up, their marks with them). Returns marks in use.
   // `near_mm`: where the line was last (its offset from `beside`, signed), to look within
-  // kTrackedWindowMm of; none: across the own lane's widths.
+  // kTrackedWindowMm of; none: across the own lane's widths. `widest_mm`: no farther from
+  // `beside` than this (a line found beyond the one looked for).
   int look_for_line_in_picture(const ImageView& image, const CameraPose& pose, const RoadLine& beside, double side,
                                int index, ChanceRule chance, int kept, float levels_per_grey,
-                               std::optional<double> near_mm = std::nullopt);
+                               std::optional<double> near_mm = std::nullopt,
+                               std::optional<double> widest_mm = std::nullopt);
   // How far across the road line j's dots lie from its joint's pieces, on average (mm,
   // + left); 0 with fewer than kMinDotsBesideJoint dots or no joint's pieces.
   double dots_beside_joint_mm(int j) const;

@@ -245,6 +245,44 @@ TEST(LaneDetector, AFewMarkersALanesWidthFromTheOnlyLineFoundAreTheLanesOtherLin
   EXPECT_EQ(det.detect(bare.frame.view, bare.pose, solved).num_lines, 1);
 }
 
+// The own lane's right line is the few markers, and the next lane's line beyond them is
+// paint the grouping finds: a line on each side, but two lanes apart. A tracked frame
+// whose previous frame had the own lane's right line looks for it in the picture where it
+// was, as when nothing was found on that side, and takes it no nearer the line beyond
+// than a lane's width (TuSimple still 37 held: its right line of dashes held for a step
+// beside them, the next lane's found, no lane on any tracked frame). A search's look
+// again along its first solve's lines does not.
+TEST(LaneDetector, ATrackedFrameLooksForTheOwnLanesLineWhenOnlyTheLineBeyondItIsFound) {
+  LineAndMarkers road;
+  const double beyond_y = kDotsY - kLaneWidthMm;
+  draw_band(road.frame.view, road.ground, road.model, beyond_y, 4000.0, 40000.0, 130.0, 230);
+  LaneDetector det(road.c.camera, road.c.detection);
+  const RoadLine last_frame[] = {kLeftLine, RoadLine{kDotsY + 80.0, 0.0, 0.0}, RoadLine{beyond_y, 0.0, 0.0}};
+  const DetectionResult& r = det.detect(road.frame.view, road.pose, last_frame);
+  ASSERT_EQ(r.num_lines, 3);
+  EXPECT_NEAR(r.lines[0].fit.y_at(10000.0), kLeftLineY, 50.0);
+  EXPECT_TRUE(r.lines[1].in_picture);  // ordered left to right: the new line between the two
+  EXPECT_NEAR(r.lines[1].fit.y_at(10000.0), kDotsY, PictureLineSearch::kOffsetStepMm + 50.0);
+  EXPECT_FALSE(r.lines[2].in_picture);
+  EXPECT_NEAR(r.lines[2].fit.y_at(10000.0), beyond_y, 50.0);
+  for (const MarkCandidate& m : r.marks)
+    if (m.line == 2) {
+      EXPECT_NEAR(m.Y, beyond_y, 200.0) << "the line beyond kept its marks";
+    }
+  // Without the own line in the previous frame, or on a search's look again, the two
+  // lines found are what the frame has.
+  const RoadLine without_it[] = {kLeftLine, RoadLine{beyond_y, 0.0, 0.0}};
+  EXPECT_EQ(det.detect(road.frame.view, road.pose, without_it).num_lines, 2);
+  const RoadLine solved[] = {kLeftLine};
+  EXPECT_EQ(det.detect(road.frame.view, road.pose, solved, PictureSearch::own_lane_and_beyond).num_lines, 2);
+  // A lane's width apart, the line on each side is the own lane's: nothing is looked for.
+  LineAndMarkers lane;
+  draw_band(lane.frame.view, lane.ground, lane.model, kDotsY, 4000.0, 40000.0, 130.0, 230);
+  const DetectionResult& both = det.detect(lane.frame.view, lane.pose, last_frame);
+  ASSERT_EQ(both.num_lines, 2);
+  EXPECT_FALSE(both.lines[1].in_picture);
+}
+
 // A tracked frame (the previous frame's lines as priors) looks for the other line within
 // kTrackedWindowMm (600 mm) of where the previous frame had it: found where the previous
 // frame had it a few centimetres off, not where it had it 900 mm off (a different line),
