@@ -804,6 +804,7 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
   params.height_mm = pose.H_mm;
   // Without lines to go on, the pose is a search's guess (detection_config.hpp).
   if (priors.empty()) params.max_pitch_error_rad = deg_to_rad(kSearchPitchErrorDeg);
+  params.tracked_priors = !priors.empty() && picture_search == PictureSearch::own_lane;
   result_.num_lines = grouper_.group(marks, priors, params, result_.lines);
   // The held bars no line beyond took are nothing of the road's.
   int grouped = 0;

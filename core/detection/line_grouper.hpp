@@ -53,6 +53,11 @@ struct GroupingParams {
   double max_pitch_error_rad = 0.026;  // 1.5 degrees: tracking; a search is less sure
   double height_mm = 1200.0;           // the detection pose's
   double slope_noise = 0.01;
+  // The priors are a tracked frame's (the previous frame's lines), not a search's own
+  // first solve: a line continuing one may miss its fit smoothly (line_grouper.cpp,
+  // kSmoothMisfitRmsScale). continuing_tracked_line: fit_line is continuing one.
+  bool tracked_priors = false;
+  bool continuing_tracked_line = false;
 };
 
 // The slope of log(width px) against log(road distance) over the marks of line `line`
