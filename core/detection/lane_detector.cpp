@@ -609,7 +609,7 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
   if (left >= 0 && right >= 0) {
     const double apart = result_.lines[static_cast<std::size_t>(left)].fit.y0_mm -
                          result_.lines[static_cast<std::size_t>(right)].fit.y0_mm;
-    if (apart < 2.0 * kMinOwnLaneWidthMm || tracked.empty()) return kept;
+    if (apart < 2.0 * kMinOwnLaneWidthMm) return kept;
     widest = apart - kMinOwnLaneWidthMm;
   }
   const int nearest = left < 0    ? right
@@ -629,7 +629,7 @@ int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& 
     const double offset = tracked[static_cast<std::size_t>(other)].y0_mm - beside.y0_mm;
     if (side * offset >= kMinOwnLaneWidthMm && side * offset <= kMaxOwnLaneWidthMm) last = offset;
   }
-  if (widest && !last) return kept;
+  if (widest && !last) return kept;  // not a tracked frame's own line (or none to go on)
   // The new line goes right after the line it is looked for beside when that is left of
   // the vehicle, else right before it: the lines stay ordered left to right.
   return look_for_line_in_picture(image, pose, beside, side, left_found ? nearest + 1 : nearest, ChanceRule::clean_road,
@@ -679,14 +679,15 @@ int LaneDetector::look_for_line_in_picture(const ImageView& image, const CameraP
                                            std::optional<double> near_mm, std::optional<double> widest_mm) {
   double from = side > 0.0 ? kMinOwnLaneWidthMm : -kMaxOwnLaneWidthMm;
   const double to = side > 0.0 ? kMaxOwnLaneWidthMm : -kMinOwnLaneWidthMm;
-  // Chance is measured across every lane width, the line taken only near its last place,
-  // with a candidate on that place (the grid of candidates starts a whole number of steps
-  // from it): a line a few hits above the minimum is found where it was last found.
+  // Chance is measured across every lane width; the line is taken only where `taken` says.
   std::optional<PictureLineSearch::Window> taken;
   if (widest_mm) {  // no farther than this from `beside`
     taken = side > 0.0 ? PictureLineSearch::Window{from, std::min(to, *widest_mm)}
                        : PictureLineSearch::Window{std::max(from, -*widest_mm), to};
   }
+  // Near its last place, with a candidate on that place (the grid of candidates starts a
+  // whole number of steps from it): a line a few hits above the minimum is found where it
+  // was last found.
   if (near_mm) {
     const PictureLineSearch::Window near{*near_mm - kTrackedWindowMm, *near_mm + kTrackedWindowMm};
     taken = taken

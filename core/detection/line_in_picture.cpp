@@ -158,7 +158,9 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
       ++counts_[static_cast<std::size_t>(k)];
     }
   }
-  // The candidates the line may be taken from: all, or the window's.
+  // The candidates the line may be taken from: all, or the window's (its ends may fall on
+  // candidates exactly, as a tracked frame's grid puts them: 1e-9 keeps rounding from
+  // losing one).
   int first_k = 0, end_k = offsets;
   if (taken) {
     first_k = std::clamp(static_cast<int>(std::ceil((taken->from_mm - from_mm) / kOffsetStepMm - 1e-9)), 0, offsets);
