@@ -425,8 +425,8 @@ RoadLine LineGrouper::consensus_line(std::span<const MarkCandidate> marks, int g
 }
 
 LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id,
-                                           const GroupingParams& params, double tolerance, bool parallel,
-                                           bool dot_line) {
+                                           const GroupingParams& params, double tolerance, bool parallel, bool dot_line,
+                                           double road_c_per_mm) {
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   FitPass p;
@@ -456,7 +456,10 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   p.dots = dots.count;
   p.rows = last_row - first_row + 1;
   // The curvature term only when the marks reach far enough to show it; otherwise the
-  // model's (the shared or prior) curvature is kept: y - c x^2 = y0 + m x.
+  // road's curvature is kept: y - c x^2 = y0 + m x. Not necessarily the model's: after
+  // the consensus that may be a parabola through three marks a few metres apart, whose
+  // curvature says little (held still 12: a row of dots 9 m long kept one of a 120 m
+  // bend beside a straight road's lines, and no solve converged on it).
   Eigen::Vector3d coef = Eigen::Vector3d::Zero();
   if (p.marks == 0) return p;
   if (parallel && 2 * p.dot_marks > p.marks && p.far_mm - p.near_mm >= kOwnSlopeSpanMm) {
@@ -473,7 +476,7 @@ LineGrouper::FitPass LineGrouper::fit_pass(std::span<MarkCandidate> marks, RoadL
   } else if (p.marks >= kCurvatureMarks && p.far_mm - p.near_mm >= kCurvatureSpanMm) {
     coef = A.ldlt().solve(b);
   } else {
-    coef[2] = model.c_per_mm * 1e6;
+    coef[2] = road_c_per_mm * 1e6;
     coef.head<2>() = A.topLeftCorner<2, 2>().ldlt().solve(b.head<2>() - A.topRightCorner<2, 1>() * coef[2]);
   }
   p.finite = coef.allFinite();
@@ -508,7 +511,13 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
   // pixel tolerance of the fit (the line may reach beyond the gate once it is known).
   bool dot_line = true;  // until the first pass says which kind the line's marks mostly are
   for (int pass = 0; pass < kFitPasses; ++pass) {
-    const FitPass p = fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel, dot_line);
+    // The road's curvature, for a line too short to show its own: a tracked frame's is the
+    // previous frame's, solved from every line. A search knows none yet (its lines found
+    // so far say it, and at first nothing): a line on a bend keeps its consensus's, which
+    // holds its marks (forced to the lines found so far, the stills lost 4 % of own lines).
+    const double road_c = params.tracked_priors ? looked_for.c_per_mm : model.c_per_mm;
+    const FitPass p =
+        fit_pass(marks, model, id, params, pass == 0 ? kConsensusTolerance : 1.0, parallel, dot_line, road_c);
     const int n = p.marks;
     // Too few, or sparse (clutter, not paint), for a line of its own; unless it is a row of
     // dots (beside a joint, with fewer).

@@ -110,8 +110,11 @@ class LineGrouper {
   int gate_marks(std::span<const MarkCandidate> marks, const RoadLine& model, double gate_base_mm, std::int16_t id);
   RoadLine consensus_line(std::span<const MarkCandidate> marks, int gated, const RoadLine& model, int line,
                           const GroupingParams& params, bool parallel, double slope_freedom) const;
+  // One least-squares pass over the free marks within `tolerance` pixel tolerances of
+  // `model`, refitting it. Marks too short a stretch of road to show a curvature keep
+  // `road_c_per_mm`, the curvature the line was looked for along.
   FitPass fit_pass(std::span<MarkCandidate> marks, RoadLine& model, std::int16_t id, const GroupingParams& params,
-                   double tolerance, bool parallel, bool dot_line);
+                   double tolerance, bool parallel, bool dot_line, double road_c_per_mm);
   // A row of dots too few for a line of their own, set beside a joint between concrete
   // slabs: the joint within kJointBandMm of the dots' line `model`, fitted, is the line
   // when it is one (min_marks pieces over min_span_mm, within the fit's tolerance) and

@@ -248,6 +248,37 @@ TEST(LineGrouper, ATrackedLineThatMissesItsParabolaSmoothlyIsContinued) {
   EXPECT_TRUE(clutter.marks == 0 || clutter.parallel || clutter.prior_index != 0) << "scatter is not a misfit";
 }
 
+// A tracked frame keeps the road's curvature for a line too short to show its own. Here
+// the road is straight (the previous frame's lines, and a solid line the whole range),
+// and beside it a run of marks 9 m long bows as a 125 m bend would: a parabola through
+// three of its marks fits it, and once took its place as the line's curvature, though
+// nine metres of marks cannot tell one (held TuSimple still 12: a row of dots kept such
+// a bend beside a straight road's lines, and no solve converged on it for 16 frames).
+TEST(LineGrouper, ATrackedFramesShortLineKeepsTheRoadsCurvature) {
+  Scene s;
+  s.line(1800, 0.0, 0.0);
+  for (int row = 0; row < 150; ++row) {
+    const double X = 5000.0 + 35000.0 * row / 149.0;
+    if (X > 14000.0) continue;
+    MarkCandidate mk;
+    mk.X = X;
+    mk.Y = -1800.0 - 4e-6 * (X - 9500.0) * (X - 9500.0);
+    mk.contrast = kPaintContrast;
+    mk.scan_row = static_cast<std::int16_t>(row);
+    s.marks.push_back(mk);
+  }
+  const RoadLine priors[] = {{1800, 0, 0}, {-1800, 0, 0}};
+  LineGrouper g(4096);
+  GroupingParams p;
+  p.mm_per_px_per_mm = 1.0 / 630.0;
+  p.tracked_priors = true;
+  std::array<DetectedLine, kMaxDetectedLines> lines{};
+  const int n = g.group(s.marks, priors, p, lines);
+  ASSERT_GE(n, 1);
+  for (int j = 0; j < n; ++j)
+    EXPECT_LT(std::abs(lines[j].fit.c_per_mm), 1e-7) << "line " << j << " at " << lines[j].fit.y0_mm << " mm";
+}
+
 // A dashed line with a dash near and one far, and between them a faint scar of old paint
 // (or a tar seam) 15 cm inside the line: the scar has more marks than the dashes, the paint
 // far more contrast. The line is the paint's.
