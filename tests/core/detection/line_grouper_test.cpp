@@ -103,12 +103,14 @@ struct Scene {
   }
 };
 
+// `tracked`: the priors are a tracked frame's (GroupingParams::tracked_priors).
 int group(Scene& s, std::array<DetectedLine, kMaxDetectedLines>& lines, std::span<const RoadLine> priors = {},
-          int max_lines = 4) {
+          int max_lines = 4, bool tracked = false) {
   LineGrouper g(4096);
   GroupingParams p;
   p.max_lines = max_lines;
   p.mm_per_px_per_mm = 1.0 / 630.0;
+  p.tracked_priors = tracked;
   return g.group(s.marks, priors, p, lines);
 }
 
@@ -226,12 +228,8 @@ TEST(LineGrouper, ATrackedLineThatMissesItsParabolaSmoothlyIsContinued) {
   const RoadLine priors[] = {{1800, 0, 0}, {-1800, 0, 0}};
   const auto left_line = [&](bool smooth, bool tracked) {
     Scene s = scene(smooth);
-    LineGrouper g(4096);
-    GroupingParams p;
-    p.mm_per_px_per_mm = 1.0 / 630.0;
-    p.tracked_priors = tracked;
     std::array<DetectedLine, kMaxDetectedLines> lines{};
-    const int n = g.group(s.marks, priors, p, lines);
+    const int n = group(s, lines, priors, 4, tracked);
     for (int j = 0; j < n; ++j)
       if (lines[j].fit.y0_mm > 0.0) return lines[j];
     return DetectedLine{};
@@ -268,12 +266,8 @@ TEST(LineGrouper, ATrackedFramesShortLineKeepsTheRoadsCurvature) {
     s.marks.push_back(mk);
   }
   const RoadLine priors[] = {{1800, 0, 0}, {-1800, 0, 0}};
-  LineGrouper g(4096);
-  GroupingParams p;
-  p.mm_per_px_per_mm = 1.0 / 630.0;
-  p.tracked_priors = true;
   std::array<DetectedLine, kMaxDetectedLines> lines{};
-  const int n = g.group(s.marks, priors, p, lines);
+  const int n = group(s, lines, priors, 4, true);
   ASSERT_GE(n, 1);
   for (int j = 0; j < n; ++j)
     EXPECT_LT(std::abs(lines[j].fit.c_per_mm), 1e-7) << "line " << j << " at " << lines[j].fit.y0_mm << " mm";
