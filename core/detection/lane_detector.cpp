@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
 
 #include "core/detection/contrast_threshold.hpp"
 #include "core/detection/paint_measure.hpp"
@@ -417,6 +420,36 @@ int LaneDetector::keep_linked_joints(int kept) {
   return out;
 }
 
+bool LaneDetector::between_beads(const ImageView& image, const MarkCandidate& c) const {
+  const ScanRow& r = rows_[static_cast<std::size_t>(c.scan_row)];
+  const double mm_per_px = config_.mark_width_mm / static_cast<double>(r.mark_px);
+  const int bead = static_cast<int>(std::ceil(kMaxJointWidthMm / mm_per_px + kDotBlurPx));
+  constexpr int flank = 3;  // pixels of road read beyond the valley
+  const int y = static_cast<int>(c.py) - 1;
+  const int a = static_cast<int>(std::lround(c.left_px - 1.0)), b = static_cast<int>(std::lround(c.right_px - 1.0));
+  if (a - bead - flank < 0 || b + bead + flank >= image.width || b < a) return false;
+  // The road's level beyond a valley within `bead` of the edge, when the valley is that
+  // much darker than it (most bars have none: the bar's own level is read only then).
+  const auto road_beyond_valley = [&](int edge, int step) -> std::optional<float> {
+    int beyond = 0;
+    for (int k = 0; k < flank; ++k) beyond += paint_measure_at(image, edge + step * (bead + k), y);
+    const float road = static_cast<float>(beyond) / static_cast<float>(flank);
+    for (int k = 0; k < bead; ++k)
+      if (static_cast<float>(paint_measure_at(image, edge + step * k, y)) <= road - min_contrast_) return road;
+    return std::nullopt;
+  };
+  const std::optional<float> left = road_beyond_valley(a - 1, -1);
+  if (!left) return false;
+  const std::optional<float> right = road_beyond_valley(b + 1, +1);
+  if (!right) return false;
+  int inside = 0;
+  for (int x = a; x <= b; ++x) inside += paint_measure_at(image, x, y);
+  // As bright as the road beyond, to half the minimum contrast: paint and a raised
+  // marker (a dome between its shadow and a joint) stand above it.
+  const float level = static_cast<float>(inside) / static_cast<float>(b - a + 1) - 0.5f * min_contrast_;
+  return *left >= level && *right >= level;
+}
+
 bool LaneDetector::is_yellow(const ImageView& image, const MarkCandidate& c) {
   // The bar's centre and its two neighbours along the row: one pixel may be a JPEG or
   // chroma-subsampling artefact.
@@ -788,6 +821,10 @@ const DetectionResult& LaneDetector::detect(const ImageView& image, const Camera
     }
     if (!c.dot && !points_to_vanishing_point(image, c)) {
       ++result_.counters.wrong_orientation;
+      continue;
+    }
+    if (!c.dot && !c.yellow && between_beads(image, c)) {
+      ++result_.counters.between_beads;
       continue;
     }
     result_.counters.dots += c.dot;

@@ -97,6 +97,10 @@ class LaneDetector {
   // Drops the bars of marks_[0, kept) that stand side by side across the road on their
   // row, a crossing's (kMinCrossingBars); returns how many are left.
   int drop_crossings(int kept);
+  // Whether bar c is the road between the two dark beads of a sealed crack: a narrow dark
+  // valley at each of its edges with road as bright as it beyond (paint stands above the
+  // road beyond its edges).
+  bool between_beads(const ImageView& image, const MarkCandidate& c) const;
   // Whether candidate c is yellow paint (colour frames only).
   static bool is_yellow(const ImageView& image, const MarkCandidate& c);
   // The picks, evenly spread over each line's marks of its kind, and a joint line's dots

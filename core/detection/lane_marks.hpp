@@ -90,6 +90,7 @@ struct DetectionCounters {
   int against_the_sun = 0;    // markers whose shadow falls the other way than most (dropped)
   int joints = 0;             // joints between slabs among those kept
   int crossing_bars = 0;      // bars side by side across the road on a row: a crossing's (dropped)
+  int between_beads = 0;      // bars between a sealed crack's two beads: the road's own (dropped)
   int yellow = 0;             // yellow paint among those kept
   int grouped = 0;            // on a reported line
 };
