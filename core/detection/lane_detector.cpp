@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <optional>
 
 #include "core/detection/contrast_threshold.hpp"
@@ -99,6 +97,10 @@ constexpr int kMinStripePairs = 8;
 constexpr double kYellowShareOfContrast = 0.5;
 constexpr int kMinYellowness = 20;
 
+// The widest a joint between slabs (or a sealed crack's bead) looks where one pixel spans
+// `mm_per_px` of the road across it.
+double max_joint_px(double mm_per_px) { return kMaxJointWidthMm / mm_per_px + kDotBlurPx; }
+
 // 3x3 Sobel gradient of the paint measure at a 0-based pixel (1 <= x <= W-2, 1 <= y <= H-2).
 void sobel(const ImageView& im, int x, int y, double& gx, double& gy) {
   int p[3][3];  // each neighbour's measure read once, [row][column]
@@ -191,7 +193,7 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm, bo
     const bool dots_told = below && dot_rows_for(std::max(1.0, X - X_below)) > 0;
     r.dot_px = dots_told && dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
     // Joints, where markers are looked for: a joint only ever joins a row of them.
-    r.max_joint_px = joints && r.dot_px > 0.0f ? static_cast<float>(kMaxJointWidthMm / mm_per_px + kDotBlurPx) : 0.0f;
+    r.max_joint_px = joints && r.dot_px > 0.0f ? static_cast<float>(max_joint_px(mm_per_px)) : 0.0f;
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
@@ -345,7 +347,7 @@ int LaneDetector::drop_crossings(int kept) {
   for (int begin = 0; begin < kept;) {
     const std::int16_t row = marks_[static_cast<std::size_t>(begin)].scan_row;
     // Across one row the road's millimetres per pixel are one (a flat road, level).
-    const double mm_per_px = config_.mark_width_mm / static_cast<double>(rows_[static_cast<std::size_t>(row)].mark_px);
+    const double mm_per_px = row_mm_per_px(rows_[static_cast<std::size_t>(row)]);
     int end = begin, bars = 0;
     for (; end < kept && marks_[static_cast<std::size_t>(end)].scan_row == row; ++end) {
       const MarkCandidate& c = marks_[static_cast<std::size_t>(end)];
@@ -420,10 +422,13 @@ int LaneDetector::keep_linked_joints(int kept) {
   return out;
 }
 
+double LaneDetector::row_mm_per_px(const ScanRow& r) const {
+  return config_.mark_width_mm / static_cast<double>(r.mark_px);
+}
+
 bool LaneDetector::between_beads(const ImageView& image, const MarkCandidate& c) const {
   const ScanRow& r = rows_[static_cast<std::size_t>(c.scan_row)];
-  const double mm_per_px = config_.mark_width_mm / static_cast<double>(r.mark_px);
-  const int bead = static_cast<int>(std::ceil(kMaxJointWidthMm / mm_per_px + kDotBlurPx));
+  const int bead = static_cast<int>(std::ceil(max_joint_px(row_mm_per_px(r))));
   constexpr int flank = 3;  // pixels of road read beyond the valley
   const int y = static_cast<int>(c.py) - 1;
   const int a = static_cast<int>(std::lround(c.left_px - 1.0)), b = static_cast<int>(std::lround(c.right_px - 1.0));

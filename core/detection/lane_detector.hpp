@@ -97,6 +97,9 @@ class LaneDetector {
   // Drops the bars of marks_[0, kept) that stand side by side across the road on their
   // row, a crossing's (kMinCrossingBars); returns how many are left.
   int drop_crossings(int kept);
+  // The road's millimetres per pixel across scan row r (one along a row: a flat road,
+  // level), from the mark width planned for it.
+  double row_mm_per_px(const ScanRow& r) const;
   // Whether bar c is the road between the two dark beads of a sealed crack: a narrow dark
   // valley at each of its edges with road as bright as it beyond (paint stands above the
   // road beyond its edges).
