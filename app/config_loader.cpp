@@ -440,9 +440,11 @@ void read_synth(TableReader& r, Config& c) {
   r.boolean("road_markings", s.road_markings);
   r.boolean("crosswalks", s.crosswalks);
   r.boolean("sealed_cracks", s.sealed_cracks);
+  r.number("contrast_borders_mm", s.contrast_borders_mm);
   r.reject_unknown();
 
   require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");
+  require(s.contrast_borders_mm >= 0.0 && s.contrast_borders_mm <= 500.0, r, "contrast_borders_mm", "must be 0..500");
   require(s.rate_hz > 0.0 && s.rate_hz <= 1000.0, r, "rate_hz", "must be > 0 and <= 1000");
   require(s.speed_mps >= 0.0 && s.speed_mps <= 100.0, r, "speed_mps", "must be 0..100");
   require(s.lanes >= 2 && s.lanes <= 4, r, "lanes", "must be 2..4, got " + std::to_string(s.lanes));

@@ -70,6 +70,9 @@ constexpr double kMaxCrossingGapMm = 1500.0;
 // not a crossing's either.
 constexpr double kCrossingContrastRatio = 0.5;
 constexpr double kRowsPerMarkerForEveryFourth = 4.0;
+// Contrast markings' black borders are 75-100 mm wide (3-4 in., some US states on pale
+// concrete); a band this wide at least beside each of a bar's edges is one.
+constexpr double kMinContrastBorderMm = 50.0;
 // Joints between concrete slabs are sealed cuts a centimetre or two wide; with blur and
 // a worn edge, this wide at most.
 constexpr double kMaxJointWidthMm = 40.0;
@@ -194,6 +197,7 @@ void LaneDetector::plan_rows(const CameraPose& pose, double curvature_per_mm, bo
     r.dot_px = dots_told && dot_px >= kMinShadowedDotPx ? static_cast<float>(dot_px) : 0.0f;
     // Joints, where markers are looked for: a joint only ever joins a row of them.
     r.max_joint_px = joints && r.dot_px > 0.0f ? static_cast<float>(max_joint_px(mm_per_px)) : 0.0f;
+    r.min_border_px = static_cast<float>(std::max(1.0, kMinContrastBorderMm / mm_per_px - 1.0));
     // The columns of the road within reach on this row (its centre's distance), where the
     // road bends as the previous frame's lines did. Outside the picture's side edges the
     // projection may not exist: then the row's end.
@@ -447,11 +451,14 @@ bool LaneDetector::between_beads(const ImageView& image, const MarkCandidate& c)
   if (!left) return false;
   const std::optional<float> right = road_beyond_valley(b + 1, +1);
   if (!right) return false;
+  // The bar's middle half: its edges, placed by a box derivative wider than a far bar,
+  // may take in the dark beside it (contrast markings' black borders).
+  const int quarter = (b - a) / 4;
   int inside = 0;
-  for (int x = a; x <= b; ++x) inside += paint_measure_at(image, x, y);
+  for (int x = a + quarter; x <= b - quarter; ++x) inside += paint_measure_at(image, x, y);
   // As bright as the road beyond, to half the minimum contrast: paint and a raised
   // marker (a dome between its shadow and a joint) stand above it.
-  const float level = static_cast<float>(inside) / static_cast<float>(b - a + 1) - 0.5f * min_contrast_;
+  const float level = static_cast<float>(inside) / static_cast<float>(b - a - 2 * quarter + 1) - min_contrast_;
   return *left >= level && *right >= level;
 }
 

@@ -31,6 +31,43 @@ float peak_offset(std::int32_t a, std::int32_t b, std::int32_t c) {
 // A step beside a bar larger than this fraction of the bar's contrast, within the
 // derivative's reach, biases the bar's edges (see scan_row).
 constexpr float kStepInReach = 0.25f;
+// Contrast markings' black borders are darker than the road beyond them by this many
+// minimum contrasts at least (black paint on pale concrete: ten or more); the dark flanks
+// of a raised marker's cap or of a joint beside it are not as dark.
+constexpr float kBorderDepthContrasts = 3.0f;
+
+// How many pixels from `from` on, going `step`, are darker than `level` (at most `limit`,
+// within the row's `width`).
+template <typename Pixel>
+float dark_run(const Pixel* row, int width, int from, int step, float level, int limit) {
+  int n = 0;
+  for (int x = from; n < limit && x >= 0 && x < width && static_cast<float>(row[x]) < level; x += step) ++n;
+  return static_cast<float>(n);
+}
+
+// The row's mean over the h pixels beside one of a bar's edges, and over the h beyond.
+struct Flank {
+  float near, far;
+  float rise() const { return far - near; }
+};
+
+// Whether a bar with a step beside it is paint between the black borders of contrast
+// markings (laid on pale concrete): the row steps back up to the road beyond both
+// borders alike, deeply, and the pulls on the bar's two edges are mirror images, within
+// what the step test allows the two together, so that the bar's centre stays where the
+// paint is. Each border is a dark band at least `min_border_px` wide from the first
+// pixel past the bar's edge (`left_from`, `right_from`) outwards, up to `limit`; a joint
+// beside a raised marker's cap, or the cap's flanks, are narrower or not as dark.
+template <typename Pixel>
+bool between_black_borders(const Pixel* row, int width, int left_from, int right_from, const Flank& left,
+                           const Flank& right, float inside, float min_contrast, float min_border_px, int limit) {
+  const float depth = kBorderDepthContrasts * min_contrast;
+  if (!(left.rise() >= depth && right.rise() >= depth)) return false;
+  if (std::abs(left.rise() - right.rise()) > kStepInReach * ((inside - left.near) + (inside - right.near)))
+    return false;
+  return dark_run(row, width, left_from, -1, 0.5f * (left.near + left.far), limit) >= min_border_px &&
+         dark_run(row, width, right_from, +1, 0.5f * (right.near + right.far), limit) >= min_border_px;
+}
 
 // A joint's two sides may differ by this fraction of its depth (the slabs beside it
 // weathered alike); a shadow's or a patch's border differs by all of it.
@@ -230,10 +267,13 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     // peak towards it by up to h/2. Such a bar's centre is not where the paint is: the
     // detector drops it rather than hand the solver a biased pick, unless it is a dot
     // (a raised marker's own shadow is such a step, and a dot is narrower than the bias).
-    const float near_left = mean(ia - h, ia - 1), far_left = mean(ia - 2 * h, ia - h - 1);
-    const float near_right = mean(ib + 2, ib + 1 + h), far_right = mean(ib + 2 + h, ib + 1 + 2 * h);
-    const bool step_beside = std::abs(near_left - far_left) > kStepInReach * (inside - near_left) ||
-                             std::abs(near_right - far_right) > kStepInReach * (inside - near_right);
+    // Contrast markings' black borders are such steps on both sides (between_black_borders).
+    const Flank beside_left{mean(ia - h, ia - 1), mean(ia - 2 * h, ia - h - 1)};
+    const Flank beside_right{mean(ib + 2, ib + 1 + h), mean(ib + 2 + h, ib + 1 + 2 * h)};
+    const bool step_beside = (std::abs(beside_left.rise()) > kStepInReach * (inside - beside_left.near) ||
+                              std::abs(beside_right.rise()) > kStepInReach * (inside - beside_right.near)) &&
+                             !between_black_borders(row, width, ia - 1, ib + 2, beside_left, beside_right, inside,
+                                                    min_contrast, r.min_border_px, 4 * h);
     // The bar's own width: its area above the sides over its peak. Edge distance alone
     // cannot tell a thin bright line (a crack, a wire) from a mark, because the box
     // derivative spreads a thin line's edges to the box's width.

@@ -19,6 +19,10 @@ struct ScanRow {
   // The widest joint between concrete slabs along this row, pixels, where the row is also
   // searched for joints (dark lines beside raised markers, MarkScanner); 0: not.
   float max_joint_px = 0.0f;
+  // The narrowest black border of contrast markings along this row, pixels (less one of
+  // blur): a bar between two such bands is paint with its borders, not beside a step
+  // (MarkScanner). By default no band is.
+  float min_border_px = 1e30f;
   int half_width = 1;  // of the box derivative (noise averaging at the mark's scale)
   // The columns scanned, 0-based [x_begin, x_end) (clipped to the picture): where the
   // road searched lies on this row. Pixels outside are never read, nor is their paint

@@ -41,6 +41,9 @@ constexpr double kSealantApartMm = 150.0;  // centre to centre: 110 mm of road b
 constexpr double kSealantFromCentreMm = -900.0;
 constexpr double kSealantWanderMm = 80.0, kSealantWanderPeriodMm = 25000.0;
 constexpr double kSealantGrey = 40.0;
+// Contrast markings ([synth] contrast_borders_mm): black paint along both sides of each
+// line, as some US states lay on pale concrete, where white paint alone shows little.
+constexpr double kContrastBorderGrey = 30.0;
 
 using Rgb = RoadRenderer::Rgb;
 Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
@@ -120,11 +123,11 @@ RoadRenderer::RoadRenderer(const CameraSpec& camera, const SynthConfig& scene)
     gauss_[static_cast<std::size_t>(i)] = static_cast<float>((g[static_cast<std::size_t>(i)] - mean) / std::sqrt(var));
 }
 
-bool RoadRenderer::paint_at(double X, double Y) const {
+bool RoadRenderer::paint_at(double X, double Y, double widen_mm) const {
   const double bend = c_ * X * X;
   for (int j = 0; j < num_lines_; ++j) {
     const Line& l = lines_[j];
-    if (std::abs(Y - l.y0 - bend) > l.half_width) continue;
+    if (std::abs(Y - l.y0 - bend) > l.half_width + widen_mm) continue;
     if (!l.dashed) return true;
     return wrap(X + odometer_ + l.phase, period_) < scene_.dash_length_mm;
   }
@@ -247,7 +250,7 @@ double RoadRenderer::marking_coverage(const GroundProjector& v, double px, doubl
 }
 
 double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX,
-                                    double fpY, int& line) const {
+                                    double fpY, int& line, double widen_mm) const {
   // Only pixels whose footprint straddles a mark's side or a dash's end are
   // supersampled; the rest are inside or outside the paint as a whole.
   const double bend = c_ * X * X, slope = std::abs(2.0 * c_ * X);
@@ -255,10 +258,10 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
   for (int j = 0; j < num_lines_ && !edge; ++j) {
     const Line& l = lines_[j];
     const double lateral = std::abs(Y - l.y0 - bend);
-    const double reach = fpY + slope * fpX;
-    if (lateral > l.half_width + reach) continue;
+    const double reach = fpY + slope * fpX, half_width = l.half_width + widen_mm;
+    if (lateral > half_width + reach) continue;
     line = j;
-    if (lateral > l.half_width - reach) {
+    if (lateral > half_width - reach) {
       edge = true;
       break;
     }
@@ -274,7 +277,7 @@ double RoadRenderer::paint_coverage(const GroundProjector& v, double px, double 
       inside = inside || s < scene_.dash_length_mm;
   }
   if (!edge) return inside ? 1.0 : 0.0;
-  return supersampled(v, px, py, [this](double sx, double sy) { return paint_at(sx, sy); });
+  return supersampled(v, px, py, [this, widen_mm](double sx, double sy) { return paint_at(sx, sy, widen_mm); });
 }
 
 double RoadRenderer::sealant_coverage(double X, double Y, double fpY) const {
@@ -423,6 +426,9 @@ void RoadRenderer::render_radiance(const GroundProjector& v) {
           if (const double m = sealant_coverage(X, Y, fpY); m > 0.0)
             value = value + m * (tinted(kSealantGrey, kNeutral) - value);
         int line = 0;
+        if (scene_.contrast_borders_mm > 0.0)
+          if (const double m = paint_coverage(v, px, py, X, Y, fpX, fpY, line, scene_.contrast_borders_mm); m > 0.0)
+            value = value + m * (tinted(kContrastBorderGrey, kNeutral) - value);
         const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY, line);
         if (cover > 0.0) value = value + cover * (lines_[line].paint - value);
         if (scene_.road_markings || scene_.crosswalks)

@@ -52,9 +52,11 @@ class RoadRenderer {
   // [synth] sealed_cracks: the share of a pixel at (X, Y), fpY wide across the road, that
   // is crack sealant.
   double sealant_coverage(double X, double Y, double fpY) const;
+  // How much of the pixel around (X, Y) (footprint fpX, fpY) is a line's paint, each line
+  // widened by `widen_mm` on both sides (its contrast borders), and which line.
   double paint_coverage(const GroundProjector& v, double px, double py, double X, double Y, double fpX, double fpY,
-                        int& line) const;
-  bool paint_at(double X, double Y) const;
+                        int& line, double widen_mm = 0.0) const;
+  bool paint_at(double X, double Y, double widen_mm = 0.0) const;
   // [synth] road_markings and crosswalks: how much of the pixel around (X, Y) (footprint
   // fpX, fpY) is an arrow's, a letter's or a crossing's paint, and whether the point
   // (X, Y) is.

@@ -75,6 +75,8 @@ struct SynthConfig {
                                  //   along the road: two bands of black sealant 40 mm wide,
                                  //   150 mm apart, with the road's own surface between them
                                  //   (a strip a lane mark's width, brighter than its sides)
+  double contrast_borders_mm = 0.0;  // black paint this wide along both sides of every line
+                                     //   (contrast markings, laid on pale concrete); 0 = none
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

@@ -3,8 +3,10 @@
 #include "core/detection/mark_scanner.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -115,6 +117,37 @@ TEST(MarkScanner, JointsAreDarkLinesBetweenSidesOfOneLevel) {
     const auto none = scan(row->bytes8(), r);
     EXPECT_TRUE(std::none_of(none.begin(), none.end(), [](const MarkCandidate& m) { return m.joint; }));
   }
+}
+
+// Contrast markings: white paint between black borders on pale concrete. The borders are
+// steps within the derivative's reach on both sides, alike, so they pull the bar's edges
+// alike and its centre stays put: no step beside it where the row asks for borders this
+// wide (ScanRow::min_border_px). A one-sided dark band, thin dark lines (joints beside a
+// marker's cap) or shallow ones are steps that bias a bar.
+TEST(MarkScanner, PaintBetweenBlackBordersIsNoBarBesideAStep) {
+  constexpr double kConcrete = 170.0;
+  const auto on_concrete = [](std::initializer_list<std::array<double, 3>> bands) {
+    Row row;
+    row.bar(0, 200, kConcrete);
+    for (const auto& [left, right, level] : bands) row.bar(left, right, level - kConcrete + 80.0);  // set, not add
+    return row;
+  };
+  const Row bordered = on_concrete({{94.3, 100.3, 30}, {100.3, 108.3, 200}, {108.3, 114.3, 30}});
+  const Row left_only = on_concrete({{94.3, 100.3, 30}, {100.3, 108.3, 200}});
+  const Row joints = on_concrete({{98.3, 100.3, 30}, {100.3, 108.3, 200}, {108.3, 110.3, 30}});
+  const Row shallow = on_concrete({{94.3, 100.3, 150}, {100.3, 108.3, 200}, {108.3, 114.3, 150}});
+  ScanRow r = row_for(8.0f);
+  const auto one_bar = [&](const Row& row) {
+    const auto c = scan(row.bytes8(), r);
+    EXPECT_EQ(c.size(), 1u);
+    return c.empty() ? MarkCandidate{} : c[0];
+  };
+  EXPECT_TRUE(one_bar(bordered).step_beside) << "no borders asked for on this row";
+  r.min_border_px = 4.0f;
+  const MarkCandidate paint = one_bar(bordered);
+  EXPECT_FALSE(paint.step_beside);
+  EXPECT_NEAR(paint.px(), 104.3 + 1.0, 0.1);  // 1-based columns
+  for (const Row* row : {&left_only, &joints, &shallow}) EXPECT_TRUE(one_bar(*row).step_beside);
 }
 
 TEST(MarkScanner, SixteenBitRowsGiveTheSameBars) {
