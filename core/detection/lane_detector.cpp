@@ -456,8 +456,9 @@ bool LaneDetector::between_beads(const ImageView& image, const MarkCandidate& c)
   const int quarter = (b - a) / 4;
   int inside = 0;
   for (int x = a + quarter; x <= b - quarter; ++x) inside += paint_measure_at(image, x, y);
-  // As bright as the road beyond, to half the minimum contrast: paint and a raised
-  // marker (a dome between its shadow and a joint) stand above it.
+  // As bright as the road beyond, to the minimum contrast: paint and a raised marker (a
+  // dome between its shadow and a joint) stand above it. (Over the whole bar, its edges
+  // darkened by the beads, half the minimum contrast was the margin.)
   const float level = static_cast<float>(inside) / static_cast<float>(b - a - 2 * quarter + 1) - min_contrast_;
   return *left >= level && *right >= level;
 }
