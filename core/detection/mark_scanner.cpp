@@ -49,6 +49,10 @@ float dark_run(const Pixel* row, int width, int from, int step, float level, int
 struct Flank {
   float near, far;
   float rise() const { return far - near; }
+  // The step beside the edge that a bar of level `inside` takes without a biased edge
+  // (kStepInReach of its contrast over this side), and whether this one is larger.
+  float allowed(float inside) const { return kStepInReach * (inside - near); }
+  bool steps(float inside) const { return std::abs(rise()) > allowed(inside); }
 };
 
 // Whether a bar with a step beside it is paint between the black borders of contrast
@@ -63,8 +67,7 @@ bool between_black_borders(const Pixel* row, int width, int left_from, int right
                            const Flank& right, float inside, float min_contrast, float min_border_px, int limit) {
   const float depth = kBorderDepthContrasts * min_contrast;
   if (!(left.rise() >= depth && right.rise() >= depth)) return false;
-  if (std::abs(left.rise() - right.rise()) > kStepInReach * ((inside - left.near) + (inside - right.near)))
-    return false;
+  if (std::abs(left.rise() - right.rise()) > left.allowed(inside) + right.allowed(inside)) return false;
   return dark_run(row, width, left_from, -1, 0.5f * (left.near + left.far), limit) >= min_border_px &&
          dark_run(row, width, right_from, +1, 0.5f * (right.near + right.far), limit) >= min_border_px;
 }
@@ -270,8 +273,7 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     // Contrast markings' black borders are such steps on both sides (between_black_borders).
     const Flank beside_left{mean(ia - h, ia - 1), mean(ia - 2 * h, ia - h - 1)};
     const Flank beside_right{mean(ib + 2, ib + 1 + h), mean(ib + 2 + h, ib + 1 + 2 * h)};
-    const bool step_beside = (std::abs(beside_left.rise()) > kStepInReach * (inside - beside_left.near) ||
-                              std::abs(beside_right.rise()) > kStepInReach * (inside - beside_right.near)) &&
+    const bool step_beside = (beside_left.steps(inside) || beside_right.steps(inside)) &&
                              !between_black_borders(row, width, ia - 1, ib + 2, beside_left, beside_right, inside,
                                                     min_contrast, r.min_border_px, 4 * h);
     // The bar's own width: its area above the sides over its peak. Edge distance alone
