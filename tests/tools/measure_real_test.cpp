@@ -14,6 +14,7 @@
 #include <iterator>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -210,6 +211,51 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
                        " rows: " + (often.empty() ? "none" : often) + "\n"),
             std::string::npos)
       << r.out;
+}
+
+// --conditions: each row is the score of the stills replayed with its condition at the
+// nominal mount (the kept replay is what `ccdlane replay --condition` gives, line for line),
+// printed as the stills' rows are, without the frame count and TuSimple's own figures.
+TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMount) {
+  test::TempDir tmp;
+  const std::string work = tmp.file("work");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, "--conditions");
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  ASSERT_NE(r.out.find("Stills as other cameras and light give them"), std::string::npos) << r.out;
+  const std::string nominal = work + "/tusimple/nominal/camera.toml";
+  auto without_latency = [](const std::string& text) {
+    std::vector<nlohmann::json> lines = test::json_lines(text);
+    for (nlohmann::json& e : lines) e.erase("latency_us");
+    return lines;
+  };
+  const std::vector<std::pair<std::string, std::string>> conditions = {{"blur 1 px", "blur=1"},
+                                                                       {"blur 1.5 px", "blur=1.5"},
+                                                                       {"light x0.5", "light=0.5"},
+                                                                       {"light x0.3", "light=0.3"},
+                                                                       {"light x0.3 noise 3", "light=0.3,noise=3"},
+                                                                       {"noise 6", "noise=6"}};
+  std::set<std::string> rows;
+  for (const auto& [name, condition] : conditions) {
+    std::string dir_name = "condition_" + condition;
+    dir_name.erase(std::remove(dir_name.begin(), dir_name.end(), '='), dir_name.end());
+    std::replace(dir_name.begin(), dir_name.end(), ',', '_');
+    const std::string dir = work + "/tusimple/" + dir_name;
+    const test::ProcessResult again =
+        test::run_process({CCDLANE_TOOL, "replay", nominal, dir + "/stills", "--stills", "--condition", condition});
+    ASSERT_EQ(again.exit_status, 0) << again.err;
+    EXPECT_EQ(without_latency(test::read_file(dir + "/stills.jsonl")), without_latency(again.out)) << name;
+    // The stills' row less its frame count and TuSimple's own figures, under this name.
+    const std::string full = scored_row(dir, "-");
+    std::istringstream fields(full.substr(14));
+    std::string frames, ok, ego, accuracy, false_share, next;
+    fields >> frames >> ok >> ego >> accuracy >> false_share >> next;
+    char row[200];
+    std::snprintf(row, sizeof row, "%-20s %6s %10s %9s %7s %10s", name.c_str(), ok.c_str(), ego.c_str(),
+                  accuracy.c_str(), false_share.c_str(), next.c_str());
+    EXPECT_EQ(printed_row(r.out, name), row) << r.out;
+    rows.insert(row);
+  }
+  EXPECT_GT(rows.size(), 1u) << "the conditions change what is found: the rows differ";
 }
 
 // --held replays each still 60 times in a row (one picture, frames 40 ms apart: a car

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -460,6 +461,51 @@ TEST(ReplayCommand, BadInputIsOneLineExitTwoAndNoOutputFile) {
   r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road/frames.csv")});
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_EQ(r.err, "ccdlane: " + dir.file("road/frames.csv") + ": not an LCM log (no LCM event at its start)\n");
+}
+
+// --condition: replay detects on the pictures as another camera or light would give them.
+// The paint measure it scanned (the overlay's -paint.png: the luma of these grey frames)
+// is the recorded picture's times the light, to the rounding of both; the identity
+// condition changes nothing; a bad condition is one line, exit 2, no output.
+TEST(ReplayCommand, ConditionReplaysThePicturesAsAnotherLightWouldGiveThem) {
+  test::TempDir dir;
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "3", "--noise", "0"})
+          .exit_status,
+      0);
+  auto replay = [&](const std::string& name, const std::vector<std::string>& extra) {
+    std::vector<std::string> cmd = {
+        kTool,       "replay",      kReferenceCamera, dir.file("road"), "--out", dir.file(name + ".jsonl"),
+        "--overlay", dir.file(name)};
+    cmd.insert(cmd.end(), extra.begin(), extra.end());
+    const auto r = test::run_process(cmd);
+    EXPECT_EQ(r.exit_status, 0) << r.err;
+    std::ifstream in(dir.file(name + ".jsonl"));
+    std::string lines((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<Json> out = json_lines(lines);
+    for (Json& e : out) e.erase("latency_us");
+    return out;
+  };
+  const std::vector<Json> recorded = replay("recorded", {});
+  ASSERT_EQ(recorded.size(), 3u);
+  EXPECT_EQ(replay("identity", {"--condition", "light=1,blur=0"}), recorded);
+  const std::vector<Json> dimmer = replay("dimmer", {"--condition", "light=0.5"});
+  ASSERT_EQ(dimmer.size(), 3u);
+  const OwnedPicture a = read_png_picture(dir.file("recorded/000000-paint.png"));
+  const OwnedPicture b = read_png_picture(dir.file("dimmer/000000-paint.png"));
+  ASSERT_EQ(a.width, b.width);
+  // A row three quarters down: road at 5-10 m, searched in both.
+  const int y = 3 * a.height / 4;
+  int off = 0;
+  for (int x = 0; x < a.width; ++x)
+    off += std::abs(2 * static_cast<int>(b.view().row(y)[x]) - static_cast<int>(a.view().row(y)[x])) > 2;
+  EXPECT_EQ(off, 0) << "pixels of row " << y << " not at half their level";
+
+  const auto bad = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--out",
+                                      dir.file("bad.jsonl"), "--condition", "light=0.5,fog=1"});
+  EXPECT_EQ(bad.exit_status, 2);
+  EXPECT_EQ(bad.err, "ccdlane: --condition fog=1: unknown key fog (blur, light, noise)\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("bad.jsonl")));
 }
 
 }  // namespace

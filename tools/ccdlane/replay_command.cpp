@@ -25,6 +25,7 @@
 #include "tools/ccdlane/lane_estimate_json.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
 #include "tools/ccdlane/overlay_video.hpp"
+#include "tools/ccdlane/picture_condition.hpp"
 #include "tools/ccdlane/video_recording.hpp"
 
 namespace ccdlane::cli {
@@ -36,6 +37,7 @@ struct ReplayArgs {
   std::string out;
   std::string overlay;
   std::string overlay_video;
+  std::string condition;
   bool sigmas = false;
   bool stills = false;
 };
@@ -112,6 +114,7 @@ class Replay {
   std::ostream* out_ = &std::cout;
   std::string out_name_ = "standard output";
   LaneEstimator estimator_;
+  PictureConditioner conditioner_;
   bool observability_checked_ = false;
   std::size_t csv_issues_ = 0;  // malformed rows of frames.csv
   std::size_t frames_ = 0, ok_ = 0, skipped_ = 0, overlays_ = 0;
@@ -119,12 +122,21 @@ class Replay {
   std::uint64_t worst_frame_ = 0;
 };
 
+PictureCondition condition(const std::string& spec) {
+  try {
+    return parse_picture_condition(spec);
+  } catch (const std::invalid_argument& bad) {
+    throw UsageError(std::string("--condition ") + bad.what());
+  }
+}
+
 Replay::Replay(const ReplayArgs& args)
     : a_(args),
       config_(load_config_file(args.config)),
       options_(config_.estimator_options()),
       gyro_configured_(!config_.gyro.device.empty()),
-      estimator_(options_) {
+      estimator_(options_),
+      conditioner_(condition(args.condition)) {
   open_input();
   open_output();
 }
@@ -252,7 +264,10 @@ void Replay::check_observability(const FrameMeta& meta) {
 }
 
 // One frame through the pipeline; `image` null for a frame that could not be read.
-void Replay::replay_frame(const ImageView* image, const FrameMeta& meta) {
+void Replay::replay_frame(const ImageView* recorded, const FrameMeta& meta) {
+  ImageView conditioned;
+  if (recorded) conditioned = conditioner_.apply(*recorded, meta.sequence);
+  const ImageView* image = recorded ? &conditioned : nullptr;
   if (image && !observability_checked_) check_observability(meta);
   // Nothing is live in a recording; the gyro is judged as ccdlaned judged it: a
   // configured one that gave the frame no reading failed.
@@ -346,6 +361,10 @@ CommandAction setup_replay(CLI::App& sub) {
                  "write an annotated video here (H.264; .mp4, .mkv, .mov): each frame at its own time with the lines "
                  "found, the own lane filled, the candidate marks faint, a strip with width, offset, heading, radius, "
                  "state and LDW availability, and a departure warning on its side while it is held");
+  sub.add_option("--condition", a->condition,
+                 "replay the pictures as another camera or light would give them: blur=PX (Gaussian sigma), "
+                 "light=SHARE (every level times it), noise=LEVELS (Gaussian sigma, 8-bit levels, seeded by the "
+                 "frame's number), e.g. blur=1,light=0.3,noise=3; the overlays show them so");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.add_flag("--stills", a->stills,
                "each frame on its own: no pose, line, mount or filter state carried from one frame to the next "

@@ -1,0 +1,119 @@
+// Pictures as another camera or light would give them, against what each alteration does
+// to a known picture: a flat grey's level, a step's 10-90 % rise, the noise's spread.
+#include "tools/ccdlane/picture_condition.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace ccdlane::cli {
+namespace {
+
+struct Picture {
+  int width, height, channels;
+  std::vector<std::uint8_t> pixels;
+  Picture(int w, int h, int c, std::uint8_t level)
+      : width(w), height(h), channels(c), pixels(static_cast<std::size_t>(w * h * c), level) {}
+  ImageView view(PixelFormat f = PixelFormat::mono8) const {
+    return {pixels.data(), width, height, width * channels, f, 8};
+  }
+};
+
+std::string parse_error(const std::string& spec) {
+  try {
+    parse_picture_condition(spec);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(PictureCondition, ParsesEachKeyAndNamesWhatIsWrong) {
+  EXPECT_TRUE(parse_picture_condition("").identity());
+  EXPECT_EQ(parse_picture_condition("noise=3,blur=1.5,light=0.3"), (PictureCondition{1.5, 0.3, 3.0}));
+  EXPECT_EQ(parse_error("fog=1"), "fog=1: unknown key fog (blur, light, noise)");
+  EXPECT_EQ(parse_error("blur=x"), "blur=x: not a number");
+  EXPECT_EQ(parse_error("blur=1px"), "blur=1px: not a number");
+  EXPECT_EQ(parse_error("light"), "light: not key=value (blur=PX, light=SHARE, noise=LEVELS)");
+  EXPECT_EQ(parse_error("light=0"), "light=0: outside (0, 4]");
+  EXPECT_EQ(parse_error("noise=-1"), "noise=-1: outside [0, 20]");
+  EXPECT_EQ(parse_error("blur=25"), "blur=25: outside [0, 20]");
+}
+
+TEST(PictureCondition, TheIdentityIsThePictureItself) {
+  const Picture p(16, 8, 1, 77);
+  PictureConditioner c(parse_picture_condition("light=1"));
+  EXPECT_EQ(c.apply(p.view(), 0).data, p.pixels.data());
+}
+
+TEST(PictureCondition, LightScalesEveryLevelAndClipsAtWhite) {
+  Picture p(8, 4, 3, 0);
+  for (std::size_t i = 0; i < p.pixels.size(); i += 3) p.pixels[i] = 200, p.pixels[i + 1] = 100, p.pixels[i + 2] = 51;
+  PictureConditioner half(PictureCondition{0.0, 0.5, 0.0});
+  const ImageView h = half.apply(p.view(PixelFormat::rgb8), 0);
+  EXPECT_EQ(h.format, PixelFormat::rgb8);
+  EXPECT_EQ(h.row(3)[21], 100);
+  EXPECT_EQ(h.row(3)[22], 50);
+  EXPECT_EQ(h.row(3)[23], 26);  // 25.5, rounded to the even level
+  PictureConditioner bright(PictureCondition{0.0, 4.0, 0.0});
+  const ImageView b = bright.apply(p.view(PixelFormat::rgb8), 0);
+  EXPECT_EQ(b.row(0)[0], 255);
+  EXPECT_EQ(b.row(0)[2], 204);
+  // A 12-bit frame clips at its own white, 4095.
+  std::vector<std::uint16_t> deep(16, 3000);
+  const ImageView d{reinterpret_cast<const std::uint8_t*>(deep.data()), 4, 4, 8, PixelFormat::mono16, 12};
+  const ImageView dd = bright.apply(d, 0);
+  EXPECT_EQ(reinterpret_cast<const std::uint16_t*>(dd.row(2))[1], 4095);
+}
+
+// A Gaussian of sigma s turns a sharp step into an error function whose 10-90 % rise is
+// 2 * 1.2816 s wide.
+TEST(PictureCondition, BlurSpreadsAStepAsAGaussianOfItsSigma) {
+  for (const double sigma : {1.0, 2.0, 4.0}) {
+    Picture p(200, 20, 1, 40);
+    for (int y = 0; y < p.height; ++y)
+      for (int x = 100; x < p.width; ++x) p.pixels[static_cast<std::size_t>(y * p.width + x)] = 240;
+    PictureConditioner c(PictureCondition{sigma, 1.0, 0.0});
+    const ImageView b = c.apply(p.view(), 0);
+    const std::uint8_t* row = b.row(10);
+    // Where the row crosses a level, by linear interpolation between pixel centres.
+    auto crossing = [&](double level) {
+      for (int x = 1; x < b.width; ++x)
+        if (row[x] >= level && row[x - 1] < level) return x - 1 + (level - row[x - 1]) / (row[x] - row[x - 1]);
+      return -1.0;
+    };
+    const double rise = crossing(40 + 0.9 * 200) - crossing(40 + 0.1 * 200);
+    // Rounding to levels and interpolating between pixels move each crossing by up to
+    // half a pixel at the sharpest.
+    EXPECT_NEAR(rise, 2.0 * 1.2816 * sigma, 0.5) << "sigma " << sigma;
+  }
+}
+
+TEST(PictureCondition, NoiseHasItsSigmaAndIsEachFramesOwnButRepeatable) {
+  const Picture p(256, 256, 1, 128);
+  PictureConditioner c(PictureCondition{0.0, 1.0, 4.0});
+  auto stats = [](const ImageView& v, double& mean, double& sd) {
+    double s = 0, ss = 0;
+    const double n = static_cast<double>(v.width) * v.height;
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x) s += v.row(y)[x], ss += v.row(y)[x] * static_cast<double>(v.row(y)[x]);
+    mean = s / n;
+    sd = std::sqrt(ss / n - mean * mean);
+  };
+  double mean = 0, sd = 0;
+  const ImageView f0 = c.apply(p.view(), 0);
+  const std::vector<std::uint8_t> first(f0.data, f0.data + 256 * 256);
+  stats(f0, mean, sd);
+  // 65536 samples: the mean within 4 of its standard errors (4 / 256), the sd within 4 of
+  // its own (4 / sqrt(2 * 65536)); rounding to levels adds 1/12 to the variance.
+  EXPECT_NEAR(mean, 128.0, 4 * 4.0 / 256);
+  EXPECT_NEAR(sd, std::sqrt(16.0 + 1.0 / 12), 4 * 4.0 / std::sqrt(2.0 * 65536));
+  EXPECT_EQ(std::vector<std::uint8_t>(c.apply(p.view(), 0).data, c.apply(p.view(), 0).data + 256 * 256), first);
+  const ImageView f1 = c.apply(p.view(), 1);
+  EXPECT_NE(std::vector<std::uint8_t>(f1.data, f1.data + 256 * 256), first);
+}
+
+}  // namespace
+}  // namespace ccdlane::cli

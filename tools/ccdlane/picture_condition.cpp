@@ -1,0 +1,99 @@
+// Conditioned pictures over OpenCV's core and imgproc (already the tool's, for calibration
+// and the annotated video): a separable Gaussian and a seeded normal generator.
+#include "tools/ccdlane/picture_condition.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace ccdlane::cli {
+namespace {
+
+double parse_number(const std::string& key, const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw std::invalid_argument(key + "=" + text + ": not a number");
+  return value;
+}
+
+void check_range(const std::string& key, double value, double low, bool low_open, double high) {
+  if ((low_open ? !(value > low) : !(value >= low)) || !(value <= high)) {
+    std::ostringstream what;
+    what << key << "=" << value << ": outside " << (low_open ? "(" : "[") << low << ", " << high << "]";
+    throw std::invalid_argument(what.str());
+  }
+}
+
+int cv_type(PixelFormat format) {
+  switch (format) {
+    case PixelFormat::mono8: return CV_8UC1;
+    case PixelFormat::mono16: return CV_16UC1;
+    case PixelFormat::rgb8:
+    case PixelFormat::bgr8: return CV_8UC3;
+  }
+  return CV_8UC1;
+}
+
+}  // namespace
+
+PictureCondition parse_picture_condition(const std::string& spec) {
+  PictureCondition c;
+  std::istringstream parts(spec);
+  for (std::string part; std::getline(parts, part, ',');) {
+    if (part.empty()) continue;
+    const std::size_t eq = part.find('=');
+    if (eq == std::string::npos)
+      throw std::invalid_argument(part + ": not key=value (blur=PX, light=SHARE, noise=LEVELS)");
+    const std::string key = part.substr(0, eq);
+    const double value = parse_number(key, part.substr(eq + 1));
+    if (key == "blur") {
+      check_range(key, value, 0.0, false, 20.0);
+      c.blur_px = value;
+    } else if (key == "light") {
+      check_range(key, value, 0.0, true, 4.0);
+      c.light = value;
+    } else if (key == "noise") {
+      check_range(key, value, 0.0, false, 20.0);
+      c.noise = value;
+    } else {
+      throw std::invalid_argument(part + ": unknown key " + key + " (blur, light, noise)");
+    }
+  }
+  return c;
+}
+
+ImageView PictureConditioner::apply(const ImageView& frame, std::uint64_t frame_number) {
+  if (condition_.identity() || frame.empty()) return frame;
+  const int type = cv_type(frame.format);
+  const cv::Mat in(frame.height, frame.width, type, const_cast<std::uint8_t*>(frame.data),
+                   static_cast<std::size_t>(frame.stride_bytes));
+  cv::Mat levels;
+  in.convertTo(levels, CV_32F);
+  if (condition_.blur_px > 0.0)
+    cv::GaussianBlur(levels, levels, cv::Size(0, 0), condition_.blur_px, condition_.blur_px, cv::BORDER_REPLICATE);
+  levels *= condition_.light;
+  // 8-bit levels in the frame's own: a 12-bit mono16 frame's level is 4095 / 255 of them.
+  const double max_level = frame.format == PixelFormat::mono16 ? (1 << frame.significant_bits) - 1 : 255;
+  if (condition_.noise > 0.0) {
+    cv::Mat noise(levels.size(), levels.type());
+    cv::RNG generator(frame_number * 0x9E3779B97F4A7C15ull + 1u);
+    generator.fill(noise, cv::RNG::NORMAL, 0.0, condition_.noise * max_level / 255.0);
+    levels += noise;
+  }
+  levels = cv::min(levels, max_level);
+  const int bpp = bytes_per_pixel(frame.format);
+  pixels_.resize(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) *
+                 static_cast<std::size_t>(bpp));
+  cv::Mat out(frame.height, frame.width, type, pixels_.data());
+  levels.convertTo(out, type);  // rounded, negative levels to 0
+  return {pixels_.data(), frame.width, frame.height, frame.width * bpp, frame.format, frame.significant_bits};
+}
+
+}  // namespace ccdlane::cli
