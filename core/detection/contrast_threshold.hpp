@@ -20,15 +20,18 @@ namespace ccdlane {
 float frame_contrast_threshold(const ImageView& image, std::span<const ScanRow> rows, float min_contrast,
                                float levels_per_grey);
 
-// The road's brightness at and above which `min_contrast` holds as configured: the
-// darkest daylight road of the development set (segA's asphalt, median 72-78 grey levels;
-// TuSimple's concrete 92-128).
-inline constexpr double kDaylightRoadLevel = 70.0;
+// The road's brightness at and above which `min_contrast` holds as configured. Daylit
+// roads lie at 72-78 grey levels (segA's asphalt) to 92-128 (TuSimple's concrete); at 70
+// the same concrete with half the light (46-64) kept 0.7-0.9 of the threshold while its
+// paint's contrast halved, and lost 9 points of own lines. At 100, segB's pale concrete
+// gave a seam the threshold it needed to make a lane 3.1 m wide (docs/real-roads.md).
+inline constexpr double kDaylightRoadLevel = 85.0;
 // A bar's contrast is a mean over its pixels against its sides' means, so its noise is
 // below the pixel noise: at 6 sigmas of the pixels a noise bar of that contrast is
 // beyond chance on any frame. (9, the configured 10 levels' margin over the development
-// set's daylight noise of 0.9-1.5, held dim and noisy pictures to daylight's threshold:
-// docs/real-roads.md.)
+// set's daylight noise of 0.9-1.5, held dim and noisy pictures to daylight's threshold.
+// 4 found more in dim pictures whose encoder had smoothed their noise, and with the
+// level of 85 let a road's edge on asphalt through: docs/real-roads.md.)
 inline constexpr double kThresholdNoiseSigmas = 6.0;
 // And never below this share of `min_contrast`, however dark and clean the picture.
 inline constexpr double kMinThresholdShare = 0.3;

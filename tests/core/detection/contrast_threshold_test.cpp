@@ -43,15 +43,29 @@ TEST(FrameContrastThreshold, ADaylightRoadKeepsTheConfiguredContrast) {
 }
 
 TEST(FrameContrastThreshold, ADimRoadLowersItInProportionToTheRoadsLevel) {
-  // Clean enough that the noise does not hold it up (6 x 0.2 = 1.2 levels): 35 of a
-  // daylight road's 70 is half the contrast. The median of rounded levels is the level.
-  EXPECT_NEAR(FlatRoad(35.0, 0.2).threshold(), 0.5f * kConfiguredContrast, 0.15f);
-  EXPECT_NEAR(FlatRoad(49.0, 0.2).threshold(), 0.7f * kConfiguredContrast, 0.15f);
+  // Clean enough that the noise does not hold it up (6 x 0.2 = 1.2 levels): half a
+  // daylight road's level is half the contrast. The median of rounded levels is the
+  // level, to half a level (0.06 of the contrast at 85).
+  EXPECT_NEAR(FlatRoad(std::round(0.5 * kDaylightRoadLevel), 0.2).threshold(), 0.5f * kConfiguredContrast, 0.1f);
+  EXPECT_NEAR(FlatRoad(std::round(0.7 * kDaylightRoadLevel), 0.2).threshold(), 0.7f * kConfiguredContrast, 0.1f);
+}
+
+// Paint on pale concrete (TuSimple's at 92-128 levels) that stands 40 % above the
+// configured contrast in daylight stands above the threshold still when the camera gets
+// half the light: its contrast halves with the road's level, and so must the threshold,
+// near enough. So for concrete up to 2 x 0.7 x 85 = 119 levels; on brighter concrete
+// with half the light (at 70 levels, up to 98) the threshold keeps more than 0.7.
+TEST(FrameContrastThreshold, HalfTheLightOnPaleConcreteKeepsFaintPaint) {
+  for (const double concrete : {92.0, 105.0, 118.0}) {
+    const float paint = 1.4f * kConfiguredContrast;
+    ASSERT_LT(FlatRoad(concrete, 1.0).threshold(), paint);
+    EXPECT_LT(FlatRoad(0.5 * concrete, 0.5).threshold(), 0.5f * paint) << concrete;
+  }
 }
 
 TEST(FrameContrastThreshold, NoiseHoldsItUp) {
-  // At 35 the level alone says 5; noise of 1.2 levels (its estimate from rounded pixels
-  // within a few per cent) says 6 x 1.2 = 7.2.
+  // At 35 the level alone says 35 / 85 x 10 = 4.1; noise of 1.2 levels (its estimate from
+  // rounded pixels within a few per cent) says 6 x 1.2 = 7.2.
   EXPECT_NEAR(FlatRoad(35.0, 1.2).threshold(), static_cast<float>(kThresholdNoiseSigmas * 1.2), 0.4f);
   // Noise beyond daylight's margin never raises it above the configured contrast.
   EXPECT_FLOAT_EQ(FlatRoad(35.0, 3.0).threshold(), kConfiguredContrast);
