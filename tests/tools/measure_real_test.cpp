@@ -335,7 +335,9 @@ TEST(MeasureReal, FindsTheDemosBuildAndSaysWhatToRunWithoutOne) {
 // A drive's row recomputed from the replay measure-real kept: frames from `from_s` on,
 // the share ok, the ok frames' lane width (mean, m, and sd over the mean), the median
 // change of the lateral offset between consecutive ok frames, and the warnings fired.
-std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s) {
+// `mount` is printed `width` wide (a condition's name: 20).
+std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s,
+                      int width = 14) {
   std::vector<nlohmann::json> kept = test::json_lines(test::read_file(replay));
   if (kept.empty()) return "";
   const auto t0 = kept.front()["t_ns"].get<std::int64_t>();
@@ -358,7 +360,7 @@ std::string drive_row(const std::string& replay, const std::string& video, const
   const std::size_t n = steps.size();
   const double median = n % 2 ? steps[n / 2] : 0.5 * (steps[n / 2 - 1] + steps[n / 2]);
   char row[200];
-  std::snprintf(row, sizeof row, "%-28s %-14s %6zu %5.0f%% %8.3f %5.1f%% %8.1f %8d", video.c_str(), mount.c_str(),
+  std::snprintf(row, sizeof row, "%-28s %-*s %6zu %5.0f%% %8.3f %5.1f%% %8.1f %8d", video.c_str(), width, mount.c_str(),
                 kept.size(), 100.0 * static_cast<double>(widths.size()) / static_cast<double>(kept.size()),
                 mean / 1000.0, 100.0 * std::sqrt(var) / mean, median, warnings);
   return row;
@@ -403,6 +405,42 @@ TEST(MeasureReal, ADriveRecordedAsAFrameDirectoryIsMeasuredAsAVideoIs) {
   ASSERT_FALSE(row.empty()) << r.out;
   EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
   EXPECT_NE(row.find(" 50 "), std::string::npos) << "all 50 recorded frames measured: " << row;
+}
+
+// --conditions with drives: each drive's condition row is its replay with that condition
+// at the nominal mount, every frame counted (the same replay `ccdlane replay --condition`
+// gives, line for line). The first 50 frames of segA, recorded.
+TEST(MeasureReal, EachDrivesConditionRowIsItsReplaySoAtTheNominalMount) {
+  test::TempDir tmp;
+  const std::string source = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives";
+  const std::string drives = tmp.file("drives"), work = tmp.file("work");
+  std::filesystem::create_directories(drives);
+  std::filesystem::copy_file(source + "/camera.toml", drives + "/camera.toml");
+  ASSERT_EQ(test::run_process({CCDLANE_TOOL, "record", "video:" + source + "/project_video_segA.mp4", "--out",
+                               drives + "/segA_recorded", "--count", "50"})
+                .exit_status,
+            0);
+  const test::ProcessResult r = test::run_process({"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane",
+                                                   CCDLANE_TOOL, "--keep", work, "--conditions"});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  ASSERT_NE(r.out.find("Drives as other cameras and light give them"), std::string::npos) << r.out;
+  auto without_latency = [](const std::string& text) {
+    std::vector<nlohmann::json> lines = test::json_lines(text);
+    for (nlohmann::json& e : lines) e.erase("latency_us");
+    return lines;
+  };
+  for (const auto& [name, condition, dir] :
+       {std::tuple{"blur 1.5 px", "blur=1.5", "condition_blur1.5"},
+        std::tuple{"light x0.3 noise 3", "light=0.3,noise=3", "condition_light0.3_noise3"}}) {
+    const std::string kept = work + "/drives/" + dir;
+    EXPECT_EQ(test::read_file(kept + "/camera.toml"), test::read_file(work + "/drives/nominal/camera.toml")) << name;
+    const test::ProcessResult again = test::run_process(
+        {CCDLANE_TOOL, "replay", kept + "/camera.toml", drives + "/segA_recorded", "--condition", condition});
+    ASSERT_EQ(again.exit_status, 0) << again.err;
+    EXPECT_EQ(without_latency(test::read_file(kept + "/segA_recorded.jsonl")), without_latency(again.out)) << name;
+    const std::string row = drive_row(kept + "/segA_recorded.jsonl", "segA_recorded", name, 0.0, 20);
+    EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
+  }
 }
 
 }  // namespace
