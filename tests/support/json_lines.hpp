@@ -18,4 +18,12 @@ inline std::vector<nlohmann::json> json_lines(const std::string& text) {
   return out;
 }
 
+// Replay's JSON Lines less each frame's latency: the one field two runs of the same
+// replay differ in (their clocks).
+inline std::vector<nlohmann::json> json_lines_without_latency(const std::string& text) {
+  std::vector<nlohmann::json> out = json_lines(text);
+  for (nlohmann::json& e : out) e.erase("latency_us");
+  return out;
+}
+
 }  // namespace ccdlane::test

@@ -213,14 +213,6 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
       << r.out;
 }
 
-// Replay's JSON Lines less each frame's latency (the one field two runs of the same
-// replay differ in).
-std::vector<nlohmann::json> without_latency(const std::string& text) {
-  std::vector<nlohmann::json> lines = test::json_lines(text);
-  for (nlohmann::json& e : lines) e.erase("latency_us");
-  return lines;
-}
-
 // --conditions: each row is the score of the stills replayed with its condition at the
 // nominal mount (the kept replay is what `ccdlane replay --condition` gives, line for line),
 // printed as the stills' rows are, without the frame count and TuSimple's own figures.
@@ -246,7 +238,9 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
     const test::ProcessResult again =
         test::run_process({CCDLANE_TOOL, "replay", nominal, dir + "/stills", "--stills", "--condition", condition});
     ASSERT_EQ(again.exit_status, 0) << again.err;
-    EXPECT_EQ(without_latency(test::read_file(dir + "/stills.jsonl")), without_latency(again.out)) << name;
+    EXPECT_EQ(test::json_lines_without_latency(test::read_file(dir + "/stills.jsonl")),
+              test::json_lines_without_latency(again.out))
+        << name;
     // The stills' row less its frame count and TuSimple's own figures, under this name.
     const std::string full = scored_row(dir, "-");
     std::istringstream fields(full.substr(14));
@@ -436,7 +430,9 @@ TEST(MeasureReal, EachDrivesConditionRowIsItsReplaySoAtTheNominalMount) {
     const test::ProcessResult again = test::run_process(
         {CCDLANE_TOOL, "replay", kept + "/camera.toml", drives + "/segA_recorded", "--condition", condition});
     ASSERT_EQ(again.exit_status, 0) << again.err;
-    EXPECT_EQ(without_latency(test::read_file(kept + "/segA_recorded.jsonl")), without_latency(again.out)) << name;
+    EXPECT_EQ(test::json_lines_without_latency(test::read_file(kept + "/segA_recorded.jsonl")),
+              test::json_lines_without_latency(again.out))
+        << name;
     const std::string row = drive_row(kept + "/segA_recorded.jsonl", "segA_recorded", name, 0.0, 20);
     EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
   }

@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -480,11 +479,7 @@ TEST(ReplayCommand, ConditionReplaysThePicturesAsAnotherLightWouldGiveThem) {
     cmd.insert(cmd.end(), extra.begin(), extra.end());
     const auto r = test::run_process(cmd);
     EXPECT_EQ(r.exit_status, 0) << r.err;
-    std::ifstream in(dir.file(name + ".jsonl"));
-    std::string lines((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::vector<Json> out = json_lines(lines);
-    for (Json& e : out) e.erase("latency_us");
-    return out;
+    return test::json_lines_without_latency(test::read_file(dir.file(name + ".jsonl")));
   };
   const std::vector<Json> recorded = replay("recorded", {});
   ASSERT_EQ(recorded.size(), 3u);
