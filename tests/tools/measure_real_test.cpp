@@ -223,12 +223,15 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   ASSERT_NE(r.out.find("Stills as other cameras and light give them"), std::string::npos) << r.out;
   const std::string nominal = work + "/tusimple/nominal/camera.toml";
-  const std::vector<std::pair<std::string, std::string>> conditions = {{"blur 1 px", "blur=1"},
-                                                                       {"blur 1.5 px", "blur=1.5"},
-                                                                       {"light x0.5", "light=0.5"},
-                                                                       {"light x0.3", "light=0.3"},
-                                                                       {"light x0.3 noise 3", "light=0.3,noise=3"},
-                                                                       {"noise 6", "noise=6"}};
+  const std::vector<std::pair<std::string, std::string>> conditions = {
+      {"blur 1 px", "blur=1"},
+      {"blur 1.5 px", "blur=1.5"},
+      {"light x0.5", "light=0.5"},
+      {"light x0.3", "light=0.3"},
+      {"light x0.3 noise 3", "light=0.3,noise=3"},
+      {"noise 6", "noise=6"},
+      {"shade x0.3 near", "shade=0.3"},
+      {"shade x0.3 far", "shade=0.3,shade_top=0.45,shade_bottom=0.6"}};
   std::set<std::string> rows;
   for (const auto& [name, condition] : conditions) {
     std::string dir_name = "condition_" + condition;

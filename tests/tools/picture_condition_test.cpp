@@ -33,13 +33,39 @@ std::string parse_error(const std::string& spec) {
 TEST(PictureCondition, ParsesEachKeyAndNamesWhatIsWrong) {
   EXPECT_TRUE(parse_picture_condition("").identity());
   EXPECT_EQ(parse_picture_condition("noise=3,blur=1.5,light=0.3"), (PictureCondition{1.5, 0.3, 3.0}));
-  EXPECT_EQ(parse_error("fog=1"), "fog=1: unknown key fog (blur, light, noise)");
+  EXPECT_EQ(parse_error("fog=1"), "fog=1: unknown key fog (blur, light, noise, shade, shade_top, shade_bottom)");
   EXPECT_EQ(parse_error("blur=x"), "blur=x: not a number");
   EXPECT_EQ(parse_error("blur=1px"), "blur=1px: not a number");
-  EXPECT_EQ(parse_error("light"), "light: not key=value (blur=PX, light=SHARE, noise=LEVELS)");
+  EXPECT_EQ(parse_error("light"), "light: not key=value (blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
   EXPECT_EQ(parse_error("light=0"), "light=0: outside (0, 4]");
   EXPECT_EQ(parse_error("noise=-1"), "noise=-1: outside [0, 20]");
   EXPECT_EQ(parse_error("blur=25"), "blur=25: outside [0, 20]");
+  EXPECT_EQ(parse_error("shade=0"), "shade=0: outside (0, 1]");
+  EXPECT_EQ(parse_error("shade=0.3,shade_top=0.8"),
+            "shade=0.3,shade_top=0.8: shade_top must lie above shade_bottom (shares of the height from the top)");
+  const PictureCondition shaded = parse_picture_condition("shade=0.3,shade_top=0.2,shade_bottom=0.4");
+  EXPECT_EQ(shaded.shade, 0.3);
+  EXPECT_EQ(shaded.shade_top, 0.2);
+  EXPECT_EQ(shaded.shade_bottom, 0.4);
+  EXPECT_FALSE(shaded.identity());
+}
+
+// A bridge's shadow: the rows between the band's edges get the shade's share of the
+// light, the rows beyond them all of it, and the penumbra (1 % of the height, centred on
+// each edge) a share in between that falls monotonically into the shadow.
+TEST(PictureCondition, ShadeDarkensItsBandOfRowsWithSoftEdges) {
+  const Picture p(4, 200, 1, 200);
+  PictureConditioner c(parse_picture_condition("shade=0.25,shade_top=0.5,shade_bottom=0.75"));
+  const ImageView s = c.apply(p.view(), 0);
+  EXPECT_EQ(s.row(10)[0], 200);
+  EXPECT_EQ(s.row(98)[2], 200);  // above the top edge's penumbra (rows 99-100)
+  EXPECT_EQ(s.row(102)[1], 50);  // inside
+  EXPECT_EQ(s.row(147)[3], 50);
+  EXPECT_EQ(s.row(152)[0], 200);  // below the bottom edge's penumbra (rows 149-150)
+  EXPECT_EQ(s.row(199)[0], 200);
+  // Row 99's centre lies half a penumbra's half above the edge: a quarter of the way in.
+  EXPECT_EQ(s.row(99)[0], 162);  // 200 x (1 - 0.25 x 0.75) = 162.5, rounded to the even level
+  EXPECT_EQ(s.row(100)[0], 88);  // three quarters in: 200 x (1 - 0.75 x 0.75) = 87.5, to the even level
 }
 
 TEST(PictureCondition, TheIdentityIsThePictureItself) {

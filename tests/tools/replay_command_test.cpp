@@ -499,7 +499,8 @@ TEST(ReplayCommand, ConditionReplaysThePicturesAsAnotherLightWouldGiveThem) {
   const auto bad = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--out",
                                       dir.file("bad.jsonl"), "--condition", "light=0.5,fog=1"});
   EXPECT_EQ(bad.exit_status, 2);
-  EXPECT_EQ(bad.err, "ccdlane: --condition fog=1: unknown key fog (blur, light, noise)\n");
+  EXPECT_EQ(bad.err,
+            "ccdlane: --condition fog=1: unknown key fog (blur, light, noise, shade, shade_top, shade_bottom)\n");
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad.jsonl")));
 }
 

@@ -2,6 +2,7 @@
 // and the annotated video): a separable Gaussian and a seeded normal generator.
 #include "tools/ccdlane/picture_condition.hpp"
 
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
@@ -41,6 +42,20 @@ int cv_type(PixelFormat format) {
   return CV_8UC1;
 }
 
+// The shadow of a bridge across the picture (PictureCondition::shade).
+void shade_rows(const PictureCondition& condition, cv::Mat& levels) {
+  // Full shadow between the band's edges, full light beyond them, a linear ramp across
+  // the penumbra centred on each edge.
+  const double height = levels.rows, soft = 0.01 * height;
+  const double top = condition.shade_top * height, bottom = condition.shade_bottom * height;
+  for (int y = 0; y < levels.rows; ++y) {
+    const double centre = y + 0.5;
+    const double in = std::clamp(std::min(centre - top, bottom - centre) / soft + 0.5, 0.0, 1.0);
+    const double gain = 1.0 - in * (1.0 - condition.shade);
+    if (gain != 1.0) levels.row(y) *= gain;
+  }
+}
+
 }  // namespace
 
 PictureCondition parse_picture_condition(const std::string& spec) {
@@ -50,7 +65,7 @@ PictureCondition parse_picture_condition(const std::string& spec) {
     if (part.empty()) continue;
     const std::size_t eq = part.find('=');
     if (eq == std::string::npos)
-      throw std::invalid_argument(part + ": not key=value (blur=PX, light=SHARE, noise=LEVELS)");
+      throw std::invalid_argument(part + ": not key=value (blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
     const std::string key = part.substr(0, eq);
     const double value = parse_number(key, part.substr(eq + 1));
     if (key == "blur") {
@@ -62,10 +77,19 @@ PictureCondition parse_picture_condition(const std::string& spec) {
     } else if (key == "noise") {
       check_range(key, value, 0.0, false, 20.0);
       c.noise = value;
+    } else if (key == "shade") {
+      check_range(key, value, 0.0, true, 1.0);
+      c.shade = value;
+    } else if (key == "shade_top" || key == "shade_bottom") {
+      check_range(key, value, 0.0, false, 1.0);
+      (key == "shade_top" ? c.shade_top : c.shade_bottom) = value;
     } else {
-      throw std::invalid_argument(part + ": unknown key " + key + " (blur, light, noise)");
+      throw std::invalid_argument(part + ": unknown key " + key +
+                                  " (blur, light, noise, shade, shade_top, shade_bottom)");
     }
   }
+  if (!(c.shade_top < c.shade_bottom))
+    throw std::invalid_argument(spec + ": shade_top must lie above shade_bottom (shares of the height from the top)");
   return c;
 }
 
@@ -79,6 +103,7 @@ ImageView PictureConditioner::apply(const ImageView& frame, std::uint64_t frame_
   if (condition_.blur_px > 0.0)
     cv::GaussianBlur(levels, levels, cv::Size(0, 0), condition_.blur_px, condition_.blur_px, cv::BORDER_REPLICATE);
   levels *= condition_.light;
+  if (condition_.shade != 1.0) shade_rows(condition_, levels);
   // 8-bit levels in the frame's own: a 12-bit mono16 frame's level is 4095 / 255 of them.
   const double max_level = frame.format == PixelFormat::mono16 ? (1 << frame.significant_bits) - 1 : 255;
   if (condition_.noise > 0.0) {

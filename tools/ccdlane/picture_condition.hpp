@@ -16,18 +16,25 @@ struct PictureCondition {
   double blur_px = 0.0;  // Gaussian blur, its sigma in pixels: defocus, a dirty windscreen, motion
   double light = 1.0;    // share of the light: every level times this (dusk, an underexposed camera)
   double noise = 0.0;    // Gaussian sensor noise added after the light, its sigma in 8-bit levels
+  // A shadow across the whole picture (an overpass's, a bridge's): the rows from
+  // shade_top to shade_bottom (shares of the picture's height; by default 55-70 %, the
+  // road 10-30 m ahead of a forward car camera) get this share of the light, with an
+  // edge as soft as 1 % of the height on either side (the penumbra). 1: no shadow.
+  double shade = 1.0;
+  double shade_top = 0.55, shade_bottom = 0.70;
 
-  bool identity() const { return blur_px == 0.0 && light == 1.0 && noise == 0.0; }
+  bool identity() const { return blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0; }
   bool operator==(const PictureCondition&) const = default;
 };
 
-// "blur=1.5,light=0.3,noise=3" (any of the three, in any order; "" is the picture as
-// recorded). Throws std::invalid_argument naming the bad part: an unknown key, a value
-// that is not a number, blur or noise outside [0, 20], light outside (0, 4].
+// "blur=1.5,light=0.3,noise=3,shade=0.3" (any of them, in any order; "" is the picture
+// as recorded). Throws std::invalid_argument naming the bad part: an unknown key, a value
+// that is not a number, blur or noise outside [0, 20], light outside (0, 4], shade
+// outside (0, 1], shade_top or shade_bottom outside [0, 1] or not top above bottom.
 PictureCondition parse_picture_condition(const std::string& spec);
 
-// The conditioned copy of each frame: blurred, then scaled, then the noise added (optics,
-// exposure, sensor), rounded and clipped to the format's levels. The noise is drawn from a
+// The conditioned copy of each frame: blurred, then scaled (and shaded), then the noise
+// added (optics, light, sensor), rounded and clipped to the format's levels. The noise is drawn from a
 // generator seeded with the frame's number, so a replay is repeatable and each frame's
 // noise its own. Colour pixels are altered channel by channel.
 class PictureConditioner {
