@@ -15,10 +15,24 @@ namespace ccdlane {
 // proportion to the road's median level on the scan rows, up to a daylight road's
 // (kDaylightRoadLevel), and at least kThresholdNoiseSigmas times the pixel noise measured
 // on the same rows (adjacent pixels' differences): the margin over noise `min_contrast`
-// has on a daylight road. Sampled on every eighth row, every sixteenth pixel; nothing is
+// has on a daylight road. Sampled on every second row, every 32nd pixel; nothing is
 // allocated. Returns measure levels (min_contrast times levels_per_grey, or less).
 float frame_contrast_threshold(const ImageView& image, std::span<const ScanRow> rows, float min_contrast,
                                float levels_per_grey);
+
+// The same rule, also band by band down the picture: where a band of kBandRows scan rows
+// is darker than the frame (a bridge's or a truck's shadow across the road, the far road
+// beyond a car's headlights), its paint stands above it by less, and so does its
+// texture. row_thresholds[r] (one per row) gets the lower of the frame's threshold and
+// its band's, from the band's own level and noise; a band is never held above the
+// frame's (a band of pale concrete in a dim picture). The band's level is its upper
+// quartile, not its median: a car's back fills a third of a far band's road. Returns the
+// frame's threshold, as frame_contrast_threshold does.
+float contrast_thresholds(const ImageView& image, std::span<const ScanRow> rows, float min_contrast,
+                          float levels_per_grey, std::span<float> row_thresholds);
+
+inline constexpr int kBandRows = 8;
+inline constexpr double kBandLevelQuantile = 0.75;
 
 // The road's brightness at and above which `min_contrast` holds as configured. Daylit
 // roads lie at 72-78 grey levels (segA's asphalt) to 92-128 (TuSimple's concrete); at 70

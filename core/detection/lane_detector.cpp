@@ -150,6 +150,7 @@ LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& conf
       grouper_(static_cast<int>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       picture_line_(camera),
       rows_(static_cast<std::size_t>(camera.Nv)),
+      row_contrast_(static_cast<std::size_t>(camera.Nv)),
       marks_(static_cast<std::size_t>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       joints_(marks_.size()),
       linked_(marks_.size()),
@@ -608,13 +609,13 @@ void LaneDetector::choose_picks(const CameraPose& pose) {
 int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double curvature_per_mm, bool joints) {
   plan_rows(pose, curvature_per_mm, joints);
   const float scale = paint_measure_levels_per_grey(image);
-  min_contrast_ = frame_contrast_threshold(image, {rows_.data(), static_cast<std::size_t>(num_rows_)},
-                                           static_cast<float>(config_.min_contrast), scale);
+  min_contrast_ = contrast_thresholds(image, {rows_.data(), static_cast<std::size_t>(num_rows_)},
+                                      static_cast<float>(config_.min_contrast), scale, row_contrast_);
   const int capacity = static_cast<int>(marks_.size());
   int count = 0;
   for (int r = 0; r < num_rows_ && count < capacity; ++r)
-    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, min_contrast_, 1.0f / scale, marks_.data(),
-                          count, capacity);
+    count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, row_contrast_[static_cast<std::size_t>(r)],
+                          1.0f / scale, marks_.data(), count, capacity);
   return count;
 }
 

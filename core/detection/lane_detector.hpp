@@ -148,6 +148,7 @@ class LaneDetector {
   LineGrouper grouper_;
   PictureLineSearch picture_line_;
   std::vector<ScanRow> rows_;
+  std::vector<float> row_contrast_;  // per scan row: its band's threshold, or the frame's where lower
   int num_rows_ = 0;
   std::vector<MarkCandidate> marks_;
   std::vector<int> joints_;           // keep_linked_joints' indices into marks_,

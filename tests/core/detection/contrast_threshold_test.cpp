@@ -1,7 +1,9 @@
-// The frame's contrast threshold: as configured on a daylight road, in proportion to the
-// road's level on a dim one, held above the picture's noise, and never below its floor.
+// The contrast threshold: as configured on a daylight road, in proportion to the road's
+// level on a dim one, held above the picture's noise, and never below its floor; for the
+// frame, and lower on a band of rows in a shadow across the road.
 #include "core/detection/contrast_threshold.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -90,6 +92,74 @@ TEST(FrameContrastThreshold, SixteenBitLevelsScaleWithTheirDepth) {
                       12};
   EXPECT_NEAR(frame_contrast_threshold(v16, grey.rows, kConfiguredContrast, per_grey) / per_grey, grey.threshold(),
               0.2f);
+}
+
+// Bands down the picture (contrast_thresholds): rows y0..y1 of `road` replaced by a
+// shadow at `level` with noise `sigma`, or by a dark car's back over columns x0..x1.
+void shade_rows(FlatRoad& road, int y0, int y1, double level, double sigma, std::uint32_t seed = 5) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < kFlatWidth; ++x)
+      road.px[static_cast<std::size_t>(y * kFlatWidth + x)] =
+          static_cast<std::uint8_t>(std::clamp(std::lround(level + sigma * n(rng)), 0L, 255L));
+}
+
+std::vector<float> row_thresholds(const FlatRoad& road, float& frame) {
+  std::vector<float> t(road.rows.size());
+  frame = contrast_thresholds(road.view, road.rows, kConfiguredContrast, 1.0f, t);
+  return t;
+}
+
+// A bridge's shadow across a daylight road: the paint in it stands above its road by the
+// shadow's share of daylight's contrast, and its texture is as much fainter. The shadow's
+// rows (a whole band of scan rows) get the threshold of a road at its level and noise;
+// the daylit rows keep the configured contrast, and so does the frame (its median is
+// daylight's).
+TEST(BandContrastThreshold, AShadowAcrossTheRoadLowersItsOwnRows) {
+  FlatRoad road(110.0, 1.0);
+  const int shadow_top = 2 * 3 * kBandRows, shadow_bottom = shadow_top + 2 * 2 * kBandRows;  // scan rows 24-39
+  shade_rows(road, shadow_top, shadow_bottom, 35.0, 0.3);
+  float frame = 0.0f;
+  const std::vector<float> t = row_thresholds(road, frame);
+  EXPECT_FLOAT_EQ(frame, kConfiguredContrast);
+  // Its upper quartile is 35 levels to within a rounded level: 35 / 85 of the contrast
+  // (noise 6 x 0.3 = 1.8 levels says less).
+  const float shadow = static_cast<float>(35.0 / kDaylightRoadLevel) * kConfiguredContrast;
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    const bool in_shadow = road.rows[r].y >= shadow_top && road.rows[r].y < shadow_bottom;
+    if (in_shadow)
+      EXPECT_NEAR(t[r], shadow, 0.15f) << "row " << road.rows[r].y;
+    else
+      EXPECT_FLOAT_EQ(t[r], kConfiguredContrast) << "row " << road.rows[r].y;
+  }
+}
+
+// A dark car's back across more than half of a band's road (far off, the road within
+// reach is a few hundred pixels wide) is no shadow on the road: the band's level is its
+// upper quartile, the road beside the car (its median would be the car's), and the band
+// keeps the frame's.
+TEST(BandContrastThreshold, ACarsBackOverMostOfABandIsNoShadow) {
+  FlatRoad road(110.0, 1.0);
+  for (int y = 0; y < 2 * kBandRows; ++y)
+    for (int x = kFlatWidth / 5; x < 4 * kFlatWidth / 5; ++x)
+      road.px[static_cast<std::size_t>(y * kFlatWidth + x)] = 25;
+  float frame = 0.0f;
+  const std::vector<float> t = row_thresholds(road, frame);
+  EXPECT_FLOAT_EQ(frame, kConfiguredContrast);
+  for (std::size_t r = 0; r < t.size(); ++r) EXPECT_FLOAT_EQ(t[r], kConfiguredContrast) << "row " << road.rows[r].y;
+}
+
+// A band brighter than a dim frame (pale concrete under a dusk sky) keeps the frame's
+// threshold: a band only ever lowers it, so a dim picture's faint paint is not lost on
+// its brighter rows.
+TEST(BandContrastThreshold, ABrightBandInADimPictureKeepsTheFramesThreshold) {
+  FlatRoad road(35.0, 0.2);
+  shade_rows(road, 0, 2 * kBandRows, 80.0, 0.2);
+  float frame = 0.0f;
+  const std::vector<float> t = row_thresholds(road, frame);
+  EXPECT_NEAR(frame, static_cast<float>(35.0 / kDaylightRoadLevel) * kConfiguredContrast, 0.1f);
+  for (std::size_t r = 0; r < t.size(); ++r) EXPECT_FLOAT_EQ(t[r], frame) << "row " << road.rows[r].y;
 }
 
 TEST(FrameContrastThreshold, NoRowsKeepTheConfiguredContrast) {
