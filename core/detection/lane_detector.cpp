@@ -613,9 +613,16 @@ int LaneDetector::scan(const ImageView& image, const CameraPose& pose, double cu
                                       static_cast<float>(config_.min_contrast), scale, row_contrast_);
   const int capacity = static_cast<int>(marks_.size());
   int count = 0;
+  scanner_.clear_edges();
   for (int r = 0; r < num_rows_ && count < capacity; ++r)
     count = scanner_.scan(image, rows_[static_cast<std::size_t>(r)], r, row_contrast_[static_cast<std::size_t>(r)],
                           1.0f / scale, marks_.data(), count, capacity);
+  // The step test as far out as the picture's blur needs (a blurred edge's ramp is no step).
+  if (const int offset = scanner_.step_window_offset(); offset > 0)
+    for (int i = 0; i < count; ++i) {
+      MarkCandidate& c = marks_[static_cast<std::size_t>(i)];
+      c.step_beside = (c.step_beside_at >> offset) & 1;
+    }
   return count;
 }
 

@@ -30,6 +30,11 @@ struct MarkCandidate {
   // a dash's end, a raised marker's shadow): its edges may be pulled by up to half the
   // filter's width.
   bool step_beside = false;
+  // The step test read with its windows 0, 1 and 2 pixels farther from the bar's edges
+  // (bit k: a step beside at k pixels): a blurred picture's edges ramp over more pixels
+  // than the test's window allows for, and the frame's measured blur says which to take
+  // (MarkScanner::step_window_offset).
+  std::uint8_t step_beside_at = 0;
   // A bar with such a step that is neither a dot nor yellow paint: its edges may be
   // pulled, and barrier feet, kerbs and slab edges look so, so it founds no line of its
   // own and joins none the road's lines are found by. A line one lane beyond them may

@@ -169,8 +169,32 @@ MarkScanner::MarkScanner(int max_width)
       extrema_(static_cast<std::size_t>(max_width) + kFlagWord),
       rising_(static_cast<std::size_t>(max_width)),
       falling_(static_cast<std::size_t>(max_width)),
+      edge_ramps_(kMaxEdgeRamps),
       dots_(max_width) {
   assert(max_width < (1 << 15) && "prefix sums of 16-bit pixels are 32-bit");
+}
+
+template <typename Pixel>
+void MarkScanner::add_edge_ramps(const Pixel* row, int width, int ia, int ib, float left_contrast,
+                                 float right_contrast) {
+  // The steepest one-pixel rise within two pixels of each edge.
+  std::int32_t rise = 0, fall = 0;
+  for (int x = std::max(ia - 2, 0); x <= std::min(ia + 2, width - 2); ++x)
+    rise = std::max<std::int32_t>(rise, static_cast<std::int32_t>(row[x + 1]) - static_cast<std::int32_t>(row[x]));
+  for (int x = std::max(ib - 2, 0); x <= std::min(ib + 2, width - 2); ++x)
+    fall = std::max<std::int32_t>(fall, static_cast<std::int32_t>(row[x]) - static_cast<std::int32_t>(row[x + 1]));
+  if (rise <= 0 || fall <= 0 || num_edge_ramps_ + 2 > kMaxEdgeRamps) return;
+  edge_ramps_[static_cast<std::size_t>(num_edge_ramps_++)] = left_contrast / static_cast<float>(rise);
+  edge_ramps_[static_cast<std::size_t>(num_edge_ramps_++)] = right_contrast / static_cast<float>(fall);
+}
+
+int MarkScanner::step_window_offset() {
+  if (num_edge_ramps_ < kMinRampEdges) return 0;
+  const auto begin = edge_ramps_.begin(), end = begin + num_edge_ramps_, middle = begin + num_edge_ramps_ / 2;
+  std::nth_element(begin, middle, end);
+  const double sigma = static_cast<double>(*middle) / std::sqrt(2.0 * std::acos(-1.0));
+  return std::clamp(static_cast<int>(std::lround(kRampPerSigma * (sigma - kSharpEdgeSigmaPx))), 0,
+                    kMaxStepWindowOffset);
 }
 
 int MarkScanner::scan(const ImageView& image, const ScanRow& r, int scan_row_index, float min_contrast, float to_8bit,
@@ -271,11 +295,19 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     // detector drops it rather than hand the solver a biased pick, unless it is a dot
     // (a raised marker's own shadow is such a step, and a dot is narrower than the bias).
     // Contrast markings' black borders are such steps on both sides (between_black_borders).
-    const Flank beside_left{mean(ia - h, ia - 1), mean(ia - 2 * h, ia - h - 1)};
-    const Flank beside_right{mean(ib + 2, ib + 1 + h), mean(ib + 2 + h, ib + 1 + 2 * h)};
-    const bool step_beside = (beside_left.steps(inside) || beside_right.steps(inside)) &&
-                             !between_black_borders(row, width, ia - 1, ib + 2, beside_left, beside_right, inside,
-                                                    min_contrast, r.min_border_px, 4 * h);
+    // Read at the edge and 1 and 2 pixels farther out: the frame's blur picks one.
+    std::uint8_t step_beside_at = 0;
+    for (int k = 0; k <= kMaxStepWindowOffset; ++k) {
+      const int l = ia - k, rr = ib + k;
+      const Flank beside_left{mean(l - h, l - 1), mean(l - 2 * h, l - h - 1)};
+      const Flank beside_right{mean(rr + 2, rr + 1 + h), mean(rr + 2 + h, rr + 1 + 2 * h)};
+      const bool steps = (beside_left.steps(inside) || beside_right.steps(inside)) &&
+                         !between_black_borders(row, width, l - 1, rr + 2, beside_left, beside_right, inside,
+                                                min_contrast, r.min_border_px, 4 * h);
+      step_beside_at |= static_cast<std::uint8_t>(steps << k);
+    }
+    if (w >= kMinRampBarPx && inside - left >= 2.0f * min_contrast && inside - right >= 2.0f * min_contrast)
+      add_edge_ramps(row, width, ia, ib, inside - left, inside - right);
     // The bar's own width: its area above the sides over its peak. Edge distance alone
     // cannot tell a thin bright line (a crack, a wire) from a mark, because the box
     // derivative spreads a thin line's edges to the box's width.
@@ -294,7 +326,8 @@ int MarkScanner::scan_row(const Pixel* full_row, int x_begin, int x_end, const S
     c.py = r.y + 1.0;
     c.contrast = static_cast<double>((inside - std::max(left, right)) * to_8bit);
     c.scan_row = static_cast<std::int16_t>(scan_row_index);
-    c.step_beside = step_beside;
+    c.step_beside_at = step_beside_at;
+    c.step_beside = step_beside_at & 1;
     c.narrow = w < r.min_width_px || bar_width < r.min_width_px;
   }
   count =

@@ -150,6 +150,58 @@ TEST(MarkScanner, PaintBetweenBlackBordersIsNoBarBesideAStep) {
   for (const Row* row : {&left_only, &joints, &shallow}) EXPECT_TRUE(one_bar(*row).step_beside);
 }
 
+// A blurred picture's edges ramp over more pixels than the step test's window allows
+// for: the ramp is no step, and the bars' centres are unbiased (it is the same on both
+// sides). The scanner measures the blur from its clear bars' edges (contrast over the
+// steepest one-pixel rise, sigma sqrt(2 pi) for a Gaussian-blurred step), here a near
+// dash's 16 px, and reads the step test past the ramp; a picture as sharp as a camera's
+// own edges keeps it at the edge, and a real step beside a blurred bar is still one.
+TEST(MarkScanner, ABlurredEdgesRampIsNoStepBesideIt) {
+  // The blurred picture's sigma, 2.2 px, measures about 2.1 (a near dash's inside mean
+  // is a little below its plateau): one pixel past the edge, 1.5 x (2.1 - 1.36). A
+  // shadow's border 5 px past a far bar's edge lies inside the window read there (h = 2:
+  // pixels 3-6 past it).
+  constexpr double kSigmaPx = 2.2, kShadowPx = 5.0;
+  struct Scanned {
+    std::vector<MarkCandidate> far;  // the 5 px bars' (every other row)
+    int offset = -1;
+  };
+  const auto scan_rows = [&](double sigma, bool shadow_beside) {
+    MarkScanner scanner(200);
+    std::vector<MarkCandidate> out(64);
+    scanner.clear_edges();
+    Scanned s;
+    for (int k = 0; k < 12; ++k) {  // rows of one picture: near and far bars, at other sub-pixel places
+      const bool near = k % 2 == 0;
+      const double width = near ? 16.0 : 5.0, left = 60.0 + 0.17 * k;
+      Row row;
+      row.bar(left, left + width, 200.0);
+      if (shadow_beside && !near) row.bar(left + width + kShadowPx, 200.0, 20.0);  // the road darker from there
+      row.blur(sigma);
+      const std::vector<std::uint8_t> pixels = row.bytes8();
+      const int n = scanner.scan(ImageView{pixels.data(), 200, 3, 200, PixelFormat::mono8, 8},
+                                 row_for(near ? 16.0f : 4.0f), k, 10.0f, 1.0f, out.data(), 0, 64);
+      if (!near && n == 1) s.far.push_back(out[0]);
+    }
+    s.offset = scanner.step_window_offset();
+    return s;
+  };
+  const Scanned sharp = scan_rows(0.7, false), blurred = scan_rows(kSigmaPx, false),
+                shadowed = scan_rows(kSigmaPx, true);
+  ASSERT_EQ(sharp.far.size(), 6u);
+  ASSERT_EQ(blurred.far.size(), 6u);
+  ASSERT_EQ(shadowed.far.size(), 6u);
+  EXPECT_EQ(sharp.offset, 0);
+  EXPECT_EQ(blurred.offset, 1);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_FALSE(sharp.far[i].step_beside) << i;
+    EXPECT_TRUE(blurred.far[i].step_beside_at & 1) << i << ": the ramp reaches the window at the edge";
+    EXPECT_FALSE((blurred.far[i].step_beside_at >> blurred.offset) & 1) << i;
+    EXPECT_NEAR(blurred.far[i].px(), 62.5 + 0.17 * static_cast<double>(2 * i + 1) + 1.0, 0.1) << i;
+    EXPECT_TRUE((shadowed.far[i].step_beside_at >> blurred.offset) & 1) << i << ": a shadow's border is a step";
+  }
+}
+
 TEST(MarkScanner, SixteenBitRowsGiveTheSameBars) {
   Row row;
   row.bar(70.4, 75.9, 210);

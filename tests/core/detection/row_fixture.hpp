@@ -22,6 +22,22 @@ struct Row {
       value[static_cast<std::size_t>(x)] += cover * (level - 80.0);
     }
   }
+  // A camera's optics: the row convolved with a Gaussian of `sigma` pixels (its ends
+  // extended).
+  void blur(double sigma) {
+    const int reach = static_cast<int>(std::ceil(4.0 * sigma));
+    std::vector<double> out(value.size());
+    for (int x = 0; x < 200; ++x) {
+      double sum = 0.0, weight = 0.0;
+      for (int k = -reach; k <= reach; ++k) {
+        const double w = std::exp(-0.5 * k * k / (sigma * sigma));
+        sum += w * value[static_cast<std::size_t>(std::clamp(x + k, 0, 199))];
+        weight += w;
+      }
+      out[static_cast<std::size_t>(x)] = sum / weight;
+    }
+    value = out;
+  }
   void noise(double sigma, unsigned seed) {
     std::mt19937 rng(seed);
     std::normal_distribution<double> n(0.0, sigma);
