@@ -26,7 +26,7 @@ float frame_contrast_threshold(const ImageView& image, std::span<const ScanRow> 
 // texture. row_thresholds[r] (one per row) gets the lower of the frame's threshold and
 // its band's, from the band's own level and noise; a band is never held above the
 // frame's (a band of pale concrete in a dim picture). The band's level is its upper
-// quartile, not its median: a car's back fills a third of a far band's road. Returns the
+// quartile, not its median: a car's back fills much of a far band's road. Returns the
 // frame's threshold, as frame_contrast_threshold does.
 float contrast_thresholds(const ImageView& image, std::span<const ScanRow> rows, float min_contrast,
                           float levels_per_grey, std::span<float> row_thresholds);
