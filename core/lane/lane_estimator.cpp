@@ -54,7 +54,7 @@ CameraPose LaneEstimator::nominal_pose() const {
 }
 
 void LaneEstimator::reset_lines() {
-  have_last_ = track_had_lane_ = false;
+  have_last_ = track_had_lane_ = have_lane_pose_ = false;
   misses_ = 0;
   without_lane_ = 0;
   last_pose_ = nominal_pose();
@@ -478,6 +478,16 @@ LaneEstimator::Attempt LaneEstimator::look_afresh(const ImageView& image, const 
     }
   }
   tracker_ = tracked;
+  // Then as tracked, from the pose the last frame's lane was found from: a solve's pose
+  // is not always one its own lane is found again from, while the pose before it was
+  // (held still 43's right line, a near piece of 3 m, was found on every second frame:
+  // each solve with it gave a pose that missed it, each without one that found it).
+  if (have_lane_pose_) {
+    detection_pose_ = lane_found_from_;
+    detection_pose_.H_mm = tracked_from.H_mm;
+    const Attempt again = attempt(image, gyro);
+    if (again.why == EstimateFailure::none && supported(*again.solve, vehicle) != Found::nothing) return again;
+  }
   detection_pose_ = tracked_from;
   return attempt(image, gyro);
 }
@@ -496,6 +506,10 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
                                   mount_.height_settled());
   // The mount's height learns from widths at its own scale (a cold start may have looked
   // from another: height_scale).
+  if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none) {
+    lane_found_from_ = detection_pose_;  // the fit's buffers are the last attempt's, this solve's
+    have_lane_pose_ = true;
+  }
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)
     rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm * mount_.height_mm() / r.pose.H_mm);
 }

@@ -198,6 +198,10 @@ class LaneEstimator {
   // where a lost lane is looked for once more before a search (look_afresh).
   CameraPose search_found_from_;
   bool have_search_pose_ = false;
+  // The pose the last frame with a lane was detected from (the one before its solve):
+  // where a tracked frame that loses its lane looks once more (look_afresh).
+  CameraPose lane_found_from_;
+  bool have_lane_pose_ = false;
 
   // The search without a previous frame (docs/real-roads.md).
   VanishingLineFinder line_finder_;
