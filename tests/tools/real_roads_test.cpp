@@ -78,12 +78,23 @@ double share_floor(double reached, int n) {
   return reached - 3.0 * std::sqrt(p * (1.0 - p) / n);
 }
 
+// A drive's figures when its floors were set: frames, the share ok, the width's sd.
+struct DriveReached {
+  const char* file;
+  int frames;
+  double ok_reached, width_sd_reached;
+};
+
+// Its replay against them: the share ok and the width's sd within their spread, every
+// frame replayed, and no warning (the car keeps its lane: a warning is never right).
+void expect_drive_floors(const DriveFigures& f, const DriveReached& c) {
+  EXPECT_EQ(f.frames, c.frames) << c.file;
+  EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;
+  EXPECT_LE(f.width_sd, c.width_sd_reached * (1.0 + 3.0 / std::sqrt(2.0 * f.ok))) << c.file;
+  EXPECT_EQ(f.warnings, 0) << c.file << ": the car keeps its lane: a warning is never right";
+}
+
 TEST(RealRoads, UdacityDrivesFromTheirVideos) {
-  struct Case {
-    const char* file;
-    int frames;
-    double ok_reached, width_sd_reached;
-  };
   // Reached when the floors were set (nominal camera.toml, mount unknown; the search's
   // pose from the lines of bars and heights a step either side; yellow bars kept despite
   // their colour bled beside them; lines along the road's direction, scatter up to 1.1
@@ -91,13 +102,10 @@ TEST(RealRoads, UdacityDrivesFromTheirVideos) {
   // prior on the own lane's lines; a line's consensus weighted by its marks' contrast):
   // segA 210 of 211 ok, width sd 1.55 % of its mean (1.91 % before the weighting); segB
   // 185 of 186, 2.05 % (2.09 %).
-  for (const Case& c : {Case{"project_video_segA.mp4", 211, 210.0 / 211, 0.0155},
-                        Case{"project_video_segB.mp4", 186, 185.0 / 186, 0.0205}}) {
+  for (const DriveReached& c : {DriveReached{"project_video_segA.mp4", 211, 210.0 / 211, 0.0155},
+                                DriveReached{"project_video_segB.mp4", 186, 185.0 / 186, 0.0205}}) {
     const DriveFigures f = replay_drive(kData + "/udacity-drives/" + c.file);
-    EXPECT_EQ(f.frames, c.frames) << c.file;
-    EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;
-    EXPECT_LE(f.width_sd, c.width_sd_reached * (1.0 + 3.0 / std::sqrt(2.0 * f.ok))) << c.file;
-    EXPECT_EQ(f.warnings, 0) << c.file << ": the car keeps its lane: a warning is never right";
+    expect_drive_floors(f, c);
     // The camera is yawed 1.4 degrees on the car (calibrate mount), which the configured
     // mount (0) does not know: read as a heading, that was 0.44-0.48 m/s of drift the
     // offsets never showed. The lane filter's lateral velocity is the offsets' own drift,
@@ -112,19 +120,9 @@ TEST(RealRoads, UdacityDrivesFromTheirVideos) {
 // the test past the ramp (MarkScanner::step_window_offset): 207 and 179 when the floors
 // were set, width sd 1.6 and 2.0 % of the mean, no warning.
 TEST(RealRoads, UdacityDrivesBlurredAsASofterCameraWouldGiveThem) {
-  struct Case {
-    const char* file;
-    int frames;
-    double ok_reached, width_sd_reached;
-  };
-  for (const Case& c : {Case{"project_video_segA.mp4", 211, 207.0 / 211, 0.0160},
-                        Case{"project_video_segB.mp4", 186, 179.0 / 186, 0.0200}}) {
-    const DriveFigures f = replay_drive(kData + "/udacity-drives/" + c.file, "blur=1.5");
-    EXPECT_EQ(f.frames, c.frames) << c.file;
-    EXPECT_GE(static_cast<double>(f.ok) / f.frames, share_floor(c.ok_reached, c.frames)) << c.file;
-    EXPECT_LE(f.width_sd, c.width_sd_reached * (1.0 + 3.0 / std::sqrt(2.0 * f.ok))) << c.file;
-    EXPECT_EQ(f.warnings, 0) << c.file << ": the car keeps its lane: a warning is never right";
-  }
+  for (const DriveReached& c : {DriveReached{"project_video_segA.mp4", 211, 207.0 / 211, 0.0160},
+                                DriveReached{"project_video_segB.mp4", 186, 179.0 / 186, 0.0200}})
+    expect_drive_floors(replay_drive(kData + "/udacity-drives/" + c.file, "blur=1.5"), c);
 }
 
 // A camera at 5 frames/s, or a daemon that drops four frames in five under load: the
