@@ -507,11 +507,10 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
   // The mount's height learns from widths at its own scale (a cold start may have looked
   // from another: height_scale).
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none) {
+    rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm * mount_.height_mm() / r.pose.H_mm);
     lane_found_from_ = detection_pose_;  // the fit's buffers are the last attempt's, this solve's
     have_lane_pose_ = true;
   }
-  if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none)
-    rescaled_ = mount_.acquire(r.pose.attitude, tracked_.metrics.lane_width_mm * mount_.height_mm() / r.pose.H_mm);
 }
 
 void LaneEstimator::warn(const FrameInputs& in) {
