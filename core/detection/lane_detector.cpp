@@ -150,6 +150,7 @@ LaneDetector::LaneDetector(const CameraSpec& camera, const DetectionConfig& conf
       grouper_(static_cast<int>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       picture_line_(camera),
       rows_(static_cast<std::size_t>(camera.Nv)),
+      row_share_(static_cast<std::size_t>(camera.Nv)),
       row_contrast_(static_cast<std::size_t>(camera.Nv)),
       marks_(static_cast<std::size_t>(std::min(camera.Nv, kMaxScanRows)) * kCandidatesPerPixelRow),
       joints_(marks_.size()),
@@ -638,7 +639,11 @@ bool LaneDetector::on_the_road(MarkCandidate& c) const {
 std::span<const MarkCandidate> LaneDetector::bars(const ImageView& image, const CameraPose& pose) {
   if (image.empty() || image.width != camera_.Nu || image.height != camera_.Nv) return {};
   // No joints: the vanishing point is found from the lines of paint and markers.
-  return {marks_.data(), static_cast<std::size_t>(scan(image, pose, 0.0, false))};
+  const int count = scan(image, pose, 0.0, false);
+  const float configured = static_cast<float>(config_.min_contrast) * paint_measure_levels_per_grey(image);
+  for (int r = 0; r < num_rows_; ++r)
+    row_share_[static_cast<std::size_t>(r)] = row_contrast_[static_cast<std::size_t>(r)] / configured;
+  return {marks_.data(), static_cast<std::size_t>(count)};
 }
 
 int LaneDetector::add_line_in_picture(const ImageView& image, const CameraPose& pose, std::span<const RoadLine> tracked,

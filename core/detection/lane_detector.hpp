@@ -62,6 +62,12 @@ class LaneDetector {
   // off): for the vanishing point of a search (vanishing_lines.hpp). Their px, py,
   // widths and contrast are set, nothing else. Valid until the next call.
   std::span<const MarkCandidate> bars(const ImageView& image, const CameraPose& pose);
+  // The last scan's contrast threshold on each scan row (a bar's scan_row indexes it) as
+  // a share of the configured one: the light of the bar's band of rows, 1 in daylight
+  // (contrast_threshold.hpp). Valid until the next scan.
+  std::span<const float> row_threshold_shares() const {
+    return {row_share_.data(), static_cast<std::size_t>(num_rows_)};
+  }
 
   int max_picks() const { return config_.max_picks; }
   int max_candidates() const { return static_cast<int>(marks_.size()); }
@@ -148,6 +154,7 @@ class LaneDetector {
   LineGrouper grouper_;
   PictureLineSearch picture_line_;
   std::vector<ScanRow> rows_;
+  std::vector<float> row_share_;     // row_contrast_ over the configured threshold (bars())
   std::vector<float> row_contrast_;  // per scan row: its band's threshold, or the frame's where lower
   int num_rows_ = 0;
   std::vector<MarkCandidate> marks_;

@@ -202,7 +202,7 @@ void VanishingLineFinder::choose_point(const VanishingPoint& region) {
   result_.found = left >= kMinSideWeight && right >= kMinSideWeight;
 }
 
-void VanishingLineFinder::add(std::span<const MarkCandidate> bars) {
+void VanishingLineFinder::add(std::span<const MarkCandidate> bars, std::span<const float> row_shares) {
   for (const MarkCandidate& m : bars) {
     if (n_ >= static_cast<int>(ix_.size())) return;
     const auto i = static_cast<std::size_t>(n_++);
@@ -211,7 +211,13 @@ void VanishingLineFinder::add(std::span<const MarkCandidate> bars) {
     const double s = den > 0.0 ? 1.0 / den : 1.0;
     ix_[i] = camera_.cx + dx * s;
     iy_[i] = camera_.cy + dy * s;
-    contrast_w_[i] = std::min(kMaxBarWeight, static_cast<float>(m.contrast / kContrastUnit));
+    // Paint in a dim picture or a shadow stands above its road by the light's share of
+    // daylight's contrast, as its threshold does: weighed in grey levels, a dim road's
+    // lines fell short of a line's votes while a car's lit edge did not (a TuSimple still
+    // at a third of its light took a car's edge for a lane line).
+    const auto row = static_cast<std::size_t>(m.scan_row);
+    const double share = row < row_shares.size() && row_shares[row] > 0.0f ? static_cast<double>(row_shares[row]) : 1.0;
+    contrast_w_[i] = std::min(kMaxBarWeight, static_cast<float>(m.contrast / (kContrastUnit * share)));
   }
 }
 

@@ -39,9 +39,11 @@ class VanishingLineFinder {
   VanishingLineFinder(const CameraSpec& camera, int max_bars, const VanishingPointSearch& search = {});
 
   // Forgets the bars added; then add() the bars of one or more scans (their px, py:
-  // observed 1-based pixels; beyond max_bars they are left out).
+  // observed 1-based pixels; beyond max_bars they are left out). A bar weighs by its
+  // contrast in units of its light: `row_shares[scan_row]` is the share of daylight's
+  // contrast threshold its scan row had (LaneDetector::row_threshold_shares; none: 1).
   void clear() { n_ = 0; }
-  void add(std::span<const MarkCandidate> bars);
+  void add(std::span<const MarkCandidate> bars, std::span<const float> row_shares = {});
   // The vanishing point of the straight lines the bars added make, for a camera mounted
   // near `nominal` (yaw and pitch within the search's bounds). The result stays valid
   // until the next call; `lines()` are the lines it was found from.

@@ -241,7 +241,7 @@ std::optional<Attitude> LaneEstimator::attitude_from_picture(const ImageView& im
   for (const double pitch : {0.0, kSearchPitchErrorDeg}) {
     CameraPose scan = base;
     scan.attitude.theta += deg_to_rad(pitch);
-    line_finder_.add(detector_.bars(image, scan));
+    line_finder_.add(detector_.bars(image, scan), detector_.row_threshold_shares());
     vanishing_point_ = &line_finder_.find(base);
     if (vanishing_point_->found) break;
   }

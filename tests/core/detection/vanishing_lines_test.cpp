@@ -4,6 +4,7 @@
 #include "core/detection/vanishing_lines.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -94,6 +95,47 @@ TEST(VanishingLineFinder, LinesRunningOnFarAboveTheirCrossingMakeNoPoint) {
   ASSERT_TRUE(vp.found);
   EXPECT_NEAR(vp.x, vx - 60.0, 1.0);
   EXPECT_NEAR(vp.y, vy + 80.0, 1.0);
+}
+
+// Paint on a road in a third of daylight stands a third as far above it, and the
+// row's contrast threshold is a third of daylight's (contrast_threshold.hpp). Weighed
+// in grey levels, a dim road's lines fell short of a line's votes while a car's lit
+// edge did not (a TuSimple still at a third of its light took a car's edge for a lane
+// line). Weighed in units of their rows' light, they count as in daylight.
+TEST(VanishingLineFinder, ADimRoadsLinesCountAsInDaylight) {
+  const CameraSpec camera = plain_camera();
+  const CameraPose nominal = default_config().nominal_pose();
+  VanishingLineFinder finder(camera, 4096);
+  double vx = 0, vy = 0;
+  ASSERT_TRUE(GroundProjector(camera, nominal).vanishing_point(0.0, vx, vy));
+  constexpr double kShare = 0.3;
+  const auto two_short_lines = [&](double contrast) {
+    std::vector<MarkCandidate> bars;
+    for (const double slope : {-1.2, 1.2})
+      for (int k = 0; k < 8; ++k) {  // 8 bars over 56 rows: a line's fewest bars and rows, and some
+        const double y = vy + 120.0 + 8.0 * k;
+        bars.push_back(bar(vx + slope * (y - vy), y, contrast));
+        bars.back().scan_row = static_cast<std::int16_t>(bars.size() - 1);
+      }
+    return bars;
+  };
+  const std::vector<MarkCandidate> daylight = two_short_lines(40.0), dim = two_short_lines(40.0 * kShare);
+  const std::vector<float> dim_rows(dim.size(), static_cast<float>(kShare));
+  finder.add(daylight);
+  const VanishingPoint in_daylight = finder.find(nominal);
+  ASSERT_TRUE(in_daylight.found);
+  EXPECT_NEAR(in_daylight.x, vx, 0.5);
+  EXPECT_NEAR(in_daylight.y, vy, 0.5);
+  finder.clear();
+  finder.add(dim);
+  EXPECT_FALSE(finder.find(nominal).found) << "as grey levels, the dim lines are too faint";
+  finder.clear();
+  finder.add(dim, dim_rows);
+  const VanishingPoint& in_dim_light = finder.find(nominal);
+  ASSERT_TRUE(in_dim_light.found);
+  EXPECT_NEAR(in_dim_light.x, in_daylight.x, 1e-6);
+  EXPECT_NEAR(in_dim_light.y, in_daylight.y, 1e-6);
+  EXPECT_NEAR(in_dim_light.strength, in_daylight.strength, 1e-6);
 }
 
 TEST(VanishingLineFinder, ClutterAloneMakesNoPointAndFindingAllocatesNothing) {
