@@ -194,8 +194,13 @@ void read_camera(TableReader& r, Config& c) {
           "a cell cannot be as wide as the chip (U_mm = " + format_number(cam.U_mm) + ")");
   require(cam.Vc_mm < cam.V_mm, r, "Vc_mm",
           "a cell cannot be as tall as the chip (V_mm = " + format_number(cam.V_mm) + ")");
-  require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + 1e-9), r, "Nu", "Nu cells of Uc_mm do not fit on a chip U_mm wide");
-  require(cam.Vc_mm * cam.Nv <= cam.V_mm * (1.0 + 1e-9), r, "Nv", "Nv cells of Vc_mm do not fit on a chip V_mm tall");
+  // A cell size from a data sheet is rounded (1920 cells of 2.667 um on a 5.12 mm chip
+  // are 5.1206 mm): a thousandth is rounding to four figures, more is a wrong number.
+  constexpr double kRoundedCellSize = 1e-3;
+  require(cam.Uc_mm * cam.Nu <= cam.U_mm * (1.0 + kRoundedCellSize), r, "Nu",
+          "Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  require(cam.Vc_mm * cam.Nv <= cam.V_mm * (1.0 + kRoundedCellSize), r, "Nv",
+          "Nv cells of Vc_mm do not fit on a chip V_mm tall");
   require(c.f_mm > 0.0, r, "f_mm", "must be > 0, got " + format_number(c.f_mm));
   if (!has_cx) cam.cx = CameraSpec::default_cx(cam.Nu);
   if (!has_cy) cam.cy = CameraSpec::default_cy(cam.Nv);

@@ -143,6 +143,15 @@ TEST(ConfigLoader, ImpossibleValues) {
             "test.toml:2: camera.Uc_mm: a cell cannot be as wide as the chip (U_mm = 6.4)");
   EXPECT_EQ(error_of("[camera]\nNu = 8000\n"),
             "test.toml:2: camera.Nu: Nu cells of Uc_mm do not fit on a chip U_mm wide");
+  // A data sheet's cell size rounded to four figures fits; one a cell too many does not.
+  EXPECT_EQ(
+      error_of(
+          "[camera]\nU_mm = 5.12\nV_mm = 2.88\nUc_mm = 0.002667\nVc_mm = 0.002667\nNu = 1920\nNv = 1080\nk_px2 = 0\n"),
+      "(no error)");
+  EXPECT_EQ(
+      error_of(
+          "[camera]\nU_mm = 5.12\nV_mm = 2.88\nUc_mm = 0.002667\nVc_mm = 0.002667\nNu = 1922\nNv = 1080\nk_px2 = 0\n"),
+      "test.toml:6: camera.Nu: Nu cells of Uc_mm do not fit on a chip U_mm wide");
   EXPECT_EQ(error_of("[mount]\nH_mm = 0\n"),
             "test.toml:2: mount.H_mm: the camera must be above the road (H_mm > 0), got 0");
   EXPECT_EQ(error_of("[solver]\nmode = \"fast\"\n"),
