@@ -25,6 +25,12 @@ constexpr double kContrastUnit = 20.0;     // grey levels of one unit of weight
 constexpr double kPointTolerancePx = 6.0;  // a line passes through a point this near it
 constexpr double kChanceSigmas = 4.0;
 constexpr double kBesidePx = 40.0;
+// A line's least rows and its way below the point (kMinRowSpan, kBelowPointPx) are angles
+// of view, set on pictures of this focal length in pixels (TuSimple's 1280x720 camera,
+// 1154 px), and scale with a camera's: at 1920x1080 a car's edge 41 rows long (27 at
+// 1280x720) made a line and moved the point 40 px. What the bars' sub-pixel scatter
+// bounds (the vote's bins, a bar on a line, a line through the point) does not scale.
+constexpr double kReferenceFocalPx = 1150.0;
 constexpr float kBarsPerRow = 6.0f;
 // A line runs to a point above it: its bars reach at least this far below the point, and
 // at most this share of the rows they span lie above it (a few bars beyond it are the
@@ -107,7 +113,7 @@ bool VanishingLineFinder::fit_line(int bi, int bj, BarLine& out) {
       top = std::min(top, iy_[static_cast<std::size_t>(i)]);
       bottom = std::max(bottom, iy_[static_cast<std::size_t>(i)]);
     }
-    if (count < kMinBars || bottom - top < kMinRowSpan) return false;
+    if (count < kMinBars || bottom - top < kMinRowSpan * angle_px_) return false;
     if (pass > 0 && count < chance_bars(a, b, top, bottom)) return false;
     const double det = sw * stt - st * st;
     if (!(det > 1e-9 * sw * sw)) return false;
@@ -147,8 +153,8 @@ std::size_t VanishingLineFinder::row_of(int i) const {
   return static_cast<std::size_t>(std::clamp(static_cast<int>(iy_[static_cast<std::size_t>(i)]), 0, camera_.Nv - 1));
 }
 
-bool VanishingLineFinder::below(const BarLine& l, double y) {
-  return l.y_bottom >= y + kBelowPointPx && y - l.y_top <= kMaxShareAbovePoint * (l.y_bottom - l.y_top);
+bool VanishingLineFinder::below(const BarLine& l, double y) const {
+  return l.y_bottom >= y + kBelowPointPx * angle_px_ && y - l.y_top <= kMaxShareAbovePoint * (l.y_bottom - l.y_top);
 }
 
 double VanishingLineFinder::across(const BarLine& l, double x, double y) const {
@@ -224,6 +230,7 @@ void VanishingLineFinder::add(std::span<const MarkCandidate> bars, std::span<con
 const VanishingPoint& VanishingLineFinder::find(const CameraPose& nominal) {
   result_ = VanishingPoint{};
   num_lines_ = 0;
+  angle_px_ = nominal.f_mm / camera_.pitch_u() / kReferenceFocalPx;
   set_search_region(camera_, nominal, search_, result_);
   std::fill(used_.begin(), used_.end(), 0);
   result_.edges = n_;

@@ -67,7 +67,7 @@ class VanishingLineFinder {
   bool fit_line(int bi, int bj, BarLine& out);
   void choose_point(const VanishingPoint& region);
   double across(const BarLine& l, double x, double y) const;  // distance from l, pixels
-  static bool below(const BarLine& l, double y);              // l's bars run below row y, most of them
+  bool below(const BarLine& l, double y) const;               // l's bars run below row y, most of them
   std::size_t row_of(int i) const;                            // bar i's picture row
   double chance_bars(double x_bottom, double slope, double top, double bottom) const;
 
@@ -83,6 +83,7 @@ class VanishingLineFinder {
   std::array<double, kAngleBins> cos_{}, sin_{};
   int x_bins_ = 0;
   double x_lo_ = 0.0, y_bottom_ = 0.0;
+  double angle_px_ = 1.0;  // the camera's focal length in pixels over the reference's (find)
   std::array<BarLine, kMaxLines> lines_{};
   int num_lines_ = 0;
   VanishingPoint result_;

@@ -138,6 +138,49 @@ TEST(VanishingLineFinder, ADimRoadsLinesCountAsInDaylight) {
   EXPECT_NEAR(in_dim_light.strength, in_daylight.strength, 1e-6);
 }
 
+// The same road seen by a camera of 1.5 times the pixels (the same chip and lens, cells a
+// third smaller): two lane lines meeting at the road's point, and a short row of bars
+// over 27 rows (40.5 at 1.5 times: a car's edge, 41 rows long in TuSimple still 53
+// scaled so, took its share of the point and moved it 40 px). A line of bars spans at
+// least an angle of view, so the short row is no line at either size; counted in
+// pixels, it was one at 1.5 times.
+TEST(VanishingLineFinder, ALineSpansTheSameAngleOfViewInACameraOfMorePixels) {
+  CameraSpec camera = plain_camera();  // TuSimple's 1280x720, whose focal length the rules were set at
+  camera.U_mm = 5.12, camera.V_mm = 2.88, camera.Uc_mm = camera.Vc_mm = 0.004;
+  camera.Nu = 1280, camera.Nv = 720, camera.cx = 640.5, camera.cy = 360.5;
+  CameraPose nominal = default_config().nominal_pose();
+  nominal.f_mm = 4.618;
+  double vx = 0, vy = 0;
+  ASSERT_TRUE(GroundProjector(camera, nominal).vanishing_point(0.0, vx, vy));
+  for (const double scale : {1.0, 1.5}) {
+    CameraSpec scaled = camera;
+    scaled.Nu = static_cast<int>(std::lround(camera.Nu * scale));
+    scaled.Nv = static_cast<int>(std::lround(camera.Nv * scale));
+    scaled.Uc_mm = scaled.Vc_mm = camera.Uc_mm / scale;
+    scaled.cx = CameraSpec::default_cx(scaled.Nu);
+    scaled.cy = CameraSpec::default_cy(scaled.Nv);
+    const auto at = [&](double x, double y, double contrast) {
+      return bar(scaled.cx + scale * (x - camera.cx), scaled.cy + scale * (y - camera.cy), contrast);
+    };
+    std::vector<MarkCandidate> bars;
+    for (int y = static_cast<int>(vy) + 60; y < camera.Nv; y += 6) {
+      bars.push_back(at(vx - 1.2 * (y - vy), y, 40.0));
+      bars.push_back(at(vx + 1.2 * (y - vy), y, 40.0));
+    }
+    for (int k = 0; k < 10; ++k) {  // the short row, leaning right, 150 px left of the right line
+      const double y = vy + 200.0 + 3.0 * k;
+      bars.push_back(at(vx - 150.0 + 0.9 * (y - vy), y, 20.0));
+    }
+    VanishingLineFinder finder(scaled, 4096);
+    finder.add(bars);
+    const VanishingPoint& vp = finder.find(nominal);
+    ASSERT_TRUE(vp.found) << scale;
+    EXPECT_EQ(finder.lines().size(), 2u) << scale;
+    EXPECT_NEAR(vp.x, scaled.cx + scale * (vx - camera.cx), 0.5 * scale) << scale;
+    EXPECT_NEAR(vp.y, scaled.cy + scale * (vy - camera.cy), 0.5 * scale) << scale;
+  }
+}
+
 TEST(VanishingLineFinder, ClutterAloneMakesNoPointAndFindingAllocatesNothing) {
   const CameraSpec camera = plain_camera();
   const CameraPose nominal = default_config().nominal_pose();
