@@ -231,7 +231,9 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
       {"light x0.3 noise 3", "light=0.3,noise=3"},
       {"noise 6", "noise=6"},
       {"shade x0.3 near", "shade=0.3"},
-      {"shade x0.3 far", "shade=0.3,shade_top=0.45,shade_bottom=0.6"}};
+      {"shade x0.3 far", "shade=0.3,shade_top=0.45,shade_bottom=0.6"},
+      {"pixels x1.5", "scale=1.5"},
+      {"pixels x0.5", "scale=0.5"}};
   std::set<std::string> rows;
   for (const auto& [name, condition] : conditions) {
     std::string dir_name = "condition_" + condition;

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/geometry/camera_model.hpp"
+
 namespace ccdlane::cli {
 namespace {
 
@@ -33,10 +35,14 @@ std::string parse_error(const std::string& spec) {
 TEST(PictureCondition, ParsesEachKeyAndNamesWhatIsWrong) {
   EXPECT_TRUE(parse_picture_condition("").identity());
   EXPECT_EQ(parse_picture_condition("noise=3,blur=1.5,light=0.3"), (PictureCondition{1.5, 0.3, 3.0}));
-  EXPECT_EQ(parse_error("fog=1"), "fog=1: unknown key fog (blur, light, noise, shade, shade_top, shade_bottom)");
+  EXPECT_EQ(parse_error("fog=1"), "fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom)");
   EXPECT_EQ(parse_error("blur=x"), "blur=x: not a number");
   EXPECT_EQ(parse_error("blur=1px"), "blur=1px: not a number");
-  EXPECT_EQ(parse_error("light"), "light: not key=value (blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
+  EXPECT_EQ(parse_error("light"),
+            "light: not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
+  EXPECT_EQ(parse_error("scale=5"), "scale=5: outside [0.25, 4]");
+  EXPECT_EQ(parse_picture_condition("scale=1.5").scale, 1.5);
+  EXPECT_FALSE(parse_picture_condition("scale=1.5").identity());
   EXPECT_EQ(parse_error("light=0"), "light=0: outside (0, 4]");
   EXPECT_EQ(parse_error("noise=-1"), "noise=-1: outside [0, 20]");
   EXPECT_EQ(parse_error("blur=25"), "blur=25: outside [0, 20]");
@@ -66,6 +72,57 @@ TEST(PictureCondition, ShadeDarkensItsBandOfRowsWithSoftEdges) {
   // Row 99's centre lies half a penumbra's half above the edge: a quarter of the way in.
   EXPECT_EQ(s.row(99)[0], 162);  // 200 x (1 - 0.25 x 0.75) = 162.5, rounded to the even level
   EXPECT_EQ(s.row(100)[0], 88);  // three quarters in: 200 x (1 - 0.75 x 0.75) = 87.5, to the even level
+}
+
+// Another camera's pixel count: a bright stripe over columns 100-109 of a 400x300
+// picture lies over columns 50-54 at half the pixels and 150-164 at 1.5 times, at its
+// level (area-averaged or interpolated, not rung), and the camera that takes such
+// pictures sees every road point where the resize puts its pixel, distortion and all.
+TEST(PictureCondition, ScaleIsACameraOfOtherPixelsOnTheSameChipBehindTheSameLens) {
+  Picture p(400, 300, 1, 40);
+  for (int y = 0; y < 300; ++y)
+    for (int x = 100; x < 110; ++x) p.pixels[static_cast<std::size_t>(y * 400 + x)] = 200;
+  for (const double scale : {0.5, 1.5}) {
+    PictureCondition condition;
+    condition.scale = scale;
+    PictureConditioner c(condition);
+    const ImageView s = c.apply(p.view(), 0);
+    ASSERT_EQ(s.width, static_cast<int>(400 * scale)) << scale;
+    ASSERT_EQ(s.height, static_cast<int>(300 * scale)) << scale;
+    const int first = static_cast<int>(100 * scale), last = static_cast<int>(110 * scale) - 1;
+    const int row = s.height / 2;
+    EXPECT_EQ(s.row(row)[first - 2], 40) << scale;
+    EXPECT_EQ(s.row(row)[(first + last) / 2], 200) << scale;
+    EXPECT_EQ(s.row(row)[last + 2], 40) << scale;
+    for (int x = 0; x < s.width; ++x) {  // no level beyond the picture's own: no ringing
+      EXPECT_GE(s.row(row)[x], 40) << scale << " column " << x;
+      EXPECT_LE(s.row(row)[x], 200) << scale << " column " << x;
+    }
+  }
+  CameraSpec camera;  // the reference camera, its distortion and its principal point off centre
+  camera.k_px2 = -8.3e-7;
+  camera.cx = 397.25;
+  camera.cy = 305.5;
+  CameraPose pose;
+  pose.f_mm = 5.05;
+  pose.H_mm = 1300.0;
+  pose.attitude.theta = 0.03;
+  pose.attitude.psi = 0.01;
+  for (const double scale : {0.5, 1.5, 2.0}) {
+    PictureCondition condition;
+    condition.scale = scale;
+    const CameraSpec taking = camera_taking(condition, camera);
+    EXPECT_EQ(taking.Nu, static_cast<int>(camera.Nu * scale));
+    EXPECT_NEAR(taking.pitch_u(), camera.pitch_u() / scale, 1e-12);
+    EXPECT_NEAR(taking.pitch_v(), camera.pitch_v() / scale, 1e-12);
+    const CameraModel recorded(camera, pose), taken(taking, pose);
+    for (const Vec3& point : {Vec3(6000.0, 3000.0, 0.0), Vec3(12000.0, -1800.0, 0.0), Vec3(40000.0, 0.0, 0.0)}) {
+      const auto a = recorded.pixel_from_point(point), b = taken.pixel_from_point(point);
+      ASSERT_TRUE(a && b);
+      EXPECT_NEAR(b->x(), (a->x() - 0.5) * scale + 0.5, 1e-6) << scale;
+      EXPECT_NEAR(b->y(), (a->y() - 0.5) * scale + 0.5, 1e-6) << scale;
+    }
+  }
 }
 
 TEST(PictureCondition, TheIdentityIsThePictureItself) {

@@ -51,16 +51,20 @@ struct Stats {
   }
 };
 
-// Renders `frames` frames with `synth_args`, replays them with --sigmas, and checks every
-// ok frame against the truth columns.
-void replay_against_truth(const std::vector<std::string>& synth_args, int frames, const std::string& label) {
+// Renders `frames` frames with `synth_args`, replays them with --sigmas (and --condition
+// `condition`), and checks every ok frame against the truth columns. A picture scaled by
+// `pixel_scale` makes its pixel as much smaller: the absolute bounds grow as it shrinks.
+void replay_against_truth(const std::vector<std::string>& synth_args, int frames, const std::string& label,
+                          const std::string& condition = "", double pixel_scale = 1.0) {
   test::TempDir dir;
   std::vector<std::string> synth = {
       kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", std::to_string(frames)};
   synth.insert(synth.end(), synth_args.begin(), synth_args.end());
   const auto s = test::run_process(synth);
   ASSERT_EQ(s.exit_status, 0) << s.err;
-  const auto r = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--sigmas"});
+  std::vector<std::string> replay = {kTool, "replay", kReferenceCamera, dir.file("road"), "--sigmas"};
+  if (!condition.empty()) replay.insert(replay.end(), {"--condition", condition});
+  const auto r = test::run_process(replay);
   ASSERT_EQ(r.exit_status, 0) << r.err;
   const std::vector<Json> out = json_lines(r.out);
   ASSERT_EQ(out.size(), static_cast<std::size_t>(frames));
@@ -116,13 +120,22 @@ void replay_against_truth(const std::vector<std::string>& synth_args, int frames
   std::printf("%s\n%s\n", line, r.err.c_str());
   testing::Test::RecordProperty(label, line);
   // Errors that the solver's sigmas (0.5 px picks) make plausible, in absolute terms too.
-  EXPECT_LT(psi.rms(), 0.05) << label;
-  EXPECT_LT(theta.rms(), 0.05) << label;
-  EXPECT_LT(offset.rms(), 50.0) << label;
+  const double per_pixel = 1.0 / std::min(1.0, pixel_scale);
+  EXPECT_LT(psi.rms(), 0.05 * per_pixel) << label;
+  EXPECT_LT(theta.rms(), 0.05 * per_pixel) << label;
+  EXPECT_LT(offset.rms(), 50.0 * per_pixel) << label;
 }
 
 TEST(ReplayCommand, SynthesisedHighwayWithNoiseAndMildShadows) {
   replay_against_truth({"--noise", "1", "--shadows", "0.3"}, 150, "highway sigma=1 shadows=0.3");
+}
+
+// The same road as a camera of 1.5 times and of half the pixels behind the same lens sees
+// it (--condition scale): the pose and lines come out in the road's terms, against the
+// same truth, within the sigmas of that camera's pixels.
+TEST(ReplayCommand, SynthesisedHighwayFromCamerasOfOtherPixelCounts) {
+  replay_against_truth({"--noise", "1", "--shadows", "0.3"}, 60, "highway, 1.5 times the pixels", "scale=1.5", 1.5);
+  replay_against_truth({"--noise", "1", "--shadows", "0.3"}, 60, "highway, half the pixels", "scale=0.5", 0.5);
 }
 
 TEST(ReplayCommand, SynthesisedLaneChangeOnABendWithBlur) {
@@ -499,8 +512,9 @@ TEST(ReplayCommand, ConditionReplaysThePicturesAsAnotherLightWouldGiveThem) {
   const auto bad = test::run_process({kTool, "replay", kReferenceCamera, dir.file("road"), "--out",
                                       dir.file("bad.jsonl"), "--condition", "light=0.5,fog=1"});
   EXPECT_EQ(bad.exit_status, 2);
-  EXPECT_EQ(bad.err,
-            "ccdlane: --condition fog=1: unknown key fog (blur, light, noise, shade, shade_top, shade_bottom)\n");
+  EXPECT_EQ(
+      bad.err,
+      "ccdlane: --condition fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom)\n");
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad.jsonl")));
 }
 

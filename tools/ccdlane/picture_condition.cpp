@@ -42,6 +42,9 @@ int cv_type(PixelFormat format) {
   return CV_8UC1;
 }
 
+// A side of n pixels resized by `scale`.
+int scaled_side(int n, double scale) { return std::max(2, static_cast<int>(std::lround(n * scale))); }
+
 // The shadow of a bridge across the picture (PictureCondition::shade).
 void shade_rows(const PictureCondition& condition, cv::Mat& levels) {
   // Full shadow between the band's edges, full light beyond them, a linear ramp across
@@ -65,10 +68,14 @@ PictureCondition parse_picture_condition(const std::string& spec) {
     if (part.empty()) continue;
     const std::size_t eq = part.find('=');
     if (eq == std::string::npos)
-      throw std::invalid_argument(part + ": not key=value (blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
+      throw std::invalid_argument(part +
+                                  ": not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
     const std::string key = part.substr(0, eq);
     const double value = parse_number(key, part.substr(eq + 1));
-    if (key == "blur") {
+    if (key == "scale") {
+      check_range(key, value, 0.25, false, 4.0);
+      c.scale = value;
+    } else if (key == "blur") {
       check_range(key, value, 0.0, false, 20.0);
       c.blur_px = value;
     } else if (key == "light") {
@@ -85,11 +92,28 @@ PictureCondition parse_picture_condition(const std::string& spec) {
       (key == "shade_top" ? c.shade_top : c.shade_bottom) = value;
     } else {
       throw std::invalid_argument(part + ": unknown key " + key +
-                                  " (blur, light, noise, shade, shade_top, shade_bottom)");
+                                  " (scale, blur, light, noise, shade, shade_top, shade_bottom)");
     }
   }
   if (!(c.shade_top < c.shade_bottom))
     throw std::invalid_argument(spec + ": shade_top must lie above shade_bottom (shares of the height from the top)");
+  return c;
+}
+
+CameraSpec camera_taking(const PictureCondition& condition, const CameraSpec& camera) {
+  if (condition.scale == 1.0) return camera;
+  const double s = condition.scale;
+  CameraSpec c = camera;
+  c.Nu = scaled_side(camera.Nu, s);
+  c.Nv = scaled_side(camera.Nv, s);
+  // Pixels as far apart on the chip as the resize puts them, whatever the rounding of
+  // their count: the cell size that makes the pixel pitch (U - Uc) / (Nu - 1) 1/su of it.
+  const double su = static_cast<double>(c.Nu) / camera.Nu, sv = static_cast<double>(c.Nv) / camera.Nv;
+  c.Uc_mm = camera.U_mm - camera.pitch_u() / su * (c.Nu - 1);
+  c.Vc_mm = camera.V_mm - camera.pitch_v() / sv * (c.Nv - 1);
+  c.cx = (camera.cx - 0.5) * su + 0.5;
+  c.cy = (camera.cy - 0.5) * sv + 0.5;
+  c.k_px2 = camera.k_px2 / (su * sv);
   return c;
 }
 
@@ -100,6 +124,10 @@ ImageView PictureConditioner::apply(const ImageView& frame, std::uint64_t frame_
                    static_cast<std::size_t>(frame.stride_bytes));
   cv::Mat levels;
   in.convertTo(levels, CV_32F);
+  const int width = scaled_side(frame.width, condition_.scale), height = scaled_side(frame.height, condition_.scale);
+  if (condition_.scale != 1.0)
+    cv::resize(levels, levels, cv::Size(width, height), 0.0, 0.0,
+               condition_.scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   if (condition_.blur_px > 0.0)
     cv::GaussianBlur(levels, levels, cv::Size(0, 0), condition_.blur_px, condition_.blur_px, cv::BORDER_REPLICATE);
   levels *= condition_.light;
@@ -114,11 +142,10 @@ ImageView PictureConditioner::apply(const ImageView& frame, std::uint64_t frame_
   }
   levels = cv::min(levels, max_level);
   const int bpp = bytes_per_pixel(frame.format);
-  pixels_.resize(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) *
-                 static_cast<std::size_t>(bpp));
-  cv::Mat out(frame.height, frame.width, type, pixels_.data());
+  pixels_.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(bpp));
+  cv::Mat out(height, width, type, pixels_.data());
   levels.convertTo(out, type);  // rounded, negative levels to 0
-  return {pixels_.data(), frame.width, frame.height, frame.width * bpp, frame.format, frame.significant_bits};
+  return {pixels_.data(), width, height, width * bpp, frame.format, frame.significant_bits};
 }
 
 }  // namespace ccdlane::cli

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/image_view.hpp"
+#include "core/geometry/camera_spec.hpp"
 
 namespace ccdlane::cli {
 
@@ -22,26 +23,40 @@ struct PictureCondition {
   // edge as soft as 1 % of the height on either side (the penumbra). 1: no shadow.
   double shade = 1.0;
   double shade_top = 0.55, shade_bottom = 0.70;
+  // Another camera's pixel count: the picture resized by this along each side, as a chip
+  // of the same size behind the same lens with cells 1/scale as wide would take it
+  // (camera_taking). Applied first, so that blur and noise are in that camera's pixels.
+  double scale = 1.0;
 
-  bool identity() const { return blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0; }
+  bool identity() const { return scale == 1.0 && blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0; }
   bool operator==(const PictureCondition&) const = default;
 };
 
-// "blur=1.5,light=0.3,noise=3,shade=0.3" (any of them, in any order; "" is the picture
-// as recorded). Throws std::invalid_argument naming the bad part: an unknown key, a value
-// that is not a number, blur or noise outside [0, 20], light outside (0, 4], shade
-// outside (0, 1], shade_top or shade_bottom outside [0, 1] or not top above bottom.
+// "scale=1.5,blur=1.5,light=0.3,noise=3,shade=0.3" (any of them, in any order; "" is the
+// picture as recorded). Throws std::invalid_argument naming the bad part: an unknown key,
+// a value that is not a number, scale outside [0.25, 4], blur or noise outside [0, 20],
+// light outside (0, 4], shade outside (0, 1], shade_top or shade_bottom outside [0, 1]
+// or not top above bottom.
 PictureCondition parse_picture_condition(const std::string& spec);
 
-// The conditioned copy of each frame: blurred, then scaled (and shaded), then the noise
+// The camera whose pictures `condition` makes of `camera`'s: round(scale x) the cells
+// along each side, each as much narrower, on the same chip behind the same lens; the
+// principal point where the resize puts it and the distortion in its pixels (k / scale^2:
+// the division model's k r^2 is the same at every point). A road point's pixel in its
+// pictures is (pixel - 0.5) x scale + 0.5 of `camera`'s (1-based).
+CameraSpec camera_taking(const PictureCondition& condition, const CameraSpec& camera);
+
+// The conditioned copy of each frame: resized (area-averaged when smaller, bilinear when
+// larger: no ringing a camera's own pixels would not have), blurred, then its levels
+// scaled (and shaded), then the noise
 // added (optics, light, sensor), rounded and clipped to the format's levels. The noise is drawn from a
 // generator seeded with the frame's number, so a replay is repeatable and each frame's
 // noise its own. Colour pixels are altered channel by channel.
 class PictureConditioner {
  public:
   explicit PictureConditioner(PictureCondition condition) : condition_(condition) {}
-  // The conditioned frame, valid until the next call; `frame` itself when the condition
-  // is the identity.
+  // The conditioned frame (camera_taking's size), valid until the next call; `frame`
+  // itself when the condition is the identity.
   ImageView apply(const ImageView& frame, std::uint64_t frame_number);
 
  private:

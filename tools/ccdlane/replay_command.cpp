@@ -100,7 +100,9 @@ class Replay {
   int finish();
 
   const ReplayArgs& a_;
-  const Config config_;
+  const Config config_;               // the recorded frames' camera
+  const PictureCondition condition_;  // --condition
+  const Config seen_;                 // the camera the conditioned frames are from (scale)
   const LaneEstimatorOptions options_;
   const bool gyro_configured_;
   std::optional<FrameDirectory> dir_;
@@ -130,13 +132,26 @@ PictureCondition condition(const std::string& spec) {
   }
 }
 
+// `config` as the camera that takes the conditioned pictures: its cells, and the rows
+// detection never searches, in that camera's pixels.
+Config config_taking(const Config& config, const PictureCondition& condition) {
+  Config c = config;
+  c.camera = camera_taking(condition, config.camera);
+  const auto rows = [&](int n) { return static_cast<int>(std::lround(n * condition.scale)); };
+  c.detection.roi_top_px = rows(config.detection.roi_top_px);
+  c.detection.hood_px = rows(config.detection.hood_px);
+  return c;
+}
+
 Replay::Replay(const ReplayArgs& args)
     : a_(args),
       config_(load_config_file(args.config)),
-      options_(config_.estimator_options()),
+      condition_(condition(args.condition)),
+      seen_(config_taking(config_, condition_)),
+      options_(seen_.estimator_options()),
       gyro_configured_(!config_.gyro.device.empty()),
       estimator_(options_),
-      conditioner_(condition(args.condition)) {
+      conditioner_(condition_) {
   open_input();
   open_output();
 }
@@ -183,7 +198,7 @@ void Replay::open_output() {
   }
   if (!a_.overlay_video.empty()) {
     try {  // in the input video's time base, so that the frames keep their times exactly
-      overlay_video_ = std::make_unique<OverlayVideo>(a_.overlay_video, config_.camera.Nu, config_.camera.Nv,
+      overlay_video_ = std::make_unique<OverlayVideo>(a_.overlay_video, seen_.camera.Nu, seen_.camera.Nv,
                                                       video_ ? video_->time_base_num() : 1,
                                                       video_ ? video_->time_base_den() : 90'000);
     } catch (const std::runtime_error& e) {
@@ -291,7 +306,7 @@ void Replay::replay_frame(const ImageView* recorded, const FrameMeta& meta) {
   ok_ += e.ok;
   print_json_line(*out_, lane_estimate_json(e, a_.sigmas));
   check_written(*out_, out_name_);
-  if (overlay_video_) overlay_video_->add(*image, e, estimator_, config_);
+  if (overlay_video_) overlay_video_->add(*image, e, estimator_, seen_);
   if (!a_.overlay.empty()) write_overlays(*image, meta.sequence);
 }
 
@@ -300,8 +315,8 @@ void Replay::write_overlays(const ImageView& image, std::uint64_t index) {
   std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(index));
   std::snprintf(paint, sizeof paint, "/%06llu-paint.png", static_cast<unsigned long long>(index));
   try {
-    draw_overlay(a_.overlay + name, image, estimator_, config_);
-    const auto [first, last] = searched_rows(image, estimator_, config_);
+    draw_overlay(a_.overlay + name, image, estimator_, seen_);
+    const auto [first, last] = searched_rows(image, estimator_, seen_);
     write_paint_measure_png(a_.overlay + paint, image, first, last);
   } catch (const std::runtime_error& failure) {
     // Each PNG is whole or absent (temporary name, then rename): say what is there.
@@ -362,7 +377,9 @@ CommandAction setup_replay(CLI::App& sub) {
                  "found, the own lane filled, the candidate marks faint, a strip with width, offset, heading, radius, "
                  "state and LDW availability, and a departure warning on its side while it is held");
   sub.add_option("--condition", a->condition,
-                 "replay the pictures as another camera or light would give them: blur=PX (Gaussian sigma), "
+                 "replay the pictures as another camera or light would give them: scale=TIMES (a camera of that "
+                 "many times the pixels along each side, the same chip and lens; the lines and pose come out as "
+                 "ever, scored against the recorded camera and labels), blur=PX (Gaussian sigma), "
                  "light=SHARE (every level times it), noise=LEVELS (Gaussian sigma, 8-bit levels, seeded by the "
                  "frame's number), shade=SHARE (a bridge's shadow across the rows from shade_top to shade_bottom, "
                  "shares of the height, by default 0.55 to 0.7), e.g. blur=1,light=0.3,noise=3; the overlays show "
