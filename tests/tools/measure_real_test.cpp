@@ -119,6 +119,26 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(overlays), std::filesystem::directory_iterator{}), 10);
 }
 
+// A stills' folder as users keep one: a note and a folder (here a link to the pictures'
+// own folder, as a misplaced `ln -s` makes) beside the pictures. Only the pictures are
+// stills: the rows count ten frames, as for the folder without them.
+TEST(MeasureReal, OnlyThePicturesOfTheImagesFolderAreStills) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("stills");
+  std::filesystem::create_directories(data);
+  std::filesystem::copy(kStills, stills, std::filesystem::copy_options::recursive);
+  std::ofstream(stills + "/images/README.txt") << "frames 0000-0009 of the TuSimple development set\n";
+  std::filesystem::create_directory_symlink(stills + "/images", stills + "/images/images");
+  const test::ProcessResult r =
+      test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  std::istringstream row(printed_row(r.out, "nominal"));
+  std::string mount;
+  int frames = 0;
+  row >> mount >> frames;
+  EXPECT_EQ(frames, 10) << r.out;
+}
+
 // Where a false line leaves its lane, by the rule --misses states: the third of the
 // still's labelled rows (first to last row any lane is labelled on) most of its rows off
 // a lane lie in.
