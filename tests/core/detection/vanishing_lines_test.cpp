@@ -34,6 +34,15 @@ CameraSpec plain_camera() {
   return c;
 }
 
+// The plain camera at the default mount, and where the straight road's lines meet in its
+// pictures.
+struct PlainView {
+  CameraSpec camera = plain_camera();
+  CameraPose nominal = default_config().nominal_pose();
+  double vx = 0.0, vy = 0.0;
+  bool has_point = GroundProjector(camera, nominal).vanishing_point(0.0, vx, vy);
+};
+
 // Four lane lines through (vx, vy) seen from row 300 down, as dashes (bars on every
 // second row of one dash in three), with 0.3 px of noise, among 400 bars of clutter.
 std::vector<MarkCandidate> lines_and_clutter(double vx, double vy, int Nu, int Nv, std::mt19937& rng) {
@@ -48,12 +57,11 @@ std::vector<MarkCandidate> lines_and_clutter(double vx, double vy, int Nu, int N
 }
 
 TEST(VanishingLineFinder, TheLinesOfBarsCrossWhereTheyWereDrawn) {
-  const CameraSpec camera = plain_camera();
-  const CameraPose nominal = default_config().nominal_pose();
+  const PlainView view;
+  ASSERT_TRUE(view.has_point);
+  const auto& [camera, nominal, vx, vy, has_point] = view;
   VanishingLineFinder finder(camera, 4096);
   std::mt19937 rng(3);
-  double vx = 0, vy = 0;
-  ASSERT_TRUE(GroundProjector(camera, nominal).vanishing_point(0.0, vx, vy));
   for (const double dx : {-40.0, 0.0, 60.0}) {
     const std::vector<MarkCandidate> bars = lines_and_clutter(vx + dx, vy - 30.0, camera.Nu, camera.Nv, rng);
     finder.clear();
@@ -73,11 +81,10 @@ TEST(VanishingLineFinder, TheLinesOfBarsCrossWhereTheyWereDrawn) {
 // a road line's marks lie below its vanishing point. The same lines crossing above their
 // bars are one.
 TEST(VanishingLineFinder, LinesRunningOnFarAboveTheirCrossingMakeNoPoint) {
-  const CameraSpec camera = plain_camera();
-  const CameraPose nominal = default_config().nominal_pose();
+  const PlainView view;
+  ASSERT_TRUE(view.has_point);
+  const auto& [camera, nominal, vx, vy, has_point] = view;
   VanishingLineFinder finder(camera, 4096);
-  double vx = 0, vy = 0;
-  ASSERT_TRUE(GroundProjector(camera, nominal).vanishing_point(0.0, vx, vy));
   const auto crossing_lines = [&](double cx, double cy, int rows_above, int rows_below) {
     std::vector<MarkCandidate> bars;
     for (const double slope : {-0.6, 0.9})
@@ -103,11 +110,10 @@ TEST(VanishingLineFinder, LinesRunningOnFarAboveTheirCrossingMakeNoPoint) {
 // edge did not (a TuSimple still at a third of its light took a car's edge for a lane
 // line). Weighed in units of their rows' light, they count as in daylight.
 TEST(VanishingLineFinder, ADimRoadsLinesCountAsInDaylight) {
-  const CameraSpec camera = plain_camera();
-  const CameraPose nominal = default_config().nominal_pose();
+  const PlainView view;
+  ASSERT_TRUE(view.has_point);
+  const auto& [camera, nominal, vx, vy, has_point] = view;
   VanishingLineFinder finder(camera, 4096);
-  double vx = 0, vy = 0;
-  ASSERT_TRUE(GroundProjector(camera, nominal).vanishing_point(0.0, vx, vy));
   constexpr double kShare = 0.3;
   const auto two_short_lines = [&](double contrast) {
     std::vector<MarkCandidate> bars;
