@@ -1,4 +1,3 @@
-#include <cstdio>
 // The sequencer: each stage's result stays a member until report() makes the estimate of
 // them. Cold starts (no previous frame) detect and fit twice: the pose the first solve
 // finds is a far better guess than the nominal mounting to plan rows and project marks
@@ -173,9 +172,6 @@ LaneEstimator::Attempt LaneEstimator::attempt(const ImageView& image, const std:
     return {nullptr, EstimateFailure::too_few_marks};
   const SolveResult* r = &solve(detection_pose_, gyro);
   bool bent = false;
-  if (std::getenv("ONEDBG"))
-    fprintf(stderr, "first solve cold %d conv %d rank %d lines %d theta %.2f\n", cold, r->converged, r->rank_deficient,
-            r->num_lines, r->pose.attitude.theta * 57.3);
 
   if (cold && r->converged && !r->rank_deficient) {
     // Cold start: look again from where the first solve put the camera, along its lines
