@@ -138,6 +138,34 @@ TEST(ReplayCommand, SynthesisedHighwayFromCamerasOfOtherPixelCounts) {
   replay_against_truth({"--noise", "1", "--shadows", "0.3"}, 60, "highway, half the pixels", "scale=0.5", 0.5);
 }
 
+// A picture resized up holds what the recorded one held: the solve from it is as
+// certain as the recorded one's, not more (its picks are as uncertain in angle, in more
+// of its smaller pixels). Taken as certain as the recorded pixels, its sigmas were 0.7 of
+// the recorded ones and its priors weighed a third less.
+TEST(ReplayCommand, APictureResizedUpIsNoMoreCertainThanTheRecordedOne) {
+  test::TempDir dir;
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", kReferenceCamera, "--out", dir.file("road"), "--frames", "5"}).exit_status, 0);
+  const auto replay = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> cmd = {kTool, "replay", kReferenceCamera, dir.file("road"), "--sigmas"};
+    cmd.insert(cmd.end(), extra.begin(), extra.end());
+    const auto r = test::run_process(cmd);
+    EXPECT_EQ(r.exit_status, 0) << r.err;
+    return json_lines(r.out);
+  };
+  const std::vector<Json> recorded = replay({}), larger = replay({"--condition", "scale=1.5"});
+  ASSERT_EQ(recorded.size(), 5u);
+  ASSERT_EQ(larger.size(), 5u);
+  for (std::size_t i = 0; i < recorded.size(); ++i) {
+    ASSERT_TRUE(recorded[i]["ok"].get<bool>() && larger[i]["ok"].get<bool>()) << i;
+    for (const char* angle : {"psi_deg", "theta_deg"}) {
+      const double ratio = larger[i]["sigma"][angle].get<double>() / recorded[i]["sigma"][angle].get<double>();
+      EXPECT_GT(ratio, 0.8) << angle << " frame " << i;
+      EXPECT_LT(ratio, 1.25) << angle << " frame " << i;
+    }
+  }
+}
+
 TEST(ReplayCommand, SynthesisedLaneChangeOnABendWithBlur) {
   // A bend needs the curvature free; the lane change crosses a line mid-sequence.
   test::TempDir dir;
