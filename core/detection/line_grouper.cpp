@@ -987,6 +987,21 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
   return n;
 }
 
+int LineGrouper::drop_dots_beyond_yellow(std::span<MarkCandidate> marks, int n) {
+  std::array<std::int16_t, kMaxFoundLines> new_index{};
+  int kept = 0;
+  for (int k = 0; k < n; ++k) {
+    const DetectedLine& l = found_[static_cast<std::size_t>(k)];
+    const bool drop = l.dots && !l.yellow && beyond_a_yellow_line(l.fit.y_at(kReferenceMm), n);
+    new_index[static_cast<std::size_t>(k)] = drop ? std::int16_t{-1} : static_cast<std::int16_t>(kept);
+    if (!drop) found_[static_cast<std::size_t>(kept++)] = l;
+  }
+  if (kept == n) return n;
+  for (MarkCandidate& m : marks)
+    if (m.line >= 0 && m.line < n) m.line = new_index[static_cast<std::size_t>(m.line)];
+  return kept;
+}
+
 int LineGrouper::keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
                               std::array<DetectedLine, kMaxDetectedLines>& out) const {
   std::array<int, kMaxFoundLines> order{};
@@ -1037,6 +1052,10 @@ int LineGrouper::group(std::span<MarkCandidate> marks, std::span<const RoadLine>
   // the bars of only such a line count too: an edge line beside a shoulder of another
   // surface has a step beside it all along (lane_marks.hpp, for_lines_beyond).
   n = find_lines_beyond(marks, priors, params, n);
+  // The yellow edge line's rule for every row of dots, whichever step found it (the
+  // steps above apply it to the rows of dots they find from a few; segA's barrier foot,
+  // blobs of concrete, made a line of its own from the vote, then continued it).
+  n = drop_dots_beyond_yellow(marks, n);
   // 6. Keep the lines nearest the vehicle, ordered left to right (insertion sorts: n <= 8).
   return keep_nearest(marks, params, n, out);
 }

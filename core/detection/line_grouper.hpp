@@ -147,6 +147,10 @@ class LineGrouper {
                     int prior_index, double beyond_y_mm = std::numeric_limits<double>::quiet_NaN());
   int keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,
                    std::array<DetectedLine, kMaxDetectedLines>& out) const;
+  // Drops the rows of dots among the n lines that lie beyond a yellow line, however they
+  // were found (a line of its own from the vote, a prior continued): blobs of a
+  // shoulder or a barrier's foot. Their marks are freed; the lines left keep their order.
+  int drop_dots_beyond_yellow(std::span<MarkCandidate> marks, int n);
   // Adds `l` (its marks assigned to line n) to the n lines found when it is
   // min_separation_mm from each; or puts it in the place of the lines it is too near when
   // it is the better evidence of a line than each (paint over a row of dots, yellow paint

@@ -398,6 +398,46 @@ TEST(LineGrouper, NoRowOfDotsIsTakenBeyondAYellowEdgeLine) {
   }
 }
 
+// A long row of blobs 2.6 m beyond the left line, one every 1.2 m from 5 to 40 m: enough
+// for a line of its own from the vote, and for a prior to be continued by. Beyond white
+// paint a line of dots (the next lane's), beyond a yellow edge line none, however it is
+// found (segA's barrier foot, a line of its own in 119 of its 211 frames).
+TEST(LineGrouper, NoLineOfDotsOfItsOwnIsTakenBeyondAYellowEdgeLine) {
+  for (const bool tracked : {false, true})
+    for (const bool yellow : {false, true}) {
+      Scene s;
+      s.line(1800, 0.0, 0.0, 0.3, 1, yellow);
+      s.line(-1800, 0.0, 0.0);
+      for (int row = 0; row < 150; row += 5) {
+        MarkCandidate mk;
+        mk.X = 5000.0 + 35000.0 * row / 149.0;
+        mk.Y = 4400.0;
+        mk.contrast = kPaintContrast;
+        const double width_px = 630.0 * 100.0 / mk.X;
+        mk.left_px = 600.0 - 0.5 * width_px;
+        mk.right_px = 600.0 + 0.5 * width_px;
+        mk.scan_row = static_cast<std::int16_t>(row);
+        mk.dot = true;
+        mk.dot_top = static_cast<std::int16_t>(row - 1);
+        mk.dot_bottom = static_cast<std::int16_t>(row + 1);
+        s.marks.push_back(mk);
+      }
+      std::vector<RoadLine> priors;
+      if (tracked) priors = {RoadLine{4400.0, 0.0, 0.0}, RoadLine{1800.0, 0.0, 0.0}, RoadLine{-1800.0, 0.0, 0.0}};
+      std::array<DetectedLine, kMaxDetectedLines> lines{};
+      const int n = group(s, lines, priors);
+      ASSERT_EQ(n, yellow ? 2 : 3) << "yellow " << yellow << " tracked " << tracked;
+      if (!yellow) {
+        EXPECT_NEAR(lines[0].fit.y0_mm, 4400.0, 30.0);
+        EXPECT_TRUE(lines[0].dots);
+      }
+      EXPECT_EQ(lines[n - 2].yellow, yellow);
+      int dots_on_lines = 0;
+      for (const MarkCandidate& m : s.marks) dots_on_lines += m.dot && m.line >= 0;
+      EXPECT_EQ(dots_on_lines > 0, !yellow) << "a dropped line's dots are freed";
+    }
+}
+
 // An edge line beside a shoulder of another surface: every bar of it has a step beside
 // it (for_lines_beyond). One lane beyond the road's two lines it is a line; such bars
 // found no line of their own (beside a single line, or between the lane's lines), none
