@@ -654,23 +654,25 @@ bool LineGrouper::admit(std::span<MarkCandidate> marks, const DetectedLine& l, i
     }
     conflict[static_cast<std::size_t>(k)] = any = true;
   }
-  if (any) {  // drop the replaced lines, keep the others in order, renumber their marks
-    std::array<std::int16_t, kMaxFoundLines + 1> index{};
-    int kept = 0;
-    for (int k = 0; k <= n; ++k) {
-      if (k < n && conflict[static_cast<std::size_t>(k)]) {
-        index[static_cast<std::size_t>(k)] = -1;
-        continue;
-      }
-      if (k < n) found_[static_cast<std::size_t>(kept)] = found_[static_cast<std::size_t>(k)];
-      index[static_cast<std::size_t>(k)] = static_cast<std::int16_t>(kept++);
-    }
-    for (MarkCandidate& m : marks)
-      if (m.line >= 0 && m.line <= n) m.line = index[static_cast<std::size_t>(m.line)];
-    n = kept - 1;
-  }
-  found_[static_cast<std::size_t>(n++)] = l;
+  found_[static_cast<std::size_t>(n++)] = l;    // its marks are already line n's
+  if (any) n = drop_lines(marks, n, conflict);  // the replaced ones
   return true;
+}
+
+int LineGrouper::drop_lines(std::span<MarkCandidate> marks, int n, const std::array<bool, kMaxFoundLines>& drop) {
+  std::array<std::int16_t, kMaxFoundLines> index{};
+  int kept = 0;
+  for (int k = 0; k < n; ++k) {
+    if (drop[static_cast<std::size_t>(k)]) {
+      index[static_cast<std::size_t>(k)] = -1;
+      continue;
+    }
+    found_[static_cast<std::size_t>(kept)] = found_[static_cast<std::size_t>(k)];
+    index[static_cast<std::size_t>(k)] = static_cast<std::int16_t>(kept++);
+  }
+  for (MarkCandidate& m : marks)
+    if (m.line >= 0 && m.line < n) m.line = index[static_cast<std::size_t>(m.line)];
+  return kept;
 }
 
 int LineGrouper::continue_priors(std::span<MarkCandidate> marks, std::span<const RoadLine> priors,
@@ -988,18 +990,13 @@ int LineGrouper::find_lines_beyond(std::span<MarkCandidate> marks, std::span<con
 }
 
 int LineGrouper::drop_dots_beyond_yellow(std::span<MarkCandidate> marks, int n) {
-  std::array<std::int16_t, kMaxFoundLines> new_index{};
-  int kept = 0;
+  std::array<bool, kMaxFoundLines> drop{};
+  bool any = false;
   for (int k = 0; k < n; ++k) {
     const DetectedLine& l = found_[static_cast<std::size_t>(k)];
-    const bool drop = l.dots && !l.yellow && beyond_a_yellow_line(l.fit.y_at(kReferenceMm), n);
-    new_index[static_cast<std::size_t>(k)] = drop ? std::int16_t{-1} : static_cast<std::int16_t>(kept);
-    if (!drop) found_[static_cast<std::size_t>(kept++)] = l;
+    any |= drop[static_cast<std::size_t>(k)] = l.dots && !l.yellow && beyond_a_yellow_line(l.fit.y_at(kReferenceMm), n);
   }
-  if (kept == n) return n;
-  for (MarkCandidate& m : marks)
-    if (m.line >= 0 && m.line < n) m.line = new_index[static_cast<std::size_t>(m.line)];
-  return kept;
+  return any ? drop_lines(marks, n, drop) : n;
 }
 
 int LineGrouper::keep_nearest(std::span<MarkCandidate> marks, const GroupingParams& params, int n,

@@ -151,6 +151,9 @@ class LineGrouper {
   // were found (a line of its own from the vote, a prior continued): blobs of a
   // shoulder or a barrier's foot. Their marks are freed; the lines left keep their order.
   int drop_dots_beyond_yellow(std::span<MarkCandidate> marks, int n);
+  // Drops the lines `drop` marks among the n found, keeps the others in order and
+  // renumbers their marks (a dropped line's are freed); returns how many are left.
+  int drop_lines(std::span<MarkCandidate> marks, int n, const std::array<bool, kMaxFoundLines>& drop);
   // Adds `l` (its marks assigned to line n) to the n lines found when it is
   // min_separation_mm from each; or puts it in the place of the lines it is too near when
   // it is the better evidence of a line than each (paint over a row of dots, yellow paint
