@@ -387,6 +387,10 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       detection_pose_ = poses[lane_pose];
       lane = attempt(image, gyro);
     }
+    if (!look_beyond_again(image, gyro, vehicle, *lane.solve, lane.solve)) {
+      detection_pose_ = poses[lane_pose];  // the fit's buffers hold the look's: the lane's again
+      lane = attempt(image, gyro);
+    }
     mount_.adopt(lane.solve->pose.attitude);
     return lane;
   }
@@ -438,6 +442,43 @@ const SolveResult* LaneEstimator::detect_and_fit(const ImageView& image, const s
   if (!a.solve) return fail(a.why);
   if (a.why == EstimateFailure::rank_deficient) failure_ = a.why;  // what was determined is still shown
   return a.solve;
+}
+
+bool LaneEstimator::look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                      const VehicleInputs& vehicle, const SolveResult& lane,
+                                      const SolveResult*& solve_out) {
+  // The look again planned its rows and cast its lines beyond the own lane's from the
+  // first solve's pose; the lines it found then solved to another. A degree off in pitch
+  // or roll moves the road's point 20 px and swings a line 3-4 m beside the own one by
+  // tens of pixels at 30 m, where the next lane's Botts' dots are specks: from a first
+  // solve a degree or more off, the next lane's line was not found where the solve's own
+  // pose finds it (TuSimple stills 27, first solve rolled 5 degrees, and 42, pitched 1.2
+  // degrees up). Looked for once more from the lane's solve, along its lines; taken when
+  // it adds lines and is the same lane (its width within a mark's width or two), still a
+  // lane: taken whenever it was the same lane, the look also moved own lines that were
+  // right (docs/real-roads.md).
+  const Attitude& from = detection_pose_.attitude;
+  const Attitude& to = lane.pose.attitude;
+  const double moved =
+      std::max({std::abs(to.psi - from.psi), std::abs(to.theta - from.theta), std::abs(to.phi - from.phi)});
+  if (moved < deg_to_rad(kLookBeyondAgainDeg)) return true;
+  const std::optional<double> width = own_lane_width(lane);
+  const int lane_lines = lane.num_lines;
+  const CameraPose pose = lane.pose;
+  std::array<RoadLine, kMaxLaneLines> lines = lane.lines;  // `lane` is the fit's, which the look replaces
+  const std::span<const RoadLine> along(lines.data(), static_cast<std::size_t>(lane.num_lines));
+  if (!width || !fit_.take(detector_.detect(image, pose, along, PictureSearch::own_lane_and_beyond), true))
+    return false;
+  detection_pose_ = pose;
+  const SolveResult* r = &solve(pose, gyro);
+  if (r->converged && fit_.drop_outliers(*r) && fit_.enough_picks()) r = &solve(r->pose, gyro);
+  if (!r->converged || r->rank_deficient) return false;
+  const std::optional<double> again = own_lane_width(*r);
+  if (r->num_lines <= lane_lines || !again || std::abs(*again - *width) > kSameLaneWidthMm ||
+      supported(*r, vehicle) != Found::lane)
+    return false;
+  solve_out = r;
+  return true;
 }
 
 LaneEstimator::Attempt LaneEstimator::look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro,

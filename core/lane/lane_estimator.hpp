@@ -123,6 +123,18 @@ class LaneEstimator {
   // without the previous frame's lines, then from the pose the last search found its
   // lane from; the tracked attempt again unless one of them is a lane.
   Attempt look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
+  // A search's lane, whose look again was planned from a first solve at least
+  // kLookBeyondAgainDeg away from `lane`'s pose, looked at once more from that pose for
+  // the lines beyond it. True with `solve_out` set to the new solve when that has more
+  // lines, is the same lane and still a lane, or when no look was needed (`solve_out`
+  // unchanged); false when
+  // the look did not take (the fit's buffers then hold it, not `lane`'s).
+  bool look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle,
+                         const SolveResult& lane, const SolveResult*& solve_out);
+  static constexpr double kLookBeyondAgainDeg = 1.0;
+  // The same lane's width from two solves differs by less than this (its lines a mark's
+  // width or two apart); another line taken for one of its own moves it by a metre.
+  static constexpr double kSameLaneWidthMm = 300.0;
   static constexpr int kMaxSearchAttitudes = 10;
   static constexpr int kMaxSearchPoses = kSearchHeights * kMaxSearchAttitudes;
   // Yaw and pitch from the road's vanishing point in the picture (roll and the rest are
