@@ -191,11 +191,17 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
   // The line's hits, far to near, and the separate places they lie in.
   int n = 0, last_row = -2;
   double last_X = 0.0, near = 1e300, far = -1e300;
+  double group_from_X = 0.0;  // where the place being read began
+  const auto end_group = [&] { result_.dashes += std::abs(last_X - group_from_X) >= kMinDashMm; };
   for (int i = 0; i < num_rows; ++i) {
     const Cell& cell = cell_at(best_k, i);
     double hx = 0.0, hy = 0.0;
     if (!(cell.contrast > 0.0f) || !projector.ground(cell.x + 1.0, cell.y + 1.0, hx, hy)) continue;
-    if (n == 0 || std::abs(hx - last_X) > kGroupGapMm) ++result_.groups;
+    if (n == 0 || std::abs(hx - last_X) > kGroupGapMm) {
+      if (n > 0) end_group();
+      ++result_.groups;
+      group_from_X = hx;
+    }
     if (i > last_row + 1) ++result_.pieces;
     last_X = hx;
     last_row = i;
@@ -203,15 +209,19 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
     found_[static_cast<std::size_t>(n++)] = PictureLineHit{
         cell.x + 1.0, cell.y + 1.0, static_cast<double>(cell.half), static_cast<double>(cell.contrast), hx, hy, i};
   }
+  if (n > 0) end_group();
   result_.hits = n;
   result_.span_mm = n > 0 ? far - near : 0.0;
   result_.marks = std::span<const PictureLineHit>(found_.data(), static_cast<std::size_t>(n));
   // Above chance, and not at either end of the widths it may be taken at (a line nearer
   // or farther than those would peak beyond them).
+  // Beyond a lane found, two dashes seen along their length are as many places as a row
+  // of dots needs four for.
   const bool clean = chance == ChanceRule::any_road || median <= kMaxChanceHits;
+  const bool places =
+      result_.groups >= kMinGroups || (chance == ChanceRule::any_road && result_.dashes >= kMinDashesBeyond);
   result_.found = n >= kMinHits && clean && n >= median + kMinSigmas * result_.spread && best_k >= first_k + 2 &&
-                  best_k < end_k - 2 && result_.groups >= kMinGroups && result_.pieces >= kMinPieces &&
-                  result_.span_mm >= kMinSpanMm;
+                  best_k < end_k - 2 && places && result_.pieces >= kMinPieces && result_.span_mm >= kMinSpanMm;
   return result_;
 }
 

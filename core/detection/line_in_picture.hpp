@@ -39,6 +39,7 @@ struct PictureLine {
   double offset_mm = 0;  // of the line found, from the line it was looked for beside (+ left)
   int hits = 0;          // rows along it where a bar stands out
   int groups = 0;        // separate places along the road they lie in (kGroupGapMm apart)
+  int dashes = 0;        // of them, places whose hits run over kMinDashMm of road or more
   // Separate pieces in the picture: runs of hits on consecutive rows read. A car's back,
   // upright, spans rows that meet the road over tens of metres: many places on the road,
   // one piece in the picture.
@@ -97,6 +98,15 @@ class PictureLineSearch {
   // hits than chance gives a candidate by this many of chance's standard deviations (at
   // least a Poisson count's, the square root of the count plus one).
   static constexpr int kMinGroups = 4;
+  // A place whose hits run over this much road is a dash seen along its length (a dash is
+  // 1.5-6 m long; a raised marker's hits lie within 0.3 m, and markers 0.9 m apart or more
+  // are separate places). Beyond a lane found (ChanceRule::any_road), this many of them
+  // make a line with fewer places: a dashed line seen over two dashes, 3 m long and 9 m
+  // apart, between a car and the picture's edge, is two or three places (TuSimple still
+  // 34's right next line, 31 hits over 11 m against a median candidate's 0). It still
+  // needs kMinPieces: two unbroken runs could be the side skirts of two trucks.
+  static constexpr double kMinDashMm = 1000.0;
+  static constexpr int kMinDashesBeyond = 2;
   static constexpr int kMinPieces = 4;
   static constexpr double kMinSpanMm = 8000.0;
   static constexpr int kMinHits = 6;

@@ -127,6 +127,38 @@ TEST(PictureLineSearch, OnATexturedRoadALineIsTakenOnlyByTheAnyRoadRule) {
   EXPECT_NEAR(any.offset_mm, kDotsY - kLeftLineY, 2.0 * PictureLineSearch::kOffsetStepMm);
 }
 
+TEST(PictureLineSearch, TwoWornDashesSeenAlongTheirLengthAreALineBeyondALane) {
+  // Two dashes of a dashed line (3 m long, 9 m apart) and nothing else of it: a car hides
+  // the rest, or the picture's edge cuts it off. Each is worn through for 0.4 m (a joint
+  // across it), so each is one place along the road and two pieces in the picture. Two or
+  // three places are fewer than a row of dots needs; seen along their length, as dashes,
+  // they are a line beyond a lane found (the next lane's), not the own lane's other line,
+  // which a clean road's rule looks for.
+  for (const bool worn : {true, false}) {
+    TuSimpleConcreteRoad road(3);
+    speckle(road.frame.view, 11, 300);
+    for (const double X : {9000.0, 21000.0}) {
+      const double gap = worn ? 400.0 : 0.0;
+      draw_band(road.frame.view, road.ground, road.model, kDotsY, X, X + 1300.0, 130.0, 230);
+      draw_band(road.frame.view, road.ground, road.model, kDotsY, X + 1300.0 + gap, X + 3000.0, 130.0, 230);
+    }
+    PictureLineSearch search(road.c.camera);
+    const PictureLine& any = look_right(search, road, ChanceRule::any_road);
+    EXPECT_LT(any.groups, PictureLineSearch::kMinGroups) << worn;
+    EXPECT_EQ(any.dashes, 2) << worn;
+    if (!worn) {
+      // Two unbroken runs are two pieces: as many as the side skirts of two trucks in the
+      // next lane would make, which a line needs kMinPieces more than.
+      EXPECT_LT(any.pieces, PictureLineSearch::kMinPieces);
+      EXPECT_FALSE(any.found);
+      continue;
+    }
+    ASSERT_TRUE(any.found) << any.hits << " hits in " << any.groups << " places, " << any.pieces << " pieces";
+    EXPECT_NEAR(any.offset_mm, kDotsY - kLeftLineY, PictureLineSearch::kOffsetStepMm);
+    EXPECT_FALSE(look_right(search, road, ChanceRule::clean_road).found);
+  }
+}
+
 TEST(PictureLineSearch, AStepAlongTheRoadIsNoLine) {
   // A shoulder of brighter concrete beyond the lane's edge, 50 levels up: bright on one
   // side only, a shadow's border or a kerb looks the same.
