@@ -213,10 +213,9 @@ const PictureLine& PictureLineSearch::find(const ImageView& image, const CameraP
   result_.hits = n;
   result_.span_mm = n > 0 ? far - near : 0.0;
   result_.marks = std::span<const PictureLineHit>(found_.data(), static_cast<std::size_t>(n));
-  // Above chance, and not at either end of the widths it may be taken at (a line nearer
-  // or farther than those would peak beyond them).
-  // Beyond a lane found, two dashes seen along their length are as many places as a row
-  // of dots needs four for.
+  // Above chance, not at either end of the widths it may be taken at (a line nearer or
+  // farther than those would peak beyond them), and in enough places along the road: four,
+  // or beyond a lane found, two dashes seen along their length (kMinDashesBeyond).
   const bool clean = chance == ChanceRule::any_road || median <= kMaxChanceHits;
   const bool places =
       result_.groups >= kMinGroups || (chance == ChanceRule::any_road && result_.dashes >= kMinDashesBeyond);
