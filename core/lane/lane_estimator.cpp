@@ -43,6 +43,7 @@ void LaneEstimator::reset() {
   mount_.reset();
   reset_lines();
   have_search_pose_ = false;  // a search's pose is of the mount it was found at
+  rescaled_ = rescaled_before_ = false;
   ldw_.reset_mount();
 }
 
@@ -110,9 +111,17 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
   warn(in);
   report(in);
   track_had_lane_ = track_had_lane_ || estimate_.ok;
+  // The first frame after the height changed that solves lines but makes no lane: the
+  // rescaled lines did not hold, and a second of tracked frames would not find it either
+  // (held still 61 at the nominal mount: its rescaled lines found the right line alone,
+  // rolled 2.4 degrees, and 25 frames went without a lane; still 79 from a height 15 %
+  // low, 26). The next frame searches, as a first frame does, at the new height. A frame
+  // without a solve (a damaged or empty one) coasts as before.
+  const bool lost_at_new_height = rescaled_before_ && lane_solve_ != nullptr;
+  rescaled_before_ = false;
   if (estimate_.ok || state_ != EstimatorState::tracking) {
     without_lane_ = 0;
-  } else if (++without_lane_ >= kMaxTrackedFramesWithoutLane) {
+  } else if (++without_lane_ >= kMaxTrackedFramesWithoutLane || lost_at_new_height) {
     reset_lines();
   }
   mount_.refine(estimate_, in.vehicle);
@@ -121,6 +130,7 @@ const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
     // state are at the old scale. The lines go on rescaled; the warning's filter, whose
     // noise is the old scale's too, starts afresh.
     rescaled_ = false;
+    rescaled_before_ = true;
     rescale_lines();
     ldw_.reset();
   }

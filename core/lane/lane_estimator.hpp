@@ -191,6 +191,7 @@ class LaneEstimator {
   bool have_last_ = false;
   bool track_had_lane_ = false;  // the lines tracked made a lane (ok) since they were found
   bool rescaled_ = false;        // the mount acquisition changed the height this frame
+  bool rescaled_before_ = false;  // and on the frame before this one
   int misses_ = 0;               // frames in a row without an estimate
   // Tracked frames in a row without a lane (ok): a track of lines that makes no lane for
   // kMaxTrackedFramesWithoutLane frames is searched afresh, as it may be a wrong start's
