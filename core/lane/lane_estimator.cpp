@@ -397,16 +397,17 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       detection_pose_ = poses[lane_pose];
       lane = attempt(image, gyro);
     }
-    if (!look_beyond_again(image, gyro, vehicle, *lane.solve, lane.solve)) {
-      detection_pose_ = poses[lane_pose];  // the fit's buffers hold the look's: the lane's again
-      lane = attempt(image, gyro);
-    }
+    lane = with_lines_beyond_again(image, gyro, vehicle, poses[lane_pose], lane);
     mount_.adopt(lane.solve->pose.attitude);
     return lane;
   }
   if (other_height >= 0 || line_inside >= 0 || from_picture >= 0) {
-    detection_pose_ = poses[other_height >= 0 ? other_height : line_inside >= 0 ? line_inside : from_picture];
-    const Attempt a = attempt(image, gyro);
+    const int chosen = other_height >= 0 ? other_height : line_inside >= 0 ? line_inside : from_picture;
+    detection_pose_ = poses[chosen];
+    Attempt a = attempt(image, gyro);
+    // A lane of a lane's width at another height is a lane; the weaker kinds are not
+    // (look_beyond_again takes only a lane).
+    if (chosen == other_height) a = with_lines_beyond_again(image, gyro, vehicle, poses[chosen], a);
     mount_.adopt(a.solve->pose.attitude);
     return a;
   }
@@ -452,6 +453,15 @@ const SolveResult* LaneEstimator::detect_and_fit(const ImageView& image, const s
   if (!a.solve) return fail(a.why);
   if (a.why == EstimateFailure::rank_deficient) failure_ = a.why;  // what was determined is still shown
   return a.solve;
+}
+
+LaneEstimator::Attempt LaneEstimator::with_lines_beyond_again(const ImageView& image,
+                                                              const std::optional<Gx1Angles>& gyro,
+                                                              const VehicleInputs& vehicle, const CameraPose& from,
+                                                              Attempt lane) {
+  if (look_beyond_again(image, gyro, vehicle, *lane.solve, lane.solve)) return lane;
+  detection_pose_ = from;  // the fit's buffers hold the look's: the lane's again
+  return attempt(image, gyro);
 }
 
 bool LaneEstimator::look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,

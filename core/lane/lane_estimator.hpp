@@ -131,6 +131,10 @@ class LaneEstimator {
   // the look did not take (the fit's buffers then hold it, not `lane`'s).
   bool look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle,
                          const SolveResult& lane, const SolveResult*& solve_out);
+  // `lane`, the attempt from `from` whose solve is a search's lane, after
+  // look_beyond_again: its solve or the look's.
+  Attempt with_lines_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                  const VehicleInputs& vehicle, const CameraPose& from, Attempt lane);
   static constexpr double kLookBeyondAgainDeg = 1.0;
   // The same lane's width from two solves differs by less than this (its lines a mark's
   // width or two apart); another line taken for one of its own moves it by a metre.
