@@ -459,14 +459,16 @@ LaneEstimator::Attempt LaneEstimator::with_lines_beyond_again(const ImageView& i
                                                               const std::optional<Gx1Angles>& gyro,
                                                               const VehicleInputs& vehicle, const CameraPose& from,
                                                               Attempt lane) {
-  if (look_beyond_again(image, gyro, vehicle, *lane.solve, lane.solve)) return lane;
+  if (const SolveResult* r = look_beyond_again(image, gyro, vehicle, *lane.solve)) {
+    lane.solve = r;
+    return lane;
+  }
   detection_pose_ = from;  // the fit's buffers hold the look's: the lane's again
   return attempt(image, gyro);
 }
 
-bool LaneEstimator::look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,
-                                      const VehicleInputs& vehicle, const SolveResult& lane,
-                                      const SolveResult*& solve_out) {
+const SolveResult* LaneEstimator::look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                                    const VehicleInputs& vehicle, const SolveResult& lane) {
   // The look again planned its rows and cast its lines beyond the own lane's from the
   // first solve's pose; the lines it found then solved to another. A degree off in pitch
   // or roll moves the road's point 20 px and swings a line 3-4 m beside the own one by
@@ -481,24 +483,22 @@ bool LaneEstimator::look_beyond_again(const ImageView& image, const std::optiona
   const Attitude& to = lane.pose.attitude;
   const double moved =
       std::max({std::abs(to.psi - from.psi), std::abs(to.theta - from.theta), std::abs(to.phi - from.phi)});
-  if (moved < deg_to_rad(kLookBeyondAgainDeg)) return true;
   const std::optional<double> width = own_lane_width(lane);
+  if (moved < deg_to_rad(kLookBeyondAgainDeg) || !width) return &lane;
   const int lane_lines = lane.num_lines;
   const CameraPose pose = lane.pose;
   std::array<RoadLine, kMaxLaneLines> lines = lane.lines;  // `lane` is the fit's, which the look replaces
   const std::span<const RoadLine> along(lines.data(), static_cast<std::size_t>(lane.num_lines));
-  if (!width || !fit_.take(detector_.detect(image, pose, along, PictureSearch::own_lane_and_beyond), true))
-    return false;
+  if (!fit_.take(detector_.detect(image, pose, along, PictureSearch::own_lane_and_beyond), true)) return nullptr;
   detection_pose_ = pose;
   const SolveResult* r = &solve(pose, gyro);
   if (r->converged && fit_.drop_outliers(*r) && fit_.enough_picks()) r = &solve(r->pose, gyro);
-  if (!r->converged || r->rank_deficient) return false;
+  if (!r->converged || r->rank_deficient) return nullptr;
   const std::optional<double> again = own_lane_width(*r);
   if (r->num_lines <= lane_lines || !again || std::abs(*again - *width) > kSameLaneWidthMm ||
       supported(*r, vehicle) != Found::lane)
-    return false;
-  solve_out = r;
-  return true;
+    return nullptr;
+  return r;
 }
 
 LaneEstimator::Attempt LaneEstimator::look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro,

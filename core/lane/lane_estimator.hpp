@@ -125,12 +125,11 @@ class LaneEstimator {
   Attempt look_afresh(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle);
   // A search's lane, whose look again was planned from a first solve at least
   // kLookBeyondAgainDeg away from `lane`'s pose, looked at once more from that pose for
-  // the lines beyond it. True with `solve_out` set to the new solve when that has more
-  // lines, is the same lane and still a lane, or when no look was needed (`solve_out`
-  // unchanged); false when
-  // the look did not take (the fit's buffers then hold it, not `lane`'s).
-  bool look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro, const VehicleInputs& vehicle,
-                         const SolveResult& lane, const SolveResult*& solve_out);
+  // the lines beyond it. The new solve when it has more lines, is the same lane and still
+  // a lane; `lane` itself when no look was needed; null when the look did not take (the
+  // fit's buffers then hold it, not `lane`'s).
+  const SolveResult* look_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,
+                                       const VehicleInputs& vehicle, const SolveResult& lane);
   // `lane`, the attempt from `from` whose solve is a search's lane, after
   // look_beyond_again: its solve or the look's.
   Attempt with_lines_beyond_again(const ImageView& image, const std::optional<Gx1Angles>& gyro,
