@@ -139,6 +139,70 @@ TEST(MeasureReal, OnlyThePicturesOfTheImagesFolderAreStills) {
   EXPECT_EQ(frames, 10) << r.out;
 }
 
+// The ten stills labelled as CULane labels its pictures (NAME.lines.txt beside NAME.jpg,
+// "x y x y ..." per lane, 0-based), from their TuSimple labels point for point: every
+// row, and the --misses list, is what the TuSimple labels give. TuSimple's own benchmark
+// needs its rows (h_samples), which CULane's labels do not name: "-".
+TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("culane");
+  std::filesystem::create_directories(data);
+  std::filesystem::create_directories(stills + "/images");
+  std::filesystem::copy_file(kStills + "/camera.toml", stills + "/camera.toml");
+  int labelled = 0;
+  for (const nlohmann::json& l : test::json_lines(test::read_file(kStills + "/labels.jsonl"))) {
+    const std::filesystem::path image = l["image"].get<std::string>();
+    std::filesystem::copy_file(kStills + "/" + image.string(), stills + "/images/" + image.filename().string());
+    std::ofstream lines(stills + "/images/" + image.stem().string() + ".lines.txt");
+    for (const auto& lane : l["lanes"]) {
+      std::string text;
+      for (std::size_t i = 0; i < lane.size(); ++i)
+        if (lane[i].get<int>() >= 0)
+          text += std::to_string(lane[i].get<int>()) + " " + std::to_string(l["h_samples"][i].get<int>()) + " ";
+      if (!text.empty()) lines << text << "\n";
+    }
+    ++labelled;
+  }
+  ASSERT_EQ(labelled, 10);
+  const auto measure = [&](const std::string& folder) {
+    return test::run_process(
+        {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses"});
+  };
+  const test::ProcessResult tusimple = measure(kStills), culane = measure(stills);
+  ASSERT_EQ(tusimple.exit_status, 0) << tusimple.out << tusimple.err;
+  ASSERT_EQ(culane.exit_status, 0) << culane.out << culane.err;
+  EXPECT_NE(culane.out.find("Stills (CULane labels), each picture alone"), std::string::npos) << culane.out;
+  for (const char* mount : {"nominal", "pitch +5", "yaw -5", "height x0.75"}) {
+    const std::string want = printed_row(tusimple.out, mount), got = printed_row(culane.out, mount);
+    ASSERT_FALSE(want.empty()) << tusimple.out;
+    // Mount, frames, ok, ego found, accuracy, false and next found: the first 68 columns.
+    EXPECT_EQ(got.substr(0, 68), want.substr(0, 68)) << mount;
+    EXPECT_EQ(got.substr(68, 28), "               -     -     -") << got;
+  }
+  const std::string misses = "Nominal row, the stills that lost an own line or reported a false one\n";
+  ASSERT_NE(tusimple.out.find(misses), std::string::npos) << tusimple.out;
+  const auto misses_of = [&](const std::string& out) {
+    const std::size_t from = out.find(misses);
+    return out.substr(from, out.find("\n(replays in ", from) - from);
+  };
+  EXPECT_EQ(misses_of(culane.out), misses_of(tusimple.out));
+}
+
+// A stills' folder without labels is said to be one, and not measured.
+TEST(MeasureReal, StillsWithoutLabelsAreNotMeasuredAndSaySo) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("stills");
+  std::filesystem::create_directories(data);
+  std::filesystem::copy(kStills, stills, std::filesystem::copy_options::recursive);
+  std::filesystem::remove(stills + "/labels.jsonl");
+  const test::ProcessResult r =
+      test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(stills + ": no labels (labels.jsonl, or NAME.lines.txt beside each picture)"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(printed_row(r.out, "nominal"), "") << r.out;
+}
+
 // Where a false line leaves its lane, by the rule --misses states: the third of the
 // still's labelled rows (first to last row any lane is labelled on) most of its rows off
 // a lane lie in.
