@@ -232,11 +232,31 @@ bool LaneEstimator::width_agrees_with_height(const SolveResult& r) const {
   return !width || std::abs(*width - prior.mean) <= MountRefinement::kHeightTrustSigmas * prior.sigma;
 }
 
+double LaneEstimator::height_scale_for(double pose_H_mm, double mount_H_mm, double own_width_mm,
+                                       double prior_width_mm) {
+  // Not within a configured height's error of the pose's own height (kUnsettledHeightError,
+  // as until 2026-12-06): the pose may be a search step's, itself a guess up to two steps
+  // from the mount's. TuSimple still 7's lane, 1.38 lanes wide as seen from the highest
+  // step (so 1.23 times the configured height), was left there, and no other pose found
+  // its right line, a faint row of raised markers.
+  const double span = std::pow(kSearchHeightStep, (kSearchHeights - 1) / 2);
+  const double scale = prior_width_mm / own_width_mm;
+  const double height = pose_H_mm * scale / mount_H_mm;
+  return height >= 1.0 / span && height <= span ? scale : 1.0;
+}
+
+LaneEstimator::LaneHeight LaneEstimator::lane_height(bool rescaled, bool width_agrees) {
+  if (!rescaled) return width_agrees ? LaneHeight::as_looked_from : LaneHeight::another;
+  // Looked at again from the height its first solve's width said, a lane must be a lane's
+  // width there: TuSimple still 43's look from 1.62 m (the height a search step's lane
+  // gave) took 9 marks 0.9 m right of the camera, inside the lane, for its right line,
+  // a lane 3.0 m wide, and the search reported it.
+  return width_agrees ? LaneHeight::another : LaneHeight::neither;
+}
+
 double LaneEstimator::height_scale(const SolveResult& r) const {
   if (width_agrees_with_height(r)) return 1.0;
-  const double scale = config_.priors.lane_width_mm->mean / *own_lane_width(r);
-  // No more error than a configured height may have.
-  return scale >= 1.0 / (1.0 + kUnsettledHeightError) && scale <= 1.0 / (1.0 - kUnsettledHeightError) ? scale : 1.0;
+  return height_scale_for(r.pose.H_mm, mount_.height_mm(), *own_lane_width(r), config_.priors.lane_width_mm->mean);
 }
 
 std::optional<Attitude> LaneEstimator::attitude_from_picture(const ImageView& image, const CameraPose& base) {
@@ -324,7 +344,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // lane's width at that height with no line inside it, the one whose own lane's lines
   // hold the most picks (of those within a count's spread of the most, the one whose
   // picks fit best); else the first supported one whose width needed (or needs)
-  // another height, else the first supported one with a line inside it (two lanes from
+  // another height (and, looked at from the height it said, is a lane's width there),
+  // else the first supported one with a line inside it (two lanes from
   // a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
   // first supported one with a line found only in the picture (line_in_picture.hpp: the
   // weakest evidence of a lane's line), else the outcome of the pose whose solve had the
@@ -365,7 +386,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
     } else if (found == Found::lane_with_a_line_from_the_picture) {
       if (from_picture < 0) from_picture = k;
     } else if (found == Found::lane) {
-      if (!a.rescaled && width_agrees_with_height(*a.solve)) {
+      const LaneHeight height = lane_height(a.rescaled, width_agrees_with_height(*a.solve));
+      if (height == LaneHeight::as_looked_from) {
         // More picks than the best lane's by more than a count's own spread (its Poisson
         // sigma); within it, the count says nothing, and the lane its picks fit better is
         // taken (still 0004 from a mount pitched a degree down: 42 picks against 41 and
@@ -379,7 +401,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
           lane_rms_px = a.solve->rms_px;
           lane_pose = k;
         }
-      } else if (other_height < 0) {
+      } else if (height == LaneHeight::another && other_height < 0) {
         other_height = k;
       }
     }

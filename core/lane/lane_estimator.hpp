@@ -86,6 +86,21 @@ class LaneEstimator {
   // of the truth (own lines 70.0 -> 81.7 % in its "height x0.75" row with the squares).
   static constexpr double kSearchHeightStep = 1.3;
   static constexpr int kSearchHeights = 5;
+  // The scale by which a cold start's first solve, at pose_H_mm, says the height is off:
+  // the lane-width prior's mean over the width of the lane it found. Taken when the height
+  // it gives lies among the heights the search itself tries about the mount's
+  // (kSearchHeightStep to the power of -2 to 2 times mount_H_mm), wherever the pose's own
+  // height was: a solve from the search's highest step whose lane is 1.38 times a lane's
+  // width says 1.23 times the mount's height, a height the search would try; one whose
+  // lane is 0.67 times says 2.5 times, one it would not. 1 otherwise.
+  static double height_scale_for(double pose_H_mm, double mount_H_mm, double own_width_mm, double prior_width_mm);
+  // What a search's supported lane says of the height: a lane of a lane's width at the
+  // height it was looked from; one that needed another height (of another width and not
+  // looked at again, or looked at again from the height its width said and a lane's
+  // width there), the weaker evidence; or neither (looked at again and still of another
+  // width: not a lane at any height the search took).
+  enum class LaneHeight : std::uint8_t { as_looked_from, another, neither };
+  static LaneHeight lane_height(bool rescaled, bool width_agrees);
   // Where the lines of bars may cross: 15 degrees either side of the mount in pitch and
   // yaw (the edge vote, easier fooled, looks within 10). A camera whose mount a user
   // knows to 5 degrees on a car that pitches a few, with a picture whose own tilt (a

@@ -589,6 +589,37 @@ TEST(LaneEstimator, AHeightAQuarterOffIsTakenFromTheLaneWidthOnEachStill) {
   }
 }
 
+// The height a cold start's first solve says its lane's width gives is taken when it is
+// one the search itself tries about the mount's (up to kSearchHeightStep squared either
+// way), wherever the solve's own pose was: from the highest step, a lane 1.38 times a
+// lane's width says 1.23 times the mount's height (TuSimple still 7); 0.67 times says
+// 2.5 times, which no search tries. The bounds hold at both ends.
+TEST(LaneEstimator, AHeightIsTakenFromALanesWidthAmongTheHeightsTheSearchTries) {
+  const double mount = 1300.0, lane = 3660.0;
+  const double span = LaneEstimator::kSearchHeightStep * LaneEstimator::kSearchHeightStep;
+  const double top = mount * span;
+  EXPECT_DOUBLE_EQ(LaneEstimator::height_scale_for(top, mount, 1.38 * lane, lane), 1.0 / 1.38);
+  EXPECT_EQ(LaneEstimator::height_scale_for(top, mount, 0.67 * lane, lane), 1.0);
+  // From the mount's own height: a lane 1.6 times a lane's width is seen from 0.625 of it.
+  EXPECT_DOUBLE_EQ(LaneEstimator::height_scale_for(mount, mount, 1.6 * lane, lane), 1.0 / 1.6);
+  for (const double inside : {0.999, 1.001}) {
+    const bool within = inside < 1.0;
+    EXPECT_EQ(LaneEstimator::height_scale_for(mount, mount, lane / (span * inside), lane) != 1.0, within) << inside;
+    EXPECT_EQ(LaneEstimator::height_scale_for(mount, mount, lane * span * inside, lane) != 1.0, within) << inside;
+  }
+}
+
+// A search's lane and the height it says: a lane's width at the height it was looked from
+// is a lane there; of another width, one at another height; looked at again from the
+// height its width said, one at another height only when it is a lane's width there.
+TEST(LaneEstimator, ALaneLookedAtAgainFromTheHeightItsWidthSaidMustBeALanesWidthThere) {
+  using H = LaneEstimator::LaneHeight;
+  EXPECT_EQ(LaneEstimator::lane_height(false, true), H::as_looked_from);
+  EXPECT_EQ(LaneEstimator::lane_height(false, false), H::another);
+  EXPECT_EQ(LaneEstimator::lane_height(true, true), H::another);
+  EXPECT_EQ(LaneEstimator::lane_height(true, false), H::neither);
+}
+
 // The same height a quarter off on a drive: the first frame searches and looks again from
 // the height the width says; after kMountAcquisitionFrames frames the mount's height is
 // taken from their mean width, and the tracked lines go on at it, rescaled (the frame
