@@ -232,6 +232,26 @@ std::string tusimple_camera_off(double pitch_deg, double height_factor) {
   return s;
 }
 
+// One still replayed alone (replay --stills, with `options` added) with `camera`, and
+// `ccdlane score`'s total for it against its labels, with the replay's estimate.
+struct ScoredStill {
+  Json total, estimate;
+};
+ScoredStill score_still(const std::string& still, const std::string& camera,
+                        const std::vector<std::string>& options = {}) {
+  test::TempDir dir, out;
+  dir.write("frames.csv", "file,t_ns\n" + kData + "/tusimple/images/" + still + ".jpg,0\n");
+  std::vector<std::string> command = {kTool, "replay", camera, dir.path(), "--stills", "--out", out.file("r.jsonl")};
+  command.insert(command.end(), options.begin(), options.end());
+  const auto replay = test::run_process(command);
+  EXPECT_EQ(replay.exit_status, 0) << replay.err;
+  const auto score = test::run_process(
+      {kTool, "score", camera, dir.path(), out.file("r.jsonl"), kData + "/tusimple/labels.jsonl", "--json"});
+  EXPECT_EQ(score.exit_status, 0) << score.err;
+  if (replay.exit_status != 0 || score.exit_status != 0) return {};
+  return {Json::parse(score.out)["total"], json_lines(test::read_file(out.file("r.jsonl"))).at(0)};
+}
+
 TEST(RealRoads, AStillsOwnLaneDoesNotDependOnHowFarOffTheMountIs) {
   // Still 0004: four lines labelled, the own lane's and one beyond each. The search
   // tries poses in an order (the picture's vanishing point, the mount, pitched steps)
@@ -244,16 +264,9 @@ TEST(RealRoads, AStillsOwnLaneDoesNotDependOnHowFarOffTheMountIs) {
   };
   for (const Off off :
        {Off{0.0, 1.0}, Off{1.0, 1.0}, Off{-1.0, 1.0}, Off{2.5, 1.0}, Off{0.0, 0.85}, Off{0.0, 0.9}, Off{0.0, 1.15}}) {
-    test::TempDir dir, out;
-    dir.write("frames.csv", "file,t_ns\n" + kData + "/tusimple/images/0004.jpg,0\n");
-    const std::string camera = out.write("camera.toml", tusimple_camera_off(off.pitch_deg, off.height_factor));
-    const auto replay =
-        test::run_process({kTool, "replay", camera, dir.path(), "--stills", "--out", out.file("r.jsonl")});
-    ASSERT_EQ(replay.exit_status, 0) << replay.err;
-    const auto score = test::run_process(
-        {kTool, "score", camera, dir.path(), out.file("r.jsonl"), kData + "/tusimple/labels.jsonl", "--json"});
-    ASSERT_EQ(score.exit_status, 0) << score.err;
-    EXPECT_EQ(Json::parse(score.out)["total"]["ego_found"], 2)
+    test::TempDir dir;
+    const std::string camera = dir.write("camera.toml", tusimple_camera_off(off.pitch_deg, off.height_factor));
+    EXPECT_EQ(score_still("0004", camera).total["ego_found"], 2)
         << "pitch " << off.pitch_deg << " deg, height x" << off.height_factor;
   }
 }
@@ -264,20 +277,11 @@ TEST(RealRoads, AStillsOwnLaneDoesNotDependOnHowFarOffTheMountIs) {
 // look from there finds both own lines. While a first solve's height was taken only
 // within a configured height's error of its own pose's (a third), it was not (1 of 2).
 TEST(RealRoads, AStillsHeightIsTakenFromItsLanesWidthAtAnyHeightTheSearchTries) {
-  test::TempDir dir, out;
-  dir.write("frames.csv", "file,t_ns\n" + kData + "/tusimple/images/0007.jpg,0\n");
-  const std::string camera = kData + "/tusimple/camera.toml";
-  const auto replay =
-      test::run_process({kTool, "replay", camera, dir.path(), "--stills", "--out", out.file("r.jsonl")});
-  ASSERT_EQ(replay.exit_status, 0) << replay.err;
-  const auto score = test::run_process(
-      {kTool, "score", camera, dir.path(), out.file("r.jsonl"), kData + "/tusimple/labels.jsonl", "--json"});
-  ASSERT_EQ(score.exit_status, 0) << score.err;
-  const Json t = Json::parse(score.out)["total"];
-  EXPECT_EQ(t["ego_found"], 2);
-  EXPECT_EQ(t["false_lines"], 0);
-  const Json e = json_lines(test::read_file(out.file("r.jsonl"))).at(0);
-  EXPECT_NEAR(e["H_mm"].get<double>(), 1600.0, 0.1 * 1600.0) << "the height its lane's width says";
+  const ScoredStill s = score_still("0007", kData + "/tusimple/camera.toml");
+  ASSERT_FALSE(s.total.is_null());
+  EXPECT_EQ(s.total["ego_found"], 2);
+  EXPECT_EQ(s.total["false_lines"], 0);
+  EXPECT_NEAR(s.estimate["H_mm"].get<double>(), 1600.0, 0.1 * 1600.0) << "the height its lane's width says";
 }
 
 // A search's look again plans its rows and casts the lines beyond the own lane from its
@@ -289,16 +293,9 @@ TEST(RealRoads, AStillsHeightIsTakenFromItsLanesWidthAtAnyHeightTheSearchTries) 
 // line. Not at the recorded size, where no still of 0000-0009 moves that far.
 TEST(RealRoads, AStillsNextLanesLinesAreLookedForFromThePoseItsLaneWasSolvedTo) {
   for (const auto& [still, scale] : {std::pair{"0000", "0.5"}, std::pair{"0007", "1.5"}}) {
-    test::TempDir dir, out;
-    dir.write("frames.csv", "file,t_ns\n" + kData + "/tusimple/images/" + still + ".jpg,0\n");
-    const std::string camera = kData + "/tusimple/camera.toml";
-    const auto replay = test::run_process({kTool, "replay", camera, dir.path(), "--stills", "--condition",
-                                           std::string("scale=") + scale, "--out", out.file("r.jsonl")});
-    ASSERT_EQ(replay.exit_status, 0) << replay.err;
-    const auto score = test::run_process(
-        {kTool, "score", camera, dir.path(), out.file("r.jsonl"), kData + "/tusimple/labels.jsonl", "--json"});
-    ASSERT_EQ(score.exit_status, 0) << score.err;
-    const Json t = Json::parse(score.out)["total"];
+    const Json t =
+        score_still(still, kData + "/tusimple/camera.toml", {"--condition", std::string("scale=") + scale}).total;
+    ASSERT_FALSE(t.is_null()) << still;
     EXPECT_EQ(t["lanes"], 4) << still;
     EXPECT_EQ(t["ego_found"], 2) << still;
     EXPECT_EQ(t["found"], 3) << still << " at x" << scale;
