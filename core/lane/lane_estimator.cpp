@@ -295,8 +295,8 @@ LaneEstimator::SearchPoses LaneEstimator::search_poses(const ImageView& image, c
     attitudes[a].psi = seen->psi;
     if (!gyro) attitudes[a].theta = seen->theta;
     ++a;
-    for (const double sign : {+1.0, -1.0})
-      if (!gyro) {
+    if (!gyro)  // with a gyro the pitch is measured
+      for (const double sign : {+1.0, -1.0}) {
         attitudes[a] = attitudes[0];
         attitudes[a++].theta += deg_to_rad(sign * kVanishingPitchStepDeg);
       }
