@@ -188,7 +188,8 @@ TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
   EXPECT_EQ(misses_of(culane.out), misses_of(tusimple.out));
 }
 
-// A stills' folder without labels is said to be one, and not measured.
+// A stills' folder without labels is said to be one, and not measured; with no drives
+// either, there was nothing to measure, and the exit status says so.
 TEST(MeasureReal, StillsWithoutLabelsAreNotMeasuredAndSaySo) {
   test::TempDir tmp;
   const std::string data = tmp.file("data"), stills = tmp.file("stills");
@@ -197,14 +198,25 @@ TEST(MeasureReal, StillsWithoutLabelsAreNotMeasuredAndSaySo) {
   std::filesystem::remove(stills + "/labels.jsonl");
   const test::ProcessResult r =
       test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL});
-  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  EXPECT_EQ(r.exit_status, 1) << r.out << r.err;
   EXPECT_NE(r.out.find(stills + ": no labels (labels.jsonl, or NAME.lines.txt beside each picture)"), std::string::npos)
       << r.out;
   EXPECT_EQ(printed_row(r.out, "nominal"), "") << r.out;
+  EXPECT_NE(r.err.find(data + ": nothing to measure: no labelled stills in " + stills), std::string::npos) << r.err;
+}
+
+// A mistyped folder is a usage error, not an empty table that exits 0.
+TEST(MeasureReal, AFolderThatIsNotThereIsAUsageError) {
+  test::TempDir tmp;
+  const test::ProcessResult r =
+      test::run_process({"python3", kMeasureReal, tmp.file("not-there"), "--ccdlane", CCDLANE_TOOL});
+  EXPECT_EQ(r.exit_status, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(tmp.file("not-there") + ": no such folder"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
 }
 
 // Its replays (20 MB a run) go into a temporary folder that is removed when it ends,
-// unless --keep names a folder for them.
+// however it ends (here: with nothing to measure), unless --keep names a folder for them.
 TEST(MeasureReal, LeavesNoReplaysBehindUnlessAskedToKeepThem) {
   test::TempDir tmp;
   const std::string data = tmp.file("data"), temp = tmp.file("tmp"), kept = tmp.file("kept");
@@ -217,10 +229,10 @@ TEST(MeasureReal, LeavesNoReplaysBehindUnlessAskedToKeepThem) {
     return test::run_process(argv);
   };
   const test::ProcessResult r = measure({});
-  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  ASSERT_EQ(r.exit_status, 1) << r.out << r.err;
   EXPECT_TRUE(std::filesystem::is_empty(temp));
   const test::ProcessResult k = measure({"--keep", kept});
-  ASSERT_EQ(k.exit_status, 0) << k.out << k.err;
+  ASSERT_EQ(k.exit_status, 1) << k.out << k.err;
   EXPECT_TRUE(std::filesystem::is_directory(kept));
 }
 
