@@ -1,9 +1,13 @@
 // Frame directory reader: the index is built once (allocating), reads never allocate.
 #include "drivers/frames/frame_directory.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 
 #include "base/regular_file.hpp"
 
@@ -13,17 +17,49 @@ namespace {
 // frames.csv of a day's drive at 60 fps is some 30 MB: far more is not a recording.
 constexpr std::size_t kMaxFramesCsvBytes = std::size_t{1} << 30;
 
+bool is_picture_name(std::string name) {
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const char* ext : {".png", ".jpg", ".jpeg", ".pgm", ".ppm"})
+    if (name.size() > std::strlen(ext) && name.ends_with(ext)) return true;
+  return false;
+}
+
 }  // namespace
+
+bool FrameDirectory::index_pictures() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec) && is_picture_name(it->path().filename().string()))
+      names.push_back(it->path().filename().string());
+  if (names.empty()) return false;
+  std::sort(names.begin(), names.end());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    FrameRow row;
+    row.index = i;
+    row.file = names[i];
+    row.t_ns = static_cast<std::int64_t>(i) * kPictureFolderFrameNs;
+    csv_.rows.push_back(std::move(row));
+  }
+  csv_.data_rows = names.size();
+  note_ = dir_ + ": no frames.csv: its " + std::to_string(names.size()) + " pictures in name order, " +
+          std::to_string(kPictureFolderFrameNs / 1'000'000) + " ms apart";
+  return true;
+}
 
 FrameDirectory::FrameDirectory(std::string dir) : dir_(std::move(dir)) {
   while (dir_.size() > 1 && dir_.back() == '/') dir_.pop_back();
   csv_path_ = dir_ + "/frames.csv";
   // A regular file only, read without blocking: a FIFO here must not hang replay.
   std::string text;
-  if (const int rc = read_regular_file(csv_path_, kMaxFramesCsvBytes, text); rc < 0)
-    throw FrameDirectoryError(csv_path_ + ": cannot read: " + regular_file_error(rc) +
-                              (rc == -EFBIG ? " (over 1 GB)" : "") + " (a frame directory needs frames.csv)");
-  csv_ = parse_frames_csv(text, csv_path_);
+  const int rc = read_regular_file(csv_path_, kMaxFramesCsvBytes, text);
+  if (rc >= 0)
+    csv_ = parse_frames_csv(text, csv_path_);
+  else if (!(rc == -ENOENT && index_pictures()))
+    throw FrameDirectoryError(
+        csv_path_ + ": cannot read: " + regular_file_error(rc) + (rc == -EFBIG ? " (over 1 GB)" : "") +
+        (rc == -ENOENT ? " (a frame directory needs frames.csv, or pictures to take in name order)"
+                       : " (a frame directory needs frames.csv)"));
   paths_.reserve(csv_.rows.size());
   for (const FrameRow& r : csv_.rows) {
     paths_.push_back(!r.file.empty() && r.file.front() == '/' ? r.file : dir_ + "/" + r.file);

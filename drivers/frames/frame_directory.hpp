@@ -1,6 +1,7 @@
 // Reading a frame directory (docs/interfaces.md "Frame directories"): frames.csv indexed once,
 // then each frame (PGM, PPM, PNG or JPEG, told apart by the file's extension) decoded on demand
-// into a caller's fixed buffer.
+// into a caller's fixed buffer. A folder of pictures without frames.csv (a benchmark's
+// stills, a camera's snapshots) is read in name order.
 #pragma once
 
 #include <cstdint>
@@ -20,9 +21,17 @@ namespace ccdlane {
 class FrameDirectory {
  public:
   // Reads DIR/frames.csv. Throws FrameDirectoryError when there is no usable index
-  // (missing or unreadable frames.csv, a header without file or t_ns). Malformed rows are
-  // not fatal: they are skipped and listed in issues().
+  // (an unreadable frames.csv, a header without file or t_ns; no frames.csv and no
+  // pictures). Malformed rows are not fatal: they are skipped and listed in issues().
+  // Without frames.csv, DIR's pictures (.png, .jpg, .jpeg, .pgm, .ppm, any case) are the
+  // frames in name order, kPictureFolderFrameNs apart, and note() says so.
   explicit FrameDirectory(std::string dir);
+
+  // 25 frames a second, as the development drives: a still's time matters to nothing
+  // but tracking, and a folder of pictures says none.
+  static constexpr std::int64_t kPictureFolderFrameNs = 40'000'000;
+  // "DIR: no frames.csv: its N pictures in name order, 40 ms apart", or "" with frames.csv.
+  const std::string& note() const { return note_; }
 
   const std::string& path() const { return dir_; }
   const std::string& csv_path() const { return csv_path_; }
@@ -67,8 +76,12 @@ class FrameDirectory {
   std::optional<PgmHeader> probe_first();
 
  private:
+  // The frames of a folder without frames.csv; false when it has no pictures either.
+  bool index_pictures();
+
   std::string dir_;
   std::string csv_path_;
+  std::string note_;
   FramesCsv csv_;
   std::vector<std::string> paths_;
   // By the file's extension: ".png" is PNG, ".jpg"/".jpeg" JPEG, anything else PGM or PPM.

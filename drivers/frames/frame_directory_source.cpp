@@ -111,6 +111,8 @@ std::string FrameDirectorySource::describe() const {
   char buf[64];
   if (options_.rate_hz > 0.0)
     std::snprintf(buf, sizeof buf, "%.3g Hz", options_.rate_hz);
+  else if (directory_ && !directory_->note().empty())  // a folder of pictures: no times recorded
+    std::snprintf(buf, sizeof buf, "in name order at %.3g Hz", 1e9 / FrameDirectory::kPictureFolderFrameNs);
   else
     std::snprintf(buf, sizeof buf, "as recorded");
   return "frames:" + options_.path + " " + std::to_string(width_) + "x" + std::to_string(height_) +

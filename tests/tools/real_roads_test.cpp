@@ -193,8 +193,21 @@ TEST(RealRoads, TuSimpleStillsEachAlone) {
   const auto replay =
       test::run_process({kTool, "replay", camera, dir.path(), "--stills", "--out", out.file("r.jsonl")});
   ASSERT_EQ(replay.exit_status, 0) << replay.err;
-  for (const Json& e : json_lines(test::run_process({"/bin/cat", out.file("r.jsonl")}).out))
-    EXPECT_EQ(e["state"], "searching") << "a still has no previous frame";
+  const std::vector<Json> estimates = json_lines(test::run_process({"/bin/cat", out.file("r.jsonl")}).out);
+  for (const Json& e : estimates) EXPECT_EQ(e["state"], "searching") << "a still has no previous frame";
+  // The stills' folder as published, without frames.csv: the same stills, in name order.
+  const std::string images = kData + "/tusimple/images";
+  const auto folder = test::run_process({kTool, "replay", camera, images, "--stills", "--out", out.file("f.jsonl")});
+  ASSERT_EQ(folder.exit_status, 0) << folder.err;
+  EXPECT_NE(folder.err.find(images + ": no frames.csv: its 10 pictures in name order, 40 ms apart"), std::string::npos)
+      << folder.err;
+  const std::vector<Json> from_folder = json_lines(test::run_process({"/bin/cat", out.file("f.jsonl")}).out);
+  ASSERT_EQ(from_folder.size(), estimates.size());
+  for (std::size_t i = 0; i < estimates.size(); ++i) {
+    EXPECT_EQ(from_folder[i]["frame"], estimates[i]["frame"]);
+    EXPECT_EQ(from_folder[i]["ok"], estimates[i]["ok"]) << i;
+    EXPECT_EQ(from_folder[i]["lines"], estimates[i]["lines"]) << i;
+  }
   const auto score = test::run_process(
       {kTool, "score", camera, dir.path(), out.file("r.jsonl"), kData + "/tusimple/labels.jsonl", "--json"});
   ASSERT_EQ(score.exit_status, 0) << score.err;

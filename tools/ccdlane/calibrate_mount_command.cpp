@@ -70,6 +70,7 @@ std::vector<MountFrame> solve_recording(const MountArgs& args, const Config& con
       }
     } else {
       FrameDirectory dir(args.recording);
+      if (!dir.note().empty()) std::cerr << "ccdlane calibrate mount: " << dir.note() << '\n';
       const auto header = dir.probe_first();
       if (header && (header->width != W || header->height != H))
         throw UsageError(args.recording + ": frames are " + std::to_string(header->width) + "x" +

@@ -255,6 +255,7 @@ void record_frames(const RecordArgs& a, const Config& config, const std::string&
     throw UsageError(e.what());
   }
   for (const std::string& issue : dir->issues()) std::cerr << "ccdlane record: " << issue << '\n';
+  if (!dir->note().empty()) std::cerr << "ccdlane record: " << dir->note() << '\n';
   const auto header = dir->probe_first();
   if (!header) throw UsageError(path + ": no frame of the directory can be read");
   const ImageBuffer buffer(header->width, header->height, header->format(),

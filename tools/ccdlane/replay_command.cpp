@@ -217,6 +217,7 @@ int Replay::run() {
   if (dir_) {
     csv_issues_ = dir_->issues().size();
     for (const std::string& issue : dir_->issues()) std::cerr << "ccdlane replay: " << issue << '\n';
+    if (!dir_->note().empty()) std::cerr << "ccdlane replay: " << dir_->note() << '\n';
     skipped_ = csv_issues_;
     replay_directory();
   } else if (video_) {

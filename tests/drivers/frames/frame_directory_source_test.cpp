@@ -146,6 +146,25 @@ TEST(FrameDirectorySource, PacesAtTheRecordedTimesOrTheGivenRate) {
   }
 }
 
+// A folder of pictures without frames.csv (a camera's snapshots) plays in name order at
+// 25 Hz, and says so.
+TEST(FrameDirectorySource, PlaysAFolderOfPicturesInNameOrderAt25Hz) {
+  Recording rec(3, 1'000'000);
+  std::filesystem::remove(rec.path + "/frames.csv");
+  FrameDirectorySource src({rec.path, 0.0, false, 16, 8});
+  ASSERT_EQ(src.open(), "");
+  EXPECT_NE(src.describe().find("in name order at 25 Hz"), std::string::npos) << src.describe();
+  Frame16x8 b;
+  FrameMeta meta;
+  const std::int64_t t0 = now_ns();
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(src.capture(b.view, meta, 1000), CaptureStatus::frame);
+    EXPECT_EQ(b.px[0], k) << "the pictures' names, 000000.pgm .. 000002.pgm, are their order";
+    EXPECT_EQ(meta.recorded_t_ns, k * 40'000'000);
+  }
+  EXPECT_GE(now_ns() - t0, 80'000'000);
+}
+
 TEST(FrameDirectorySource, TimesOutWhenTheNextFrameIsNotDueYet) {
   Recording rec(2, 5'000'000'000);  // the second frame 5 s after the first
   FrameDirectorySource src({rec.path, 0.0, false, 16, 8});

@@ -272,9 +272,43 @@ TEST(FrameDirectory, NoIndexIsAnError) {
     FrameDirectory dir(tmp.path() + "/");
     FAIL() << "no error";
   } catch (const FrameDirectoryError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              tmp.path() + "/frames.csv: cannot read: No such file or directory (a frame directory needs frames.csv)");
+    EXPECT_EQ(std::string(e.what()), tmp.path() +
+                                         "/frames.csv: cannot read: No such file or directory (a frame directory "
+                                         "needs frames.csv, or pictures to take in name order)");
   }
+}
+
+// A folder of pictures without frames.csv (a benchmark's stills as published): its
+// pictures are the frames, in name order, 40 ms apart, whatever the case of their
+// extensions; other files are not frames. The run is told so.
+TEST(FrameDirectory, AFolderOfPicturesWithoutAnIndexIsReadInNameOrder) {
+  test::TempDir tmp;
+  const std::string stills = std::string(CCDLANE_TEST_DATA_DIR) + "/real/tusimple/images";
+  std::filesystem::copy_file(stills + "/0002.jpg", tmp.file("b.jpg"));
+  std::filesystem::copy_file(stills + "/0000.jpg", tmp.file("c.JPEG"));
+  std::filesystem::copy_file(stills + "/0001.jpg", tmp.file("a.jpg"));
+  std::ofstream(tmp.file("notes.txt")) << "not a frame\n";
+  std::filesystem::create_directory(tmp.file("d.png"));  // a folder, whatever its name
+  FrameDirectory dir(tmp.path());
+  ASSERT_EQ(dir.size(), 3u);
+  EXPECT_EQ(dir.data_rows(), 3u);
+  EXPECT_TRUE(dir.issues().empty());
+  const char* names[] = {"a.jpg", "b.jpg", "c.JPEG"};
+  Frame f(1280, 720, PixelFormat::rgb8);
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    EXPECT_EQ(dir.row(i).file, names[i]);
+    EXPECT_EQ(dir.row(i).index, i);
+    EXPECT_EQ(dir.row(i).t_ns, static_cast<std::int64_t>(i) * 40'000'000);
+    EXPECT_EQ(dir.file_path(i), tmp.file(names[i]));
+    EXPECT_EQ(dir.read(i, f.view), PgmFault::none) << dir.error();
+  }
+  EXPECT_EQ(dir.note(), tmp.path() + ": no frames.csv: its 3 pictures in name order, 40 ms apart");
+
+  // With frames.csv, that is the index, and there is nothing to note.
+  std::ofstream(tmp.file("frames.csv")) << "file,t_ns\nb.jpg,0\n";
+  const FrameDirectory indexed(tmp.path());
+  EXPECT_EQ(indexed.size(), 1u);
+  EXPECT_EQ(indexed.note(), "");
 }
 
 // frames.csv a FIFO (no writer): replay once hung for ever in open().
