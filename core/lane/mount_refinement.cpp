@@ -45,6 +45,7 @@ MountRefinement::MountRefinement(const LaneEstimatorOptions& options)
       corrected_(configured_),
       mount_(configured_),
       lane_width_prior_(options.priors.lane_width_mm),
+      height_known_(height_known(options.priors)),
       configured_height_mm_(options.nominal_pose.H_mm),
       height_mm_(configured_height_mm_) {
   if (!options.online_mount) return;
@@ -53,6 +54,12 @@ MountRefinement::MountRefinement(const LaneEstimatorOptions& options)
   result_.status = online_->status();
   result_.learned = online_->learned();
   apply_correction();
+}
+
+bool MountRefinement::height_known(const SolverPriors& priors) {
+  if (!priors.H_mm) return false;
+  if (!priors.lane_width_mm) return true;
+  return priors.H_mm->sigma / priors.H_mm->mean <= priors.lane_width_mm->sigma / priors.lane_width_mm->mean;
 }
 
 void MountRefinement::reset() {
@@ -104,7 +111,7 @@ bool MountRefinement::acquire(const Attitude& solved, double lane_width_mm) {
     // width that is clearly not a lane's says the height is off, by their ratio.
     const double width = q.lane_width_mm / q.frames;
     const std::optional<Prior>& prior = lane_width_prior_;
-    if (prior && width > 0.0 && std::abs(width - prior->mean) > kHeightTrustSigmas * prior->sigma) {
+    if (prior && !height_known_ && width > 0.0 && std::abs(width - prior->mean) > kHeightTrustSigmas * prior->sigma) {
       height_mm_ *= prior->mean / width;
       rescaled = true;
     }

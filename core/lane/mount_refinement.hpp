@@ -51,9 +51,16 @@ class MountRefinement {
   // The mount's height in use: the configured one, or the one the first second's lane
   // widths gave when the lane-width prior disagreed with it (acquire).
   double height_mm() const { return height_mm_; }
-  // Whether the height is settled: the first second's lanes have said (or there is no
-  // lane-width prior to say anything). Until then lane widths are judged loosely.
-  bool height_settled() const { return !lane_width_prior_ || acquisition_.done; }
+  // Whether the height is settled: the first second's lanes have said, there is no
+  // lane-width prior to say anything, or the height is known (height_known). Until then
+  // lane widths are judged loosely, a search also looks from other heights, and a lane
+  // whose width is no lane's at the configured height gives the height.
+  bool height_settled() const { return !lane_width_prior_ || height_known_ || acquisition_.done; }
+  // Whether `[prior] H_mm` says the height as closely as a lane's width would, or more
+  // (relative sigmas; no lane-width prior: any height prior): the user measured it, and
+  // lanes narrower or wider than the prior's (a city street, a bridge) must not move it.
+  // A looser height prior leaves the height for the lanes to settle.
+  static bool height_known(const SolverPriors& priors);
 
   // The start of a run. What the mount would be for a frame whose solve is `solved`, were
   // it the run's first supported lane (a search judges its candidates against this).
@@ -88,6 +95,7 @@ class MountRefinement {
   Attitude corrected_;   // configured plus the online correction: what reset() returns to
   Attitude mount_;       // in use
   std::optional<Prior> lane_width_prior_;
+  bool height_known_ = false;
   double configured_height_mm_ = 0.0;
   double height_mm_ = 0.0;  // in use
   // The solved yaw and pitch of the run's first ok frames, summed.

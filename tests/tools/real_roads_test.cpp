@@ -36,13 +36,15 @@ using test::json_lines;
 // from the first ok frame to the last (their change over the time between).
 struct DriveFigures {
   int frames = 0, ok = 0, warnings = 0;
-  double width_sd = 0.0;
+  double width_sd = 0.0, mean_width_mm = 0.0;
   double lateral_velocity_mps = 0.0, sigma_lateral_velocity_mps = 0.0, offset_drift_mps = 0.0;
 };
 
 // `input`: a video or a frame directory; `condition`, if any, replay's --condition.
-DriveFigures replay_drive(const std::string& input, const std::string& condition = "") {
-  std::vector<std::string> command = {kTool, "replay", kData + "/udacity-drives/camera.toml", input};
+DriveFigures replay_drive(const std::string& input, const std::string& condition = "",
+                          const std::string& camera = kData + "/udacity-drives/camera.toml",
+                          std::vector<double>* heights = nullptr) {
+  std::vector<std::string> command = {kTool, "replay", camera, input};
   if (!condition.empty()) command.insert(command.end(), {"--condition", condition});
   const auto r = test::run_process(command);
   EXPECT_EQ(r.exit_status, 0) << r.err;
@@ -63,7 +65,9 @@ DriveFigures replay_drive(const std::string& input, const std::string& condition
     last_offset = offset, last_t = t;
     const double w = e["lane_width_mm"].get<double>();
     sum += w, sum2 += w * w;
+    if (heights) heights->push_back(e["H_mm"].get<double>());
   }
+  f.mean_width_mm = f.ok ? sum / f.ok : 0.0;
   f.lateral_velocity_mps = median_in_place(velocity);
   f.sigma_lateral_velocity_mps = median_in_place(sigma);
   f.offset_drift_mps = last_t > first_t ? (last_offset - first_offset) / (last_t - first_t) : 0.0;
@@ -124,6 +128,33 @@ TEST(RealRoads, UdacityDrivesBlurredAsASofterCameraWouldGiveThem) {
   for (const DriveReached& c : {DriveReached{"project_video_segA.mp4", 211, 207.0 / 211, 0.0160},
                                 DriveReached{"project_video_segB.mp4", 186, 179.0 / 186, 0.0200}})
     expect_drive_floors(replay_drive(kData + "/udacity-drives/" + c.file, "blur=1.5"), c);
+}
+
+// A height the user measured stands against a lane-width prior for other roads. segA's
+// camera at the height `calibrate mount` finds for it (1.20 m; lanes 3.66 m wide), given
+// as known ([prior] H_mm = [1200, 30]), with a prior of 4.5 m lanes: the first second's
+// lanes, 3.7 m wide, once took the height to 1.47 m, where every frame then disagreed
+// with the height prior (25 of 211 ok). The height is the user's; the lanes measure
+// 3.66 m within what the height's 30 mm makes of them.
+TEST(RealRoads, AMeasuredHeightStandsAgainstALaneWidthPriorOfOtherRoads) {
+  std::ifstream in(kData + "/udacity-drives/camera.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string camera = text.str();
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"H_mm = 1300.0", "H_mm = 1200.0"},
+        {"lane_width_mm = [3660.0, 300.0]", "lane_width_mm = [4500.0, 300.0]\nH_mm = [1200.0, 30.0]"}}) {
+    const auto at = camera.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    camera.replace(at, from.size(), to);
+  }
+  test::TempDir dir;
+  std::vector<double> heights;
+  const DriveFigures f =
+      replay_drive(kData + "/udacity-drives/project_video_segA.mp4", "", dir.write("camera.toml", camera), &heights);
+  expect_drive_floors(f, {"project_video_segA.mp4", 211, 211.0 / 211, 0.0162});
+  for (const double h : heights) EXPECT_EQ(h, 1200.0);
+  EXPECT_NEAR(f.mean_width_mm, 3660.0, 2.0 * 3660.0 * 30.0 / 1200.0);
 }
 
 // A camera at 5 frames/s, or a daemon that drops four frames in five under load: the

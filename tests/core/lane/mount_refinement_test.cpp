@@ -107,6 +107,38 @@ TEST(MountRefinement, AHeightWhoseLanesAreClearlyNotALanesWidthIsTheOneThatGives
   EXPECT_EQ(low.height_mm(), 1200.0);
 }
 
+// A height the user measured ([prior] H_mm as close as a lane's width would say it, or
+// closer) is settled from the start: lanes of another width than the prior's (a city
+// street's 3 m against a freeway's 3.66) do not move it. A looser height prior leaves it
+// to the lanes, as no height prior does.
+TEST(MountRefinement, AHeightKnownAsWellAsALanesWidthWouldSayItIsNotMovedByTheLanes) {
+  LaneEstimatorOptions o = options(false);
+  o.nominal_pose.H_mm = 1200.0;
+  o.priors.lane_width_mm = Prior{3660.0, 300.0};  // 8.2 % of the width
+  LaneEstimatorOptions measured = o, loose = o, without_lanes = o;
+  measured.priors.H_mm = Prior{1200.0, 30.0};  // 2.5 %
+  loose.priors.H_mm = Prior{1200.0, 200.0};    // 17 %
+  without_lanes.priors.lane_width_mm.reset();
+  without_lanes.priors.H_mm = Prior{1200.0, 200.0};
+  EXPECT_TRUE(MountRefinement::height_known(measured.priors));
+  EXPECT_TRUE(MountRefinement::height_known(without_lanes.priors));
+  EXPECT_FALSE(MountRefinement::height_known(loose.priors));
+  EXPECT_FALSE(MountRefinement::height_known(o.priors));
+  // At the rule's edge: the same relative sigma is known.
+  measured.priors.H_mm = Prior{1200.0, 1200.0 * 300.0 / 3660.0};
+  EXPECT_TRUE(MountRefinement::height_known(measured.priors));
+  MountRefinement known(measured), unsure(loose);
+  EXPECT_TRUE(known.height_settled());
+  EXPECT_FALSE(unsure.height_settled());
+  for (int k = 0; k < MountRefinement::kMountAcquisitionFrames; ++k) {
+    EXPECT_FALSE(known.acquire(solved(1.0, 3.0), 3000.0));  // a city street's lanes
+    EXPECT_EQ(unsure.acquire(solved(1.0, 3.0), 3000.0), k + 1 == MountRefinement::kMountAcquisitionFrames);
+  }
+  EXPECT_EQ(known.height_mm(), 1200.0);
+  EXPECT_NEAR(unsure.height_mm(), 1200.0 * 3660.0 / 3000.0, 1e-9);
+  EXPECT_TRUE(known.height_settled());
+}
+
 TEST(MountRefinement, TheCorrectionAFrameBringsAppliesFromTheNextFrameAndFramesWithoutAPictureDoNotCount) {
   MountRefinement m(options(true));
   EXPECT_EQ(m.result().status.state, OnlineMountState::uncalibrated);
