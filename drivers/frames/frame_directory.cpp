@@ -24,6 +24,31 @@ bool is_picture_name(std::string name) {
   return false;
 }
 
+// Name order as a person reads it: runs of digits by their value, so that a clip's
+// 1.jpg ... 20.jpg (TuSimple's) play 2 before 10; the rest byte by byte.
+bool before_in_name_order(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  while (i < a.size() && j < b.size()) {
+    if (digit(a[i]) && digit(b[j])) {
+      std::size_t ie = i, je = j;
+      while (ie < a.size() && a[ie] == '0') ++ie;  // leading zeros say nothing of the value
+      while (je < b.size() && b[je] == '0') ++je;
+      std::size_t ia = ie, jb = je;
+      while (ia < a.size() && digit(a[ia])) ++ia;
+      while (jb < b.size() && digit(b[jb])) ++jb;
+      if (ia - ie != jb - je) return ia - ie < jb - je;  // fewer digits: smaller
+      if (const int c = a.compare(ie, ia - ie, b, je, jb - je); c != 0) return c < 0;
+      i = ia, j = jb;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
+  }
+  if (a.size() - i != b.size() - j) return a.size() - i < b.size() - j;
+  return a < b;  // equal values written differently (01 and 1): a fixed order all the same
+}
+
 }  // namespace
 
 bool FrameDirectory::index_pictures() {
@@ -33,7 +58,7 @@ bool FrameDirectory::index_pictures() {
     if (it->is_regular_file(ec) && is_picture_name(it->path().filename().string()))
       names.push_back(it->path().filename().string());
   if (names.empty()) return false;
-  std::sort(names.begin(), names.end());
+  std::sort(names.begin(), names.end(), before_in_name_order);
   for (std::size_t i = 0; i < names.size(); ++i) {
     FrameRow row;
     row.index = i;

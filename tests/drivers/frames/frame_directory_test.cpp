@@ -304,6 +304,15 @@ TEST(FrameDirectory, AFolderOfPicturesWithoutAnIndexIsReadInNameOrder) {
   }
   EXPECT_EQ(dir.note(), tmp.path() + ": no frames.csv: its 3 pictures in name order, 40 ms apart");
 
+  // Numbers in names by their value: a clip's 1.jpg ... 20.jpg play 2 before 10.
+  test::TempDir clip;
+  for (const char* name : {"10.jpg", "2.jpg", "1.jpg", "20.jpg", "02b.jpg"})
+    std::filesystem::copy_file(stills + "/0000.jpg", clip.file(name));
+  const FrameDirectory played(clip.path());
+  std::vector<std::string> order;
+  for (std::size_t i = 0; i < played.size(); ++i) order.push_back(played.row(i).file);
+  EXPECT_EQ(order, (std::vector<std::string>{"1.jpg", "2.jpg", "02b.jpg", "10.jpg", "20.jpg"}));
+
   // With frames.csv, that is the index, and there is nothing to note.
   std::ofstream(tmp.file("frames.csv")) << "file,t_ns\nb.jpg,0\n";
   const FrameDirectory indexed(tmp.path());
