@@ -2,7 +2,6 @@
 #include "drivers/frames/frame_directory.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -17,11 +16,15 @@ namespace {
 // frames.csv of a day's drive at 60 fps is some 30 MB: far more is not a recording.
 constexpr std::size_t kMaxFramesCsvBytes = std::size_t{1} << 30;
 
-bool is_picture_name(std::string name) {
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const char* ext : {".png", ".jpg", ".jpeg", ".pgm", ".ppm"})
-    if (name.size() > std::strlen(ext) && name.ends_with(ext)) return true;
-  return false;
+// A picture the frame readers take, by the extension they are told apart by (the
+// codecs' own tests for PNG and JPEG; PGM and PPM, any case), with a name before it.
+bool is_picture_name(std::string_view name) {
+  const std::size_t dot = name.rfind('.');
+  if (dot == 0 || dot == std::string_view::npos) return false;
+  const std::string_view ext = name.substr(dot);
+  const auto pnm = ext.size() == 4 && (ext[1] | 0x20) == 'p' && ((ext[2] | 0x20) == 'g' || (ext[2] | 0x20) == 'p') &&
+                   (ext[3] | 0x20) == 'm';
+  return pnm || has_png_extension(name) || has_jpeg_extension(name);
 }
 
 // Name order as a person reads it: runs of digits by their value, so that a clip's
