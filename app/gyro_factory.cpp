@@ -18,7 +18,7 @@ namespace {
 // source has rendered its frames, so the two clocks agree to within the gyro's
 // start-up time (tens of ms, against sway and bump periods of seconds).
 gx1::AttitudeScript follow_synth_drive(const Config& config) {
-  auto drive = std::make_shared<SynthDrive>(config.synth, config.nominal_pose());
+  auto drive = std::make_shared<SynthDrive>(synth_source_drive(config));
   const double rate = config.source.rate_hz > 0 ? config.source.rate_hz : config.synth.rate_hz;
   const auto count = static_cast<std::uint64_t>(synth_source_frame_count(config));
   return [drive, rate, count](double t_s) {

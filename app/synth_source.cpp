@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <thread>
 
 #include "base/clock.hpp"
 #include "core/synth/road_renderer.hpp"
@@ -17,29 +18,46 @@ int synth_source_frame_count(const Config& config) {
   return std::max(1, static_cast<int>(std::min(static_cast<double>(config.synth.frames), most)));
 }
 
+SynthDrive synth_source_drive(const Config& config) {
+  return SynthDrive(config.synth, config.nominal_pose(), synth_source_frame_count(config) / config.synth.rate_hz);
+}
+
 SynthSource::SynthSource(const Config& config, SynthSourceOptions options)
     : config_(config),
       options_(options),
-      drive_(config.synth, config.nominal_pose()),
+      drive_(synth_source_drive(config)),
       width_(config.camera.Nu),
       height_(config.camera.Nv),
       count_(synth_source_frame_count(config)) {}
 
 std::string SynthSource::open() {
-  RoadRenderer renderer(config_.camera, config_.synth);
-  format_ = renderer.format();
+  format_ = RoadRenderer(config_.camera, config_.synth).format();
   bits_ = format_ == PixelFormat::mono16 ? config_.synth.bits : 8;
   const std::ptrdiff_t stride = static_cast<std::ptrdiff_t>(width_) * bytes_per_pixel(format_);
   frame_bytes_ = static_cast<std::size_t>(stride) * static_cast<std::size_t>(height_);
   pixels_.assign(frame_bytes_ * static_cast<std::size_t>(count_), 0);
   gyro_.resize(static_cast<std::size_t>(count_));
-  for (int k = 0; k < count_; ++k) {
-    if (options_.cancelled && options_.cancelled()) return kSynthInterrupted;
-    const SynthFrame truth = drive_.frame(static_cast<std::uint64_t>(k));
-    renderer.render(
-        truth, {pixels_.data() + frame_bytes_ * static_cast<std::size_t>(k), width_, height_, stride, format_, bits_});
-    gyro_[static_cast<std::size_t>(k)] = truth.gyro;
-  }
+  // Every core renders (the daemon waits for this before its first frame): thread t
+  // renders frames t, t + T, ... with a renderer of its own (render() keeps state). The
+  // calling thread asks `cancelled` and tells the others.
+  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, count_);
+  std::atomic<bool> interrupted{false};
+  const auto render_every = [&](int first) {
+    RoadRenderer renderer(config_.camera, config_.synth);
+    for (int k = first; k < count_; k += threads) {
+      if (first == 0 && options_.cancelled && options_.cancelled()) interrupted.store(true, std::memory_order_relaxed);
+      if (interrupted.load(std::memory_order_relaxed)) return;
+      const SynthFrame truth = drive_.frame(static_cast<std::uint64_t>(k));
+      renderer.render(truth, {pixels_.data() + frame_bytes_ * static_cast<std::size_t>(k), width_, height_, stride,
+                              format_, bits_});
+      gyro_[static_cast<std::size_t>(k)] = truth.gyro;
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < threads; ++t) helpers.emplace_back(render_every, t);
+  render_every(0);
+  for (std::thread& h : helpers) h.join();
+  if (interrupted.load()) return kSynthInterrupted;
   start_ns_ = monotonic_ns();
   next_ = 0;
   return "";

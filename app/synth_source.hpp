@@ -1,6 +1,6 @@
 // The built-in synthetic road as a camera: a few seconds of the [synth] drive rendered
-// once at open(), then replayed paced at rate_hz and looping, so the demo needs no files
-// and rendering costs nothing while the pipeline runs.
+// once at open(), then replayed paced at rate_hz and looping without a seam, so the demo
+// needs no files and rendering costs nothing while the pipeline runs.
 #pragma once
 
 #include <atomic>
@@ -19,7 +19,7 @@ struct SynthSourceOptions {
   double rate_hz = 30.0;                      // playback pace; 0: as fast as frames are asked for
   bool gyro_in_meta = true;                   // put each frame's gyro reading in FrameMeta.gyro
   std::uint64_t frames = 0;                   // then end of stream; 0: loop for ever
-  static constexpr double kMaxSeconds = 4.0;  // rendered ahead: at most this much drive
+  static constexpr double kMaxSeconds = 6.0;  // rendered ahead: at most this much drive
   // Asked between frames while open() renders: true gives up (open() returns
   // kSynthInterrupted), so that a stop request does not wait out seconds of rendering.
   std::function<bool()> cancelled;
@@ -28,6 +28,11 @@ struct SynthSourceOptions {
 // How many frames the source renders for `config`: [synth] frames, at most
 // kMaxSeconds of the drive (memory: 800x600 mono8 is 0.5 MB a frame), at least 1.
 int synth_source_frame_count(const Config& config);
+
+// The drive a synth source for `config` plays: its rendered frames' span made to loop
+// without a seam (SynthDrive's loop_s), so that frame n shows drive frame n mod count and
+// the emulated gyro that follows it sees no jump at the loop either.
+SynthDrive synth_source_drive(const Config& config);
 
 // What SynthSource::open() returns when its `cancelled` said stop.
 inline constexpr const char* kSynthInterrupted = "synth: start-up interrupted";

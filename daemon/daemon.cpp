@@ -11,6 +11,7 @@
 
 #include "app/gyro_factory.hpp"
 #include "app/source_factory.hpp"
+#include "app/synth_source.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
 #include "bus/channels.hpp"
@@ -148,6 +149,9 @@ Config demo_config() {
   Config c = default_config();
   c.source.kind = SourceKind::synth;
   c.source.rate_hz = 30.0;
+  // Six seconds of drive, looped: one weave across the lane in its own 6 s (a shorter
+  // loop would make it a faster weave, as a drifting car's), whole bump and sway cycles.
+  c.synth.frames = static_cast<int>(SynthSourceOptions::kMaxSeconds * c.synth.rate_hz);
   c.gyro.device = "emulated";
   return c;
 }

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "app/synth_source.hpp"
+
 namespace ccdlane {
 namespace {
 
@@ -39,7 +41,7 @@ std::uint64_t estimated_start_bytes(const Config& c) {
   const std::uint64_t frames = static_cast<std::uint64_t>(c.daemon.queue_depth) + 2;
   std::uint64_t bytes = frames * pixels * frame_bytes_per_pixel(c) + pixels * kEstimatorBytesPerPixel;
   if (c.source.kind == SourceKind::synth)
-    bytes += static_cast<std::uint64_t>(std::max(c.synth.frames, 0)) * pixels * frame_bytes_per_pixel(c);
+    bytes += static_cast<std::uint64_t>(synth_source_frame_count(c)) * pixels * frame_bytes_per_pixel(c);
   return bytes;
 }
 

@@ -2,13 +2,20 @@
 // a cosine-profile lane change, heading from the lateral speed.
 #include "core/synth/synth_drive.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/synth/random.hpp"
 
 namespace ccdlane {
+namespace {
 
-SynthDrive::SynthDrive(const SynthConfig& scene, const CameraPose& mount)
+// The period nearest `period` of which a whole number, at least one, fits in `loop`.
+double whole_cycles_period(double period, double loop) { return loop / std::max(1.0, std::round(loop / period)); }
+
+}  // namespace
+
+SynthDrive::SynthDrive(const SynthConfig& scene, const CameraPose& mount, double loop_s)
     : synth_(scene),
       mount_{rad_to_deg(mount.attitude.psi), rad_to_deg(mount.attitude.theta), rad_to_deg(mount.attitude.phi)},
       H_mm_(mount.H_mm),
@@ -17,6 +24,14 @@ SynthDrive::SynthDrive(const SynthConfig& scene, const CameraPose& mount)
   for (int i = 0; i < 3; ++i) bump_phase_[i] = 2 * kPi * synth::unit(synth::hash(s, 11, static_cast<std::uint64_t>(i)));
   roll_phase_ = 2 * kPi * synth::unit(synth::hash(s, 12));
   weave_phase_ = 2 * kPi * synth::unit(synth::hash(s, 13));
+  if (loop_s <= 0.0) return;
+  synth_.weave_period_s = whole_cycles_period(synth_.weave_period_s, loop_s);
+  synth_.roll_period_s = whole_cycles_period(synth_.roll_period_s, loop_s);
+  const double bumps = loop_s / (synth_.bump_period_s = whole_cycles_period(synth_.bump_period_s, loop_s));
+  for (double& overtone : bump_overtone_) overtone = std::max(1.0, std::round(overtone * bumps)) / bumps;
+  const double dash_cycle_m = (synth_.dash_length_mm + synth_.dash_gap_mm) / 1000.0;
+  if (synth_.speed_mps > 0.0 && dash_cycle_m > 0.0)  // a dash cycle's time, whole in the loop
+    synth_.speed_mps = dash_cycle_m / whole_cycles_period(dash_cycle_m / synth_.speed_mps, loop_s);
 }
 
 double SynthDrive::line_position_mm(int j) const { return (0.5 * synth_.lanes - j) * synth_.lane_width_mm; }
@@ -64,8 +79,8 @@ SynthFrame SynthDrive::frame(std::uint64_t k) const {
 
   // Bumps: three incommensurate components so the pitch does not look periodic.
   const double b = 2 * kPi * t / synth_.bump_period_s;
-  const double bump = 0.6 * std::sin(b + bump_phase_[0]) + 0.3 * std::sin(2.7 * b + bump_phase_[1]) +
-                      0.1 * std::sin(6.1 * b + bump_phase_[2]);
+  const double bump = 0.6 * std::sin(b + bump_phase_[0]) + 0.3 * std::sin(bump_overtone_[0] * b + bump_phase_[1]) +
+                      0.1 * std::sin(bump_overtone_[1] * b + bump_phase_[2]);
   const double sway = std::sin(2 * kPi * t / synth_.roll_period_s + roll_phase_);
   const AttitudeDeg cam{mount_.psi_deg + f.heading_deg, mount_.theta_deg + synth_.pitch_bump_deg * bump,
                         mount_.phi_deg + synth_.roll_sway_deg * sway};

@@ -37,7 +37,15 @@ class SynthDrive {
  public:
   // `scene` gives the road and the motion; `mount` is the camera's nominal pose on the
   // vehicle (its attitude, height and focal length), on which the motion is added.
-  SynthDrive(const SynthConfig& scene, const CameraPose& mount);
+  // With loop_s > 0 the drive is made to repeat every loop_s seconds without a seam, for
+  // a source that renders loop_s of it and plays that for ever: each periodic motion
+  // (weave, bumps and their overtones, sway) gets a whole number of cycles in loop_s, at
+  // least one, and the speed a whole number of dash cycles (dash and gap), the nearest to
+  // what `scene` asks. Frame loop_s x rate_hz then shows what frame 0 shows, and the step
+  // across the seam is an ordinary one: the lane filter and a gyro's yaw rate see no
+  // jump. A lane change, and scenery with periods of its own (crossings, road markings,
+  // shadows, texture), are not made periodic.
+  SynthDrive(const SynthConfig& scene, const CameraPose& mount, double loop_s = 0.0);
 
   // The truth of frame k (pure: any k, any order, same answer for the same seed).
   SynthFrame frame(std::uint64_t k) const;
@@ -51,9 +59,10 @@ class SynthDrive {
  private:
   double vehicle_position_mm(double t_s) const;  // lateral, relative to the road centre, + left
 
-  SynthConfig synth_;
+  SynthConfig synth_;  // with loop_s, its speed and periods those of the loop
   AttitudeDeg mount_;
   double H_mm_, f_mm_;
+  double bump_overtone_[2] = {2.7, 6.1};  // of the bump frequency: incommensurate unless looping
   double bump_phase_[3];
   double roll_phase_, weave_phase_;
 };

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "app/config.hpp"
+#include "app/synth_source.hpp"
 
 namespace ccdlane {
 namespace {
@@ -31,6 +32,19 @@ TEST(MemoryEstimate, TheFramePoolAtItsLargestPixel) {
   Config grey = c;
   grey.source.pixel_format = SourcePixels::grey;  // may be 16-bit
   EXPECT_EQ(estimated_start_bytes(grey), 64 * pixels * 2 + pixels * 8);
+}
+
+// A synth source holds its rendered drive: [synth] frames, at most kMaxSeconds of them.
+TEST(MemoryEstimate, TheSyntheticDriveAsTheSourceRendersIt) {
+  Config c = default_config();
+  c.source.kind = SourceKind::synth;
+  const std::uint64_t pixels = static_cast<std::uint64_t>(c.camera.Nu) * static_cast<std::uint64_t>(c.camera.Nv);
+  const std::uint64_t without_drive = (static_cast<std::uint64_t>(c.daemon.queue_depth) + 2) * pixels + pixels * 8;
+  c.synth.frames = 50;
+  EXPECT_EQ(estimated_start_bytes(c), without_drive + 50 * pixels);
+  c.synth.frames = 100000;  // an hour at 30 Hz is not rendered: kMaxSeconds are
+  EXPECT_EQ(estimated_start_bytes(c),
+            without_drive + static_cast<std::uint64_t>(SynthSourceOptions::kMaxSeconds * c.synth.rate_hz) * pixels);
 }
 
 TEST(MemoryEstimate, MoreThanHalfTheMachineIsRefusedWithTheFigures) {

@@ -1,8 +1,9 @@
 // The synthetic drive's truth: consistent lane quantities, a lane change that moves the
 // vehicle one lane right, gyro columns that map back to the camera attitude with the
-// configured noise, and determinism.
+// configured noise, determinism, and a drive that loops without a seam.
 #include "core/synth/synth_drive.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -96,6 +97,56 @@ TEST(SynthDrive, SameSeedSameDriveOtherSeedOtherDrive) {
   EXPECT_EQ(a.frame(17).pose.attitude.theta, b.frame(17).pose.attitude.theta);
   EXPECT_NE(a.frame(17).gyro.roll_deg, other.frame(17).gyro.roll_deg);
   EXPECT_NE(a.frame(17).pose.attitude.theta, other.frame(17).pose.attitude.theta);
+}
+
+// The largest change from one frame to the next of what the lane filter and the gyro
+// see: offset (mm), heading, pitch and roll (deg).
+struct Step {
+  double offset_mm = 0, heading_deg = 0, theta_deg = 0, phi_deg = 0;
+  void widen(const SynthFrame& a, const SynthFrame& b) {
+    offset_mm = std::max(offset_mm, std::abs(b.lateral_offset_mm - a.lateral_offset_mm));
+    heading_deg = std::max(heading_deg, std::abs(b.heading_deg - a.heading_deg));
+    theta_deg = std::max(theta_deg, rad_to_deg(std::abs(b.pose.attitude.theta - a.pose.attitude.theta)));
+    phi_deg = std::max(phi_deg, rad_to_deg(std::abs(b.pose.attitude.phi - a.pose.attitude.phi)));
+  }
+  // Each of this step's no larger than `other`'s, up to rounding.
+  bool within(const Step& other) const {
+    return offset_mm <= other.offset_mm + 1e-6 && heading_deg <= other.heading_deg + 1e-9 &&
+           theta_deg <= other.theta_deg + 1e-9 && phi_deg <= other.phi_deg + 1e-9;
+  }
+};
+
+// A looping source plays frames 0..n-1 and then frame 0 again: the step from frame n-1 to
+// frame 0 must be an ordinary step of the drive. Without the loop it was a jump of up to
+// 400 mm in the offset, and of the yaw, which the emulated gyro's rate made a spike.
+TEST(SynthDrive, ALoopingDriveRepeatsWithoutASeam) {
+  const Config c = default_config();
+  const double dash_cycle_mm = c.synth.dash_length_mm + c.synth.dash_gap_mm;
+  for (const int n : {100, 180, 240}) {
+    SCOPED_TRACE("a loop of " + std::to_string(n) + " frames");
+    const auto last = static_cast<std::uint64_t>(n - 1);
+    const SynthDrive looping(c.synth, c.nominal_pose(), n / c.synth.rate_hz), plain(c.synth, c.nominal_pose());
+    Step inside, seam, plain_inside, plain_seam;
+    for (std::uint64_t k = 1; k <= last; ++k) {
+      inside.widen(looping.frame(k - 1), looping.frame(k));
+      plain_inside.widen(plain.frame(k - 1), plain.frame(k));
+    }
+    seam.widen(looping.frame(last), looping.frame(0));
+    plain_seam.widen(plain.frame(last), plain.frame(0));
+    EXPECT_TRUE(seam.within(inside)) << "offset " << seam.offset_mm << " mm against " << inside.offset_mm;
+    EXPECT_FALSE(plain_seam.within(plain_inside)) << "the drive as configured jumps there";
+    // The dashes are where they were: the loop is a whole number of dash cycles.
+    const double along = std::fmod(looping.frame(static_cast<std::uint64_t>(n)).odometer_mm, dash_cycle_mm);
+    EXPECT_NEAR(std::min(along, dash_cycle_mm - along), 0.0, 1e-6);
+    // And the drive is the one asked for, its periods rounded to whole cycles of the loop:
+    // the speed within half a dash cycle a loop, the weave as wide.
+    const double loop_s = n / c.synth.rate_hz;
+    const double speed_mps = looping.frame(1).odometer_mm / 1000.0 * c.synth.rate_hz;
+    EXPECT_LE(std::abs(speed_mps - c.synth.speed_mps), 0.5 * dash_cycle_mm / 1000.0 / loop_s + 1e-9);
+    double widest = 0.0;
+    for (std::uint64_t k = 0; k <= last; ++k) widest = std::max(widest, std::abs(looping.frame(k).lateral_offset_mm));
+    EXPECT_NEAR(widest, c.synth.weave_mm, 0.02 * c.synth.weave_mm);
+  }
 }
 
 }  // namespace
