@@ -18,9 +18,12 @@ constexpr std::size_t kMaxFramesCsvBytes = std::size_t{1} << 30;
 
 // A picture the frame readers take, by the extension they are told apart by (the
 // codecs' own tests for PNG and JPEG; PGM and PPM, any case), with a name before it.
+// Hidden files are not frames: a folder copied from a Mac holds a `._0001.jpg` (its
+// AppleDouble metadata, not a JPEG) beside each picture, which would play as a damaged
+// frame after every good one.
 bool is_picture_name(std::string_view name) {
   const std::size_t dot = name.rfind('.');
-  if (dot == 0 || dot == std::string_view::npos) return false;
+  if (name.starts_with('.') || dot == std::string_view::npos) return false;
   const std::string_view ext = name.substr(dot);
   const auto pnm = ext.size() == 4 && (ext[1] | 0x20) == 'p' && ((ext[2] | 0x20) == 'g' || (ext[2] | 0x20) == 'p') &&
                    (ext[3] | 0x20) == 'm';

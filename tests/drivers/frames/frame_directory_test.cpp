@@ -288,6 +288,8 @@ TEST(FrameDirectory, AFolderOfPicturesWithoutAnIndexIsReadInNameOrder) {
   std::filesystem::copy_file(stills + "/0000.jpg", tmp.file("c.JPEG"));
   std::filesystem::copy_file(stills + "/0001.jpg", tmp.file("a.jpg"));
   std::ofstream(tmp.file("notes.txt")) << "not a frame\n";
+  std::ofstream(tmp.file("._a.jpg")) << "AppleDouble metadata, not a JPEG";  // hidden: not a frame
+  std::ofstream(tmp.file(".jpg")) << "";
   std::filesystem::create_directory(tmp.file("d.png"));  // a folder, whatever its name
   FrameDirectory dir(tmp.path());
   ASSERT_EQ(dir.size(), 3u);
