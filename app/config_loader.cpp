@@ -446,6 +446,7 @@ void read_synth(TableReader& r, Config& c) {
   r.boolean("crosswalks", s.crosswalks);
   r.boolean("sealed_cracks", s.sealed_cracks);
   r.number("contrast_borders_mm", s.contrast_borders_mm);
+  r.boolean("night", s.night);
   r.reject_unknown();
 
   require(s.frames >= 1 && s.frames <= 1'000'000, r, "frames", "must be 1..1000000");

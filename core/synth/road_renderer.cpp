@@ -45,6 +45,20 @@ constexpr double kSealantGrey = 40.0;
 // line, as some US states lay on pale concrete, where white paint alone shows little.
 constexpr double kContrastBorderGrey = 30.0;
 
+// Night ([synth] night): low beams light the road fully to kBeamFullMm ahead, then as the
+// inverse square of the distance; beyond their cut-off (60 m for lamps 0.65 m up aimed
+// 0.6 degrees down) only the beam's fringe reaches the road. Across, the beam spreads
+// about 20 degrees either way, reaching farther to the right (right-hand traffic).
+// Retroreflective paint sends the light back towards the lamps and the camera beside
+// them: against asphalt it stands out far more than by day.
+constexpr double kBeamFullMm = 8000.0;
+constexpr double kBeamCutoffMm = 60000.0;
+constexpr double kBeamBeyondCutoff = 0.15;
+constexpr double kBeamSpreadRad = 0.35;
+constexpr double kBeamRightRad = 0.035;
+constexpr double kRetroreflection = 4.0;
+constexpr double kNightSkyGrey = 4.0;
+
 using Rgb = RoadRenderer::Rgb;
 Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
 Rgb operator-(const Rgb& a, const Rgb& b) { return {a.r - b.r, a.g - b.g, a.b - b.b}; }
@@ -296,6 +310,15 @@ double RoadRenderer::sealant_coverage(double X, double Y, double fpY) const {
   return std::min(1.0, covered / (2.0 * half));
 }
 
+double RoadRenderer::headlights(double X, double Y) const {
+  if (!scene_.night) return 1.0;
+  const double ahead = std::max(X, kBeamFullMm);
+  const double falloff = (kBeamFullMm / ahead) * (kBeamFullMm / ahead);
+  const double cut = 1.0 - (1.0 - kBeamBeyondCutoff) * smoothstep(0.8 * kBeamCutoffMm, 1.2 * kBeamCutoffMm, X);
+  const double across = (std::atan2(Y, std::max(X, 1.0)) + kBeamRightRad) / kBeamSpreadRad;
+  return falloff * cut * std::exp(-0.5 * across * across);
+}
+
 Rgb RoadRenderer::tinted(double grey, const Rgb& tint) const {
   return scene_.colour ? grey * tint : Rgb{grey, grey, grey};
 }
@@ -342,11 +365,13 @@ bool RoadRenderer::barrier_at(const Ray& lens, const Ray& q, double t_ground, Rg
   if (Z < 0.0 || Z > kBarrierHeightMm) return false;
   const double X = lens.x - t * q.x + odometer_;
   const double grain = scene_.texture_grey * value_noise(X / 400.0, Z / 400.0, scene_.seed + 81);
-  colour = tinted((Z < kBarrierFootMm ? kBarrierFootGrey : kBarrierGrey) + grain, kConcrete);
+  colour = headlights(X - odometer_, lens.y - t * q.y) *
+           tinted((Z < kBarrierFootMm ? kBarrierFootGrey : kBarrierGrey) + grain, kConcrete);
   return true;
 }
 
 Rgb RoadRenderer::sky(double qx, double qy, double qz) const {
+  if (scene_.night) return tinted(kNightSkyGrey, kSky);
   const double len = std::sqrt(qx * qx + qy * qy + qz * qz);
   const double elevation = -qz / len;  // of the ray going out into the scene, radians
   // A band of trees and posts on the horizon: vertical structure that is not road paint.
@@ -429,13 +454,18 @@ void RoadRenderer::render_radiance(const GroundProjector& v) {
         if (scene_.contrast_borders_mm > 0.0)
           if (const double m = paint_coverage(v, px, py, X, Y, fpX, fpY, line, scene_.contrast_borders_mm); m > 0.0)
             value = value + m * (tinted(kContrastBorderGrey, kNeutral) - value);
+        const double retro = scene_.night ? kRetroreflection : 1.0;
         const double cover = paint_coverage(v, px, py, X, Y, fpX, fpY, line);
-        if (cover > 0.0) value = value + cover * (lines_[line].paint - value);
+        if (cover > 0.0) value = value + cover * (retro * lines_[line].paint - value);
         if (scene_.road_markings || scene_.crosswalks)
           if (const double m = marking_coverage(v, px, py, X, Y, fpX, fpY); m > 0.0)
-            value = value + m * (tinted(scene_.paint_grey, kNeutral) - value);
-        if (scene_.shadow_depth > 0.0) value = shadow_at(X, Y, sh_c, sh_s, shadow_offset) * value;
-        if (X > kHazeStartMm) value = value + std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze - value);
+            value = value + m * (retro * tinted(scene_.paint_grey, kNeutral) - value);
+        if (scene_.night) {
+          value = headlights(X, Y) * value;
+        } else {
+          if (scene_.shadow_depth > 0.0) value = shadow_at(X, Y, sh_c, sh_s, shadow_offset) * value;
+          if (X > kHazeStartMm) value = value + std::min(0.9, (X - kHazeStartMm) / kHazeRangeMm) * (haze - value);
+        }
       }
       // Illumination falling off across the picture and towards its corners.
       value = (1.0 + scene_.gradient * (dx / W - 0.5 * r2 / corner2)) * value;

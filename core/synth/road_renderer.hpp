@@ -70,6 +70,9 @@ class RoadRenderer {
   template <typename Inside>
   double supersampled(const GroundProjector& v, double px, double py, Inside inside) const;
   Rgb sky(double qx, double qy, double qz) const;
+  // [synth] night: the share of the near road's light the low beams give the road at
+  // (X, Y) (ahead of and beside the camera); 1 by day.
+  double headlights(double X, double Y) const;
   bool barrier_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
   double shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const;
   Rgb tinted(double grey, const Rgb& tint) const;

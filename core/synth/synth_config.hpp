@@ -77,6 +77,12 @@ struct SynthConfig {
                                  //   (a strip a lane mark's width, brighter than its sides)
   double contrast_borders_mm = 0.0;  // black paint this wide along both sides of every line
                                      //   (contrast markings, laid on pale concrete); 0 = none
+  bool night = false;                // the road lit by the car's low beams alone: full to 8 m ahead,
+                                     //   falling off as the square of the distance beyond, dimmer again
+                                     //   past their cut-off (about 60 m) and off to the sides; the paint
+                                     //   retroreflective (four times its daylight share of the light);
+                                     //   no sky, haze or sun shadows. The levels above are the near
+                                     //   road's; noise_sigma is the sensor's at the gain night asks
 
   // The gyro columns: the true roll and pitch (3DM-GX1 convention) plus noise.
   bool gyro = true;

@@ -5,6 +5,7 @@
 // rendering is deterministic and allocation-free.
 #include "core/synth/road_renderer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -130,6 +131,51 @@ TEST(RoadRenderer, SixteenBitFramesAreTheEightBitScaled) {
   r.render(f, i16.view);
   for (int y = 0; y < 300; y += 7)
     for (int x = 0; x < 400; x += 7) EXPECT_NEAR(i16.at(x, y) * 255.0 / 4095.0, i8.at(x, y), 0.6) << x << "," << y;
+}
+
+// At night the low beams light the near road as by day, the road 30 m ahead with a
+// sixteenth of that (their inverse square beyond 8 m, a little less off the beam's axis),
+// the sky not at all; retroreflective paint stands above the road by four times its
+// daylight share, so that far away it still stands out where the road is near black.
+TEST(RoadRenderer, AtNightTheBeamsLightTheNearRoadAndThePaintShinesBack) {
+  Config c = small_camera();
+  c.attitude = {0.0, 4.0, 0.0};
+  SynthConfig& s = c.synth;
+  s.noise_sigma = s.gradient = s.texture_grey = 0.0;
+  s.dashed = DashedLines::none;
+  s.weave_mm = 0.0;
+  const SynthDrive drive(s, c.nominal_pose());
+  const SynthFrame f = drive.frame(0);
+  const CameraModel cam(c.camera, f.pose);
+  Image day(400, 300), night(400, 300);
+  RoadRenderer(c.camera, s).render(f, day.view);
+  s.night = true;
+  RoadRenderer(c.camera, s).render(f, night.view);
+  // The road's own level halfway between the own lane's lines, and the paint's on its
+  // left line, in the picture's row at distance X ahead.
+  const auto levels = [&](const Image& img, double X_mm) {
+    const Vec2 centre = *cam.pixel_from_point(Vec3(X_mm, 0.5 * (f.y0_mm[1] + f.y0_mm[2]), 0.0));
+    const Vec2 line = *cam.pixel_from_point(Vec3(X_mm, f.y0_mm[1], 0.0));
+    const int y = static_cast<int>(std::lround(centre.y())) - 1;  // 1-based pixels to 0-based
+    double paint = 0.0;
+    for (int x = static_cast<int>(line.x()) - 3; x <= static_cast<int>(line.x()) + 2; ++x)
+      paint = std::max(paint, img.at(x, y));
+    return std::pair{img.at(static_cast<int>(std::lround(centre.x())) - 1, y), paint};
+  };
+  const auto [day_near, day_near_paint] = levels(day, 6000.0);
+  const auto [night_near, night_near_paint] = levels(night, 6000.0);
+  const auto [day_far, day_far_paint] = levels(day, 30000.0);
+  const auto [night_far, night_far_paint] = levels(night, 30000.0);
+  EXPECT_NEAR(night_near, day_near, 0.1 * day_near) << "the beams light the near road";
+  // (8 / 30)^2 of the day's, within what the row's rounding to a pixel (a metre or two
+  // nearer or farther) and the beam's spread across make of it, to a grey level.
+  EXPECT_LE(night_far, 1.5 * day_far / 16.0 + 1.0) << "an inverse square beyond 8 m";
+  EXPECT_GE(night_far, 0.5 * day_far / 16.0 - 1.0);
+  EXPECT_GT((night_far_paint - night_far) / night_far, 2.0 * (day_far_paint - day_far) / day_far)
+      << "paint shines back";
+  EXPECT_EQ(night_near_paint, 255.0) << "near paint saturates, as it does at night";
+  EXPECT_LT(night.at(200, 5), 10.0) << "no sky light";
+  EXPECT_GT(day.at(200, 5), 150.0);
 }
 
 // A colour scene with every disturbance: yellow left edge on concrete, tree shadows, barrier.

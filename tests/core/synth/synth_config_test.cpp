@@ -77,7 +77,7 @@ gyro_noise_deg = 0.05
 
 TEST(SynthConfig, ReadsTheRealRoadKeysOffByDefault) {
   const SynthConfig off = parse_config("", "empty.toml").synth;
-  EXPECT_FALSE(off.colour || off.yellow_left_edge || off.hard_shadows || off.barrier);
+  EXPECT_FALSE(off.colour || off.yellow_left_edge || off.hard_shadows || off.barrier || off.night);
   EXPECT_EQ(off.surface, RoadSurface::asphalt);
   const SynthConfig s = parse_config(R"(
 [synth]
@@ -88,10 +88,11 @@ surface = "concrete"
 concrete_grey = 180
 hard_shadows = true
 barrier = true
+night = true
 )",
                                      "colour.toml")
                             .synth;
-  EXPECT_TRUE(s.colour && s.yellow_left_edge && s.hard_shadows && s.barrier);
+  EXPECT_TRUE(s.colour && s.yellow_left_edge && s.hard_shadows && s.barrier && s.night);
   EXPECT_EQ(s.yellow_paint_grey, 160.0);
   EXPECT_EQ(s.surface, RoadSurface::concrete);
   EXPECT_EQ(s.concrete_grey, 180.0);
