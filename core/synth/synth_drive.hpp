@@ -40,8 +40,9 @@ class SynthDrive {
   // With loop_s > 0 the drive is made to repeat every loop_s seconds without a seam, for
   // a source that renders loop_s of it and plays that for ever: each periodic motion
   // (weave, bumps and their overtones, sway) gets a whole number of cycles in loop_s, at
-  // least one, and the speed a whole number of dash cycles (dash and gap), the nearest to
-  // what `scene` asks. Frame loop_s x rate_hz then shows what frame 0 shows, and the step
+  // least one (its amplitude scaled down where its period is shortened, so that it turns
+  // no harder than configured), and the speed a whole number of dash cycles (dash and
+  // gap), the nearest to what `scene` asks. Frame loop_s x rate_hz then shows what frame 0 shows, and the step
   // across the seam is an ordinary one: the lane filter and a gyro's yaw rate see no
   // jump. A lane change, and scenery with periods of its own (crossings, road markings,
   // shadows, texture), are not made periodic.
