@@ -5,6 +5,7 @@
 // (each row is its kept replay summed up again here, from the fourth second when the
 // mount is off, and each drive's mount is calibrated).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -38,6 +39,13 @@ double toml_number(const std::string& path, const std::string& key) {
   const std::string text = test::read_file(path);
   if (!std::regex_search(text, m, std::regex("(^|\n)" + key + R"( *= *([-+0-9.eE]+))"))) return std::nan("");
   return std::stod(m[2]);
+}
+
+// How often `what` occurs in `text`.
+int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
 }
 
 // A row of the stills' table as printed, e.g.
@@ -110,6 +118,31 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
     EXPECT_DOUBLE_EQ(toml_number(dir + "/camera.toml", "H_mm"), row.height) << row.mount;
     EXPECT_EQ(printed_row(r.out, row.mount), scored_row(dir, row.mount)) << r.out;
   }
+  // The targets: the nominal row's three measures against their bounds, and in how many
+  // of the six mount-off rows each is met, from the same scores.
+  const auto measures = [&](const std::string& dir) {
+    const nlohmann::json t = score_json(work + "/tusimple/" + dir)["total"];
+    return std::array<double, 3>{t["ego_found"].get<double>() / t["ego_lanes"].get<double>(),
+                                 t["accuracy"].get<double>(),
+                                 t["false_lines"].get<double>() / std::max(1.0, t["reported_lines"].get<double>())};
+  };
+  const std::array<double, 3> bounds{0.95, 0.90, 0.05};
+  const auto met = [&](const std::array<double, 3>& m, int k) { return k < 2 ? m[k] >= bounds[k] : m[k] <= bounds[k]; };
+  const std::array<double, 3> at_nominal = measures("nominal");
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "stills, nominal mount        ego found %.2f %% >= 95 %%: %s; accuracy %.2f %% >= 90 %%: %s; "
+                "false %.2f %% <= 5 %%: %s\n",
+                100 * at_nominal[0], met(at_nominal, 0) ? "met" : "NOT met", 100 * at_nominal[1],
+                met(at_nominal, 1) ? "met" : "NOT met", 100 * at_nominal[2], met(at_nominal, 2) ? "met" : "NOT met");
+  EXPECT_NE(r.out.find(line), std::string::npos) << line << "not in\n" << r.out;
+  std::array<int, 3> off_met{};
+  for (const char* dir : {"pitch_+5", "pitch_-5", "yaw_+5", "yaw_-5", "height_x0.75", "height_x1.25"})
+    for (int k = 0; k < 3; ++k) off_met[static_cast<std::size_t>(k)] += met(measures(dir), k);
+  std::snprintf(line, sizeof line, "6 rows, each target met in: ego found %d, accuracy %d, false %d\n", off_met[0],
+                off_met[1], off_met[2]);
+  EXPECT_NE(r.out.find(line), std::string::npos) << line << "not in\n" << r.out;
+
   // The nominal row's stills to look at, one per still, named by its frame number.
   for (int i = 0; i < 10; ++i) {
     char name[16];
@@ -455,10 +488,16 @@ TEST(MeasureReal, FindsTheDemosBuildAndSaysWhatToRunWithoutOne) {
 // the share ok, the ok frames' lane width (mean, m, and sd over the mean), the median
 // change of the lateral offset between consecutive ok frames, and the warnings fired.
 // `mount` is printed `width` wide (a condition's name: 20).
-std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s,
-                      int width = 14) {
+struct DriveMeasures {
+  std::size_t frames = 0;
+  double ok = 0.0, width_mm = 0.0, width_sd = 0.0, step_mm = 0.0;
+  int warnings = 0;
+  bool meets_targets() const { return ok >= 0.98 && width_sd <= 0.02 && step_mm <= 30.0 && warnings == 0; }
+};
+
+DriveMeasures drive_measures(const std::string& replay, double from_s) {
   std::vector<nlohmann::json> kept = test::json_lines(test::read_file(replay));
-  if (kept.empty()) return "";
+  if (kept.empty()) return {};
   const auto t0 = kept.front()["t_ns"].get<std::int64_t>();
   std::erase_if(kept, [&](const nlohmann::json& e) {
     return static_cast<double>(e["t_ns"].get<std::int64_t>() - t0) < from_s * 1e9;
@@ -478,10 +517,18 @@ std::string drive_row(const std::string& replay, const std::string& video, const
   std::sort(steps.begin(), steps.end());
   const std::size_t n = steps.size();
   const double median = n % 2 ? steps[n / 2] : 0.5 * (steps[n / 2 - 1] + steps[n / 2]);
+  return {kept.size(), static_cast<double>(widths.size()) / static_cast<double>(kept.size()),
+          mean,        std::sqrt(var) / mean,
+          median,      warnings};
+}
+
+std::string drive_row(const std::string& replay, const std::string& video, const std::string& mount, double from_s,
+                      int width = 14) {
+  const DriveMeasures m = drive_measures(replay, from_s);
+  if (m.frames == 0) return "";
   char row[200];
   std::snprintf(row, sizeof row, "%-28s %-*s %6zu %5.0f%% %8.3f %5.1f%% %8.1f %8d", video.c_str(), width, mount.c_str(),
-                kept.size(), 100.0 * static_cast<double>(widths.size()) / static_cast<double>(kept.size()),
-                mean / 1000.0, 100.0 * std::sqrt(var) / mean, median, warnings);
+                m.frames, 100.0 * m.ok, m.width_mm / 1000.0, 100.0 * m.width_sd, m.step_mm, m.warnings);
   return row;
 }
 
@@ -502,6 +549,33 @@ TEST(MeasureReal, EachDrivesRowIsItsReplaySummedUpFromTheFourthSecondWhenTheMoun
     EXPECT_NE(r.out.find(video + std::string(28 - video.size(), ' ') + " pitch "), std::string::npos)
         << "each drive's mount calibrated: " << r.out;
   }
+  // The targets: how many of the fourteen rows meet each (here: all four together, which
+  // the printed counts must allow), and the calibrated pitches' agreement as printed.
+  int all_met = 0;
+  for (const std::string video : {"project_video_segA.mp4", "project_video_segB.mp4"})
+    for (const char* dir : {"nominal", "pitch_+5", "pitch_-5", "yaw_+5", "yaw_-5", "height_x0.75", "height_x1.25"})
+      all_met +=
+          drive_measures(work + "/drives/" + dir + "/" + video + ".jsonl", std::string(dir) == "nominal" ? 0.0 : 3.0)
+              .meets_targets();
+  std::smatch counts;
+  ASSERT_TRUE(std::regex_search(r.out, counts,
+                                std::regex(R"(drives +14 rows, each target met in: ok (\d+), width sd (\d+), )"
+                                           R"(offset step (\d+), warnings (\d+)\n)")))
+      << r.out;
+  int fewest = 14;
+  for (int k = 1; k <= 4; ++k) fewest = std::min(fewest, std::stoi(counts[static_cast<std::size_t>(k)]));
+  EXPECT_LE(all_met, fewest);
+  EXPECT_EQ(count_of(r.out, std::string(31, ' ') + "project_video_seg"), 14 - all_met)
+      << "each row missing a target named once: " << r.out;
+  std::smatch pitches;
+  ASSERT_TRUE(std::regex_search(
+      r.out, pitches,
+      std::regex(
+          R"(mount calibration +pitches (-?[0-9.]+), (-?[0-9.]+) deg: ([0-9.]+) apart <= 0.3 deg: (met|NOT met)\n)")))
+      << r.out;
+  const double apart = std::abs(std::stod(pitches[1]) - std::stod(pitches[2]));
+  EXPECT_NEAR(std::stod(pitches[3]), apart, 0.0015);
+  EXPECT_EQ(pitches[4], apart <= 0.3 ? "met" : "NOT met");
 }
 
 // A drive recorded as a frame directory (`ccdlane record --out DIR`, as a user records
