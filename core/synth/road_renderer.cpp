@@ -59,6 +59,18 @@ constexpr double kBeamRightRad = 0.035;
 constexpr double kRetroreflection = 4.0;
 constexpr double kNightSkyGrey = 4.0;
 
+// Cars ahead ([synth] cars): boxes on the road in the middle of a lane, the k-th
+// kCarFirstMm + k kCarApartMm ahead plus up to kCarJitterMm (seeded), in the own lane,
+// then the lanes left and right of it in turn. Seen from behind: a dark band along the
+// bottom (the underbody and its shadow), the body's grey, a darker rear window, two tail
+// lights. The body's grey differs from car to car (dark to white).
+constexpr double kCarLengthMm = 4500.0, kCarWidthMm = 1800.0, kCarHeightMm = 1500.0;
+constexpr double kCarFirstMm = 15000.0, kCarApartMm = 7000.0, kCarJitterMm = 6000.0;
+constexpr double kCarUnderbodyMm = 350.0, kCarWindowMm = 1000.0;
+constexpr double kTailLightBottomMm = 750.0, kTailLightTopMm = 950.0;
+constexpr double kTailLightInnerMm = 550.0, kTailLightOuterMm = 850.0;  // from the car's middle
+constexpr double kUnderbodyGrey = 18.0, kWindowGrey = 35.0, kTailLightGrey = 90.0, kLitTailLightGrey = 230.0;
+
 using Rgb = RoadRenderer::Rgb;
 Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
 Rgb operator-(const Rgb& a, const Rgb& b) { return {a.r - b.r, a.g - b.g, a.b - b.b}; }
@@ -78,6 +90,7 @@ const Rgb kYellowPaint = hue(1.0, 0.8, 0.25);  // road-marking yellow: its blue 
 const Rgb kConcrete = hue(1.02, 1.0, 0.95);    // slightly warm
 const Rgb kGrass = hue(0.85, 1.0, 0.7);
 const Rgb kSky = hue(0.8, 0.92, 1.15);
+const Rgb kTailLightRed = hue(2.4, 0.3, 0.3);
 
 // Smooth lattice noise in [-1, 1] (bilinear between hashed lattice values).
 double value_noise(double x, double y, std::uint64_t seed) {
@@ -370,6 +383,55 @@ bool RoadRenderer::barrier_at(const Ray& lens, const Ray& q, double t_ground, Rg
   return true;
 }
 
+bool RoadRenderer::car_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const {
+  if (scene_.cars <= 0 || num_lines_ < 2) return false;
+  const int lanes = num_lines_ - 1;
+  bool hit = false;
+  double nearest = 1e300;
+  for (int k = 0; k < scene_.cars; ++k) {
+    // The own lane, then one to the left, one to the right, two to the left, ...
+    const int step = (k + 1) / 2, lane = ego_lane_ + (k % 2 == 1 ? -step : step);
+    if (lane < 0 || lane >= lanes) continue;
+    const double rear = kCarFirstMm + kCarApartMm * k +
+                        kCarJitterMm * synth::unit(synth::hash(scene_.seed, 91, static_cast<std::uint64_t>(k)));
+    const double middle = lane_centre_mm(lane, rear);
+    // The box's slabs along the ray lens - t q: t where each coordinate is within them.
+    const double lo[3] = {rear, middle - 0.5 * kCarWidthMm, 0.0};
+    const double hi[3] = {rear + kCarLengthMm, middle + 0.5 * kCarWidthMm, kCarHeightMm};
+    const double from[3] = {lens.x, lens.y, lens.z}, dir[3] = {q.x, q.y, q.z};
+    double t_in = 0.0, t_out = 1e300;
+    int face = -1;
+    for (int a = 0; a < 3 && t_in <= t_out; ++a) {
+      if (dir[a] == 0.0) {
+        if (from[a] < lo[a] || from[a] > hi[a]) t_in = 1e300;
+        continue;
+      }
+      double t1 = (from[a] - lo[a]) / dir[a], t2 = (from[a] - hi[a]) / dir[a];
+      if (t1 > t2) std::swap(t1, t2);
+      if (t1 > t_in) t_in = t1, face = a;
+      t_out = std::min(t_out, t2);
+    }
+    if (t_in > t_out || t_in <= 0.0 || t_in >= nearest || (t_ground > 0.0 && t_in >= t_ground)) continue;
+    nearest = t_in;
+    hit = true;
+    const double X = lens.x - t_in * q.x, Y = lens.y - t_in * q.y, Z = lens.z - t_in * q.z;
+    const double body = 40.0 + 150.0 * synth::unit(synth::hash(scene_.seed, 92, static_cast<std::uint64_t>(k)));
+    const double across = std::abs(Y - middle);
+    if (face == 0 && Z >= kTailLightBottomMm && Z <= kTailLightTopMm && across >= kTailLightInnerMm &&
+        across <= kTailLightOuterMm) {
+      colour = tinted(scene_.night ? kLitTailLightGrey : kTailLightGrey, kTailLightRed);  // lit from within
+      continue;
+    }
+    const double grey = Z < kCarUnderbodyMm             ? kUnderbodyGrey
+                        : face == 0 && Z > kCarWindowMm ? kWindowGrey
+                        : face == 1                     ? 0.8 * body
+                        : face == 2                     ? 1.1 * body
+                                                        : body;
+    colour = headlights(X, Y) * tinted(grey, kNeutral);
+  }
+  return hit;
+}
+
 Rgb RoadRenderer::sky(double qx, double qy, double qz) const {
   if (scene_.night) return tinted(kNightSkyGrey, kSky);
   const double len = std::sqrt(qx * qx + qy * qy + qz * qz);
@@ -394,6 +456,7 @@ void RoadRenderer::render(const SynthFrame& truth, const MutableImageView& out) 
 
 void RoadRenderer::set_road(const SynthFrame& truth) {
   num_lines_ = std::min(truth.num_lines, kMaxRoadLines);
+  ego_lane_ = truth.ego_lane;
   c_ = truth.c_per_mm;
   odometer_ = truth.odometer_mm;
   period_ = scene_.dash_length_mm + scene_.dash_gap_mm;
@@ -431,7 +494,9 @@ void RoadRenderer::render_radiance(const GroundProjector& v) {
       double s = 1.0;
       const Ray q = v.ray(px, py, &s);
       Rgb value;
-      if (barrier_at(L, q, q.z > 0.0 ? L.z / q.z : 0.0, value)) {
+      if (car_at(L, q, q.z > 0.0 ? L.z / q.z : 0.0, value)) {
+        // A car ahead hides what lies behind it.
+      } else if (barrier_at(L, q, q.z > 0.0 ? L.z / q.z : 0.0, value)) {
         // The barrier stands in the sun: the road's shadows are not cast on it.
       } else if (q.z <= 0.0) {
         value = sky(q.x, q.y, q.z);

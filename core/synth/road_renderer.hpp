@@ -74,6 +74,9 @@ class RoadRenderer {
   // (X, Y) (ahead of and beside the camera); 1 by day.
   double headlights(double X, double Y) const;
   bool barrier_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
+  // [synth] cars: whether the ray from `lens` along -q hits one of the cars ahead before
+  // the ground (t_ground; 0: it never reaches the ground), and the colour it sees there.
+  bool car_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
   double shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const;
   Rgb tinted(double grey, const Rgb& tint) const;
   void blur(float* radiance);  // one plane of radiance_
@@ -88,6 +91,7 @@ class RoadRenderer {
   // Per-frame road state.
   Line lines_[kMaxRoadLines]{};
   int num_lines_ = 0;
+  int ego_lane_ = 0;  // the lane the vehicle is in, 0 = leftmost
   double c_ = 0.0, odometer_ = 0.0, period_ = 1.0;
   double road_left_ = 0.0, road_right_ = 0.0;  // asphalt edges (y0 of the edge lines + shoulder)
 };

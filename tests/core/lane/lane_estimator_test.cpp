@@ -183,6 +183,18 @@ TEST(LaneEstimator, ANightsRoadInTheHeadlightsIsALane) {
   expect_markings_leave_the_lane_alone(c, 0, 60, {DashedLines::none, DashedLines::inner, DashedLines::all});
 }
 
+// Six cars ahead, 15-60 m, in the own lane and the lanes beside it (their bodies' edges,
+// dark underbodies and tail lights among the marks, the lines behind them hidden), by
+// day and at night: the lane is what it is without them.
+TEST(LaneEstimator, CarsAheadLeaveTheLaneAlone) {
+  Config c = small_camera();
+  c.synth.cars = 6;
+  expect_markings_leave_the_lane_alone(c, 0, 60, {DashedLines::none, DashedLines::inner, DashedLines::all});
+  c.synth.night = true;
+  c.synth.noise_sigma = 3.0;
+  expect_markings_leave_the_lane_alone(c, 0, 60);
+}
+
 // Bends of radius 300 to 2000 m, both ways, on colour frames of a concrete road with a
 // yellow left edge line, solved with one shared curvature ([solver] line_model = "curved"):
 // yaw, pitch, the lateral offset and the curvature within 3 of the solver's own sigmas.

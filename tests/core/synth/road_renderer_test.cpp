@@ -178,6 +178,56 @@ TEST(RoadRenderer, AtNightTheBeamsLightTheNearRoadAndThePaintShinesBack) {
   EXPECT_GT(day.at(200, 5), 150.0);
 }
 
+// Cars ahead stand on the road and hide it: the first, in the own lane, shows its body
+// where the road ahead of its rear was, its dark underbody band just above the road, and
+// red tail lights, lit at night (brighter than the near road) and dull by day.
+TEST(RoadRenderer, ACarAheadHidesTheRoadAndShowsItsTailLights) {
+  Config c = small_camera();
+  c.attitude = {0.0, 4.0, 0.0};
+  SynthConfig& s = c.synth;
+  s.noise_sigma = s.gradient = s.texture_grey = s.shadow_depth = 0.0;
+  s.weave_mm = 0.0;
+  s.colour = true;
+  const SynthDrive drive(s, c.nominal_pose());
+  const SynthFrame f = drive.frame(0);
+  const CameraModel cam(c.camera, f.pose);
+  Image road(400, 300, PixelFormat::rgb8), day(400, 300, PixelFormat::rgb8), night(400, 300, PixelFormat::rgb8);
+  RoadRenderer(c.camera, s).render(f, road.view);
+  s.cars = 1;
+  RoadRenderer(c.camera, s).render(f, day.view);
+  s.night = true;
+  RoadRenderer(c.camera, s).render(f, night.view);
+  // The first car's rear is at least 15 m ahead, 4.5 m long: the road 17 m ahead in the
+  // own lane's middle lies under it whatever its seeded place, 15-21 m.
+  const double middle = 0.5 * (f.y0_mm[1] + f.y0_mm[2]);
+  const auto pixel = [&](double X, double Y, double Z) {
+    const Vec2 p = *cam.pixel_from_point(Vec3(X, Y, Z));
+    return std::pair{static_cast<int>(std::lround(p.x())) - 1, static_cast<int>(std::lround(p.y())) - 1};
+  };
+  const auto red = [](const Image& img, int x, int y) { return img.px[static_cast<std::size_t>(3 * (y * 400 + x))]; };
+  const auto green = [](const Image& img, int x, int y) {
+    return img.px[static_cast<std::size_t>(3 * (y * 400 + x) + 1)];
+  };
+  // Just ahead of the rear, 1.2 m up: the body (a different grey from the road's).
+  const auto [bx, by] = pixel(21500.0, middle, 1200.0);
+  EXPECT_NE(green(day, bx, by), green(road, bx, by)) << "the car hides the road";
+  // Far beyond the car, in the own lane at road level: hidden by it too; and a lane
+  // line's paint beside the car still there.
+  const auto [hx, hy] = pixel(40000.0, middle, 0.0);
+  EXPECT_NE(green(day, hx, hy), green(road, hx, hy));
+  const auto [lx, ly] = pixel(8000.0, f.y0_mm[1], 0.0);
+  EXPECT_EQ(green(day, lx, ly), green(road, lx, ly)) << "the road before the car is the road";
+  // A tail light: scan the rows of the rear between 0.75 and 0.95 m up for red.
+  int lit_night = 0, lit_day = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 400; ++x) {
+      lit_night += red(night, x, y) > 200 && red(night, x, y) > 2 * green(night, x, y);
+      lit_day += red(day, x, y) > 100 && red(day, x, y) > 2 * green(day, x, y) && red(day, x, y) < 250;
+    }
+  EXPECT_GT(lit_night, 0) << "lit tail lights at night";
+  EXPECT_GT(lit_day, 0) << "tail lights by day";
+}
+
 // A colour scene with every disturbance: yellow left edge on concrete, tree shadows, barrier.
 Config colour_road() {
   Config c = small_camera();

@@ -89,10 +89,13 @@ concrete_grey = 180
 hard_shadows = true
 barrier = true
 night = true
+cars = 3
 )",
                                      "colour.toml")
                             .synth;
   EXPECT_TRUE(s.colour && s.yellow_left_edge && s.hard_shadows && s.barrier && s.night);
+  EXPECT_EQ(s.cars, 3);
+  EXPECT_EQ(off.cars, 0);
   EXPECT_EQ(s.yellow_paint_grey, 160.0);
   EXPECT_EQ(s.surface, RoadSurface::concrete);
   EXPECT_EQ(s.concrete_grey, 180.0);
@@ -116,6 +119,7 @@ TEST(SynthConfig, StrictErrors) {
   EXPECT_EQ(error_of("[synth]\nsurface = \"gravel\"\n"),
             "s.toml:2: synth.surface: must be \"asphalt\" or \"concrete\", got \"gravel\"");
   EXPECT_EQ(error_of("[synth]\nconcrete_grey = 256\n"), "s.toml:2: synth.concrete_grey: must be a grey level 0..255");
+  EXPECT_EQ(error_of("[synth]\ncars = 7\n"), "s.toml:2: synth.cars: must be 0..6");
   EXPECT_EQ(error_of("[synth]\ncolour = true\nbits = 12\n"),
             "s.toml:2: synth.colour: colour frames are rgb8: leave bits at 8");
 }
