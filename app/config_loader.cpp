@@ -488,7 +488,7 @@ void read_synth(TableReader& r, Config& c) {
   require(s.noise_sigma >= 0.0 && s.noise_sigma <= 100.0, r, "noise_sigma", "must be 0..100");
   require(s.blur_px >= 0.0 && s.blur_px <= 10.0, r, "blur_px", "must be 0..10");
   require(s.supersample >= 1 && s.supersample <= 16, r, "supersample", "must be 1..16");
-  require(s.cars >= 0 && s.cars <= 6, r, "cars", "must be 0..6");
+  require(s.cars >= 0 && s.cars <= kMaxSynthCars, r, "cars", "must be 0.." + std::to_string(kMaxSynthCars));
   require(s.bits >= 8 && s.bits <= 16, r, "bits", "must be 8 (mono8) or 9..16 (mono16)");
   require(!s.colour || s.bits == 8, r, "colour", "colour frames are rgb8: leave bits at 8");
   require(s.gyro_noise_deg >= 0.0 && s.gyro_noise_deg <= 10.0, r, "gyro_noise_deg", "must be 0..10");

@@ -383,18 +383,26 @@ bool RoadRenderer::barrier_at(const Ray& lens, const Ray& q, double t_ground, Rg
   return true;
 }
 
-bool RoadRenderer::car_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const {
-  if (scene_.cars <= 0 || num_lines_ < 2) return false;
+void RoadRenderer::place_cars() {
+  num_cars_ = 0;
   const int lanes = num_lines_ - 1;
-  bool hit = false;
-  double nearest = 1e300;
-  for (int k = 0; k < scene_.cars; ++k) {
+  for (int k = 0; k < std::min(scene_.cars, kMaxSynthCars) && lanes > 0; ++k) {
     // The own lane, then one to the left, one to the right, two to the left, ...
     const int step = (k + 1) / 2, lane = ego_lane_ + (k % 2 == 1 ? -step : step);
     if (lane < 0 || lane >= lanes) continue;
-    const double rear = kCarFirstMm + kCarApartMm * k +
-                        kCarJitterMm * synth::unit(synth::hash(scene_.seed, 91, static_cast<std::uint64_t>(k)));
-    const double middle = lane_centre_mm(lane, rear);
+    Car& car = cars_[static_cast<std::size_t>(num_cars_++)];
+    car.rear = kCarFirstMm + kCarApartMm * k +
+               kCarJitterMm * synth::unit(synth::hash(scene_.seed, 91, static_cast<std::uint64_t>(k)));
+    car.middle = lane_centre_mm(lane, car.rear);
+    car.body = 40.0 + 150.0 * synth::unit(synth::hash(scene_.seed, 92, static_cast<std::uint64_t>(k)));
+  }
+}
+
+bool RoadRenderer::car_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const {
+  bool hit = false;
+  double nearest = 1e300;
+  for (int k = 0; k < num_cars_; ++k) {
+    const double rear = cars_[static_cast<std::size_t>(k)].rear, middle = cars_[static_cast<std::size_t>(k)].middle;
     // The box's slabs along the ray lens - t q: t where each coordinate is within them.
     const double lo[3] = {rear, middle - 0.5 * kCarWidthMm, 0.0};
     const double hi[3] = {rear + kCarLengthMm, middle + 0.5 * kCarWidthMm, kCarHeightMm};
@@ -415,7 +423,7 @@ bool RoadRenderer::car_at(const Ray& lens, const Ray& q, double t_ground, Rgb& c
     nearest = t_in;
     hit = true;
     const double X = lens.x - t_in * q.x, Y = lens.y - t_in * q.y, Z = lens.z - t_in * q.z;
-    const double body = 40.0 + 150.0 * synth::unit(synth::hash(scene_.seed, 92, static_cast<std::uint64_t>(k)));
+    const double body = cars_[static_cast<std::size_t>(k)].body;
     const double across = std::abs(Y - middle);
     if (face == 0 && Z >= kTailLightBottomMm && Z <= kTailLightTopMm && across >= kTailLightInnerMm &&
         across <= kTailLightOuterMm) {
@@ -471,6 +479,7 @@ void RoadRenderer::set_road(const SynthFrame& truth) {
   }
   road_left_ = lines_[0].y0 + kShoulderMm;
   road_right_ = lines_[num_lines_ - 1].y0 - kShoulderMm;
+  place_cars();
 }
 
 void RoadRenderer::render_radiance(const GroundProjector& v) {

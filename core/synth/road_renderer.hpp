@@ -4,6 +4,7 @@
 // blur and add sensor noise. Colour scenes give rgb8; grey frames are the scene's luma.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "base/image_view.hpp"
@@ -77,6 +78,7 @@ class RoadRenderer {
   // [synth] cars: whether the ray from `lens` along -q hits one of the cars ahead before
   // the ground (t_ground; 0: it never reaches the ground), and the colour it sees there.
   bool car_at(const Ray& lens, const Ray& q, double t_ground, Rgb& colour) const;
+  void place_cars();  // this frame's cars_, after the road's lines (set_road)
   double shadow_at(double X, double Y, double sh_c, double sh_s, double shadow_offset) const;
   Rgb tinted(double grey, const Rgb& tint) const;
   void blur(float* radiance);  // one plane of radiance_
@@ -92,6 +94,13 @@ class RoadRenderer {
   Line lines_[kMaxRoadLines]{};
   int num_lines_ = 0;
   int ego_lane_ = 0;  // the lane the vehicle is in, 0 = leftmost
+  // [synth] cars: where each stands (its rear, road x ahead; its middle, road y) and its
+  // body's grey.
+  struct Car {
+    double rear = 0.0, middle = 0.0, body = 0.0;
+  };
+  std::array<Car, kMaxSynthCars> cars_{};
+  int num_cars_ = 0;
   double c_ = 0.0, odometer_ = 0.0, period_ = 1.0;
   double road_left_ = 0.0, road_right_ = 0.0;  // asphalt edges (y0 of the edge lines + shoulder)
 };

@@ -13,6 +13,8 @@ enum class DashedLines : std::uint8_t { inner, all, none };
 // almost no contrast in grey).
 enum class RoadSurface : std::uint8_t { asphalt, concrete };
 
+inline constexpr int kMaxSynthCars = 6;  // [synth] cars at most
+
 struct SynthConfig {
   // The sequence.
   std::uint64_t seed = 1;
