@@ -59,13 +59,15 @@ constexpr double kBeamRightRad = 0.035;
 constexpr double kRetroreflection = 4.0;
 constexpr double kNightSkyGrey = 4.0;
 
-// Cars ahead ([synth] cars): boxes on the road in the middle of a lane, the k-th
-// kCarFirstMm + k kCarApartMm ahead plus up to kCarJitterMm (seeded), in the own lane,
-// then the lanes left and right of it in turn. Seen from behind: a dark band along the
+// Cars ahead ([synth] cars): boxes on the road in the middle of a lane, in the own lane,
+// then the lanes left and right of it in turn. The first on either side is beside the
+// car, its rear kCarBesideMm ahead (its side in full view, its body over the next line's
+// near dashes), the others kCarFirstMm + k kCarApartMm ahead; each plus up to
+// kCarJitterMm (seeded). Seen from behind: a dark band along the
 // bottom (the underbody and its shadow), the body's grey, a darker rear window, two tail
 // lights. The body's grey differs from car to car (dark to white).
 constexpr double kCarLengthMm = 4500.0, kCarWidthMm = 1800.0, kCarHeightMm = 1500.0;
-constexpr double kCarFirstMm = 15000.0, kCarApartMm = 7000.0, kCarJitterMm = 6000.0;
+constexpr double kCarFirstMm = 15000.0, kCarApartMm = 7000.0, kCarJitterMm = 6000.0, kCarBesideMm = 3000.0;
 constexpr double kCarUnderbodyMm = 350.0, kCarWindowMm = 1000.0;
 constexpr double kTailLightBottomMm = 750.0, kTailLightTopMm = 950.0;
 constexpr double kTailLightInnerMm = 550.0, kTailLightOuterMm = 850.0;  // from the car's middle
@@ -391,7 +393,7 @@ void RoadRenderer::place_cars() {
     const int step = (k + 1) / 2, lane = ego_lane_ + (k % 2 == 1 ? -step : step);
     if (lane < 0 || lane >= lanes) continue;
     Car& car = cars_[static_cast<std::size_t>(num_cars_++)];
-    car.rear = kCarFirstMm + kCarApartMm * k +
+    car.rear = (k == 1 || k == 2 ? kCarBesideMm : kCarFirstMm + kCarApartMm * k) +
                kCarJitterMm * synth::unit(synth::hash(scene_.seed, 91, static_cast<std::uint64_t>(k)));
     car.middle = lane_centre_mm(lane, car.rear);
     car.body = 40.0 + 150.0 * synth::unit(synth::hash(scene_.seed, 92, static_cast<std::uint64_t>(k)));

@@ -79,11 +79,12 @@ struct SynthConfig {
                                  //   (a strip a lane mark's width, brighter than its sides)
   double contrast_borders_mm = 0.0;  // black paint this wide along both sides of every line
                                      //   (contrast markings, laid on pale concrete); 0 = none
-  int cars = 0;                      // 0..6 cars ahead, keeping their distance (15-60 m), each
-                                     //   in the middle of a lane (the own first, then the lanes
-                                     //   beside it): boxes 4.5 m long, 1.8 m wide, 1.5 m tall, a
-                                     //   dark band along their bottom, a rear window and two tail
-                                     //   lights (lit at night); they hide what lies behind them
+  int cars = 0;                      // 0..6 cars, each in the middle of a lane: the own lane's
+                                     //   15-21 m ahead, the first on each side beside the car
+                                     //   (3-9 m ahead), the rest 29-60 m: boxes 4.5 m long, 1.8 m
+                                     //   wide, 1.5 m tall, a dark band along their bottom, a rear
+                                     //   window and two tail lights (lit at night); they hide
+                                     //   what lies behind them
   bool night = false;                // the road lit by the car's low beams alone: full to 8 m ahead,
                                      //   falling off as the square of the distance beyond, dimmer again
                                      //   past their cut-off (about 60 m) and off to the sides; the paint

@@ -183,9 +183,10 @@ TEST(LaneEstimator, ANightsRoadInTheHeadlightsIsALane) {
   expect_markings_leave_the_lane_alone(c, 0, 60, {DashedLines::none, DashedLines::inner, DashedLines::all});
 }
 
-// Six cars ahead, 15-60 m, in the own lane and the lanes beside it (their bodies' edges,
-// dark underbodies and tail lights among the marks, the lines behind them hidden), by
-// day and at night: the lane is what it is without them.
+// Six cars: one ahead in the own lane, one beside the car on each side (3-9 m ahead, its
+// side in full view over the next line's near dashes), three more farther on; their
+// bodies' edges, dark underbodies and tail lights among the marks, the lines behind them
+// hidden. By day and at night: the lane is what it is without them.
 TEST(LaneEstimator, CarsAheadLeaveTheLaneAlone) {
   Config c = small_camera();
   c.synth.cars = 6;
