@@ -67,6 +67,24 @@ TEST(SynthCommand, SameSeedSameBytesOtherSeedOtherBytes) {
   EXPECT_NE(test::read_file(dir.file("a/000001.pgm")), test::read_file(dir.file("c/000001.pgm")));
 }
 
+// --night and --cars render what [synth] night and cars do, byte for byte.
+TEST(SynthCommand, NightAndCarsFromTheCommandLineAreTheConfigurations) {
+  test::TempDir dir;
+  const std::string flags = dir.write("cam.toml", kSmallCamera);
+  const std::string keys = dir.write("keys.toml", std::string(kSmallCamera) + "[synth]\nnight = true\ncars = 3\n");
+  ASSERT_EQ(
+      test::run_process({kTool, "synth", flags, "--out", dir.file("f"), "--frames", "2", "--night", "--cars", "3"})
+          .exit_status,
+      0);
+  ASSERT_EQ(test::run_process({kTool, "synth", keys, "--out", dir.file("k"), "--frames", "2"}).exit_status, 0);
+  ASSERT_EQ(test::run_process({kTool, "synth", flags, "--out", dir.file("d"), "--frames", "2"}).exit_status, 0);
+  EXPECT_EQ(test::read_file(dir.file("f/000001.pgm")), test::read_file(dir.file("k/000001.pgm")));
+  EXPECT_NE(test::read_file(dir.file("f/000001.pgm")), test::read_file(dir.file("d/000001.pgm")));
+  const auto bad = test::run_process({kTool, "synth", flags, "--out", dir.file("b"), "--cars", "9"});
+  EXPECT_EQ(bad.exit_status, 2) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("b")));
+}
+
 TEST(SynthCommand, SixteenBitWithoutGyro) {
   test::TempDir dir;
   const std::string config = dir.write("cam.toml", kSmallCamera);

@@ -19,10 +19,10 @@ namespace {
 struct SynthArgs {
   std::string config;
   std::string out;
-  std::optional<int> frames, lanes, bits;
+  std::optional<int> frames, lanes, bits, cars;
   std::optional<std::uint64_t> seed;
   std::optional<double> noise, shadows, blur, curvature, lane_change_at, gyro_noise;
-  bool no_gyro = false;
+  bool no_gyro = false, night = false;
 };
 
 // The truth columns, in this order: attitude, lane, then every road line left to right.
@@ -65,6 +65,9 @@ CommandAction setup_synth(CLI::App& sub) {
   sub.add_option("--gyro-noise", a->gyro_noise, "noise on the gyro roll/pitch columns, degrees")
       ->check(CLI::Range(0.0, 10.0));
   sub.add_flag("--no-gyro", a->no_gyro, "leave out the roll_deg,pitch_deg,yaw_deg columns");
+  sub.add_flag("--night", a->night, "the road lit by the car's low beams alone ([synth] night)");
+  sub.add_option("--cars", a->cars, "cars: one ahead, one beside on each side, more farther on ([synth] cars)")
+      ->check(CLI::Range(0, kMaxSynthCars));
   sub.footer(
       "Writes DIR/000000.pgm ... and DIR/frames.csv with file,t_ns, the gyro columns and truth_* "
       "columns (attitude, lateral offset, heading, lane width, ego lane, curvature, truth_y0_J_mm "
@@ -83,6 +86,8 @@ CommandAction setup_synth(CLI::App& sub) {
     if (a->bits) s.bits = *a->bits;
     if (a->gyro_noise) s.gyro_noise_deg = *a->gyro_noise;
     if (a->no_gyro) s.gyro = false;
+    if (a->night) s.night = true;
+    if (a->cars) s.cars = *a->cars;
     if (s.ego_lane >= s.lanes) s.ego_lane = s.lanes - 1;
     if (s.lane_change_at_s >= 0.0 && s.ego_lane + 1 >= s.lanes)
       throw UsageError("--lane-change-at: the vehicle is in the rightmost lane; there is no lane to change to");
