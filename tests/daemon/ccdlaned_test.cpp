@@ -29,6 +29,7 @@
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/notify_socket.hpp"
 #include "tests/daemon/private_network.hpp"
+#include "tests/support/count_of.hpp"
 #include "tests/support/run_process.hpp"
 #include "tests/support/test_video.hpp"
 
@@ -43,12 +44,6 @@ const std::string kDaemon = CCDLANE_DAEMON;
 std::string config_text(const std::string& url, double rate_hz, const std::string& extra = "") {
   return "[synth]\nframes = 10\n[source]\nkind = \"synth\"\nrate_hz = " + std::to_string(rate_hz) +
          "\n[lcm]\nurl = \"" + url + "\"\n" + extra;
-}
-
-int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 int count_equal(const std::vector<std::string>& v, const std::string& what) {
@@ -118,8 +113,8 @@ TEST(Ccdlaned, NotifiesSystemdAndStopsCleanlyWithinASecondOfSigterm) {
   EXPECT_EQ(stop.notifications.back(), "STOPPING=1");
   EXPECT_LT(stop.took, std::chrono::seconds(1)) << "a requirement: clean shutdown within a second";
   const std::string log = test::read_file(d.stderr_path);
-  EXPECT_EQ(count_of(log, "SIGTERM: stopping"), 1) << log;
-  EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << log;
+  EXPECT_EQ(test::count_of(log, "SIGTERM: stopping"), 1) << log;
+  EXPECT_EQ(test::count_of(log, "0 allocations after ready"), 1) << log;
   // The stop line accounts for every frame: in = processed + dropped + left queued.
   long long in = -1, processed = -1, dropped = -1, queued = -1;
   const std::size_t at = log.rfind("stop: ");  // the last stop line: the totals
@@ -165,7 +160,8 @@ TEST(Ccdlaned, SighupIsRefusedWithOneLineAndTheDaemonGoesOn) {
   EXPECT_GE(count_equal(after, "WATCHDOG=1"), 2) << "still processing after SIGHUP";
   d.terminate();
   const std::string log = test::read_file(d.stderr_path);
-  EXPECT_EQ(count_of(log, "SIGHUP: reloading the configuration is not supported; restart ccdlaned to apply changes"), 1)
+  EXPECT_EQ(
+      test::count_of(log, "SIGHUP: reloading the configuration is not supported; restart ccdlaned to apply changes"), 1)
       << log;
 }
 
@@ -184,9 +180,9 @@ TEST(Ccdlaned, WithoutPrivilegesRealtimeIsRefusedOnceAndItRunsAnyway) {
   ASSERT_EQ(d.socket.receive_until("READY=1", 10000).back(), "READY=1") << test::read_file(d.stderr_path);
   d.terminate();
   const std::string log = test::read_file(d.stderr_path);
-  EXPECT_EQ(count_of(log, "warning: cannot lock memory (mlockall: "), 1) << log;
-  EXPECT_EQ(count_of(log, "warning: SCHED_FIFO priority"), 1) << log;  // two threads refused, said once
-  EXPECT_EQ(count_of(log, "mlock off, SCHED_FIFO on 0 thread(s)"), 1) << log;
+  EXPECT_EQ(test::count_of(log, "warning: cannot lock memory (mlockall: "), 1) << log;
+  EXPECT_EQ(test::count_of(log, "warning: SCHED_FIFO priority"), 1) << log;  // two threads refused, said once
+  EXPECT_EQ(test::count_of(log, "mlock off, SCHED_FIFO on 0 thread(s)"), 1) << log;
 }
 
 // One lane message per processed frame, in order, and status once a second, on a real
@@ -264,7 +260,7 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
   const std::string garbage = dir.write("garbage.toml", "[gyro]\nsigma_deg = \"lots\"\n");
   r = test::run_process({kDaemon, "--config", garbage});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
+  EXPECT_EQ(test::count_of(r.err, "\n"), 1) << r.err;
   EXPECT_EQ(r.err.rfind("ccdlaned: " + garbage + ":2: gyro.sigma_deg: ", 0), 0u) << r.err;
 
   r = test::run_process({kDaemon, "--config", dir.file("missing.toml")});
@@ -274,7 +270,7 @@ TEST(CcdlanedCommand, BadConfigurationsAreOneLineAndExitTwo) {
 
   r = test::run_process({kDaemon, "--frobnicate"});
   EXPECT_EQ(r.exit_status, 2);
-  EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
+  EXPECT_EQ(test::count_of(r.err, "\n"), 1) << r.err;
 }
 
 // Frames recorded without a gyro, no gyro device, phi and y0 free: refused before anything
@@ -332,7 +328,7 @@ TEST(CcdlanedCommand, AnUnusableBusFailsToStartNamingIt) {
   const std::string unknown = dir.write("unknown.toml", config_text("nosuchprovider://x", 30));
   const auto u = test::run_process({kDaemon, "--config", unknown});
   EXPECT_EQ(u.exit_status, 2) << "an unknown provider is a configuration error";
-  EXPECT_EQ(count_of(u.err, "\n"), 1) << u.err;
+  EXPECT_EQ(test::count_of(u.err, "\n"), 1) << u.err;
 }
 
 TEST(CcdlanedCommand, WithoutAnyConfigurationTheBuiltInDemoIsChecked) {
@@ -390,7 +386,7 @@ TEST(CcdlanedBus, AnAbsentGyroAtStartDegradesAndSaysSoPerMessage) {
   EXPECT_EQ(s.gyro_state, status_t::GYRO_LOST);
   EXPECT_EQ(s.gyro_problem.rfind("absent: ", 0), 0u) << s.gyro_problem;
   EXPECT_NE(s.gyro_problem.find("/dev/ttyNONEXISTENT"), std::string::npos) << s.gyro_problem;
-  EXPECT_EQ(count_of(log, "gyro: warning: absent: "), 1) << "said once, not at every retry: " << log;
+  EXPECT_EQ(test::count_of(log, "gyro: warning: absent: "), 1) << "said once, not at every retry: " << log;
 }
 
 // SIGTERM while the synthetic drive is still being rendered (120 frames: seconds of
@@ -603,10 +599,10 @@ TEST(CcdlanedBus, TwoDaemonsOnOneBusAreToldApartAndEachWarnsOnce) {
   EXPECT_EQ(from_a + from_b, static_cast<int>(got.lanes.size())) << "every lane message names its sender";
   for (const auto& s : got.statuses) EXPECT_TRUE(s.instance == name_a || s.instance == name_b) << s.instance;
   const std::string log_a = test::read_file(dir.file("a.stderr")), log_b = test::read_file(dir.file("b.stderr"));
-  EXPECT_EQ(count_of(log_a, "another publisher on CCDLANE_STATUS: instance \"" + name_b + "\""), 1) << log_a;
-  EXPECT_EQ(count_of(log_b, "another publisher on CCDLANE_STATUS: instance \"" + name_a + "\""), 1) << log_b;
-  EXPECT_EQ(count_of(log_a, "another publisher"), 1) << log_a;
-  EXPECT_EQ(count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
+  EXPECT_EQ(test::count_of(log_a, "another publisher on CCDLANE_STATUS: instance \"" + name_b + "\""), 1) << log_a;
+  EXPECT_EQ(test::count_of(log_b, "another publisher on CCDLANE_STATUS: instance \"" + name_a + "\""), 1) << log_b;
+  EXPECT_EQ(test::count_of(log_a, "another publisher"), 1) << log_a;
+  EXPECT_EQ(test::count_of(log_a, "0 allocations after ready"), 1) << "watching the bus allocates nothing: " << log_a;
 }
 
 // A gateway sending garbage (150 m/s: once taken, with false warnings) makes LDW
@@ -642,8 +638,8 @@ TEST(CcdlanedBus, AGatewaySendingImpossibleStatesIsAVehicleFault) {
   EXPECT_EQ(s.vehicle_state, status_t::VEHICLE_FAULT);
   EXPECT_GT(s.vehicle_refused_by_cause[status_t::VEHICLE_REFUSED_SPEED], 0);
   EXPECT_EQ(s.vehicle_states_total, 0);
-  EXPECT_EQ(count_of(log, "refused a vehicle_state_t for its speed (speed 150 m/s"), 1) << log;
-  EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << "refusing allocates nothing: " << log;
+  EXPECT_EQ(test::count_of(log, "refused a vehicle_state_t for its speed (speed 150 m/s"), 1) << log;
+  EXPECT_EQ(test::count_of(log, "0 allocations after ready"), 1) << "refusing allocates nothing: " << log;
 }
 
 // A CAN gateway's vehicle_state_t reaches the daemon's lane departure warning: while it
@@ -689,7 +685,7 @@ TEST(CcdlanedBus, TheVehicleStateOnTheBusIsEachFramesInputUntilItGoesStale) {
   }
   const std::string log = test::read_file(dir.file("stderr"));
   EXPECT_NE(log.find("vehicle state from CCDLANE_VEHICLE"), std::string::npos) << log;
-  EXPECT_EQ(count_of(log, "0 allocations after ready"), 1) << "taking vehicle states allocates nothing: " << log;
+  EXPECT_EQ(test::count_of(log, "0 allocations after ready"), 1) << "taking vehicle states allocates nothing: " << log;
 }
 
 }  // namespace

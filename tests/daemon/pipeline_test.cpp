@@ -29,6 +29,7 @@
 #include "drivers/frames/pgm.hpp"
 #include "tests/daemon/child_process.hpp"
 #include "tests/daemon/pipeline_doubles.hpp"
+#include "tests/support/count_of.hpp"
 #include "tests/support/run_process.hpp"
 #include "tests/support/test_pattern_source.hpp"
 
@@ -442,12 +443,6 @@ struct CapturedLog {
   std::string text() const { return test::read_file(path); }
 };
 
-int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 // Truncated, deleted and resized files in a looping directory: every one goes out as a
 // lane message with ok = false (no_frame) under its own frame number, is counted in the
 // status, and the first is logged naming the file (the rest within 10 s only counted).
@@ -502,8 +497,8 @@ TEST(Pipeline, BadFilesOfALoopingFrameDirectoryArePublishedCountedAndLogged) {
   EXPECT_EQ(s.frames_processed_total - s.frames_not_ok_total, static_cast<std::int64_t>(records.size() - bad));
 
   const std::string text = log.text();
-  EXPECT_EQ(count_of(text, ": bad frame "), 1) << "rate-limited: " << text;
-  EXPECT_EQ(count_of(text, frames + "/000001.pgm: "), 1) << text;
+  EXPECT_EQ(test::count_of(text, ": bad frame "), 1) << "rate-limited: " << text;
+  EXPECT_EQ(test::count_of(text, frames + "/000001.pgm: "), 1) << text;
 }
 
 // The frame directory removed while it plays: every read fails, which after
@@ -535,7 +530,7 @@ TEST(Pipeline, AVanishedFrameDirectoryIsAStallAfterTheStallTimeout) {
   EXPECT_EQ(pipeline.totals().camera, CameraState::stalled);
   EXPECT_NE(std::string(problem).find(frames + "/"), std::string::npos) << problem;
   const std::string text = log.text();
-  EXPECT_EQ(count_of(text, "stalled"), 1) << text;
+  EXPECT_EQ(test::count_of(text, "stalled"), 1) << text;
 }
 
 TEST(Pipeline, StopsPromptlyWhileStreaming) {

@@ -15,15 +15,10 @@
 #include "base/log.hpp"
 #include "daemon/realtime.hpp"
 #include "tests/support/as_user.hpp"
+#include "tests/support/count_of.hpp"
 
 namespace ccdlane {
 namespace {
-
-int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
 
 // The real system calls, as root: the calling thread really runs SCHED_FIFO on CPU 0.
 TEST(RealtimeSetupSystem, AsRootTheSettingsTakeEffect) {
@@ -78,9 +73,9 @@ TEST(RealtimeSetupSystem, AsAnUnprivilegedUserItDegrades) {
       });
   const std::string& text = child.out;
   EXPECT_TRUE(child.exited_with(0)) << child.status << ": " << text;
-  EXPECT_EQ(count_of(text, "\n"), 2) << text;
-  EXPECT_EQ(count_of(text, "cannot lock memory (mlockall: "), 1) << text;
-  EXPECT_EQ(count_of(text, "SCHED_FIFO priority 20 for the capture thread refused (Operation not permitted)"), 1)
+  EXPECT_EQ(test::count_of(text, "\n"), 2) << text;
+  EXPECT_EQ(test::count_of(text, "cannot lock memory (mlockall: "), 1) << text;
+  EXPECT_EQ(test::count_of(text, "SCHED_FIFO priority 20 for the capture thread refused (Operation not permitted)"), 1)
       << text;
 }
 

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "base/log.hpp"
+#include "tests/support/count_of.hpp"
 
 namespace ccdlane::test {
 
@@ -41,11 +42,5 @@ class LogCapture {
   int fds_[2] = {-1, -1};
   std::string all_;
 };
-
-inline int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
 
 }  // namespace ccdlane::test

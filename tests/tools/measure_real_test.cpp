@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/count_of.hpp"
 #include "tests/support/json_lines.hpp"
 #include "tests/support/run_process.hpp"
 
@@ -39,13 +40,6 @@ double toml_number(const std::string& path, const std::string& key) {
   const std::string text = test::read_file(path);
   if (!std::regex_search(text, m, std::regex("(^|\n)" + key + R"( *= *([-+0-9.eE]+))"))) return std::nan("");
   return std::stod(m[2]);
-}
-
-// How often `what` occurs in `text`.
-int count_of(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 // A row of the stills' table as printed, e.g.
@@ -565,7 +559,7 @@ TEST(MeasureReal, EachDrivesRowIsItsReplaySummedUpFromTheFourthSecondWhenTheMoun
   int fewest = 14;
   for (int k = 1; k <= 4; ++k) fewest = std::min(fewest, std::stoi(counts[static_cast<std::size_t>(k)]));
   EXPECT_LE(all_met, fewest);
-  EXPECT_EQ(count_of(r.out, std::string(31, ' ') + "project_video_seg"), 14 - all_met)
+  EXPECT_EQ(test::count_of(r.out, std::string(31, ' ') + "project_video_seg"), 14 - all_met)
       << "each row missing a target named once: " << r.out;
   std::smatch pitches;
   ASSERT_TRUE(std::regex_search(
