@@ -95,6 +95,7 @@ const LaneEstimate& LaneEstimator::no_frame(std::uint64_t frame, std::int64_t t_
 }
 
 const LaneEstimate& LaneEstimator::estimate(const FrameInputs& in) {
+  frame_t_ns_ = in.t_ns;
   vanishing_point_ = nullptr;
   state_ = have_last_ ? EstimatorState::tracking : EstimatorState::searching;
   failure_ = EstimateFailure::none;
@@ -337,11 +338,37 @@ LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const Vehicl
   const Attitude mount = mount_.mount_for(r.pose.attitude);
   LaneTracker scratch = tracker_;
   const TrackedLines t = track_lines(scratch, r, fit_, rad_to_deg(mount.psi), config_.detection.departure_mm);
-  if (!t.metrics.has_lane || fit_.lane_support_problem(r, t.own, motion_speed_mps(vehicle, t.own), mount,
-                                                       mount_.height_settled()) != SupportProblem::none)
+  if (!t.metrics.has_lane ||
+      fit_.lane_support_problem(r, t.own, motion_speed_mps(vehicle, t.own), mount, mount_.height_settled()) !=
+          SupportProblem::none ||
+      own_line_jumped_from(r, t.own, tracker_.priors()))
     return Found::nothing;
   if (fit_.line_from_picture(t.own)) return Found::lane_with_a_line_from_the_picture;
   return fit_.line_inside_lane(t.own) ? Found::lane_with_a_line_inside : Found::lane;
+}
+
+bool LaneEstimator::own_line_jumped_from(const SolveResult& r, const OwnLane& own,
+                                         std::span<const RoadLine> tracked) const {
+  if (tracked.empty()) return false;
+  const OwnLaneLines was = own_lane_lines(tracked);
+  const std::span<const int> continues = fit_.prior_index();
+  const double dt_s = 1e-9 * static_cast<double>(frame_t_ns_ - tracked_t_ns_);
+  // The lane a lane change would move the lines by: the tracked one's, else this one's.
+  const double width = was.left >= 0 && was.right >= 0 ? tracked[static_cast<std::size_t>(was.left)].y0_mm -
+                                                             tracked[static_cast<std::size_t>(was.right)].y0_mm
+                                                       : own.lane_width_mm;
+  // Each own line against the tracked line it continues; one found anew, against the
+  // tracked own line on its side.
+  for (const auto& [line, side] : {std::pair{own.left, was.left}, std::pair{own.right, was.right}}) {
+    if (line < 0 || static_cast<std::size_t>(line) >= continues.size()) continue;
+    const int continued = continues[static_cast<std::size_t>(line)];
+    const int before = continued >= 0 ? continued : side;
+    if (before < 0 || static_cast<std::size_t>(before) >= tracked.size()) continue;
+    if (own_line_jumped(r.lines[static_cast<std::size_t>(line)].y0_mm, tracked[static_cast<std::size_t>(before)].y0_mm,
+                        dt_s, width))
+      return true;
+  }
+  return false;
 }
 
 LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::optional<Gx1Angles>& gyro,
@@ -587,16 +614,26 @@ LaneEstimator::Attempt LaneEstimator::look_afresh(const ImageView& image, const 
 
 void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
   lane_solve_ = &r;
+  const LaneTracker before = tracker_;
   tracked_ = track_lines(tracker_, r, fit_, rad_to_deg(mount_.mount().psi), config_.detection.departure_mm);
-  last_pose_ = r.pose;
-  have_last_ = true;
-  misses_ = 0;
   // Two lines the right distance apart are not yet a lane: noise makes such pairs. A
   // lane is one only with the support a real one gives (lane_support.hpp).
   if (tracked_.metrics.has_lane)
     support_ =
         fit_.lane_support_problem(r, tracked_.own, motion_speed_mps(vehicle, tracked_.own), mount_.mount(),
                                   mount_.height_settled());
+  if (tracked_.metrics.has_lane && support_ == SupportProblem::none &&
+      own_line_jumped_from(r, tracked_.own, before.priors())) {
+    // The lines and pose tracked stay the last frame's: tracked from this one, the next
+    // frame's own line, found where it was, would be a jump from this frame's.
+    support_ = SupportProblem::implausible_motion;
+    tracker_ = before;
+    return;
+  }
+  last_pose_ = r.pose;
+  have_last_ = true;
+  misses_ = 0;
+  tracked_t_ns_ = frame_t_ns_;
   // The mount's height learns from widths at its own scale (a cold start may have looked
   // from another: height_scale).
   if (failure_ == EstimateFailure::none && tracked_.metrics.has_lane && support_ == SupportProblem::none) {

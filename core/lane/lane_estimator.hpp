@@ -178,6 +178,10 @@ class LaneEstimator {
   // only when no pose gives a lane.
   enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside, lane_with_a_line_from_the_picture };
   Found supported(const SolveResult& r, const VehicleInputs& vehicle) const;
+  // Whether an own line of r jumped from the `tracked` line it continues (the frame
+  // before's), or, found anew, from the own line the tracked lines had on its side
+  // (lane_support.hpp, own_line_jumped): a tracked frame's lane is then not supported.
+  bool own_line_jumped_from(const SolveResult& r, const OwnLane& own, std::span<const RoadLine> tracked) const;
   // The speed the lane's motion is judged at (lane_support.hpp, judged_speed_mps).
   double motion_speed_mps(const VehicleInputs& vehicle, const OwnLane& own) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
@@ -218,6 +222,8 @@ class LaneEstimator {
   bool rescaled_ = false;        // the mount acquisition changed the height this frame
   bool rescaled_before_ = false;  // and on the frame before this one
   int misses_ = 0;               // frames in a row without an estimate
+  std::int64_t frame_t_ns_ = 0;  // this frame's time
+  std::int64_t tracked_t_ns_ = 0;  // the time of the frame whose lines the tracker holds
   // Tracked frames in a row without a lane (ok): a track of lines that makes no lane for
   // kMaxTrackedFramesWithoutLane frames is searched afresh, as it may be a wrong start's
   // (a first frame's lane of the wrong lines, which each frame's priors keep finding).

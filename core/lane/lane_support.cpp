@@ -135,6 +135,12 @@ SupportProblem check_motion(double speed_mps, double heading_deg, double curvatu
              : SupportProblem::implausible_motion;
 }
 
+bool own_line_jumped(double y0_mm, double tracked_y0_mm, double dt_s, double lane_width_mm) {
+  const double moved = std::abs(y0_mm - tracked_y0_mm);
+  return moved > kMaxLateralSpeedMps * 1000.0 * std::max(0.0, dt_s) + kOwnLineStepSlackMm &&
+         moved < 0.5 * lane_width_mm;
+}
+
 namespace {
 
 // Whether two bars on neighbouring scan rows overlap along the row: one bar running on.

@@ -213,6 +213,22 @@ bool is_line_inside(const InsidePieces& pieces);
 // (degrees) in a lane of this curvature (1/m).
 SupportProblem check_motion(double speed_mps, double heading_deg, double curvature_per_m);
 
+// How far a tracked frame's own line may lie from the line it was on the frame before
+// (the one it continues, or the own line on its side when it was found anew), beyond what
+// the vehicle moves sideways in between (kMaxLateralSpeedMps): the scatter of a line's
+// offset at the car from frame to frame. On the Udacity drives at every mount the most
+// was 280 mm (segB's dashed line on concrete, when its nearest dash left the picture and
+// its far dashes placed it; segA's 250 mm).
+constexpr double kOwnLineStepSlackMm = 400.0;
+// Whether an own line at `y0_mm` is a jump from where it was tracked, `tracked_y0_mm`,
+// `dt_s` before: farther from it than the vehicle moves sideways in that time plus the
+// slack, and nearer than half a lane (`lane_width_mm`), where the line beside it would be
+// after a lane change. Such a line is something else taken for the own line (a bend's
+// tree shadows on concrete where a car beside hid the dashes: 720 mm out at the car, the
+// yaw 3.5 degrees off to match): check_motion's implausible_motion, as the lane would
+// have moved sideways faster than a car does.
+bool own_line_jumped(double y0_mm, double tracked_y0_mm, double dt_s, double lane_width_mm);
+
 // Without a measured speed, the slowest a lane's bend is taken to be driven at.
 constexpr double kMinUnmeasuredSpeedMps = 10.0;
 // The speed check_motion judges a lane of this curvature (1/m) at: the vehicle's measured

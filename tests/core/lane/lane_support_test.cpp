@@ -413,6 +413,25 @@ TEST(LaneSupport, TheLanesHeadingAndBendMustBeDrivableAtTheSpeed) {
   EXPECT_EQ(check_motion(0.0, 9.9, 1.0), SupportProblem::none);
 }
 
+// From one frame to the next an own line moves as far as the vehicle moves sideways, plus
+// its offset's own scatter; half a lane or more away, it is the line beside (a lane
+// change); in between, something else taken for the line.
+TEST(LaneSupport, AnOwnLineMovesFromFrameToFrameAsTheVehicleDoes) {
+  const double dt = 0.04, width = 3660.0;
+  const double allowed = kMaxLateralSpeedMps * 1000.0 * dt + kOwnLineStepSlackMm;  // 480 mm
+  EXPECT_FALSE(own_line_jumped(-1800.0, -1800.0, dt, width));
+  EXPECT_FALSE(own_line_jumped(-1800.0 - 0.99 * allowed, -1800.0, dt, width));
+  EXPECT_TRUE(own_line_jumped(-1800.0 - 1.01 * allowed, -1800.0, dt, width));
+  EXPECT_TRUE(own_line_jumped(1800.0 + 1.01 * allowed, 1800.0, dt, width));  // either way
+  // A lane change: the line beside, a lane away, becomes the own line.
+  EXPECT_FALSE(own_line_jumped(-1800.0 - 0.5 * width, -1800.0, dt, width));
+  EXPECT_FALSE(own_line_jumped(-1800.0 - width, -1800.0, dt, width));
+  // Frames without a lane in between: the vehicle may have moved farther meanwhile.
+  EXPECT_FALSE(own_line_jumped(-1800.0 - 1.01 * allowed, -1800.0, 0.25, width));
+  // A frame time that went backwards (a replayed log's clock) allows the slack alone.
+  EXPECT_TRUE(own_line_jumped(-1800.0 - 1.01 * kOwnLineStepSlackMm, -1800.0, -1.0, width));
+}
+
 // Without a measured speed a bend is judged at the configured speed while that can take
 // it, else at the speed a car takes it at, down to kMinUnmeasuredSpeedMps; a measured
 // speed is always the one.
