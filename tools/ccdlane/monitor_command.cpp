@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -50,16 +51,22 @@ class Monitor {
     if (const std::string why = lcm_url_problem(args.url); !why.empty()) throw UsageError("--lcm: " + why);
     if (!bus_.good()) throw std::runtime_error("lcm: cannot open the bus \"" + args.url + "\"");
     // Plain functions, not subscribe(&Monitor::on_lane, this): GCC 12's UBSan reports a
-    // false "invalid vptr" in LCM's member-function callback.
+    // false "invalid vptr" in LCM's member-function callback. An exception must not leave
+    // a handler: it would unwind through LCM's C code, which then never returns the
+    // message's buffer to its ring (standard output on a full disk once aborted the
+    // process in lcm_ringbuf_dealloc instead of exiting 1). It is kept, and thrown once
+    // handle returns.
     bus_.subscribeFunction(
         lanes_channel_,
         +[](const lcm::ReceiveBuffer*, const std::string&, const lane_estimate_t* m, Monitor* self) {
-          self->on_lane(*m);
+          self->handled([&] { self->on_lane(*m); });
         },
         this);
     bus_.subscribeFunction(
         status_channel_,
-        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, Monitor* self) { self->on_status(*m); },
+        +[](const lcm::ReceiveBuffer*, const std::string&, const status_t* m, Monitor* self) {
+          self->handled([&] { self->on_status(*m); });
+        },
         this);
   }
 
@@ -81,6 +88,7 @@ class Monitor {
       const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(wake - now).count();
       if (bus_.handleTimeout(static_cast<int>(std::max<long long>(ms, 1))) < 0)
         throw std::runtime_error("lcm: receiving from \"" + args_.url + "\" failed");
+      if (handler_failure_) std::rethrow_exception(handler_failure_);
     }
     if (!args_.json && lanes_ > lanes_printed_) print_line();
     if (lanes_ == 0) {
@@ -94,6 +102,18 @@ class Monitor {
 
  private:
   bool done() const { return args_.count > 0 && lanes_ >= args_.count; }
+
+  // Runs a handler's work; what it throws is kept for run() (see the constructor), and
+  // nothing more is handled after it.
+  template <typename Work>
+  void handled(Work work) noexcept {
+    if (handler_failure_) return;
+    try {
+      work();
+    } catch (...) {
+      handler_failure_ = std::current_exception();
+    }
+  }
 
   void on_lane(const lane_estimate_t& m) {
     if (done()) return;
@@ -245,6 +265,7 @@ class Monitor {
   int lanes_in_second_ = 0;
   std::optional<lane_estimate_t> last_lane_;
   std::optional<status_t> last_status_;
+  std::exception_ptr handler_failure_;
 };
 
 }  // namespace
