@@ -353,6 +353,7 @@ bool LaneEstimator::own_line_jumped_from(const SolveResult& r, const OwnLane& ow
   const OwnLaneLines was = own_lane_lines(tracked);
   const std::span<const int> continues = fit_.prior_index();
   const double dt_s = 1e-9 * static_cast<double>(frame_t_ns_ - tracked_t_ns_);
+  if (yaw_jumped(rad_to_deg(r.pose.attitude.psi), rad_to_deg(last_pose_.attitude.psi), dt_s)) return true;
   // The lane a lane change would move the lines by: the tracked one's, else this one's.
   const double width = was.left >= 0 && was.right >= 0 ? tracked[static_cast<std::size_t>(was.left)].y0_mm -
                                                              tracked[static_cast<std::size_t>(was.right)].y0_mm

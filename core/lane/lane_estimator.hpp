@@ -178,9 +178,10 @@ class LaneEstimator {
   // only when no pose gives a lane.
   enum class Found : std::uint8_t { nothing, lane, lane_with_a_line_inside, lane_with_a_line_from_the_picture };
   Found supported(const SolveResult& r, const VehicleInputs& vehicle) const;
-  // Whether an own line of r jumped from the `tracked` line it continues (the frame
-  // before's), or, found anew, from the own line the tracked lines had on its side
-  // (lane_support.hpp, own_line_jumped): a tracked frame's lane is then not supported.
+  // Whether r's yaw turned from the last tracked frame's faster than a vehicle turns
+  // (yaw_jumped), or an own line of r jumped from the `tracked` line it continues (the
+  // frame before's), or, found anew, from the own line the tracked lines had on its side
+  // (own_line_jumped; lane_support.hpp): a tracked frame's lane is then not supported.
   bool own_line_jumped_from(const SolveResult& r, const OwnLane& own, std::span<const RoadLine> tracked) const;
   // The speed the lane's motion is judged at (lane_support.hpp, judged_speed_mps).
   double motion_speed_mps(const VehicleInputs& vehicle, const OwnLane& own) const;

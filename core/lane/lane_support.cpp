@@ -141,6 +141,10 @@ bool own_line_jumped(double y0_mm, double tracked_y0_mm, double dt_s, double lan
          moved < 0.5 * lane_width_mm;
 }
 
+bool yaw_jumped(double psi_deg, double tracked_psi_deg, double dt_s) {
+  return std::abs(psi_deg - tracked_psi_deg) > kMaxYawRateDegPerS * std::max(0.0, dt_s) + kYawStepSlackDeg;
+}
+
 namespace {
 
 // Whether two bars on neighbouring scan rows overlap along the row: one bar running on.

@@ -229,6 +229,17 @@ constexpr double kOwnLineStepSlackMm = 400.0;
 // have moved sideways faster than a car does.
 bool own_line_jumped(double y0_mm, double tracked_y0_mm, double dt_s, double lane_width_mm);
 
+// How fast a vehicle turns against its lane (a swerve; at 90 km/h 4 m/s^2 of lateral
+// acceleration is 9 degrees a second), and how far a tracked frame's solved yaw scatters
+// from the frame before's besides: on the Udacity drives at every mount at most 0.79
+// degrees (segB's bridge, where a dashed line's near dash comes and goes).
+constexpr double kMaxYawRateDegPerS = 20.0;
+constexpr double kYawStepSlackDeg = 1.0;
+// Whether a tracked frame's yaw (degrees) turned from the frame before's, `dt_s` before,
+// faster than a vehicle turns plus the slack: a lane fitted to something else, the yaw
+// turned to match it (the rendered bends with cars beside: 1.9-3.5 degrees in a frame).
+bool yaw_jumped(double psi_deg, double tracked_psi_deg, double dt_s);
+
 // Without a measured speed, the slowest a lane's bend is taken to be driven at.
 constexpr double kMinUnmeasuredSpeedMps = 10.0;
 // The speed check_motion judges a lane of this curvature (1/m) at: the vehicle's measured

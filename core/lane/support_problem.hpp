@@ -16,7 +16,8 @@ enum class SupportProblem : std::uint8_t {
   heading_off_lane,      // the lane crosses the vehicle's heading by more than kMaxLaneHeadingDeg
   attitude_off_mount,    // pitch or roll without a prior more than kMaxBodyMotionDeg off the mounting
   implausible_motion,    // a lateral speed or acceleration beyond kMaxLateralSpeedMps, kMaxLateralAccelerationMps2,
-                         // or an own line that jumped from where it was tracked (own_line_jumped)
+                         // or an own line or the yaw that jumped from where it was tracked
+                         // (own_line_jumped, yaw_jumped)
   cluttered_lane,        // marks inside the lane along more of it than kMaxClutterPerLineLength of its lines' length
 };
 const char* to_string(SupportProblem p);

@@ -7,12 +7,15 @@
 
 #include <cmath>
 #include <initializer_list>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "core/detection/line_grouper.hpp"
 #include "core/geometry/camera_model.hpp"
+#include "core/geometry/road_line.hpp"
 #include "core/lane/lane_support.hpp"
 #include "tests/core/synth/rendered_road.hpp"
 #include "tests/support/allocation_counter.hpp"
@@ -197,35 +200,51 @@ TEST(LaneEstimator, CarsAheadLeaveTheLaneAlone) {
 }
 
 // Six cars on a 330 m bend of concrete with tree shadows, at the reference camera's
-// 800x600, tracked frame after frame: where the car beside hides the right line's dashes
-// (frames 30 and 31), the tree shadows' borders 12-37 m ahead once made a line 720 mm
-// outside the right one at the car, the yaw 3.5 degrees off to match, the tracked line's
-// continuation. Such a jump is more than a vehicle moves sideways in a frame's time
-// (own_line_jumped): the frame looks afresh, as a search does, and finds the lane.
-TEST(LaneEstimator, ALineThatJumpsFromTheTrackedOneIsNotTheOwnLine) {
-  Config c = default_config();
-  c.synth.seed = 4;
-  c.synth.colour = true;
-  c.synth.surface = RoadSurface::concrete;
-  c.synth.hard_shadows = true;
-  c.synth.cars = 6;
-  c.synth.curvature_per_mm = 1.0 / (2.0 * 330.0e3);
-  Drive d(c, PixelFormat::rgb8);
-  LaneEstimator est(c.estimator_options());
-  int ok = 0;
-  for (std::uint64_t k = 0; k < 40; ++k) {
-    const SynthFrame f = d.render(k);
-    const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
-    ok += e.ok;
-    for (int j = 0; j < e.num_lines; ++j) {
-      double nearest = 1e9;
-      for (int t = 0; t < f.num_lines; ++t)
-        nearest = std::min(nearest, std::abs(e.lines[j].y0_mm - f.y0_mm[static_cast<std::size_t>(t)]));
-      EXPECT_LT(nearest, 300.0) << "frame " << k << ": a line at y0 " << e.lines[j].y0_mm << " mm is on no lane line";
+// 800x600, tracked frame after frame. Where a car beside hides an own line's dashes, the
+// tree shadows' borders made the line: with seed 4 on frames 30 and 31, 720 mm outside
+// the right one at the car, the yaw 3.5 degrees off to match (the tracked line's
+// continuation); with seed 3 on frame 29, 550 mm out and 1.7 degrees; with seed 1 on
+// frame 36, 430 mm out, the yaw turned 2.8 degrees in the frame. Each is more than a
+// vehicle moves sideways or turns in a frame's time (own_line_jumped, yaw_jumped): the
+// frame looks afresh, as a search does, and finds the lane or has none. Checked on the
+// frames with a lane, what a departure warning takes: the own lines on their lane lines,
+// the yaw within 2 degrees of the truth (hidden lines still leave a frame of seed 1 1.5
+// degrees off, reached a step at a time: docs/real-roads.md, open; the lines beyond the
+// own lane, seen only between the cars 25-45 m ahead, are a long extrapolation at the
+// car and not held here).
+TEST(LaneEstimator, ALaneThatJumpsFromTheTrackedOneIsNotTaken) {
+  for (const unsigned seed : {1u, 3u, 4u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Config c = default_config();
+    c.synth.seed = seed;
+    c.synth.colour = true;
+    c.synth.surface = RoadSurface::concrete;
+    c.synth.hard_shadows = true;
+    c.synth.cars = 6;
+    c.synth.curvature_per_mm = 1.0 / (2.0 * 330.0e3);
+    Drive d(c, PixelFormat::rgb8);
+    LaneEstimator est(c.estimator_options());
+    int ok = 0;
+    for (std::uint64_t k = 0; k < 40; ++k) {
+      const SynthFrame f = d.render(k);
+      const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
+      if (!e.ok) continue;
+      ++ok;
+      EXPECT_NEAR(e.psi_deg, rad_to_deg(f.pose.attitude.psi), 2.0) << "frame " << k;
+      const std::span<const EstimatedLine> lines(e.lines.data(), static_cast<std::size_t>(e.num_lines));
+      const OwnLaneLines own = own_lane_lines(lines);
+      ASSERT_TRUE(own.left >= 0 && own.right >= 0) << "frame " << k;
+      for (const int j : {own.left, own.right}) {
+        const double y0 = e.lines[static_cast<std::size_t>(j)].y0_mm;
+        double nearest = 1e9;
+        for (int t = 0; t < f.num_lines; ++t)
+          nearest = std::min(nearest, std::abs(y0 - f.y0_mm[static_cast<std::size_t>(t)]));
+        EXPECT_LT(nearest, 300.0) << "frame " << k << ": an own line at y0 " << y0 << " mm is on no lane line";
+      }
     }
+    // Frames whose own line a car hides may have no lane; most have one.
+    EXPECT_GE(ok, 35);
   }
-  // Frames whose right line the car hides may have no lane; most have one.
-  EXPECT_GE(ok, 36);
 }
 
 // Bends of radius 300 to 2000 m, both ways, on colour frames of a concrete road with a

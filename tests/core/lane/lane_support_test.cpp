@@ -432,6 +432,21 @@ TEST(LaneSupport, AnOwnLineMovesFromFrameToFrameAsTheVehicleDoes) {
   EXPECT_TRUE(own_line_jumped(-1800.0 - 1.01 * kOwnLineStepSlackMm, -1800.0, -1.0, width));
 }
 
+// From one frame to the next the yaw turns as fast as a vehicle turns, plus its own
+// scatter; faster, the lane is fitted to something else.
+TEST(LaneSupport, TheYawTurnsFromFrameToFrameAsAVehicleDoes) {
+  const double dt = 0.04;
+  const double allowed = kMaxYawRateDegPerS * dt + kYawStepSlackDeg;  // 1.8 degrees
+  EXPECT_FALSE(yaw_jumped(0.3, 0.3, dt));
+  EXPECT_FALSE(yaw_jumped(0.3 + 0.99 * allowed, 0.3, dt));
+  EXPECT_TRUE(yaw_jumped(0.3 + 1.01 * allowed, 0.3, dt));
+  EXPECT_TRUE(yaw_jumped(0.3 - 1.01 * allowed, 0.3, dt));
+  // Frames without a lane in between: the vehicle may have turned farther meanwhile.
+  EXPECT_FALSE(yaw_jumped(0.3 + 1.01 * allowed, 0.3, 0.2));
+  // A frame time that went backwards allows the slack alone.
+  EXPECT_TRUE(yaw_jumped(1.01 * kYawStepSlackDeg, 0.0, -1.0));
+}
+
 // Without a measured speed a bend is judged at the configured speed while that can take
 // it, else at the speed a car takes it at, down to kMinUnmeasuredSpeedMps; a measured
 // speed is always the one.
