@@ -341,14 +341,14 @@ LaneEstimator::Found LaneEstimator::supported(const SolveResult& r, const Vehicl
   if (!t.metrics.has_lane ||
       fit_.lane_support_problem(r, t.own, motion_speed_mps(vehicle, t.own), mount, mount_.height_settled()) !=
           SupportProblem::none ||
-      own_line_jumped_from(r, t.own, tracker_.priors()))
+      jumped_from_track(r, t.own, tracker_.priors()))
     return Found::nothing;
   if (fit_.line_from_picture(t.own)) return Found::lane_with_a_line_from_the_picture;
   return fit_.line_inside_lane(t.own) ? Found::lane_with_a_line_inside : Found::lane;
 }
 
-bool LaneEstimator::own_line_jumped_from(const SolveResult& r, const OwnLane& own,
-                                         std::span<const RoadLine> tracked) const {
+bool LaneEstimator::jumped_from_track(const SolveResult& r, const OwnLane& own,
+                                      std::span<const RoadLine> tracked) const {
   if (tracked.empty()) return false;
   const OwnLaneLines was = own_lane_lines(tracked);
   const std::span<const int> continues = fit_.prior_index();
@@ -624,7 +624,7 @@ void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {
         fit_.lane_support_problem(r, tracked_.own, motion_speed_mps(vehicle, tracked_.own), mount_.mount(),
                                   mount_.height_settled());
   if (tracked_.metrics.has_lane && support_ == SupportProblem::none &&
-      own_line_jumped_from(r, tracked_.own, before.priors())) {
+      jumped_from_track(r, tracked_.own, before.priors())) {
     // The lines and pose tracked stay the last frame's: tracked from this one, the next
     // frame's own line, found where it was, would be a jump from this frame's.
     support_ = SupportProblem::implausible_motion;

@@ -182,7 +182,7 @@ class LaneEstimator {
   // (yaw_jumped), or an own line of r jumped from the `tracked` line it continues (the
   // frame before's), or, found anew, from the own line the tracked lines had on its side
   // (own_line_jumped; lane_support.hpp): a tracked frame's lane is then not supported.
-  bool own_line_jumped_from(const SolveResult& r, const OwnLane& own, std::span<const RoadLine> tracked) const;
+  bool jumped_from_track(const SolveResult& r, const OwnLane& own, std::span<const RoadLine> tracked) const;
   // The speed the lane's motion is judged at (lane_support.hpp, judged_speed_mps).
   double motion_speed_mps(const VehicleInputs& vehicle, const OwnLane& own) const;
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
