@@ -79,6 +79,15 @@ TEST(LaneEstimator, EveryFrameOkAndWithinTheSolversSigmasOfTheTruth) {
   EXPECT_EQ(within, 5 * frames);
 }
 
+// How far a reported line at `y0_mm` lies from the nearest of frame f's rendered lane
+// lines, at the car.
+double off_lane_lines_mm(const SynthFrame& f, double y0_mm) {
+  double nearest = 1e9;
+  for (int t = 0; t < f.num_lines; ++t)
+    nearest = std::min(nearest, std::abs(y0_mm - f.y0_mm[static_cast<std::size_t>(t)]));
+  return nearest;
+}
+
 // Markings on the road that are not lane lines, on colour frames, frames `first` to
 // `last` in steps of two: with solid lines every frame is ok, its offset and width within
 // 3 of the solver's sigmas of the truth; with dashed lines (`dashes`: the inner ones, or
@@ -100,13 +109,9 @@ void expect_markings_leave_the_lane_alone(Config c, std::uint64_t first, std::ui
     for (std::uint64_t k = first; k < last; k += 2, ++frames) {
       const SynthFrame f = d.render(k);
       const LaneEstimate& e = est.estimate(d.view, k, f.t_ns, f.gyro);
-      for (int j = 0; j < e.num_lines; ++j) {
-        double nearest = 1e9;
-        for (int t = 0; t < f.num_lines; ++t) {
-          nearest = std::min(nearest, std::abs(e.lines[j].y0_mm - f.y0_mm[static_cast<std::size_t>(t)]));
-        }
-        EXPECT_LT(nearest, 300.0) << "frame " << k << ": a line at y0 " << e.lines[j].y0_mm << " mm is on no lane line";
-      }
+      for (int j = 0; j < e.num_lines; ++j)
+        EXPECT_LT(off_lane_lines_mm(f, e.lines[j].y0_mm), 300.0)
+            << "frame " << k << ": a line at y0 " << e.lines[j].y0_mm << " mm is on no lane line";
       if (dashed != DashedLines::none && !e.ok) continue;
       ASSERT_TRUE(e.ok) << "frame " << k << ": " << to_string(e.reason) << " (" << to_string(est.support_problem())
                         << ")";
@@ -236,10 +241,8 @@ TEST(LaneEstimator, ALaneThatJumpsFromTheTrackedOneIsNotTaken) {
       ASSERT_TRUE(own.left >= 0 && own.right >= 0) << "frame " << k;
       for (const int j : {own.left, own.right}) {
         const double y0 = e.lines[static_cast<std::size_t>(j)].y0_mm;
-        double nearest = 1e9;
-        for (int t = 0; t < f.num_lines; ++t)
-          nearest = std::min(nearest, std::abs(y0 - f.y0_mm[static_cast<std::size_t>(t)]));
-        EXPECT_LT(nearest, 300.0) << "frame " << k << ": an own line at y0 " << y0 << " mm is on no lane line";
+        EXPECT_LT(off_lane_lines_mm(f, y0), 300.0)
+            << "frame " << k << ": an own line at y0 " << y0 << " mm is on no lane line";
       }
     }
     // Frames whose own line a car hides may have no lane; most have one.
