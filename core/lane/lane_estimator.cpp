@@ -224,6 +224,14 @@ std::optional<double> LaneEstimator::own_lane_width(const SolveResult& r) {
   return lines[static_cast<std::size_t>(own.left)].y0_mm - lines[static_cast<std::size_t>(own.right)].y0_mm;
 }
 
+OwnLanePlace LaneEstimator::own_lane_place(const SolveResult& r) {
+  const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
+  const OwnLaneLines own = own_lane_lines(lines);
+  if (own.left < 0 || own.right < 0) return {};
+  return {lines[static_cast<std::size_t>(own.left)].y0_mm, lines[static_cast<std::size_t>(own.right)].y0_mm,
+          r.pose.H_mm};
+}
+
 bool LaneEstimator::width_agrees_with_height(const SolveResult& r) const {
   if (!height_unsettled()) return true;
   const std::optional<double> width = own_lane_width(r);
@@ -377,7 +385,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // Of the starting poses at the first height where one's solve is a supported lane of a
   // lane's width at that height with no line inside it, the one whose own lane's lines
   // hold the most picks (of those within a count's spread of the most, the one whose
-  // picks fit best); else the first supported one whose width needed (or needs)
+  // picks fit best); else (and also when that lane is two lanes, as this one shows:
+  // spans_two_lanes) the first supported one whose width needed (or needs)
   // another height (and, looked at from the height it said, is a lane's width there),
   // else the first supported one with a line inside it (two lanes from
   // a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
@@ -404,6 +413,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   int lane_pose = -1, lane_picks = 0;  // lane's pose, and the most own-lane picks of a lane
   double lane_rms_px = 0.0;            // lane's solve: its picks' rms, pixels
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
+  OwnLanePlace lane_place, other_place;  // lane's and other_height's own lines
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int from_picture = -1;  // the first pose whose lane has a line found only in the picture
   int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks from marks
@@ -435,12 +445,14 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
         if (own > lane_picks + spread ||
             (lane_pose >= 0 && own >= lane_picks - spread && a.solve->rms_px < lane_rms_px - rms_spread)) {
           lane = a;
+          lane_place = own_lane_place(*a.solve);
           lane_picks = std::max(own, lane_picks);
           lane_rms_px = a.solve->rms_px;
           lane_pose = k;
         }
       } else if (height == LaneHeight::another && other_height < 0) {
         other_height = k;
+        other_place = own_lane_place(*a.solve);
       }
     }
     if (k == 0) first = a;
@@ -449,6 +461,11 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       most_seen = k;
     }
   }
+  // A lane at the height it was looked from whose line inside (a row of markers that
+  // detection at that height, half the true one, does not see) another height's lane
+  // shows: the other is the lane (stills from a mount a quarter too low took the own
+  // left line and the next lane's right line at 0.75 m).
+  if (lane.solve && other_height >= 0 && spans_two_lanes(lane_place, other_place)) lane = {};
   if (lane.solve) {
     search_found_from_ = poses[lane_pose];
     have_search_pose_ = true;

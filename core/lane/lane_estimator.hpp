@@ -196,6 +196,8 @@ class LaneEstimator {
   bool height_unsettled() const;
   bool width_agrees_with_height(const SolveResult& r) const;
   static std::optional<double> own_lane_width(const SolveResult& r);
+  // The solve's own lane's lines and height (zeros without a line on each side).
+  static OwnLanePlace own_lane_place(const SolveResult& r);
   void track(const SolveResult& r, const VehicleInputs& vehicle);
   void warn(const FrameInputs& in);
   void report(const FrameInputs& in);

@@ -308,6 +308,18 @@ SupportProblem check_body_motion(const SolverPriors& priors, const Attitude& sol
              : SupportProblem::attitude_off_mount;
 }
 
+bool spans_two_lanes(const OwnLanePlace& wide, const OwnLanePlace& narrow) {
+  const double width = wide.left_mm - wide.right_mm;
+  if (!(width > 0.0 && wide.H_mm > 0.0 && narrow.H_mm > 0.0)) return false;
+  const double scale = wide.H_mm / narrow.H_mm;
+  const double left = narrow.left_mm * scale, right = narrow.right_mm * scale;
+  const auto on = [&](double a, double b) { return std::abs(a - b) <= kSharedLineShare * width; };
+  const auto inside = [&](double y) {
+    return y < wide.left_mm - kInsideLineFromSide * width && y > wide.right_mm + kInsideLineFromSide * width;
+  };
+  return (on(left, wide.left_mm) && inside(right)) || (on(right, wide.right_mm) && inside(left));
+}
+
 SupportProblem check_heading(double heading_deg) {
   return std::abs(heading_deg) <= kMaxLaneHeadingDeg ? SupportProblem::none : SupportProblem::heading_off_lane;
 }

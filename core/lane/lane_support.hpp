@@ -240,6 +240,24 @@ constexpr double kYawStepSlackDeg = 1.0;
 // turned to match it (the rendered bends with cars beside: 1.9-3.5 degrees in a frame).
 bool yaw_jumped(double psi_deg, double tracked_psi_deg, double dt_s);
 
+// A lane's own lines at the car (`left_mm` > 0 > `right_mm`, the solve's y0) and the
+// camera height they were solved at.
+struct OwnLanePlace {
+  double left_mm = 0.0, right_mm = 0.0, H_mm = 0.0;
+};
+// Two lanes a search found in one picture from different heights are alike but for the
+// scale only when they are one lane: the picture fixes every road distance only in
+// proportion to the height. Taken to one height, a lane whose line lies on one of the
+// other's and whose other line lies inside the other (kInsideLineFromSide of its width
+// from both of its lines) shows the other to be two lanes taken for one: seen from a
+// height too low, the own line and the next lane's beyond make a lane's width (TuSimple
+// stills from a mount a quarter too low: 0.75 m, where the lanes say 1.65).
+// kSharedLineShare of the wide lane's width is how near a line lies on another: the
+// solves' poses differ by tenths of a degree, and a line's place with them.
+constexpr double kSharedLineShare = 0.1;
+// Whether `wide` is two lanes, as `narrow` shows.
+bool spans_two_lanes(const OwnLanePlace& wide, const OwnLanePlace& narrow);
+
 // Without a measured speed, the slowest a lane's bend is taken to be driven at.
 constexpr double kMinUnmeasuredSpeedMps = 10.0;
 // The speed check_motion judges a lane of this curvature (1/m) at: the vehicle's measured

@@ -447,6 +447,32 @@ TEST(LaneSupport, TheYawTurnsFromFrameToFrameAsAVehicleDoes) {
   EXPECT_TRUE(yaw_jumped(1.01 * kYawStepSlackDeg, 0.0, -1.0));
 }
 
+// A picture seen from 0.75 m where the camera is 1.65 m up: the own left line and the next
+// lane's right line make a lane of 3.68 m; seen from 1.65 m, the own lane's lines make one
+// of 3.7 m. Taken to 0.75 m, the second's left line lies on the first's and its right line
+// inside it: the first is two lanes.
+TEST(LaneSupport, ALaneWithAnotherHeightsLaneLineInsideItIsTwoLanes) {
+  const OwnLanePlace two_lanes{860.0, -2820.0, 750.0};
+  const OwnLanePlace own{1850.0, -1850.0, 1650.0};  // at 0.75 m: 841 and -841 mm
+  EXPECT_TRUE(spans_two_lanes(two_lanes, own));
+  EXPECT_FALSE(spans_two_lanes(own, two_lanes));  // the narrower lane holds no line of the wider
+  // The same lane found from two heights is one lane at either scale.
+  EXPECT_FALSE(spans_two_lanes(own, OwnLanePlace{1850.0 * 0.8, -1850.0 * 0.8, 1650.0 * 0.8}));
+  // Mirrored: the right lines shared, the left one inside.
+  EXPECT_TRUE(spans_two_lanes(OwnLanePlace{2820.0, -860.0, 750.0}, own));
+  // The shared line must lie on the other's, within a tenth of the wide lane's width.
+  const double width = two_lanes.left_mm - two_lanes.right_mm, scale = 750.0 / 1650.0;
+  const double off = (kSharedLineShare * width + 30.0) / scale;
+  EXPECT_FALSE(spans_two_lanes(two_lanes, OwnLanePlace{1850.0 + off, -1850.0, 1650.0}));
+  // And the inner line at least kInsideLineFromSide of the width from both: a line beside
+  // one of the wide lane's lines is its shadow or a second stripe, no lane line.
+  const double near_right = (two_lanes.right_mm + 0.9 * kInsideLineFromSide * width) / scale;
+  EXPECT_FALSE(spans_two_lanes(two_lanes, OwnLanePlace{1850.0, near_right, 1650.0}));
+  // Without a lane on either side, or a height, nothing is shown.
+  EXPECT_FALSE(spans_two_lanes(OwnLanePlace{}, own));
+  EXPECT_FALSE(spans_two_lanes(two_lanes, OwnLanePlace{}));
+}
+
 // Without a measured speed a bend is judged at the configured speed while that can take
 // it, else at the speed a car takes it at, down to kMinUnmeasuredSpeedMps; a measured
 // speed is always the one.
