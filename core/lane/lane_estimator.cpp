@@ -11,6 +11,7 @@
 
 #include "core/lane/lane_metrics.hpp"
 #include "core/lane/observability.hpp"
+#include "core/lane/searched_lanes.hpp"
 #include "core/ldw/lane_measurement.hpp"
 
 namespace ccdlane {
@@ -413,7 +414,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   int lane_pose = -1, lane_picks = 0;  // lane's pose, and the most own-lane picks of a lane
   double lane_rms_px = 0.0;            // lane's solve: its picks' rms, pixels
   int other_height = -1;  // the first pose whose lane is a lane's width only at another height
-  OwnLanePlace lane_place, other_place;  // lane's and other_height's own lines
+  SearchedLanes<kMaxSearchPoses> lanes;  // every pose's lane of a lane's width, at either height
   int line_inside = -1;   // the first pose whose lane has a line inside it
   int from_picture = -1;  // the first pose whose lane has a line found only in the picture
   int most_seen = -1, most_picks = 0;  // the pose whose solve, lane or not, had the most picks from marks
@@ -431,6 +432,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       if (from_picture < 0) from_picture = k;
     } else if (found == Found::lane) {
       const LaneHeight height = lane_height(a.rescaled, width_agrees_with_height(*a.solve));
+      if (height != LaneHeight::neither) lanes.add(k, own_lane_place(*a.solve), height == LaneHeight::as_looked_from);
       if (height == LaneHeight::as_looked_from) {
         // More picks than the best lane's by more than a count's own spread (its Poisson
         // sigma); within it, the count says nothing, and the lane its picks fit better is
@@ -445,14 +447,12 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
         if (own > lane_picks + spread ||
             (lane_pose >= 0 && own >= lane_picks - spread && a.solve->rms_px < lane_rms_px - rms_spread)) {
           lane = a;
-          lane_place = own_lane_place(*a.solve);
           lane_picks = std::max(own, lane_picks);
           lane_rms_px = a.solve->rms_px;
           lane_pose = k;
         }
       } else if (height == LaneHeight::another && other_height < 0) {
         other_height = k;
-        other_place = own_lane_place(*a.solve);
       }
     }
     if (k == 0) first = a;
@@ -461,16 +461,27 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       most_seen = k;
     }
   }
-  // A lane at the height it was looked from whose line inside (a row of markers that
-  // detection at that height, half the true one, does not see) another height's lane
-  // shows: the other is the lane (stills from a mount a quarter too low took the own
-  // left line and the next lane's right line at 0.75 m).
-  if (lane.solve && other_height >= 0 && spans_two_lanes(lane_place, other_place)) lane = {};
+  // A lane whose line inside (a row of markers that detection from a height half the
+  // true one does not see) another pose's lane shows is two lanes; that one is the lane
+  // (stills from a mount a quarter too low took the own left line and the next lane's
+  // right line at 0.75 m, where other poses had found the lane at 1.6 m).
+  int last = k - 1;  // the pose the fit's buffers hold
+  if (const int chosen = lane.solve ? lane_pose : other_height; chosen >= 0 && lanes.two_lanes(chosen)) {
+    if (const int narrower = lanes.narrower_than(chosen); narrower >= 0 && lanes.as_looked_from(narrower)) {
+      lane_pose = narrower;
+      detection_pose_ = poses[narrower];
+      lane = attempt(image, gyro);
+      last = narrower;
+    } else if (narrower >= 0) {
+      lane = {};
+      other_height = narrower;
+    }
+  }
   if (lane.solve) {
     search_found_from_ = poses[lane_pose];
     have_search_pose_ = true;
     // The fit's buffers hold the last pose's: look again, unless that was the lane's.
-    if (lane_pose != k - 1) {
+    if (lane_pose != last) {
       detection_pose_ = poses[lane_pose];
       lane = attempt(image, gyro);
     }
