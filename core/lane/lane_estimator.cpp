@@ -386,15 +386,16 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // Of the starting poses at the first height where one's solve is a supported lane of a
   // lane's width at that height with no line inside it, the one whose own lane's lines
   // hold the most picks (of those within a count's spread of the most, the one whose
-  // picks fit best); else (and also when that lane is two lanes, as this one shows:
-  // spans_two_lanes) the first supported one whose width needed (or needs)
+  // picks fit best); else the first supported one whose width needed (or needs)
   // another height (and, looked at from the height it said, is a lane's width there),
   // else the first supported one with a line inside it (two lanes from
   // a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
   // first supported one with a line found only in the picture (line_in_picture.hpp: the
   // weakest evidence of a lane's line), else the outcome of the pose whose solve had the
   // most picks from marks (the lines it saw, each reported on its own support), or the
-  // first pose's when none solved (its reason is the frame's). Why not the first lane:
+  // first pose's when none solved (its reason is the frame's). A lane of the first two
+  // kinds that another pose's lane shows to be two lanes (spans_two_lanes) yields to the
+  // first lane that does, itself one lane. Why not the first lane:
   // the poses are tried in an order (the picture's vanishing point, the mount, pitched
   // steps), and from each the detection groups other bars, so the first lane depended on
   // how far off the configured mount was (still 0004 lost an own line from a height 10 %
