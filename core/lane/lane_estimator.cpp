@@ -218,19 +218,17 @@ bool LaneEstimator::height_unsettled() const {
   return config_.priors.lane_width_mm && !mount_.height_settled();
 }
 
-std::optional<double> LaneEstimator::own_lane_width(const SolveResult& r) {
+std::optional<OwnLanePlace> LaneEstimator::own_lane_place(const SolveResult& r) {
   const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
   const OwnLaneLines own = own_lane_lines(lines);
   if (own.left < 0 || own.right < 0) return std::nullopt;
-  return lines[static_cast<std::size_t>(own.left)].y0_mm - lines[static_cast<std::size_t>(own.right)].y0_mm;
+  return OwnLanePlace{lines[static_cast<std::size_t>(own.left)].y0_mm,
+                      lines[static_cast<std::size_t>(own.right)].y0_mm, r.pose.H_mm};
 }
 
-OwnLanePlace LaneEstimator::own_lane_place(const SolveResult& r) {
-  const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
-  const OwnLaneLines own = own_lane_lines(lines);
-  if (own.left < 0 || own.right < 0) return {};
-  return {lines[static_cast<std::size_t>(own.left)].y0_mm, lines[static_cast<std::size_t>(own.right)].y0_mm,
-          r.pose.H_mm};
+std::optional<double> LaneEstimator::own_lane_width(const SolveResult& r) {
+  const std::optional<OwnLanePlace> place = own_lane_place(r);
+  return place ? std::optional<double>(place->width_mm()) : std::nullopt;
 }
 
 bool LaneEstimator::width_agrees_with_height(const SolveResult& r) const {
@@ -433,7 +431,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       if (from_picture < 0) from_picture = k;
     } else if (found == Found::lane) {
       const LaneHeight height = lane_height(a.rescaled, width_agrees_with_height(*a.solve));
-      if (height != LaneHeight::neither) lanes.add(k, own_lane_place(*a.solve), height == LaneHeight::as_looked_from);
+      if (const std::optional<OwnLanePlace> place = own_lane_place(*a.solve); place && height != LaneHeight::neither)
+        lanes.add(k, *place, height == LaneHeight::as_looked_from);
       if (height == LaneHeight::as_looked_from) {
         // More picks than the best lane's by more than a count's own spread (its Poisson
         // sigma); within it, the count says nothing, and the lane its picks fit better is

@@ -195,9 +195,10 @@ class LaneEstimator {
   // height (always, when the height is not to be settled or r has no own lane).
   bool height_unsettled() const;
   bool width_agrees_with_height(const SolveResult& r) const;
+  // The solve's own lane's lines and height, and its width; none without a line on each
+  // side.
+  static std::optional<OwnLanePlace> own_lane_place(const SolveResult& r);
   static std::optional<double> own_lane_width(const SolveResult& r);
-  // The solve's own lane's lines and height (zeros without a line on each side).
-  static OwnLanePlace own_lane_place(const SolveResult& r);
   void track(const SolveResult& r, const VehicleInputs& vehicle);
   void warn(const FrameInputs& in);
   void report(const FrameInputs& in);

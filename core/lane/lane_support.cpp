@@ -309,7 +309,7 @@ SupportProblem check_body_motion(const SolverPriors& priors, const Attitude& sol
 }
 
 bool spans_two_lanes(const OwnLanePlace& wide, const OwnLanePlace& narrow) {
-  const double width = wide.left_mm - wide.right_mm;
+  const double width = wide.width_mm();
   if (!(width > 0.0 && wide.H_mm > 0.0 && narrow.H_mm > 0.0)) return false;
   const double scale = wide.H_mm / narrow.H_mm;
   const double left = narrow.left_mm * scale, right = narrow.right_mm * scale;

@@ -244,6 +244,7 @@ bool yaw_jumped(double psi_deg, double tracked_psi_deg, double dt_s);
 // camera height they were solved at.
 struct OwnLanePlace {
   double left_mm = 0.0, right_mm = 0.0, H_mm = 0.0;
+  double width_mm() const { return left_mm - right_mm; }
 };
 // Two lanes a search found in one picture from different heights are alike but for the
 // scale only when they are one lane: the picture fixes every road distance only in
