@@ -91,6 +91,21 @@ constexpr double kDotScatterMm = 40.0;
 // 6-9 more lines of 348.
 constexpr double kJointBandMm = 150.0;
 constexpr double kMinJointCoverage = 0.4;
+// A joint's pieces scatter about its fit by what the joint is on the road (its seal's
+// edges, the slabs' chipped corners, the row filter's centroid of a dark line one or
+// two centimetres wide), which a camera with more pixels across the same view sees over
+// more pixels, not straighter. Its fit tolerance and scatter bound are the fit's pixels
+// at the focal length they were set at (TuSimple's and the Udacity camera's, 1150-1200
+// px), or the camera's own where those are larger. The development stills resized to
+// 1.5 times their pixels had joints scattering 1.25-1.32 of their pixels (0.83-0.88 of
+// the recorded pictures'), refused by the 1.1 bound; their rows of markers were drawn
+// from a few far markers, off their labels at the car (docs/real-roads.md, "1920x1080").
+constexpr double kJointToleranceFocalPx = 1150.0;
+
+GroupingParams with_joint_tolerances(GroupingParams params) {
+  params.mm_per_px_per_mm = std::max(params.mm_per_px_per_mm, 1.0 / kJointToleranceFocalPx);
+  return params;
+}
 
 // The lateral road distance one pixel of the fit tolerance spans at a mark: more for a
 // dot of a row of dots (`dot_line`). A paint line holds the blobs beside it (its dash
@@ -563,8 +578,9 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
 }
 
 bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id,
-                             const GroupingParams& params, double min_span_mm, const RoadLine& looked_for,
+                             const GroupingParams& line_params, double min_span_mm, const RoadLine& looked_for,
                              double gate_base_mm, DetectedLine& out, int min_dots) {
+  const GroupingParams params = with_joint_tolerances(line_params);
   // The joint: its pieces within the band about the dots' line, then within the fit's
   // tolerance of the line they make (straight, with the road's curvature, as a joint is
   // over the reach of a few dots).

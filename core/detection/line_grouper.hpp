@@ -117,8 +117,9 @@ class LineGrouper {
                    double tolerance, bool parallel, bool dot_line, double road_c_per_mm);
   // A row of dots too few for a line of their own, set beside a joint between concrete
   // slabs: the joint within kJointBandMm of the dots' line `model`, fitted, is the line
-  // when it is one (min_marks pieces over min_span_mm, within the fit's tolerance) and
-  // keeps min_dots of the dots beside it. Assigns the joint and those dots to `id`.
+  // when it is one (min_marks pieces over min_span_mm, within the fit's tolerance, whose
+  // pixels are never finer than a 1150 px focal length's: a joint's scatter is the
+  // road's) and keeps min_dots of the dots beside it. Assigns the joint and those dots to `id`.
   bool join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id, const GroupingParams& params,
                   double min_span_mm, const RoadLine& looked_for, double gate_base_mm, DetectedLine& out, int min_dots);
   // The own lane's missing line as a joint alone: where the n lines found lie on one side
