@@ -102,16 +102,13 @@ constexpr double kMinJointCoverage = 0.4;
 // from a few far markers, off their labels at the car (docs/real-roads.md, "1920x1080").
 constexpr double kJointToleranceFocalPx = 1150.0;
 
-GroupingParams with_joint_tolerances(GroupingParams params) {
-  params.mm_per_px_per_mm = std::max(params.mm_per_px_per_mm, 1.0 / kJointToleranceFocalPx);
-  return params;
-}
-
 // The lateral road distance one pixel of the fit tolerance spans at a mark: more for a
-// dot of a row of dots (`dot_line`). A paint line holds the blobs beside it (its dash
-// ends) to paint's tolerance, or they would pull its fit off its near paint.
+// dot of a row of dots (`dot_line`), and for a joint's piece never less than at
+// kJointToleranceFocalPx. A paint line holds the blobs beside it (its dash ends) to
+// paint's tolerance, or they would pull its fit off its near paint.
 double mm_per_tolerance_px(const GroupingParams& params, const MarkCandidate& m, bool dot_line) {
   const double paint = params.mm_per_px_per_mm * m.X;
+  if (m.joint) return std::max(paint, m.X / kJointToleranceFocalPx);
   return m.dot && dot_line ? std::max(paint, kDotScatterMm / params.fit_tolerance_px) : paint;
 }
 
@@ -578,9 +575,8 @@ bool LineGrouper::fit_line(std::span<MarkCandidate> marks, RoadLine model, doubl
 }
 
 bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std::int16_t id,
-                             const GroupingParams& line_params, double min_span_mm, const RoadLine& looked_for,
+                             const GroupingParams& params, double min_span_mm, const RoadLine& looked_for,
                              double gate_base_mm, DetectedLine& out, int min_dots) {
-  const GroupingParams params = with_joint_tolerances(line_params);
   // The joint: its pieces within the band about the dots' line, then within the fit's
   // tolerance of the line they make (straight, with the road's curvature, as a joint is
   // over the reach of a few dots).
