@@ -215,6 +215,52 @@ TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
   EXPECT_EQ(misses_of(culane.out), misses_of(tusimple.out));
 }
 
+// The ten stills laid out as TuSimple publishes its frames: each picture at the path its
+// label's "raw_file" names (clips/<clip>/<n>/20.jpg, one name for every picture), no
+// images/ folder. The stills are the pictures the labels name, in the labels' order,
+// and measure as the same pictures in images/ do, row for row.
+TEST(MeasureReal, StillsInTuSimplesOwnLayoutAreThePicturesTheirLabelsName) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("clips_layout");
+  std::filesystem::create_directories(data);
+  std::filesystem::create_directories(stills);
+  std::filesystem::copy_file(kStills + "/camera.toml", stills + "/camera.toml");
+  std::ofstream labels(stills + "/labels.jsonl");
+  int n = 0;
+  for (nlohmann::json l : test::json_lines(test::read_file(kStills + "/labels.jsonl"))) {
+    const std::string raw_file = "clips/0313-1/" + std::to_string(6000 + 20 * n++) + "/20.jpg";
+    std::filesystem::create_directories(std::filesystem::path(stills + "/" + raw_file).parent_path());
+    std::filesystem::copy_file(kStills + "/" + l["image"].get<std::string>(), stills + "/" + raw_file);
+    l.erase("image");
+    l["raw_file"] = raw_file;
+    labels << l.dump() << "\n";
+  }
+  labels.close();
+  ASSERT_EQ(n, 10);
+  const auto measure = [&](const std::string& folder) {
+    return test::run_process(
+        {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses"});
+  };
+  const test::ProcessResult images = measure(kStills), clips = measure(stills);
+  ASSERT_EQ(images.exit_status, 0) << images.out << images.err;
+  ASSERT_EQ(clips.exit_status, 0) << clips.out << clips.err;
+  for (const char* mount : {"nominal", "pitch -5", "height x1.25"}) {
+    const std::string want = printed_row(images.out, mount);
+    ASSERT_FALSE(want.empty()) << images.out;
+    EXPECT_EQ(printed_row(clips.out, mount), want) << mount;
+  }
+  // The misses name each still by its path below the clips, not by the name all share.
+  const std::size_t from = clips.out.find("Nominal row, the stills that lost an own line");
+  ASSERT_NE(from, std::string::npos) << clips.out;
+  std::istringstream misses(clips.out.substr(from));
+  std::string line;
+  std::getline(misses, line), std::getline(misses, line);  // the title and the columns' heads
+  int listed = 0;
+  for (; std::getline(misses, line) && line.rfind("false lines by", 0) != 0; ++listed)
+    EXPECT_TRUE(std::regex_search(line, std::regex(R"(^ +\d+ \d{4}/20\.jpg +\d/\d)"))) << line;
+  EXPECT_GT(listed, 0) << clips.out;
+}
+
 // A stills' folder without labels is said to be one, and not measured; with no drives
 // either, there was nothing to measure, and the exit status says so.
 TEST(MeasureReal, StillsWithoutLabelsAreNotMeasuredAndSaySo) {
@@ -599,6 +645,39 @@ TEST(MeasureReal, ADriveRecordedAsAFrameDirectoryIsMeasuredAsAVideoIs) {
   ASSERT_FALSE(row.empty()) << r.out;
   EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
   EXPECT_NE(row.find(" 50 "), std::string::npos) << "all 50 recorded frames measured: " << row;
+}
+
+// A drive cut short (a recording whose copy ended mid-frame): replay processes its whole
+// frames, says where it ends and fails; measure-real measures those frames, says why the
+// drive ends there, and exits 1, as not everything was measured. Its first 2.3 s give no
+// frames from the fourth second on, which the mount-off rows say instead of a 0 % row.
+TEST(MeasureReal, ADriveCutShortIsMeasuredUpToWhereItEndsAndSaysWhy) {
+  test::TempDir tmp;
+  const std::string drives = tmp.file("drives"), work = tmp.file("work");
+  const std::string source = std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives";
+  std::filesystem::create_directories(drives);
+  std::filesystem::copy_file(source + "/camera.toml", drives + "/camera.toml");
+  {
+    const std::string video = test::read_file(source + "/project_video_segA.mp4");
+    std::ofstream(drives + "/segA_cut.mp4", std::ios::binary).write(video.data(), 3000000);
+  }
+  const test::ProcessResult r = test::run_process(
+      {"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane", CCDLANE_TOOL, "--keep", work});
+  EXPECT_EQ(r.exit_status, 1) << r.out << r.err;
+  const std::string replay = work + "/drives/nominal/segA_cut.mp4.jsonl";
+  const std::size_t frames = test::json_lines(test::read_file(replay)).size();
+  EXPECT_GT(frames, 25u) << "a second and more of whole frames before the cut";
+  EXPECT_LT(frames, 75u) << "the cut is within the first 3 s";
+  const std::string row = drive_row(replay, "segA_cut.mp4", "nominal", 0.0);
+  ASSERT_FALSE(row.empty());
+  EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
+  EXPECT_NE(r.out.find("(the frames up to where it ends: ccdlane: " + drives + "/segA_cut.mp4: frame " +
+                       std::to_string(frames) + ": cut short"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("segA_cut.mp4                 pitch +5            0   (none from the fourth second on)"),
+            std::string::npos)
+      << r.out;
 }
 
 // --conditions with drives: each drive's condition row is its replay with that condition
