@@ -422,6 +422,7 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
       {"noise 6", "noise=6"},
       {"shade x0.3 near", "shade=0.3"},
       {"shade x0.3 far", "shade=0.3,shade_top=0.45,shade_bottom=0.6"},
+      {"dapple x0.4", "dapple=0.4"},
       {"pixels x1.5", "scale=1.5"},
       {"pixels x0.5", "scale=0.5"}};
   std::set<std::string> rows;
@@ -693,7 +694,8 @@ TEST(MeasureReal, EachDrivesConditionRowIsItsReplaySoAtTheNominalMount) {
   ASSERT_NE(r.out.find("Drives as other cameras and light give them"), std::string::npos) << r.out;
   for (const auto& [name, condition, dir] :
        {std::tuple{"blur 1.5 px", "blur=1.5", "condition_blur1.5"},
-        std::tuple{"light x0.3 noise 3", "light=0.3,noise=3", "condition_light0.3_noise3"}}) {
+        std::tuple{"light x0.3 noise 3", "light=0.3,noise=3", "condition_light0.3_noise3"},
+        std::tuple{"dapple x0.4", "dapple=0.4", "condition_dapple0.4"}}) {
     const std::string kept = work + "/drives/" + dir;
     EXPECT_EQ(test::read_file(kept + "/camera.toml"), test::read_file(work + "/drives/nominal/camera.toml")) << name;
     const test::ProcessResult again = test::run_process(

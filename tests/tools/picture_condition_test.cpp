@@ -35,11 +35,12 @@ std::string parse_error(const std::string& spec) {
 TEST(PictureCondition, ParsesEachKeyAndNamesWhatIsWrong) {
   EXPECT_TRUE(parse_picture_condition("").identity());
   EXPECT_EQ(parse_picture_condition("noise=3,blur=1.5,light=0.3"), (PictureCondition{1.5, 0.3, 3.0}));
-  EXPECT_EQ(parse_error("fog=1"), "fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom)");
+  EXPECT_EQ(parse_error("fog=1"),
+            "fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom, dapple, dapple_cover)");
   EXPECT_EQ(parse_error("blur=x"), "blur=x: not a number");
   EXPECT_EQ(parse_error("blur=1px"), "blur=1px: not a number");
   EXPECT_EQ(parse_error("light"),
-            "light: not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
+            "light: not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE)");
   EXPECT_EQ(parse_error("scale=5"), "scale=5: outside [0.25, 4]");
   EXPECT_EQ(parse_picture_condition("scale=1.5").scale, 1.5);
   EXPECT_FALSE(parse_picture_condition("scale=1.5").identity());
@@ -72,6 +73,45 @@ TEST(PictureCondition, ShadeDarkensItsBandOfRowsWithSoftEdges) {
   // Row 99's centre lies half a penumbra's half above the edge: a quarter of the way in.
   EXPECT_EQ(s.row(99)[0], 162);  // 200 x (1 - 0.25 x 0.75) = 162.5, rounded to the even level
   EXPECT_EQ(s.row(100)[0], 88);  // three quarters in: 200 x (1 - 0.75 x 0.75) = 87.5, to the even level
+}
+
+// Trees' shadows: the upper half of the picture (sky, crowns) keeps its light; below the
+// fade, every pixel is in sun (its level), in shadow (the dapple's share of it) or on a
+// penumbra between, the shadows covering about dapple_cover of the road; the next frame
+// has the same shadows 1 % of the height (and a row) further down, as a car driving on
+// under the same trees sees them.
+TEST(PictureCondition, DappleLaysTreesShadowsOnTheRoadThatDriftDownFrameByFrame) {
+  const Picture p(1280, 720, 1, 200);
+  EXPECT_EQ(parse_error("dapple=0"), "dapple=0: outside (0, 1]");
+  EXPECT_EQ(parse_error("dapple=0.4,dapple_cover=1"), "dapple_cover=1: outside [0.05, 0.95]");
+  PictureConditioner c(parse_picture_condition("dapple=0.4,dapple_cover=0.4"));
+  const ImageView first = c.apply(p.view(), 0);
+  const std::vector<std::uint8_t> frame0(first.data, first.data + 1280 * 720);
+  int shaded = 0, sunny = 0, between = 0;
+  for (int y = 0; y < 720; ++y)
+    for (int x = 0; x < 1280; ++x) {
+      const int v = frame0[static_cast<std::size_t>(y * 1280 + x)];
+      if (y < 360) {
+        ASSERT_EQ(v, 200) << x << "," << y;
+        continue;
+      }
+      ASSERT_GE(v, 80) << x << "," << y;
+      ASSERT_LE(v, 200) << x << "," << y;
+      if (y < 404) continue;  // the fade, 6 % of the height
+      shaded += v == 80;
+      sunny += v == 200;
+      between += v != 80 && v != 200;
+    }
+  const double road = 1280.0 * (720 - 404);
+  EXPECT_GT(shaded / road, 0.2) << "shadows cover about 0.4 of the road";
+  EXPECT_LT(shaded / road, 0.6);
+  EXPECT_GT(sunny / road, 0.3);
+  EXPECT_LT(between, shaded) << "soft edges about cores of shadow, not a haze";
+  EXPECT_LT(between, sunny);
+  const ImageView second = c.apply(p.view(), 1);
+  for (int y = 404; y + 8 < 720; ++y)  // round(0.01 x 720) + 1 = 8 rows a frame
+    for (int x = 0; x < 1280; ++x)
+      ASSERT_EQ(second.row(y + 8)[x], frame0[static_cast<std::size_t>(y * 1280 + x)]) << x << "," << y;
 }
 
 // Another camera's pixel count: a bright stripe over columns 100-109 of a 400x300

@@ -542,7 +542,8 @@ TEST(ReplayCommand, ConditionReplaysThePicturesAsAnotherLightWouldGiveThem) {
   EXPECT_EQ(bad.exit_status, 2);
   EXPECT_EQ(
       bad.err,
-      "ccdlane: --condition fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom)\n");
+      "ccdlane: --condition fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom, dapple, "
+      "dapple_cover)\n");
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad.jsonl")));
 }
 

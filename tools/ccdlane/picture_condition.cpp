@@ -59,6 +59,53 @@ void shade_rows(const PictureCondition& condition, cv::Mat& levels) {
   }
 }
 
+// The trees' shadows (PictureCondition::dapple) as a field over a stretch of road three
+// pictures tall: 1 in shadow, 0 in sun, soft between. Smooth random patches (a coarse grid
+// of normal values, blurred wider across than along, thresholded at the cover's
+// quantile), the threshold's edge blurred as the penumbra: the sun's half degree from a
+// crown 5-10 m up is 5-9 cm on the road, a few pixels 10 m ahead (a sigma of a tenth of
+// a percent of the width). Seeded once: the same trees for every frame of a replay.
+std::vector<float> dapple_field(int width, int height, double cover) {
+  const int field_height = 3 * height;
+  cv::Mat coarse(std::max(4, field_height / 12), std::max(4, width / 24), CV_32F);
+  cv::RNG generator(0x7EE5ull);
+  generator.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::Mat field;
+  cv::resize(coarse, field, cv::Size(width, field_height), 0.0, 0.0, cv::INTER_CUBIC);
+  cv::GaussianBlur(field, field, cv::Size(0, 0), 0.03 * width, 0.012 * height, cv::BORDER_REFLECT);
+  std::vector<float> values(field.begin<float>(), field.end<float>());
+  const auto quantile = static_cast<std::ptrdiff_t>((1.0 - cover) * static_cast<double>(values.size()));
+  std::nth_element(values.begin(), values.begin() + quantile, values.end());
+  const float threshold = values[static_cast<std::size_t>(quantile)];
+  cv::Mat shadow = field > threshold;  // 255 in shadow
+  shadow.convertTo(field, CV_32F, 1.0 / 255.0);
+  cv::GaussianBlur(field, field, cv::Size(0, 0), 0.001 * width + 0.5, 0.001 * width + 0.5, cv::BORDER_REFLECT);
+  return {field.begin<float>(), field.end<float>()};
+}
+
+// The trees' shadows on the lower half of the picture (the road ahead; the sky and the
+// trees' crowns above are left), fading in over its first 6 % of the height (no edge
+// straight across the picture that trees would not cast), the field moved down 1 % of
+// the height a frame.
+void dapple_rows(const PictureCondition& condition, const std::vector<float>& field, std::uint64_t frame_number,
+                 cv::Mat& levels) {
+  const int field_height = static_cast<int>(field.size() / static_cast<std::size_t>(levels.cols));
+  const int drift = static_cast<int>(static_cast<std::uint64_t>(std::lround(0.01 * levels.rows) + 1) * frame_number %
+                                     static_cast<std::uint64_t>(field_height));
+  const int channels = levels.channels();
+  for (int y = levels.rows / 2; y < levels.rows; ++y) {
+    const float* shadow = field.data() + static_cast<std::size_t>((y - drift + field_height) % field_height) *
+                                             static_cast<std::size_t>(levels.cols);
+    const double fade = std::min(1.0, (y + 0.5 - 0.5 * levels.rows) / (0.06 * levels.rows));
+    const auto depth = static_cast<float>(fade * (1.0 - condition.dapple));
+    float* row = levels.ptr<float>(y);
+    for (int x = 0; x < levels.cols; ++x) {
+      const float gain = 1.0f - shadow[x] * depth;
+      for (int k = 0; k < channels; ++k) row[x * channels + k] *= gain;
+    }
+  }
+}
+
 }  // namespace
 
 PictureCondition parse_picture_condition(const std::string& spec) {
@@ -68,8 +115,8 @@ PictureCondition parse_picture_condition(const std::string& spec) {
     if (part.empty()) continue;
     const std::size_t eq = part.find('=');
     if (eq == std::string::npos)
-      throw std::invalid_argument(part +
-                                  ": not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE)");
+      throw std::invalid_argument(
+          part + ": not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE)");
     const std::string key = part.substr(0, eq);
     const double value = parse_number(key, part.substr(eq + 1));
     if (key == "scale") {
@@ -87,12 +134,18 @@ PictureCondition parse_picture_condition(const std::string& spec) {
     } else if (key == "shade") {
       check_range(key, value, 0.0, true, 1.0);
       c.shade = value;
+    } else if (key == "dapple") {
+      check_range(key, value, 0.0, true, 1.0);
+      c.dapple = value;
+    } else if (key == "dapple_cover") {
+      check_range(key, value, 0.05, false, 0.95);
+      c.dapple_cover = value;
     } else if (key == "shade_top" || key == "shade_bottom") {
       check_range(key, value, 0.0, false, 1.0);
       (key == "shade_top" ? c.shade_top : c.shade_bottom) = value;
     } else {
       throw std::invalid_argument(part + ": unknown key " + key +
-                                  " (scale, blur, light, noise, shade, shade_top, shade_bottom)");
+                                  " (scale, blur, light, noise, shade, shade_top, shade_bottom, dapple, dapple_cover)");
     }
   }
   if (!(c.shade_top < c.shade_bottom))
@@ -132,6 +185,12 @@ ImageView PictureConditioner::apply(const ImageView& frame, std::uint64_t frame_
     cv::GaussianBlur(levels, levels, cv::Size(0, 0), condition_.blur_px, condition_.blur_px, cv::BORDER_REPLICATE);
   levels *= condition_.light;
   if (condition_.shade != 1.0) shade_rows(condition_, levels);
+  if (condition_.dapple != 1.0) {
+    if (dapple_width_ != width || dapple_height_ != height)
+      dapple_field_ = dapple_field(width, height, condition_.dapple_cover), dapple_width_ = width,
+      dapple_height_ = height;
+    dapple_rows(condition_, dapple_field_, frame_number, levels);
+  }
   // 8-bit levels in the frame's own: a 12-bit mono16 frame's level is 4095 / 255 of them.
   const double max_level = frame.format == PixelFormat::mono16 ? (1 << frame.significant_bits) - 1 : 255;
   if (condition_.noise > 0.0) {

@@ -23,20 +23,28 @@ struct PictureCondition {
   // edge as soft as 1 % of the height on either side (the penumbra). 1: no shadow.
   double shade = 1.0;
   double shade_top = 0.55, shade_bottom = 0.70;
+  // Trees' shadows over the road: patches of this share of the light over `dapple_cover`
+  // of the picture's lower half (the road), wider than tall as the road's perspective
+  // makes them, with soft edges (the sun's half degree at a tree's height), drifting
+  // down the picture from frame to frame as a car drives under them. 1: none.
+  double dapple = 1.0;
+  double dapple_cover = 0.4;
   // Another camera's pixel count: the picture resized by this along each side, as a chip
   // of the same size behind the same lens with cells 1/scale as wide would take it
   // (camera_taking). Applied first, so that blur and noise are in that camera's pixels.
   double scale = 1.0;
 
-  bool identity() const { return scale == 1.0 && blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0; }
+  bool identity() const {
+    return scale == 1.0 && blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0 && dapple == 1.0;
+  }
   bool operator==(const PictureCondition&) const = default;
 };
 
-// "scale=1.5,blur=1.5,light=0.3,noise=3,shade=0.3" (any of them, in any order; "" is the
-// picture as recorded). Throws std::invalid_argument naming the bad part: an unknown key,
-// a value that is not a number, scale outside [0.25, 4], blur or noise outside [0, 20],
-// light outside (0, 4], shade outside (0, 1], shade_top or shade_bottom outside [0, 1]
-// or not top above bottom.
+// "scale=1.5,blur=1.5,light=0.3,noise=3,shade=0.3,dapple=0.4" (any of them, in any
+// order; "" is the picture as recorded). Throws std::invalid_argument naming the bad
+// part: an unknown key, a value that is not a number, scale outside [0.25, 4], blur or
+// noise outside [0, 20], light outside (0, 4], shade or dapple outside (0, 1], shade_top
+// or shade_bottom outside [0, 1] or not top above bottom, dapple_cover outside [0.05, 0.95].
 PictureCondition parse_picture_condition(const std::string& spec);
 
 // The camera whose pictures `condition` makes of `camera`'s: round(scale x) the cells
@@ -48,7 +56,7 @@ CameraSpec camera_taking(const PictureCondition& condition, const CameraSpec& ca
 
 // The conditioned copy of each frame: resized (area-averaged when smaller, bilinear when
 // larger: no ringing a camera's own pixels would not have), blurred, then its levels
-// scaled (and shaded), then the noise added (pixels, optics, light, sensor), rounded and
+// scaled (and shaded, and dappled), then the noise added (pixels, optics, light, sensor), rounded and
 // clipped to the format's levels. The noise is drawn from a generator seeded with the
 // frame's number, so a replay is repeatable and each frame's noise its own. Colour
 // pixels are altered channel by channel.
@@ -62,6 +70,8 @@ class PictureConditioner {
  private:
   PictureCondition condition_;
   std::vector<std::uint8_t> pixels_;
+  std::vector<float> dapple_field_;  // the trees' shadows, 0-1, drawn once per picture size
+  int dapple_width_ = 0, dapple_height_ = 0;
 };
 
 }  // namespace ccdlane::cli

@@ -389,8 +389,9 @@ CommandAction setup_replay(CLI::App& sub) {
                  "ever, scored against the recorded camera and labels), blur=PX (Gaussian sigma), "
                  "light=SHARE (every level times it), noise=LEVELS (Gaussian sigma, 8-bit levels, seeded by the "
                  "frame's number), shade=SHARE (a bridge's shadow across the rows from shade_top to shade_bottom, "
-                 "shares of the height, by default 0.55 to 0.7), e.g. blur=1,light=0.3,noise=3; the overlays show "
-                 "them so");
+                 "shares of the height, by default 0.55 to 0.7), dapple=SHARE (trees' shadows over dapple_cover of "
+                 "the road, by default 0.4, drifting down the picture frame by frame), e.g. blur=1,light=0.3,noise=3; "
+                 "the overlays show them so");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.add_flag("--stills", a->stills,
                "each frame on its own: no pose, line, mount or filter state carried from one frame to the next "
