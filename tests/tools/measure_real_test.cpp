@@ -146,6 +146,12 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(overlays), std::filesystem::directory_iterator{}), 10);
 }
 
+// measure-real --misses on the stills of `folder` alone (`data`: an empty data folder).
+test::ProcessResult measure_stills_with_misses(const std::string& data, const std::string& folder) {
+  return test::run_process(
+      {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses"});
+}
+
 // A stills' folder as users keep one: a note and a folder (here a link to the pictures'
 // own folder, as a misplaced `ln -s` makes) beside the pictures. Only the pictures are
 // stills: the rows count ten frames, as for the folder without them.
@@ -191,11 +197,8 @@ TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
     ++labelled;
   }
   ASSERT_EQ(labelled, 10);
-  const auto measure = [&](const std::string& folder) {
-    return test::run_process(
-        {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses"});
-  };
-  const test::ProcessResult tusimple = measure(kStills), culane = measure(stills);
+  const test::ProcessResult tusimple = measure_stills_with_misses(data, kStills),
+                            culane = measure_stills_with_misses(data, stills);
   ASSERT_EQ(tusimple.exit_status, 0) << tusimple.out << tusimple.err;
   ASSERT_EQ(culane.exit_status, 0) << culane.out << culane.err;
   EXPECT_NE(culane.out.find("Stills (CULane labels), each picture alone"), std::string::npos) << culane.out;
@@ -237,11 +240,8 @@ TEST(MeasureReal, StillsInTuSimplesOwnLayoutAreThePicturesTheirLabelsName) {
   }
   labels.close();
   ASSERT_EQ(n, 10);
-  const auto measure = [&](const std::string& folder) {
-    return test::run_process(
-        {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses"});
-  };
-  const test::ProcessResult images = measure(kStills), clips = measure(stills);
+  const test::ProcessResult images = measure_stills_with_misses(data, kStills),
+                            clips = measure_stills_with_misses(data, stills);
   ASSERT_EQ(images.exit_status, 0) << images.out << images.err;
   ASSERT_EQ(clips.exit_status, 0) << clips.out << clips.err;
   for (const char* mount : {"nominal", "pitch -5", "height x1.25"}) {

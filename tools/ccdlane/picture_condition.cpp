@@ -3,6 +3,7 @@
 #include "tools/ccdlane/picture_condition.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -106,6 +107,27 @@ void dapple_rows(const PictureCondition& condition, const std::vector<float>& fi
   }
 }
 
+// Each key, its field and the values it takes: [low, high], or (low, high] when
+// `low_open`; in this order in the error that names an unknown key.
+struct ConditionKey {
+  const char* key;
+  double PictureCondition::*field;
+  double low;
+  bool low_open;
+  double high;
+};
+constexpr ConditionKey kConditionKeys[] = {
+    {"scale", &PictureCondition::scale, 0.25, false, 4.0},
+    {"blur", &PictureCondition::blur_px, 0.0, false, 20.0},
+    {"light", &PictureCondition::light, 0.0, true, 4.0},
+    {"noise", &PictureCondition::noise, 0.0, false, 20.0},
+    {"shade", &PictureCondition::shade, 0.0, true, 1.0},
+    {"shade_top", &PictureCondition::shade_top, 0.0, false, 1.0},
+    {"shade_bottom", &PictureCondition::shade_bottom, 0.0, false, 1.0},
+    {"dapple", &PictureCondition::dapple, 0.0, true, 1.0},
+    {"dapple_cover", &PictureCondition::dapple_cover, 0.05, false, 0.95},
+};
+
 }  // namespace
 
 PictureCondition parse_picture_condition(const std::string& spec) {
@@ -119,34 +141,15 @@ PictureCondition parse_picture_condition(const std::string& spec) {
           part + ": not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE)");
     const std::string key = part.substr(0, eq);
     const double value = parse_number(key, part.substr(eq + 1));
-    if (key == "scale") {
-      check_range(key, value, 0.25, false, 4.0);
-      c.scale = value;
-    } else if (key == "blur") {
-      check_range(key, value, 0.0, false, 20.0);
-      c.blur_px = value;
-    } else if (key == "light") {
-      check_range(key, value, 0.0, true, 4.0);
-      c.light = value;
-    } else if (key == "noise") {
-      check_range(key, value, 0.0, false, 20.0);
-      c.noise = value;
-    } else if (key == "shade") {
-      check_range(key, value, 0.0, true, 1.0);
-      c.shade = value;
-    } else if (key == "dapple") {
-      check_range(key, value, 0.0, true, 1.0);
-      c.dapple = value;
-    } else if (key == "dapple_cover") {
-      check_range(key, value, 0.05, false, 0.95);
-      c.dapple_cover = value;
-    } else if (key == "shade_top" || key == "shade_bottom") {
-      check_range(key, value, 0.0, false, 1.0);
-      (key == "shade_top" ? c.shade_top : c.shade_bottom) = value;
-    } else {
-      throw std::invalid_argument(part + ": unknown key " + key +
-                                  " (scale, blur, light, noise, shade, shade_top, shade_bottom, dapple, dapple_cover)");
+    const auto known = std::find_if(std::begin(kConditionKeys), std::end(kConditionKeys),
+                                    [&](const ConditionKey& k) { return key == k.key; });
+    if (known == std::end(kConditionKeys)) {
+      std::string keys;
+      for (const ConditionKey& k : kConditionKeys) keys += (keys.empty() ? "" : ", ") + std::string(k.key);
+      throw std::invalid_argument(part + ": unknown key " + key + " (" + keys + ")");
     }
+    check_range(key, value, known->low, known->low_open, known->high);
+    c.*(known->field) = value;
   }
   if (!(c.shade_top < c.shade_bottom))
     throw std::invalid_argument(spec + ": shade_top must lie above shade_bottom (shares of the height from the top)");
