@@ -61,27 +61,34 @@ void shade_rows(const PictureCondition& condition, cv::Mat& levels) {
 }
 
 // The trees' shadows (PictureCondition::dapple) as a field over a stretch of road three
-// pictures tall: 1 in shadow, 0 in sun, soft between. Smooth random patches (a coarse grid
-// of normal values, blurred wider across than along, thresholded at the cover's
-// quantile), the threshold's edge blurred as the penumbra: the sun's half degree from a
-// crown 5-10 m up is 5-9 cm on the road, a few pixels 10 m ahead (a sigma of a tenth of
-// a percent of the width). Seeded once: the same trees for every frame of a replay.
+// pictures tall that repeats (the picture's rows go round it as it drifts, without a
+// seam): 1 in shadow, 0 in sun, soft between. Smooth random patches (a coarse grid of
+// normal values, blurred wider across than along, thresholded at the cover's quantile),
+// the threshold's edge blurred as the penumbra: the sun's half degree from a crown 5-10 m
+// up is 5-9 cm on the road, a few pixels 10 m ahead (a sigma of a tenth of a percent of
+// the width). The grid is laid three times over and the middle taken, so that its blurs
+// see the same patches beyond either end as the other end holds. Seeded once: the same
+// trees for every frame of a replay.
 std::vector<float> dapple_field(int width, int height, double cover) {
   const int field_height = 3 * height;
   cv::Mat coarse(std::max(4, field_height / 12), std::max(4, width / 24), CV_32F);
   cv::RNG generator(0x7EE5ull);
   generator.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
-  cv::Mat field;
-  cv::resize(coarse, field, cv::Size(width, field_height), 0.0, 0.0, cv::INTER_CUBIC);
+  cv::Mat repeated, field;
+  cv::vconcat(std::vector<cv::Mat>{coarse, coarse, coarse}, repeated);
+  cv::resize(repeated, field, cv::Size(width, 3 * field_height), 0.0, 0.0, cv::INTER_CUBIC);
   cv::GaussianBlur(field, field, cv::Size(0, 0), 0.03 * width, 0.012 * height, cv::BORDER_REFLECT);
-  std::vector<float> values(field.begin<float>(), field.end<float>());
+  const cv::Rect middle(0, field_height, width, field_height);
+  const cv::Mat stretch = field(middle).clone();
+  std::vector<float> values(stretch.begin<float>(), stretch.end<float>());
   const auto quantile = static_cast<std::ptrdiff_t>((1.0 - cover) * static_cast<double>(values.size()));
   std::nth_element(values.begin(), values.begin() + quantile, values.end());
   const float threshold = values[static_cast<std::size_t>(quantile)];
   cv::Mat shadow = field > threshold;  // 255 in shadow
   shadow.convertTo(field, CV_32F, 1.0 / 255.0);
   cv::GaussianBlur(field, field, cv::Size(0, 0), 0.001 * width + 0.5, 0.001 * width + 0.5, cv::BORDER_REFLECT);
-  return {field.begin<float>(), field.end<float>()};
+  const cv::Mat kept = field(middle).clone();
+  return {kept.begin<float>(), kept.end<float>()};
 }
 
 // The trees' shadows on the lower half of the picture (the road ahead; the sky and the
