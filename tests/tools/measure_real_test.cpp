@@ -676,9 +676,14 @@ TEST(MeasureReal, ADriveCutShortIsMeasuredUpToWhereItEndsAndSaysWhy) {
                        std::to_string(frames) + ": cut short"),
             std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("segA_cut.mp4                 pitch +5            0   (none from the fourth second on)"),
+  EXPECT_NE(r.out.find("segA_cut.mp4                 pitch +5            0   (none from second 4 on)"),
             std::string::npos)
       << r.out;
+  std::size_t said = 0;
+  for (std::size_t at = r.out.find("(the frames up to where it ends"); at != std::string::npos;
+       at = r.out.find("(the frames up to where it ends", at + 1))
+    ++said;
+  EXPECT_EQ(said, 1u) << "the cut said once, not on every row of the drive: " << r.out;
 }
 
 // --conditions with drives: each drive's condition row is its replay with that condition
