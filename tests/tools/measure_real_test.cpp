@@ -288,6 +288,15 @@ TEST(MeasureReal, AFolderThatIsNotThereIsAUsageError) {
   EXPECT_EQ(r.out, "");
 }
 
+// --help says how DATA_DIR is laid out (each layout the stills may come in) and what the
+// exit status means, not only the flags.
+TEST(MeasureReal, HelpSaysHowTheDataFolderIsLaidOut) {
+  const test::ProcessResult r = test::run_process({"python3", kMeasureReal, "--help"});
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  for (const char* said : {"tusimple/images/*.jpg", "\"raw_file\"", "NAME.lines.txt", "drives/*.mp4", "Exit status"})
+    EXPECT_NE(r.out.find(said), std::string::npos) << said << " not in\n" << r.out;
+}
+
 // Its replays (20 MB a run) go into a temporary folder that is removed when it ends,
 // however it ends (here: with nothing to measure), unless --keep names a folder for them.
 TEST(MeasureReal, LeavesNoReplaysBehindUnlessAskedToKeepThem) {
