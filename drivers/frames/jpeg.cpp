@@ -141,7 +141,7 @@ PgmFault JpegReader::decode(const char* path, const MutableImageView* into, PgmH
     case JpegStep::ok: break;
     case JpegStep::header_error: return fail(PgmFault::bad_header, path, "bad header: %s", error.message);
     case JpegStep::wrong_size:
-      return fail(PgmFault::wrong_size, path, "wrong size: %dx%d, frames are %dx%d", header.width, header.height,
+      return fail(PgmFault::wrong_size, path, "wrong size: %dx%d, expected %dx%d", header.width, header.height,
                   into->width, into->height);
     case JpegStep::wrong_format:
       return fail(PgmFault::wrong_depth, path, "wrong format: %d channels, frames are %s", header.channels,

@@ -109,6 +109,9 @@ class Replay {
   std::optional<FrameLogReader> log_;
   std::unique_ptr<VideoReader> video_;
   std::string video_problem_;  // a damaged, cut or mistimed video: said after the output is kept
+  // The first frame that could not be read, and why: said again when none could be, so
+  // that the last line (what a script shows) names the cause, not only the count.
+  std::string first_unread_;
   std::unique_ptr<OverlayVideo> overlay_video_;
   PixelFormat format_ = PixelFormat::mono8;  // of a frame directory's frames
   int bits_ = 8;
@@ -232,8 +235,15 @@ void Replay::replay_directory() {
   const ImageBuffer buffer(config_.camera.Nu, config_.camera.Nv, format_, bits_);
   const MutableImageView& image = buffer.view();
   for (std::size_t i = 0; i < dir_->size(); ++i) {
-    const bool read = dir_->read(i, image) == PgmFault::none;
+    const PgmFault fault = dir_->read(i, image);
+    const bool read = fault == PgmFault::none;
     if (!read) std::cerr << "ccdlane replay: " << dir_->error() << '\n';
+    if (!read && first_unread_.empty())
+      first_unread_ =
+          std::string(dir_->error()) +
+          (fault == PgmFault::wrong_size ? ", the camera of " + a_.config + " is " + std::to_string(config_.camera.Nu) +
+                                               "x" + std::to_string(config_.camera.Nv) + " ([camera] Nu, Nv)"
+                                         : std::string());
     const ImageView view = image;
     replay_frame(read ? &view : nullptr, recorded_frame_meta(dir_->row(i)));
   }
@@ -252,8 +262,11 @@ void Replay::replay_log() {
     if (!usable) {
       std::cerr << "ccdlane replay: " << log_->problem() << '\n';
     } else if (image.width != W || image.height != H) {
-      std::cerr << "ccdlane replay: " << a_.input << ": frame " << r.sequence << " is " << image.width << "x"
-                << image.height << ", the camera of " << a_.config << " is " << W << "x" << H << '\n';
+      const std::string why = a_.input + ": frame " + std::to_string(r.sequence) + " is " +
+                              std::to_string(image.width) + "x" + std::to_string(image.height) + ", the camera of " +
+                              a_.config + " is " + std::to_string(W) + "x" + std::to_string(H);
+      std::cerr << "ccdlane replay: " << why << '\n';
+      if (first_unread_.empty()) first_unread_ = why;
       usable = false;
     }
     // The vehicle as the daemon had it when it recorded the frame.
@@ -361,7 +374,9 @@ int Replay::finish() {
     return 1;
   }
   if (!video_problem_.empty()) throw UsageError(video_problem_);
-  if (frames_ > 0 && processed == 0) throw UsageError(a_.input + ": none of the frames could be read");
+  if (frames_ > 0 && processed == 0)
+    throw UsageError(a_.input + ": none of the frames could be read" +
+                     (first_unread_.empty() ? std::string() : " (the first: " + first_unread_ + ")"));
   return 0;
 }
 
