@@ -278,6 +278,26 @@ TEST(MeasureReal, StillsWithoutLabelsAreNotMeasuredAndSaySo) {
   EXPECT_NE(r.err.find(data + ": nothing to measure: no labelled stills in " + stills), std::string::npos) << r.err;
 }
 
+// A stills' or drives' folder without its camera.toml is said to lack one, and not
+// measured (no Python traceback); the exit status says not everything was measured.
+TEST(MeasureReal, AFolderWithoutItsCameraFileSaysSo) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("stills"), drives = tmp.file("drives");
+  std::filesystem::create_directories(data);
+  std::filesystem::copy(kStills, stills, std::filesystem::copy_options::recursive);
+  std::filesystem::remove(stills + "/camera.toml");
+  std::filesystem::create_directories(drives);
+  std::filesystem::copy_file(std::string(CCDLANE_TEST_DATA_DIR) + "/real/udacity-drives/project_video_segA.mp4",
+                             drives + "/segA.mp4");
+  const test::ProcessResult r = test::run_process(
+      {"python3", kMeasureReal, data, "--tusimple", stills, "--drives", drives, "--ccdlane", CCDLANE_TOOL});
+  EXPECT_EQ(r.exit_status, 1) << r.out << r.err;
+  EXPECT_EQ(r.err.find("Traceback"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find(stills + ": no camera.toml beside the stills"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(drives + ": no camera.toml beside the drives"), std::string::npos) << r.out;
+  EXPECT_EQ(printed_row(r.out, "nominal"), "") << r.out;
+}
+
 // A mistyped folder is a usage error, not an empty table that exits 0.
 TEST(MeasureReal, AFolderThatIsNotThereIsAUsageError) {
   test::TempDir tmp;
