@@ -213,6 +213,26 @@ TEST(RealRoads, TheMountCalibratedOnEitherDriveOfOneCarHasOnePitch) {
   EXPECT_NEAR(a.deg, b.deg, std::min(0.3, 3.0 * std::hypot(a.sigma_deg, b.sigma_deg)));
 }
 
+// A still whose picture cannot be read (cut short) is alone too: it says so (no_frame),
+// and carries nothing of the still before it: no coasting line, no tracking state.
+TEST(RealRoads, AnUnreadableStillCarriesNothingOfTheStillBefore) {
+  test::TempDir dir, out;
+  const std::string picture = test::read_file(kData + "/tusimple/images/0001.jpg");
+  dir.write("cut.jpg", picture.substr(0, picture.size() / 3));
+  dir.write("frames.csv",
+            "file,t_ns\n" + kData + "/tusimple/images/0000.jpg,0\n" + dir.file("cut.jpg") + ",1000000000\n");
+  const auto replay = test::run_process(
+      {kTool, "replay", kData + "/tusimple/camera.toml", dir.path(), "--stills", "--out", out.file("r.jsonl")});
+  ASSERT_EQ(replay.exit_status, 0) << replay.err;
+  EXPECT_NE(replay.err.find(dir.file("cut.jpg") + ": truncated"), std::string::npos) << replay.err;
+  const std::vector<Json> e = json_lines(test::run_process({"/bin/cat", out.file("r.jsonl")}).out);
+  ASSERT_EQ(e.size(), 2u);
+  ASSERT_TRUE(e[0]["ok"].get<bool>()) << "the still before has a lane to carry";
+  EXPECT_EQ(e[1]["reason"], "no_frame");
+  EXPECT_EQ(e[1]["state"], "searching");
+  EXPECT_TRUE(e[1]["lines"].empty()) << e[1]["lines"];
+}
+
 TEST(RealRoads, TuSimpleStillsEachAlone) {
   // The stills as frames of one directory, named by absolute path, each replayed alone.
   test::TempDir dir, out;  // the output may not lie inside the input

@@ -310,13 +310,15 @@ void Replay::replay_frame(const ImageView* recorded, const FrameMeta& meta) {
   live.gyro_delivering = meta.gyro || !gyro_configured_;
   const FrameInputs in = frame_inputs(image, meta.sequence, meta, live, gyro_configured_);
   ++frames_;
+  // A still is alone whether or not its picture could be read: an unreadable one carries
+  // nothing of the still before it either (its state says searching, no line coasts).
+  if (a_.stills) estimator_.reset();
   if (!image) {
     ++skipped_;
     print_json_line(*out_, lane_estimate_json(estimator_.estimate(in), a_.sigmas));
     check_written(*out_, out_name_);
     return;
   }
-  if (a_.stills) estimator_.reset();
   const auto t0 = std::chrono::steady_clock::now();
   LaneEstimate e = estimator_.estimate(in);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
