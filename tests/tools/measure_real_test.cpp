@@ -172,6 +172,31 @@ TEST(MeasureReal, OnlyThePicturesOfTheImagesFolderAreStills) {
   EXPECT_EQ(frames, 10) << r.out;
 }
 
+// A still whose picture is cut short stays in every row (nothing found in it, as
+// replay reports it) and is named once below the table with replay's cause; the exit
+// status says not everything was measured.
+TEST(MeasureReal, AStillThatCannotBeReadIsNamedWithItsCause) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("stills");
+  std::filesystem::create_directories(data);
+  std::filesystem::copy(kStills, stills, std::filesystem::copy_options::recursive);
+  const std::string picture = test::read_file(stills + "/images/0003.jpg");
+  std::filesystem::remove(stills + "/images/0003.jpg");
+  std::ofstream(stills + "/images/0003.jpg", std::ios::binary) << picture.substr(0, picture.size() / 3);
+  const test::ProcessResult r =
+      test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL});
+  EXPECT_EQ(r.exit_status, 1) << r.out << r.err;
+  std::istringstream row(printed_row(r.out, "nominal"));
+  std::string mount;
+  int frames = 0;
+  row >> mount >> frames;
+  EXPECT_EQ(frames, 10) << r.out;
+  EXPECT_NE(r.out.find("stills whose pictures could not be read (in each row as stills where nothing was found): 1: "
+                       "0003.jpg (truncated"),
+            std::string::npos)
+      << r.out;
+}
+
 // The ten stills labelled as CULane labels its pictures (NAME.lines.txt beside NAME.jpg,
 // "x y x y ..." per lane, 0-based), from their TuSimple labels point for point: every
 // row, and the --misses list, is what the TuSimple labels give. TuSimple's own benchmark
