@@ -146,6 +146,15 @@ TEST(MeasureReal, EachStillsRowIsTheScoreOfItsReplayAtTheMountItNames) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(overlays), std::filesystem::directory_iterator{}), 10);
 }
 
+// The frame count a printed stills' row gives (0 without the row).
+int row_frames(const std::string& out, const std::string& mount) {
+  std::istringstream row(printed_row(out, mount));
+  std::string name;
+  int frames = 0;
+  row >> name >> frames;
+  return frames;
+}
+
 // measure-real --misses on the stills of `folder` alone (`data`: an empty data folder).
 test::ProcessResult measure_stills_with_misses(const std::string& data, const std::string& folder) {
   return test::run_process(
@@ -162,14 +171,9 @@ TEST(MeasureReal, OnlyThePicturesOfTheImagesFolderAreStills) {
   std::filesystem::copy(kStills, stills, std::filesystem::copy_options::recursive);
   std::ofstream(stills + "/images/README.txt") << "frames 0000-0009 of the TuSimple development set\n";
   std::filesystem::create_directory_symlink(stills + "/images", stills + "/images/images");
-  const test::ProcessResult r =
-      test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL});
+  const test::ProcessResult r = measure_stills_with_misses(data, stills);
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
-  std::istringstream row(printed_row(r.out, "nominal"));
-  std::string mount;
-  int frames = 0;
-  row >> mount >> frames;
-  EXPECT_EQ(frames, 10) << r.out;
+  EXPECT_EQ(row_frames(r.out, "nominal"), 10) << r.out;
 }
 
 // A still whose picture is cut short stays in every row (nothing found in it, as
@@ -183,14 +187,9 @@ TEST(MeasureReal, AStillThatCannotBeReadIsNamedWithItsCause) {
   const std::string picture = test::read_file(stills + "/images/0003.jpg");
   std::filesystem::remove(stills + "/images/0003.jpg");
   std::ofstream(stills + "/images/0003.jpg", std::ios::binary) << picture.substr(0, picture.size() / 3);
-  const test::ProcessResult r =
-      test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL});
+  const test::ProcessResult r = measure_stills_with_misses(data, stills);
   EXPECT_EQ(r.exit_status, 1) << r.out << r.err;
-  std::istringstream row(printed_row(r.out, "nominal"));
-  std::string mount;
-  int frames = 0;
-  row >> mount >> frames;
-  EXPECT_EQ(frames, 10) << r.out;
+  EXPECT_EQ(row_frames(r.out, "nominal"), 10) << r.out;
   EXPECT_NE(r.out.find("stills whose pictures could not be read (in each row as stills where nothing was found): 1: "
                        "0003.jpg (truncated"),
             std::string::npos)
