@@ -78,17 +78,19 @@ std::vector<float> dapple_field(int width, int height, double cover) {
   cv::vconcat(std::vector<cv::Mat>{coarse, coarse, coarse}, repeated);
   cv::resize(repeated, field, cv::Size(width, 3 * field_height), 0.0, 0.0, cv::INTER_CUBIC);
   cv::GaussianBlur(field, field, cv::Size(0, 0), 0.03 * width, 0.012 * height, cv::BORDER_REFLECT);
-  const cv::Rect middle(0, field_height, width, field_height);
-  const cv::Mat stretch = field(middle).clone();
-  std::vector<float> values(stretch.begin<float>(), stretch.end<float>());
+  // The middle stretch's values: whole rows of a continuous matrix, one run of floats.
+  const auto middle = [&] {
+    const float* first = field.ptr<float>(field_height);
+    return std::vector<float>(first, first + static_cast<std::ptrdiff_t>(width) * field_height);
+  };
+  std::vector<float> values = middle();
   const auto quantile = static_cast<std::ptrdiff_t>((1.0 - cover) * static_cast<double>(values.size()));
   std::nth_element(values.begin(), values.begin() + quantile, values.end());
   const float threshold = values[static_cast<std::size_t>(quantile)];
   cv::Mat shadow = field > threshold;  // 255 in shadow
   shadow.convertTo(field, CV_32F, 1.0 / 255.0);
   cv::GaussianBlur(field, field, cv::Size(0, 0), 0.001 * width + 0.5, 0.001 * width + 0.5, cv::BORDER_REFLECT);
-  const cv::Mat kept = field(middle).clone();
-  return {kept.begin<float>(), kept.end<float>()};
+  return middle();
 }
 
 // The trees' shadows on the lower half of the picture (the road ahead; the sky and the

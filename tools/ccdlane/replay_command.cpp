@@ -112,6 +112,11 @@ class Replay {
   // The first frame that could not be read, and why: said again when none could be, so
   // that the last line (what a script shows) names the cause, not only the count.
   std::string first_unread_;
+  // "the camera of CONFIG is WxH": what a frame of another size is told.
+  std::string camera_size() const {
+    return "the camera of " + a_.config + " is " + std::to_string(config_.camera.Nu) + "x" +
+           std::to_string(config_.camera.Nv);
+  }
   std::unique_ptr<OverlayVideo> overlay_video_;
   PixelFormat format_ = PixelFormat::mono8;  // of a frame directory's frames
   int bits_ = 8;
@@ -239,11 +244,8 @@ void Replay::replay_directory() {
     const bool read = fault == PgmFault::none;
     if (!read) std::cerr << "ccdlane replay: " << dir_->error() << '\n';
     if (!read && first_unread_.empty())
-      first_unread_ =
-          std::string(dir_->error()) +
-          (fault == PgmFault::wrong_size ? ", the camera of " + a_.config + " is " + std::to_string(config_.camera.Nu) +
-                                               "x" + std::to_string(config_.camera.Nv) + " ([camera] Nu, Nv)"
-                                         : std::string());
+      first_unread_ = std::string(dir_->error()) +
+                      (fault == PgmFault::wrong_size ? ", " + camera_size() + " ([camera] Nu, Nv)" : std::string());
     const ImageView view = image;
     replay_frame(read ? &view : nullptr, recorded_frame_meta(dir_->row(i)));
   }
@@ -263,8 +265,7 @@ void Replay::replay_log() {
       std::cerr << "ccdlane replay: " << log_->problem() << '\n';
     } else if (image.width != W || image.height != H) {
       const std::string why = a_.input + ": frame " + std::to_string(r.sequence) + " is " +
-                              std::to_string(image.width) + "x" + std::to_string(image.height) + ", the camera of " +
-                              a_.config + " is " + std::to_string(W) + "x" + std::to_string(H);
+                              std::to_string(image.width) + "x" + std::to_string(image.height) + ", " + camera_size();
       std::cerr << "ccdlane replay: " << why << '\n';
       if (first_unread_.empty()) first_unread_ = why;
       usable = false;
