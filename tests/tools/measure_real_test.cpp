@@ -437,11 +437,14 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
   EXPECT_EQ(r.out.substr(body, expected.size()), expected) << r.out;
   EXPECT_NE(r.out.find("(of " + std::to_string(false_lines) + ")\n", body), std::string::npos) << r.out;
 
-  // The stills lost in at least half of the rows measured (each a kept replay).
+  // The stills lost in at least half of the mount rows measured (each a kept replay; the
+  // jittered pictures' replays, condition_*, are other pictures, not other mounts).
   std::map<int, int> lost;
   int measured = 0;
   for (const auto& dir : std::filesystem::directory_iterator(work + "/tusimple")) {
-    if (!std::filesystem::is_regular_file(dir.path() / "stills.jsonl")) continue;
+    if (!std::filesystem::is_regular_file(dir.path() / "stills.jsonl") ||
+        dir.path().filename().string().rfind("condition_", 0) == 0)
+      continue;
     ++measured;
     const nlohmann::json scored = score_json(dir.path().string());
     for (const nlohmann::json& f : scored["frames"])
@@ -502,6 +505,55 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
     rows.insert(row);
   }
   EXPECT_GT(rows.size(), 1u) << "the conditions change what is found: the rows differ";
+}
+
+// Every run also replays the nominal stills four times more, each picture changed less
+// than a camera changes it from frame to frame; the "jittered" row is those four replays'
+// scores summed (each kept replay is what `ccdlane replay --condition` gives), and the
+// targets hold it to the nominal row's bounds.
+TEST(MeasureReal, TheJitteredRowSumsTheNominalStillsReplayedWithFourSmallChanges) {
+  test::TempDir tmp;
+  const std::string work = tmp.file("work");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, "--misses");
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  const std::string nominal = work + "/tusimple/nominal/camera.toml";
+  const auto recorded = test::json_lines_without_latency(test::read_file(work + "/tusimple/nominal/stills.jsonl"));
+  std::map<std::string, double> sum;
+  int frames = 0, ok = 0;
+  for (const auto& [condition, dir_name] :
+       {std::pair{"light=0.97", "condition_light0.97"}, std::pair{"light=1.03", "condition_light1.03"},
+        std::pair{"noise=1", "condition_noise1"}, std::pair{"blur=0.4", "condition_blur0.4"}}) {
+    const std::string dir = work + "/tusimple/" + dir_name;
+    const test::ProcessResult again =
+        test::run_process({CCDLANE_TOOL, "replay", nominal, dir + "/stills", "--stills", "--condition", condition});
+    ASSERT_EQ(again.exit_status, 0) << again.err;
+    const auto kept = test::json_lines_without_latency(test::read_file(dir + "/stills.jsonl"));
+    EXPECT_EQ(kept, test::json_lines_without_latency(again.out)) << condition;
+    EXPECT_NE(kept, recorded) << condition << ": the pictures were changed, and so is what was estimated from them";
+    const nlohmann::json t = score_json(dir)["total"];
+    for (const char* key :
+         {"ego_found", "ego_lanes", "hit_points", "points", "false_lines", "reported_lines", "found", "lanes"})
+      sum[key] += t[key].get<double>();
+    for (const nlohmann::json& e : kept) {
+      ++frames;
+      ok += e["ok"].get<bool>();
+    }
+  }
+  ASSERT_EQ(frames, 40);
+  const double ego = sum["ego_found"] / sum["ego_lanes"], accuracy = sum["hit_points"] / sum["points"];
+  const double false_share = sum["false_lines"] / std::max(1.0, sum["reported_lines"]);
+  char row[200];
+  std::snprintf(row, sizeof row, "%-14s %6d %5.0f%% %9.1f%% %8.1f%% %6.1f%% %9.1f%%   (the nominal row 4 times",
+                "jittered", frames, 100.0 * ok / frames, 100.0 * ego, 100.0 * accuracy, 100.0 * false_share,
+                100.0 * (sum["found"] - sum["ego_found"]) / std::max(1.0, sum["lanes"] - sum["ego_lanes"]));
+  EXPECT_EQ(printed_row(r.out, "jittered").rfind(row, 0), 0u) << row << "\nnot the start of a row of\n" << r.out;
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "stills, nominal, jittered    ego found %.2f %% >= 95 %%: %s; accuracy %.2f %% >= 90 %%: %s; "
+                "false %.2f %% <= 5 %%: %s\n",
+                100 * ego, ego >= 0.95 ? "met" : "NOT met", 100 * accuracy, accuracy >= 0.90 ? "met" : "NOT met",
+                100 * false_share, false_share <= 0.05 ? "met" : "NOT met");
+  EXPECT_NE(r.out.find(line), std::string::npos) << line << "not in\n" << r.out;
 }
 
 // --held replays each still 60 times in a row (one picture, frames 40 ms apart: a car
