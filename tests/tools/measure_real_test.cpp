@@ -479,6 +479,7 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
       {"shade x0.3 near", "shade=0.3"},
       {"shade x0.3 far", "shade=0.3,shade_top=0.45,shade_bottom=0.6"},
       {"dapple x0.4", "dapple=0.4"},
+      {"jpeg q75", "jpeg=75"},
       {"pixels x1.5", "scale=1.5"},
       {"pixels x0.5", "scale=0.5"}};
   std::set<std::string> rows;

@@ -36,11 +36,17 @@ TEST(PictureCondition, ParsesEachKeyAndNamesWhatIsWrong) {
   EXPECT_TRUE(parse_picture_condition("").identity());
   EXPECT_EQ(parse_picture_condition("noise=3,blur=1.5,light=0.3"), (PictureCondition{1.5, 0.3, 3.0}));
   EXPECT_EQ(parse_error("fog=1"),
-            "fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom, dapple, dapple_cover)");
+            "fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom, "
+            "dapple, dapple_cover, jpeg)");
   EXPECT_EQ(parse_error("blur=x"), "blur=x: not a number");
   EXPECT_EQ(parse_error("blur=1px"), "blur=1px: not a number");
   EXPECT_EQ(parse_error("light"),
-            "light: not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE)");
+            "light: not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE, "
+            "jpeg=QUALITY)");
+  EXPECT_EQ(parse_error("jpeg=0"), "jpeg=0: outside [1, 100]");
+  EXPECT_EQ(parse_error("jpeg=101"), "jpeg=101: outside [1, 100]");
+  EXPECT_EQ(parse_picture_condition("jpeg=75").jpeg, 75.0);
+  EXPECT_FALSE(parse_picture_condition("jpeg=75").identity());
   EXPECT_EQ(parse_error("scale=5"), "scale=5: outside [0.25, 4]");
   EXPECT_EQ(parse_picture_condition("scale=1.5").scale, 1.5);
   EXPECT_FALSE(parse_picture_condition("scale=1.5").identity());
@@ -249,6 +255,95 @@ TEST(PictureCondition, NoiseHasItsSigmaAndIsEachFramesOwnButRepeatable) {
   EXPECT_EQ(std::vector<std::uint8_t>(c.apply(p.view(), 0).data, c.apply(p.view(), 0).data + 256 * 256), first);
   const ImageView f1 = c.apply(p.view(), 1);
   EXPECT_NE(std::vector<std::uint8_t>(f1.data, f1.data + 256 * 256), first);
+}
+
+// A grey picture of a smooth ramp with a bright bar on it (a lane mark), its bar's edges
+// off the 8x8 blocks.
+Picture ramp_with_bar() {
+  Picture p(96, 64, 1, 0);
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x)
+      p.pixels[static_cast<std::size_t>(y * p.width + x)] =
+          static_cast<std::uint8_t>(x >= 43 && x < 53 ? 200 : 60 + x + y / 2);
+  return p;
+}
+
+// The root mean square difference of two pictures' levels.
+double rms_difference(const ImageView& a, const Picture& b) {
+  double sum2 = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width * b.channels; ++x) {
+      const double d = a.row(y)[x] - b.pixels[static_cast<std::size_t>(y * a.width * b.channels + x)];
+      sum2 += d * d;
+    }
+  return std::sqrt(sum2 / (static_cast<double>(a.width) * a.height * b.channels));
+}
+
+// Through libjpeg and back: the lower the quality, the farther from the picture, and the
+// more the steps between the 8x8 blocks stand out from the steps within them on a
+// smooth ramp (JPEG's blocks); at quality 100 a grey picture keeps its levels to a few.
+// Repeatable; 16-bit frames are refused.
+TEST(PictureCondition, JpegIsThePictureThroughAnEncoderAtThatQuality) {
+  const Picture p = ramp_with_bar();
+  std::vector<double> errors;
+  for (const double quality : {100.0, 75.0, 30.0, 5.0}) {
+    PictureCondition condition;
+    condition.jpeg = quality;
+    PictureConditioner c(condition);
+    const ImageView out = c.apply(p.view(), 0);
+    ASSERT_EQ(out.width, p.width);
+    ASSERT_EQ(out.format, PixelFormat::mono8);
+    errors.push_back(rms_difference(out, p));
+    const std::vector<std::uint8_t> first(out.data, out.data + p.pixels.size());
+    EXPECT_EQ(std::vector<std::uint8_t>(c.apply(p.view(), 7).data, c.apply(p.view(), 7).data + p.pixels.size()), first)
+        << "quality " << quality << ": no noise, the same encoder: the same picture";
+    if (quality == 5.0) {
+      // On the ramp left of the bar (columns 0-39), the steps across block edges against
+      // those within blocks: a ramp rises by one level a column either way.
+      double across = 0.0, within = 0.0;
+      int n_across = 0, n_within = 0;
+      for (int y = 0; y < p.height; ++y)
+        for (int x = 1; x < 40; ++x) {
+          const double step = std::abs(out.row(y)[x] - out.row(y)[x - 1]);
+          (x % 8 == 0 ? across : within) += step;
+          ++(x % 8 == 0 ? n_across : n_within);
+        }
+      EXPECT_GT(across / n_across, 2.0 * within / n_within) << "blocks";
+    }
+  }
+  EXPECT_LT(errors[0], 1.5) << "quality 100";
+  for (std::size_t k = 1; k < errors.size(); ++k) EXPECT_GT(errors[k], errors[k - 1]) << "quality step " << k;
+  std::vector<std::uint16_t> deep(64 * 64, 1000);
+  const ImageView d{reinterpret_cast<const std::uint8_t*>(deep.data()), 64, 64, 128, PixelFormat::mono16, 12};
+  PictureConditioner c(parse_picture_condition("jpeg=75"));
+  EXPECT_THROW(c.apply(d, 0), std::invalid_argument);
+}
+
+// Colour goes through as colour, whichever order its bytes are in: a BGR frame comes back
+// as the RGB frame of the same picture does, its bytes in its own order.
+TEST(PictureCondition, JpegKeepsAColourFramesByteOrder) {
+  Picture rgb(64, 48, 3, 0), bgr(64, 48, 3, 0);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>((y * rgb.width + x) * 3);
+      const std::uint8_t r = static_cast<std::uint8_t>(x < 32 ? 210 : 90), g = static_cast<std::uint8_t>(170),
+                         b = static_cast<std::uint8_t>(40 + y);
+      rgb.pixels[i] = r, rgb.pixels[i + 1] = g, rgb.pixels[i + 2] = b;
+      bgr.pixels[i] = b, bgr.pixels[i + 1] = g, bgr.pixels[i + 2] = r;
+    }
+  PictureConditioner a(parse_picture_condition("jpeg=90")), b(parse_picture_condition("jpeg=90"));
+  const ImageView from_rgb = a.apply(rgb.view(PixelFormat::rgb8), 0);
+  const ImageView from_bgr = b.apply(bgr.view(PixelFormat::bgr8), 0);
+  ASSERT_EQ(from_bgr.format, PixelFormat::bgr8);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x)
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(from_bgr.row(y)[3 * x + k], from_rgb.row(y)[3 * x + 2 - k]) << x << "," << y << " channel " << k;
+  // Away from the colour edge (column 32, whose chroma is shared by two columns), the
+  // flat colours keep their levels to a few.
+  EXPECT_NEAR(from_rgb.row(20)[3 * 10], 210, 6);
+  EXPECT_NEAR(from_rgb.row(20)[3 * 50], 90, 6);
+  EXPECT_NEAR(from_rgb.row(20)[3 * 50 + 1], 170, 6);
 }
 
 }  // namespace

@@ -548,7 +548,7 @@ TEST(ReplayCommand, ConditionReplaysThePicturesAsAnotherLightWouldGiveThem) {
   EXPECT_EQ(
       bad.err,
       "ccdlane: --condition fog=1: unknown key fog (scale, blur, light, noise, shade, shade_top, shade_bottom, dapple, "
-      "dapple_cover)\n");
+      "dapple_cover, jpeg)\n");
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad.jsonl")));
 }
 

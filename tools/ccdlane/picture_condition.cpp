@@ -3,12 +3,15 @@
 #include "tools/ccdlane/picture_condition.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "tools/ccdlane/jpeg_round_trip.hpp"
 
 namespace ccdlane::cli {
 namespace {
@@ -135,6 +138,7 @@ constexpr ConditionKey kConditionKeys[] = {
     {"shade_bottom", &PictureCondition::shade_bottom, 0.0, false, 1.0},
     {"dapple", &PictureCondition::dapple, 0.0, true, 1.0},
     {"dapple_cover", &PictureCondition::dapple_cover, 0.05, false, 0.95},
+    {"jpeg", &PictureCondition::jpeg, 1.0, false, 100.0},
 };
 
 }  // namespace
@@ -147,7 +151,8 @@ PictureCondition parse_picture_condition(const std::string& spec) {
     const std::size_t eq = part.find('=');
     if (eq == std::string::npos)
       throw std::invalid_argument(
-          part + ": not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE)");
+          part +
+          ": not key=value (scale=TIMES, blur=PX, light=SHARE, noise=LEVELS, shade=SHARE, dapple=SHARE, jpeg=QUALITY)");
     const std::string key = part.substr(0, eq);
     const double value = parse_number(key, part.substr(eq + 1));
     const auto known = std::find_if(std::begin(kConditionKeys), std::end(kConditionKeys),
@@ -216,6 +221,12 @@ ImageView PictureConditioner::apply(const ImageView& frame, std::uint64_t frame_
   pixels_.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(bpp));
   cv::Mat out(height, width, type, pixels_.data());
   levels.convertTo(out, type);  // rounded, negative levels to 0
+  if (condition_.jpeg > 0.0) {
+    std::string error;
+    if (!jpeg_round_trip(pixels_.data(), width, height, frame.format, static_cast<int>(std::lround(condition_.jpeg)),
+                         error))
+      throw std::runtime_error("jpeg=: libjpeg: " + error);
+  }
   return {pixels_.data(), width, height, width * bpp, frame.format, frame.significant_bits};
 }
 

@@ -33,18 +33,23 @@ struct PictureCondition {
   // of the same size behind the same lens with cells 1/scale as wide would take it
   // (camera_taking). Applied first, so that blur and noise are in that camera's pixels.
   double scale = 1.0;
+  // The picture through a JPEG encoder at this quality (1-100) and back, last, as a
+  // dashcam's, a video stream's or a dataset's compression leaves it. 0: not compressed.
+  double jpeg = 0.0;
 
   bool identity() const {
-    return scale == 1.0 && blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0 && dapple == 1.0;
+    return scale == 1.0 && blur_px == 0.0 && light == 1.0 && noise == 0.0 && shade == 1.0 && dapple == 1.0 &&
+           jpeg == 0.0;
   }
   bool operator==(const PictureCondition&) const = default;
 };
 
-// "scale=1.5,blur=1.5,light=0.3,noise=3,shade=0.3,dapple=0.4" (any of them, in any
-// order; "" is the picture as recorded). Throws std::invalid_argument naming the bad
+// "scale=1.5,blur=1.5,light=0.3,noise=3,shade=0.3,dapple=0.4,jpeg=50" (any of them, in
+// any order; "" is the picture as recorded). Throws std::invalid_argument naming the bad
 // part: an unknown key, a value that is not a number, scale outside [0.25, 4], blur or
 // noise outside [0, 20], light outside (0, 4], shade or dapple outside (0, 1], shade_top
-// or shade_bottom outside [0, 1] or not top above bottom, dapple_cover outside [0.05, 0.95].
+// or shade_bottom outside [0, 1] or not top above bottom, dapple_cover outside [0.05,
+// 0.95], jpeg outside [1, 100].
 PictureCondition parse_picture_condition(const std::string& spec);
 
 // The camera whose pictures `condition` makes of `camera`'s: round(scale x) the cells
@@ -57,14 +62,16 @@ CameraSpec camera_taking(const PictureCondition& condition, const CameraSpec& ca
 // The conditioned copy of each frame: resized (area-averaged when smaller, bilinear when
 // larger: no ringing a camera's own pixels would not have), blurred, then its levels
 // scaled (and shaded, and dappled), then the noise added (pixels, optics, light, sensor), rounded and
-// clipped to the format's levels. The noise is drawn from a generator seeded with the
-// frame's number, so a replay is repeatable and each frame's noise its own. Colour
-// pixels are altered channel by channel.
+// clipped to the format's levels, then compressed and decoded (the camera's encoder). The noise is drawn from a
+// generator seeded with the frame's number, so a replay is repeatable and each frame's noise its own. Colour pixels are
+// altered channel by channel.
 class PictureConditioner {
  public:
   explicit PictureConditioner(PictureCondition condition) : condition_(condition) {}
   // The conditioned frame (camera_taking's size), valid until the next call; `frame`
   // itself when the condition is the identity.
+  // A 16-bit frame with jpeg= throws std::invalid_argument, libjpeg's failure
+  // std::runtime_error.
   ImageView apply(const ImageView& frame, std::uint64_t frame_number);
 
  private:

@@ -408,7 +408,9 @@ CommandAction setup_replay(CLI::App& sub) {
                  "light=SHARE (every level times it), noise=LEVELS (Gaussian sigma, 8-bit levels, seeded by the "
                  "frame's number), shade=SHARE (a bridge's shadow across the rows from shade_top to shade_bottom, "
                  "shares of the height, by default 0.55 to 0.7), dapple=SHARE (trees' shadows over dapple_cover of "
-                 "the road, by default 0.4, drifting down the picture frame by frame), e.g. blur=1,light=0.3,noise=3; "
+                 "the road, by default 0.4, drifting down the picture frame by frame), jpeg=QUALITY (through a JPEG "
+                 "encoder at that quality, 1-100, and back, last: a dashcam's or a dataset's compression), e.g. "
+                 "blur=1,light=0.3,noise=3; "
                  "the overlays show them so");
   sub.add_flag("--sigmas", a->sigmas, "add the solver's standard deviations to each object (\"sigma\")");
   sub.add_flag("--stills", a->stills,
