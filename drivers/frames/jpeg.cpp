@@ -1,5 +1,5 @@
-// JPEG decode over libjpeg: its errors (a longjmp) are caught in one small function that
-// holds nothing with a destructor; the checks around it are ordinary C++.
+// JPEG decode over libjpeg: its errors (a longjmp, jpeg_error_jump.hpp) are caught in one
+// small function that holds nothing with a destructor; the checks around it are ordinary C++.
 #include "drivers/frames/jpeg.hpp"
 
 #include <jpeglib.h>
@@ -15,6 +15,7 @@
 #include <cstring>
 
 #include "base/unique_fd.hpp"
+#include "drivers/frames/jpeg_error_jump.hpp"
 #include "drivers/frames/picture_bounds.hpp"
 
 namespace ccdlane {
@@ -23,23 +24,11 @@ namespace {
 // A frame's JPEG is a few hundred kB; a file larger than this is not a frame.
 constexpr off_t kMaxFileBytes = off_t{64} << 20;
 
-struct ErrorManager {
-  jpeg_error_mgr manager;
-  std::jmp_buf jump;
-  char message[JMSG_LENGTH_MAX];
-};
-
-void on_error(j_common_ptr info) {
-  auto* e = reinterpret_cast<ErrorManager*>(info->err);
-  (*info->err->format_message)(info, e->message);
-  std::longjmp(e->jump, 1);
-}
-
 // Warnings (premature end of data among them) are remembered, not printed: a truncated
 // file is reported by the reader as truncated.
 void on_warning(j_common_ptr info, int level) {
   if (level >= 0) return;
-  auto* e = reinterpret_cast<ErrorManager*>(info->err);
+  auto* e = reinterpret_cast<JpegErrorJump*>(info->err);
   if (info->err->msg_code == JWRN_JPEG_EOF) e->manager.num_warnings = -1;  // the data ended early
 }
 
@@ -47,12 +36,10 @@ enum class JpegStep { ok, header_error, wrong_size, wrong_format, decode_error }
 
 // libjpeg's part: nothing with a destructor lives here (a longjmp skips destructors).
 JpegStep run_libjpeg(const std::uint8_t* data, std::size_t size, const MutableImageView* target, PgmHeader& header,
-                 ErrorManager& error, int& rows_read) {
+                     JpegErrorJump& error, int& rows_read) {
   jpeg_decompress_struct info{};
-  info.err = jpeg_std_error(&error.manager);
-  error.manager.error_exit = on_error;
+  info.err = jpeg_jumping_errors(error);
   error.manager.emit_message = on_warning;
-  error.message[0] = '\0';
   rows_read = 0;
   if (setjmp(error.jump)) {
     const bool in_header = info.global_state < 202;  // before DSTATE_READY: still in the header
@@ -134,7 +121,7 @@ PgmFault JpegReader::load(const char* path) {
 
 PgmFault JpegReader::decode(const char* path, const MutableImageView* into, PgmHeader& header) {
   if (const PgmFault f = load(path); f != PgmFault::none) return f;
-  ErrorManager error{};
+  JpegErrorJump error{};
   int rows = 0;
   const JpegStep step = run_libjpeg(file_.data(), file_bytes_, into, header, error, rows);
   switch (step) {

@@ -1,38 +1,28 @@
-// libjpeg's part holds nothing with a destructor: its errors are a longjmp, and what they
-// may leave to free is kept in memory (Coder), not in locals the jump could lose.
+// libjpeg's part holds nothing with a destructor: its errors are a longjmp
+// (jpeg_error_jump.hpp), and what they may leave to free is kept in memory (Coder), not in
+// locals the jump could lose.
 #include "tools/ccdlane/jpeg_round_trip.hpp"
 
-#include <jpeglib.h>
-
-#include <csetjmp>
-#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+
+#include "drivers/frames/jpeg_error_jump.hpp"
 
 namespace ccdlane::cli {
 namespace {
 
 struct Coder {
-  jpeg_error_mgr manager;
-  std::jmp_buf jump;
-  char message[JMSG_LENGTH_MAX];
+  JpegErrorJump errors;
   jpeg_compress_struct out;
   jpeg_decompress_struct in;
   unsigned char* bytes;  // the compressed picture (libjpeg's malloc)
   unsigned long size;
 };
 
-void on_error(j_common_ptr info) {
-  auto* c = reinterpret_cast<Coder*>(info->err);
-  (*info->err->format_message)(info, c->message);
-  std::longjmp(c->jump, 1);
-}
-
 bool round_trip(Coder& c, std::uint8_t* pixels, int width, int height, int components, J_COLOR_SPACE space,
                 int quality) {
-  c.out.err = c.in.err = jpeg_std_error(&c.manager);
-  c.manager.error_exit = on_error;
-  if (setjmp(c.jump)) {
+  c.out.err = c.in.err = jpeg_jumping_errors(c.errors);
+  if (setjmp(c.errors.jump)) {
     jpeg_destroy_compress(&c.out);  // each safe on a structure never created or destroyed
     jpeg_destroy_decompress(&c.in);
     return false;
@@ -78,7 +68,7 @@ bool jpeg_round_trip(std::uint8_t* pixels, int width, int height, PixelFormat fo
   Coder c{};
   const bool ok = round_trip(c, pixels, width, height, bytes_per_pixel(format), space, quality);
   std::free(c.bytes);
-  if (!ok) error = c.message;
+  if (!ok) error = c.errors.message;
   return ok;
 }
 

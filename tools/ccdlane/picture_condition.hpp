@@ -61,10 +61,11 @@ CameraSpec camera_taking(const PictureCondition& condition, const CameraSpec& ca
 
 // The conditioned copy of each frame: resized (area-averaged when smaller, bilinear when
 // larger: no ringing a camera's own pixels would not have), blurred, then its levels
-// scaled (and shaded, and dappled), then the noise added (pixels, optics, light, sensor), rounded and
-// clipped to the format's levels, then compressed and decoded (the camera's encoder). The noise is drawn from a
-// generator seeded with the frame's number, so a replay is repeatable and each frame's noise its own. Colour pixels are
-// altered channel by channel.
+// scaled (and shaded, and dappled), then the noise added (pixels, optics, light, sensor),
+// rounded and clipped to the format's levels, then compressed and decoded (the camera's
+// encoder). The noise is drawn from a generator seeded with the frame's number, so a
+// replay is repeatable and each frame's noise its own. Colour pixels are altered channel
+// by channel.
 class PictureConditioner {
  public:
   explicit PictureConditioner(PictureCondition condition) : condition_(condition) {}
