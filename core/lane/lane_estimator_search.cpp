@@ -143,7 +143,8 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // Of the starting poses at the first height where one's solve is a supported lane of a
   // lane's width at that height with no line inside it, the one whose own lane's lines
   // hold the most picks (of those within a count's spread of the most, the one whose
-  // picks fit best); else the first supported one whose width needed (or needs)
+  // solve holds the most of the road's lines, then the one whose picks fit best:
+  // searched_lanes.hpp, ranks_above); else the first supported one whose width needed (or needs)
   // another height (and, looked at from the height it said, is a lane's width there),
   // else the first supported one with a line inside it (two lanes from
   // a height taken half as high: lane_support.hpp's kMinInsideLineDashes), else the
@@ -170,7 +171,7 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   const int n = searched.count;
   Attempt first, lane;
   int lane_pose = -1, lane_picks = 0;    // lane's pose, and the most own-lane picks of a lane
-  double lane_rms_px = 0.0;              // lane's solve: its picks' rms, pixels
+  std::optional<LaneRank> lane_rank;     // lane's, as ranked (searched_lanes.hpp)
   int other_height = -1;                 // the first pose whose lane is a lane's width only at another height
   SearchedLanes<kMaxSearchPoses> lanes;  // every pose's lane of a lane's width, at either height
   int line_inside = -1;                  // the first pose whose lane has a line inside it
@@ -193,21 +194,11 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
       if (const std::optional<OwnLanePlace> place = own_lane_place(*a.solve); place && height != LaneHeight::neither)
         lanes.add(k, *place, height == LaneHeight::as_looked_from);
       if (height == LaneHeight::as_looked_from) {
-        // More picks than the best lane's by more than a count's own spread (its Poisson
-        // sigma); within it, the count says nothing, and the lane its picks fit better is
-        // taken (still 0004 from a mount pitched a degree down: 42 picks against 41 and
-        // a line beyond, its left line off its labels near the camera), when better by
-        // more than an rms's own spread over that many picks, 1 / sqrt(2 n) of it (a
-        // curved Udacity picture's lane from the vanishing point's pose pitched 2 degrees
-        // fitted its 95 picks to 0.27 px against 0.28, 6 px off the far dash).
-        const int own = own_lane_picks(*a.solve, fit_.picks());
-        const double spread = std::sqrt(static_cast<double>(lane_picks));
-        const double rms_spread = lane_rms_px / std::sqrt(2.0 * std::max(1, lane_picks));
-        if (own > lane_picks + spread ||
-            (lane_pose >= 0 && own >= lane_picks - spread && a.solve->rms_px < lane_rms_px - rms_spread)) {
+        const LaneRank rank{own_lane_picks(*a.solve, fit_.picks()), a.solve->num_lines, a.solve->rms_px};
+        if (ranks_above(rank, lane_rank, lane_picks)) {
           lane = a;
-          lane_picks = std::max(own, lane_picks);
-          lane_rms_px = a.solve->rms_px;
+          lane_picks = std::max(rank.own_picks, lane_picks);
+          lane_rank = rank;
           lane_pose = k;
         }
       } else if (height == LaneHeight::another && other_height < 0) {

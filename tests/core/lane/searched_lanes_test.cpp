@@ -53,5 +53,31 @@ TEST(SearchedLanes, WithoutAnotherLaneNothingIsShown) {
   EXPECT_FALSE(lanes.two_lanes(9));
 }
 
+// The search's ranking of its poses' lanes. 100 own-lane picks so far: a count's spread
+// is 10 of them.
+TEST(SearchedLanes, ALaneWithMoreOwnPicksThanACountsSpreadRanksAboveWhateverElse) {
+  const LaneRank taken{100, 4, 0.5};
+  EXPECT_TRUE(ranks_above({111, 2, 0.9}, taken, 100));
+  EXPECT_FALSE(ranks_above({110, 2, 0.2}, taken, 100));    // within the spread: fewer lines
+  EXPECT_FALSE(ranks_above({89, 5, 0.2}, taken, 100));     // fewer picks by more than it
+  EXPECT_TRUE(ranks_above({1, 0, 9.0}, std::nullopt, 0));  // the first lane
+}
+
+TEST(SearchedLanes, WithinACountsSpreadTheLaneWithMoreOfTheRoadsLinesRanksAbove) {
+  const LaneRank taken{100, 2, 0.4};
+  EXPECT_TRUE(ranks_above({92, 3, 0.6}, taken, 100));  // fewer picks, a worse fit: more lines
+  EXPECT_FALSE(ranks_above({108, 1, 0.3}, taken, 100));
+  // The most picks so far set the spread, not the taken lane's own.
+  EXPECT_FALSE(ranks_above({92, 3, 0.6}, LaneRank{92, 2, 0.4}, 120));
+}
+
+TEST(SearchedLanes, WithAsManyLinesTheBetterFitRanksAboveByMoreThanItsOwnSpread) {
+  // An rms's spread over 100 picks is 1 / sqrt(200) of it: 0.035 px of 0.5.
+  const LaneRank taken{100, 3, 0.5};
+  EXPECT_TRUE(ranks_above({95, 3, 0.46}, taken, 100));
+  EXPECT_FALSE(ranks_above({105, 3, 0.47}, taken, 100));
+  EXPECT_FALSE(ranks_above({100, 3, 0.5}, taken, 100));  // the same: the first stays
+}
+
 }  // namespace
 }  // namespace ccdlane
