@@ -1,5 +1,6 @@
-// The lanes a search's starting poses gave, each by its own lines and the height it was
-// solved at, to tell a lane from two lanes taken for one (spans_two_lanes).
+// The lanes a search's starting poses gave: how the search ranks them (ranks_above), and
+// each by its own lines and the height it was solved at, to tell a lane from two lanes
+// taken for one (spans_two_lanes).
 #pragma once
 
 #include <algorithm>
