@@ -155,10 +155,12 @@ int row_frames(const std::string& out, const std::string& mount) {
   return frames;
 }
 
-// measure-real --misses on the stills of `folder` alone (`data`: an empty data folder).
+// measure-real --misses on the stills of `folder` alone (`data`: an empty data folder), at
+// the nominal mount only: what these tests look at (how the stills are found and read)
+// is the same in every row.
 test::ProcessResult measure_stills_with_misses(const std::string& data, const std::string& folder) {
   return test::run_process(
-      {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses"});
+      {"python3", kMeasureReal, data, "--tusimple", folder, "--ccdlane", CCDLANE_TOOL, "--misses", "--nominal-only"});
 }
 
 // A stills' folder as users keep one: a note and a folder (here a link to the pictures'
@@ -197,8 +199,8 @@ TEST(MeasureReal, AStillThatCannotBeReadIsNamedWithItsCause) {
 }
 
 // The ten stills labelled as CULane labels its pictures (NAME.lines.txt beside NAME.jpg,
-// "x y x y ..." per lane, 0-based), from their TuSimple labels point for point: every
-// row, and the --misses list, is what the TuSimple labels give. TuSimple's own benchmark
+// "x y x y ..." per lane, 0-based), from their TuSimple labels point for point: the row,
+// and the --misses list, is what the TuSimple labels give. TuSimple's own benchmark
 // needs its rows (h_samples), which CULane's labels do not name: "-".
 TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
   test::TempDir tmp;
@@ -226,13 +228,11 @@ TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
   ASSERT_EQ(tusimple.exit_status, 0) << tusimple.out << tusimple.err;
   ASSERT_EQ(culane.exit_status, 0) << culane.out << culane.err;
   EXPECT_NE(culane.out.find("Stills (CULane labels), each picture alone"), std::string::npos) << culane.out;
-  for (const char* mount : {"nominal", "pitch +5", "yaw -5", "height x0.75"}) {
-    const std::string want = printed_row(tusimple.out, mount), got = printed_row(culane.out, mount);
-    ASSERT_FALSE(want.empty()) << tusimple.out;
-    // Mount, frames, ok, ego found, accuracy, false and next found: the first 68 columns.
-    EXPECT_EQ(got.substr(0, 68), want.substr(0, 68)) << mount;
-    EXPECT_EQ(got.substr(68, 28), "               -     -     -") << got;
-  }
+  const std::string want = printed_row(tusimple.out, "nominal"), got = printed_row(culane.out, "nominal");
+  ASSERT_FALSE(want.empty()) << tusimple.out;
+  // Mount, frames, ok, ego found, accuracy, false and next found: the first 68 columns.
+  EXPECT_EQ(got.substr(0, 68), want.substr(0, 68));
+  EXPECT_EQ(got.substr(68, 28), "               -     -     -") << got;
   const std::string misses = "Nominal row, the stills that lost an own line or reported a false one\n";
   ASSERT_NE(tusimple.out.find(misses), std::string::npos) << tusimple.out;
   const auto misses_of = [&](const std::string& out) {
@@ -245,7 +245,7 @@ TEST(MeasureReal, StillsWithCULaneLabelsMeasureAsWithTheSameTuSimpleLabels) {
 // The ten stills laid out as TuSimple publishes its frames: each picture at the path its
 // label's "raw_file" names (clips/<clip>/<n>/20.jpg, one name for every picture), no
 // images/ folder. The stills are the pictures the labels name, in the labels' order,
-// and measure as the same pictures in images/ do, row for row.
+// and measure as the same pictures in images/ do.
 TEST(MeasureReal, StillsInTuSimplesOwnLayoutAreThePicturesTheirLabelsName) {
   test::TempDir tmp;
   const std::string data = tmp.file("data"), stills = tmp.file("clips_layout");
@@ -268,11 +268,9 @@ TEST(MeasureReal, StillsInTuSimplesOwnLayoutAreThePicturesTheirLabelsName) {
                             clips = measure_stills_with_misses(data, stills);
   ASSERT_EQ(images.exit_status, 0) << images.out << images.err;
   ASSERT_EQ(clips.exit_status, 0) << clips.out << clips.err;
-  for (const char* mount : {"nominal", "pitch -5", "height x1.25"}) {
-    const std::string want = printed_row(images.out, mount);
-    ASSERT_FALSE(want.empty()) << images.out;
-    EXPECT_EQ(printed_row(clips.out, mount), want) << mount;
-  }
+  const std::string want = printed_row(images.out, "nominal");
+  ASSERT_FALSE(want.empty()) << images.out;
+  EXPECT_EQ(printed_row(clips.out, "nominal"), want);
   // The misses name each still by its path below the clips, not by the name all share.
   const std::size_t from = clips.out.find("Nominal row, the stills that lost an own line");
   ASSERT_NE(from, std::string::npos) << clips.out;
@@ -376,11 +374,14 @@ std::string where_off(const std::vector<int>& off, int first_row, int last_row) 
 
 // measure-real on the repository's ten stills alone (an empty data folder: no drives),
 // its replays kept in `work`, with `option` added.
-test::ProcessResult measure_ten_stills(const test::TempDir& tmp, const std::string& work, const std::string& option) {
+test::ProcessResult measure_ten_stills(const test::TempDir& tmp, const std::string& work,
+                                       const std::vector<std::string>& options) {
   const std::string data = tmp.file("data");
   std::filesystem::create_directories(data);
-  return test::run_process(
-      {"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane", CCDLANE_TOOL, "--keep", work, option});
+  std::vector<std::string> argv{"python3",   kMeasureReal, data,     "--tusimple", kStills,
+                                "--ccdlane", CCDLANE_TOOL, "--keep", work};
+  argv.insert(argv.end(), options.begin(), options.end());
+  return test::run_process(argv);
 }
 
 // --misses lists, of the nominal row, exactly the stills `ccdlane score` says lost an own
@@ -390,7 +391,7 @@ test::ProcessResult measure_ten_stills(const test::TempDir& tmp, const std::stri
 TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFalseOne) {
   test::TempDir tmp;
   const std::string work = tmp.file("work");
-  const test::ProcessResult r = measure_ten_stills(tmp, work, "--misses");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, {"--misses"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   const std::size_t list = r.out.find("Nominal row, the stills that lost an own line or reported a false one\n");
   ASSERT_NE(list, std::string::npos) << r.out;
@@ -465,7 +466,7 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
 TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMount) {
   test::TempDir tmp;
   const std::string work = tmp.file("work");
-  const test::ProcessResult r = measure_ten_stills(tmp, work, "--conditions");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, {"--conditions", "--nominal-only"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   ASSERT_NE(r.out.find("Stills as other cameras and light give them"), std::string::npos) << r.out;
   const std::string nominal = work + "/tusimple/nominal/camera.toml";
@@ -515,7 +516,7 @@ TEST(MeasureReal, EachConditionRowIsTheScoreOfTheStillsReplayedSoAtTheNominalMou
 TEST(MeasureReal, TheJitteredRowSumsTheNominalStillsReplayedWithFourSmallChanges) {
   test::TempDir tmp;
   const std::string work = tmp.file("work");
-  const test::ProcessResult r = measure_ten_stills(tmp, work, "--misses");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, {"--misses"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   const std::string nominal = work + "/tusimple/nominal/camera.toml";
   const auto recorded = test::json_lines_without_latency(test::read_file(work + "/tusimple/nominal/stills.jsonl"));
@@ -563,7 +564,7 @@ TEST(MeasureReal, TheJitteredRowSumsTheNominalStillsReplayedWithFourSmallChanges
 TEST(MeasureReal, EachHeldStillIsOnePictureReplayedSixtyTimesAndCountedByItsReplay) {
   test::TempDir tmp;
   const std::string work = tmp.file("work");
-  const test::ProcessResult r = measure_ten_stills(tmp, work, "--held");
+  const test::ProcessResult r = measure_ten_stills(tmp, work, {"--held", "--nominal-only"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(kStills + "/images"))
@@ -611,8 +612,9 @@ TEST(MeasureReal, FindsTheDemosBuildAndSaysWhatToRunWithoutOne) {
   std::filesystem::create_directories(checkout + "/tools");
   std::filesystem::create_directories(data);
   std::filesystem::copy_file(kMeasureReal, checkout + "/tools/measure-real");
-  const std::vector<std::string> measure = {"env", "-u",         "CCDLANE", "python3", checkout + "/tools/measure-real",
-                                            data,  "--tusimple", kStills};
+  const std::vector<std::string> measure = {
+      "env", "-u",         "CCDLANE", "python3",       checkout + "/tools/measure-real",
+      data,  "--tusimple", kStills,   "--nominal-only"};
   bool on_path = false;
   std::istringstream path(std::getenv("PATH") ? std::getenv("PATH") : "");
   for (std::string dir; std::getline(path, dir, ':');) on_path = on_path || std::filesystem::exists(dir + "/ccdlane");
@@ -745,13 +747,46 @@ TEST(MeasureReal, ADriveRecordedAsAFrameDirectoryIsMeasuredAsAVideoIs) {
   test::TempDir tmp;
   const std::string drives = tmp.file("drives"), work = tmp.file("work");
   ASSERT_TRUE(record_segA_start(drives));
-  const test::ProcessResult r = test::run_process(
-      {"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane", CCDLANE_TOOL, "--keep", work});
+  const test::ProcessResult r = test::run_process({"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane",
+                                                   CCDLANE_TOOL, "--keep", work, "--nominal-only"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   const std::string row = drive_row(work + "/drives/nominal/segA_recorded.jsonl", "segA_recorded", "nominal", 0.0);
   ASSERT_FALSE(row.empty()) << r.out;
   EXPECT_NE(r.out.find(row + "\n"), std::string::npos) << row << "\nnot in\n" << r.out;
   EXPECT_NE(row.find(" 50 "), std::string::npos) << "all 50 recorded frames measured: " << row;
+}
+
+// --nominal-only, a first look after a change: the stills' nominal row and each drive's
+// nominal row, each what its kept replay scores, and nothing at another mount (no mount-off,
+// calibrated or jittered rows, no mount calibration); the targets say only what was
+// measured. With --more-mounts it is a usage error.
+TEST(MeasureReal, NominalOnlyMeasuresTheNominalMountAlone) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), work = tmp.file("work"), drives = tmp.file("drives");
+  std::filesystem::create_directories(data);
+  ASSERT_TRUE(record_segA_start(drives));
+  const std::string video = "segA_recorded";
+  const test::ProcessResult r =
+      test::run_process({"python3", kMeasureReal, data, "--tusimple", kStills, "--drives", drives, "--ccdlane",
+                         CCDLANE_TOOL, "--keep", work, "--nominal-only"});
+  ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
+  EXPECT_EQ(printed_row(r.out, "nominal"), scored_row(work + "/tusimple/nominal", "nominal")) << r.out;
+  const std::string drive = drive_row(work + "/drives/nominal/" + video + ".jsonl", video, "nominal", 0.0);
+  ASSERT_FALSE(drive.empty()) << r.out;
+  EXPECT_NE(r.out.find(drive + "\n"), std::string::npos) << drive << "\nnot in\n" << r.out;
+  for (const char* other : {"pitch ", "yaw ", "height ", "calibrated", "jittered", "Mount calibration",
+                            "stills, mount off", "stills, nominal, jittered", "mount calibration"})
+    EXPECT_EQ(r.out.find(other), std::string::npos) << other << " in\n" << r.out;
+  EXPECT_EQ(
+      std::distance(std::filesystem::directory_iterator(work + "/tusimple"), std::filesystem::directory_iterator{}), 1)
+      << "only the nominal row's replay";
+  EXPECT_NE(r.out.find("stills, nominal mount        ego found "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("drives                       1 rows, each target met in: "), std::string::npos) << r.out;
+
+  const test::ProcessResult both = test::run_process({"python3", kMeasureReal, data, "--tusimple", kStills, "--ccdlane",
+                                                      CCDLANE_TOOL, "--nominal-only", "--more-mounts"});
+  EXPECT_EQ(both.exit_status, 2) << both.out << both.err;
+  EXPECT_NE(both.err.find("--nominal-only measures the nominal mount alone"), std::string::npos) << both.err;
 }
 
 // A drive cut short (a recording whose copy ended mid-frame): replay processes its whole
@@ -800,7 +835,7 @@ TEST(MeasureReal, EachDrivesConditionRowIsItsReplaySoAtTheNominalMount) {
   const std::string drives = tmp.file("drives"), work = tmp.file("work");
   ASSERT_TRUE(record_segA_start(drives));
   const test::ProcessResult r = test::run_process({"python3", kMeasureReal, tmp.path(), "--drives", drives, "--ccdlane",
-                                                   CCDLANE_TOOL, "--keep", work, "--conditions"});
+                                                   CCDLANE_TOOL, "--keep", work, "--conditions", "--nominal-only"});
   ASSERT_EQ(r.exit_status, 0) << r.out << r.err;
   ASSERT_NE(r.out.find("Drives as other cameras and light give them"), std::string::npos) << r.out;
   for (const auto& [name, condition, dir] :
