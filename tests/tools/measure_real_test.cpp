@@ -373,7 +373,7 @@ std::string where_off(const std::vector<int>& off, int first_row, int last_row) 
 }
 
 // measure-real on the repository's ten stills alone (an empty data folder: no drives),
-// its replays kept in `work`, with `option` added.
+// its replays kept in `work`, with `options` added.
 test::ProcessResult measure_ten_stills(const test::TempDir& tmp, const std::string& work,
                                        const std::vector<std::string>& options) {
   const std::string data = tmp.file("data");
