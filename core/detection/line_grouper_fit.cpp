@@ -442,9 +442,19 @@ bool LineGrouper::join_joint(std::span<MarkCandidate> marks, RoadLine model, std
     const bool dot = m.dot && m.line == -1 && std::abs(m.Y - joint.y_at(m.X)) <= kJointBandMm;
     if (piece(m) || dot) m.line = id;
   }
+  // Blobs beside the joint that do not narrow with distance as things of one size do are
+  // not markers: the line is then a car's edge or a streak with lights on it, not a
+  // joint. One or two blobs say nothing of that (their widths give no slope): a row of
+  // markers that takes the joint (min_dots) is then no line, a joint alone is one without them.
   if (dots.count > 0 && !narrows_with_distance(marks, id)) {
-    release_line(marks, id);
-    return false;
+    if (min_dots > 0 || !std::isnan(width_distance_slope(marks, id, true))) {
+      release_line(marks, id);
+      return false;
+    }
+    for (MarkCandidate& m : marks)
+      if (m.line == id && m.dot) m.line = -1;
+    dots = {};
+    dot_marks = 0;
   }
   reach_through_dots(marks, id, near_mm, far_mm);
   out.fit = joint;

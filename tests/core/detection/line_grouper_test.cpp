@@ -580,6 +580,44 @@ TEST(LineGrouper, AJointALanesWidthFromTheOwnLanesOnlyLineIsTheOtherLine) {
   }
 }
 
+// Blobs 100 mm beside that joint, all 6 px wide at every distance: three or more that keep
+// their width so are no markers, and the dark line they lie along is a car's edge or a
+// streak with lights on it, not a joint (no line). One or two give no width's slope at
+// all, and say nothing either way: the joint is the other line, without them (TuSimple
+// still 39, a joint with a marker or two beside it, lost its line whenever a third
+// marker fell a level below the threshold).
+TEST(LineGrouper, BlobsBesideAJointThatDoNotNarrowRefuseItOnlyWhenTheyAreEnoughToTell) {
+  for (const int blobs : {1, 2, 3, 5}) {
+    Scene s;
+    s.line(1800, 0.01, 0.0);
+    s.joint(-1800.0, 0.01);
+    for (int k = 0; k < blobs; ++k) {
+      MarkCandidate mk;
+      mk.X = 15000.0 - 2500.0 * k;
+      mk.Y = -1700.0 + 0.01 * mk.X;
+      mk.contrast = kPaintContrast;
+      mk.left_px = 597.0;
+      mk.right_px = 603.0;
+      mk.scan_row = static_cast<std::int16_t>(100 + 30 * k);
+      mk.dot = true;
+      mk.dot_top = static_cast<std::int16_t>(mk.scan_row - 1);
+      mk.dot_bottom = static_cast<std::int16_t>(mk.scan_row + 1);
+      s.marks.push_back(mk);
+    }
+    std::array<DetectedLine, kMaxDetectedLines> lines{};
+    const int n = group(s, lines);
+    if (blobs < 3) {
+      ASSERT_EQ(n, 2) << blobs << " blobs";
+      EXPECT_NEAR(lines[1].fit.y0_mm, -1800.0, 30.0) << blobs << " blobs";
+      EXPECT_FALSE(lines[1].dots) << blobs << " blobs";
+      EXPECT_GT(lines[1].joints, 140) << blobs << " blobs";
+      for (const MarkCandidate& m : s.marks) EXPECT_FALSE(m.dot && m.line >= 0) << blobs << " blobs";
+    } else {
+      EXPECT_EQ(n, 1) << blobs << " blobs";
+    }
+  }
+}
+
 // A joint's scatter is the joint's, on the road: a camera with more pixels across the
 // same view sees it over more pixels. A row of markers along a joint that meanders by
 // 1.84 pixels of a 1150 px focal length (an rms of 1.3, over the fit's 1.1) is refused
