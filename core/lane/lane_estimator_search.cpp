@@ -7,9 +7,15 @@
 
 #include "core/lane/lane_estimator.hpp"
 #include "core/lane/searched_lanes.hpp"
+#include "core/lane/solved_attitudes.hpp"
 
 namespace ccdlane {
 namespace {
+
+// What a starting pose's solve was to the search: a lane at the height it was looked from,
+// one of a lane's width only at another height, one with a line inside it, one with a line
+// found only in the picture (the weaker kinds, in that order), or none.
+enum class SearchedKind : std::uint8_t { none, lane, other_height, line_inside, from_picture };
 
 // The picks on the solve's own lane's lines.
 int own_lane_picks(const SolveResult& r, std::span<const Pick> picks) {
@@ -153,7 +159,9 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // most picks from marks (the lines it saw, each reported on its own support), or the
   // first pose's when none solved (its reason is the frame's). A lane of the first two
   // kinds that another pose's lane shows to be two lanes (spans_two_lanes) yields to the
-  // first lane that does, itself one lane. Why not the first lane:
+  // first lane that does, itself one lane. A pose whose solve is lone (reached from
+  // fewer than half as many poses as the most reached attitude: solved_attitudes.hpp)
+  // gives none of these while another pose gives one. Why not the first lane:
   // the poses are tried in an order (the picture's vanishing point, the mount, pitched
   // steps), and from each the detection groups other bars, so the first lane depended on
   // how far off the configured mount was (still 0004 lost an own line from a height 10 %
@@ -168,54 +176,93 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   // the own lane is a third too wide, which the unsettled height's tolerance still takes.
   std::array<CameraPose, kMaxSearchPoses> poses{};
   const SearchPoses searched = search_poses(image, gyro, poses);
-  const int n = searched.count;
-  Attempt first, lane;
-  int lane_pose = -1, lane_picks = 0;    // lane's pose, and the most own-lane picks of a lane
-  std::optional<LaneRank> lane_rank;     // lane's, as ranked (searched_lanes.hpp)
-  int other_height = -1;                 // the first pose whose lane is a lane's width only at another height
-  SearchedLanes<kMaxSearchPoses> lanes;  // every pose's lane of a lane's width, at either height
-  int line_inside = -1;                  // the first pose whose lane has a line inside it
-  int from_picture = -1;                 // the first pose whose lane has a line found only in the picture
-  int most_seen = -1, most_picks = 0;    // the pose whose solve, lane or not, had the most picks from marks
-  int bent = -1;                         // the first pose whose first solve bent sharply (Attempt::bent)
+  const int n = std::min(searched.count, kMaxSearchPoses);
+  Attempt first, lane, last_attempt;
+  std::array<std::optional<LaneRank>, kMaxSearchPoses> ranks{};  // each pose's lane at its height, as ranked
+  std::array<SearchedKind, kMaxSearchPoses> kinds{};             // what each pose's solve was
+  SearchedLanes<kMaxSearchPoses> lanes;        // every pose's lane of a lane's width, at either height
+  SolvedAttitudes<kMaxSearchPoses> attitudes;  // where every pose's solve converged
+  int most_seen = -1, most_picks = 0;          // the pose whose solve, lane or not, had the most picks from marks
+  int bent = -1;                               // the first pose whose first solve bent sharply (Attempt::bent)
+  bool have_lane = false;
   int k = 0;
-  for (; k < n && !(lane.solve && k % searched.per_height == 0); ++k) {
+  for (; k < n && !(have_lane && k % searched.per_height == 0); ++k) {
     detection_pose_ = poses[k];
     const Attempt a = attempt(image, gyro);
     if (a.bent && bent < 0) bent = k;
     const int picks = fit_.picks_from_marks();
+    if (a.why == EstimateFailure::none) attitudes.add(k, a.solve->pose.attitude.theta, a.solve->pose.attitude.psi);
+    SearchedKind& kind = kinds[static_cast<std::size_t>(k)];
     if (const Found found = a.why == EstimateFailure::none ? supported(*a.solve, vehicle) : Found::nothing;
         found == Found::lane_with_a_line_inside) {
-      if (line_inside < 0) line_inside = k;
+      kind = SearchedKind::line_inside;
     } else if (found == Found::lane_with_a_line_from_the_picture) {
-      if (from_picture < 0) from_picture = k;
+      kind = SearchedKind::from_picture;
     } else if (found == Found::lane) {
       const LaneHeight height = lane_height(a.rescaled, width_agrees_with_height(*a.solve));
       if (const std::optional<OwnLanePlace> place = own_lane_place(*a.solve); place && height != LaneHeight::neither)
         lanes.add(k, *place, height == LaneHeight::as_looked_from);
       if (height == LaneHeight::as_looked_from) {
-        const LaneRank rank{own_lane_picks(*a.solve, fit_.picks()), a.solve->num_lines, a.solve->rms_px};
-        if (ranks_above(rank, lane_rank, lane_picks)) {
-          lane = a;
-          lane_picks = std::max(rank.own_picks, lane_picks);
-          lane_rank = rank;
-          lane_pose = k;
-        }
-      } else if (height == LaneHeight::another && other_height < 0) {
-        other_height = k;
+        kind = SearchedKind::lane;
+        ranks[static_cast<std::size_t>(k)] =
+            LaneRank{own_lane_picks(*a.solve, fit_.picks()), a.solve->num_lines, a.solve->rms_px};
+        have_lane = true;
+      } else if (height == LaneHeight::another) {
+        kind = SearchedKind::other_height;
       }
     }
     if (k == 0) first = a;
+    last_attempt = a;
     if (a.solve && (a.why == EstimateFailure::none || a.why == EstimateFailure::rank_deficient) && picks > most_picks) {
       most_picks = picks;
       most_seen = k;
+    }
+  }
+  // The lane: the best ranked of the poses' lanes at the height where one first was, then
+  // the first of each weaker kind; of those a lone solve did not give, if any
+  // (solved_attitudes.hpp: a hollow of clutter one or two starting poses fell into, where
+  // most of the search's solves reached another attitude), else of all.
+  int lane_pose = -1, other_height = -1, line_inside = -1, from_picture = -1;
+  for (const bool lone_too : {false, true}) {
+    const auto taken = [&](int p, SearchedKind what) {
+      return kinds[static_cast<std::size_t>(p)] == what && (lone_too || !attitudes.lone(p));
+    };
+    std::optional<LaneRank> lane_rank;
+    int lane_picks = 0;  // the most own-lane picks of a lane taken
+    for (int p = 0; p < k; ++p) {
+      const std::optional<LaneRank>& rank = ranks[static_cast<std::size_t>(p)];
+      if (taken(p, SearchedKind::lane) && ranks_above(*rank, lane_rank, lane_picks)) {
+        lane_picks = std::max(rank->own_picks, lane_picks);
+        lane_rank = rank;
+        lane_pose = p;
+      }
+      if (taken(p, SearchedKind::other_height) && other_height < 0) other_height = p;
+      if (taken(p, SearchedKind::line_inside) && line_inside < 0) line_inside = p;
+      if (taken(p, SearchedKind::from_picture) && from_picture < 0) from_picture = p;
+    }
+    if (lane_pose >= 0 || other_height >= 0 || line_inside >= 0 || from_picture >= 0) {
+      // Nor is a lone solve's lane evidence that another is two lanes.
+      if (!lone_too)
+        for (int p = 0; p < k; ++p)
+          if (attitudes.lone(p)) lanes.remove(p);
+      break;
+    }
+  }
+  int last = k - 1;  // the pose the fit's buffers hold
+  if (lane_pose >= 0) {
+    // The fit's buffers hold the last pose's: look again, unless that was the lane's.
+    if (lane_pose != last) {
+      detection_pose_ = poses[lane_pose];
+      lane = attempt(image, gyro);
+      last = lane_pose;
+    } else {
+      lane = last_attempt;
     }
   }
   // A lane whose line inside (a row of markers that detection from a height half the
   // true one does not see) another pose's lane shows is two lanes; that one is the lane
   // (stills from a mount a quarter too low took the own left line and the next lane's
   // right line at 0.75 m, where other poses had found the lane at 1.6 m).
-  int last = k - 1;  // the pose the fit's buffers hold
   if (const int chosen = lane.solve ? lane_pose : other_height; chosen >= 0 && lanes.two_lanes(chosen)) {
     if (const int narrower = lanes.narrower_than(chosen); narrower >= 0 && lanes.as_looked_from(narrower)) {
       lane_pose = narrower;
@@ -230,11 +277,6 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
   if (lane.solve) {
     search_found_from_ = poses[lane_pose];
     have_search_pose_ = true;
-    // The fit's buffers hold the last pose's: look again, unless that was the lane's.
-    if (lane_pose != last) {
-      detection_pose_ = poses[lane_pose];
-      lane = attempt(image, gyro);
-    }
     lane = with_lines_beyond_again(image, gyro, vehicle, poses[lane_pose], lane);
     mount_.adopt(lane.solve->pose.attitude);
     return lane;

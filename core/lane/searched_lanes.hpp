@@ -52,6 +52,10 @@ class SearchedLanes {
     lanes_[static_cast<std::size_t>(pose)] = Lane{place, as_looked_from};
     end_ = std::max(end_, pose + 1);
   }
+  // Pose `pose`'s lane is no evidence of anything after all.
+  void remove(int pose) {
+    if (pose >= 0 && pose < kMaxPoses) lanes_[static_cast<std::size_t>(pose)].reset();
+  }
   bool as_looked_from(int pose) const { return lane(pose) && lane(pose)->as_looked_from; }
 
   // Whether another pose's lane shows pose `chosen`'s to be two lanes.
