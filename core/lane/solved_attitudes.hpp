@@ -27,6 +27,7 @@ class SolvedAttitudes {
     if (pose < 0 || pose >= kMaxPoses) return;
     solved_[static_cast<std::size_t>(pose)] = Solved{theta_rad, psi_rad};
     end_ = std::max(end_, pose + 1);
+    most_ = -1;
   }
 
   // How many solves reached pose `pose`'s attitude, its own included; 0 when it did not
@@ -47,9 +48,9 @@ class SolvedAttitudes {
   bool lone(int pose) const {
     const int n = sharing(pose);
     if (n == 0) return false;
-    int most = 0;
-    for (int j = 0; j < end_; ++j) most = std::max(most, sharing(j));
-    return 2 * n < most;
+    if (most_ < 0)  // once for all the poses the search asks about
+      for (int j = 0; j < end_; ++j) most_ = std::max(most_, sharing(j));
+    return 2 * n < most_;
   }
 
  private:
@@ -62,7 +63,8 @@ class SolvedAttitudes {
   }
 
   std::array<std::optional<Solved>, kMaxPoses> solved_{};
-  int end_ = 0;  // one past the last pose added
+  int end_ = 0;            // one past the last pose added
+  mutable int most_ = -1;  // the most solves one attitude was reached from; -1: not counted since the last add
 };
 
 }  // namespace ccdlane
