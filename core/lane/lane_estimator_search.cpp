@@ -6,16 +6,10 @@
 #include <cmath>
 
 #include "core/lane/lane_estimator.hpp"
-#include "core/lane/searched_lanes.hpp"
-#include "core/lane/solved_attitudes.hpp"
+#include "core/lane/search_choice.hpp"
 
 namespace ccdlane {
 namespace {
-
-// What a starting pose's solve was to the search: a lane at the height it was looked from,
-// one of a lane's width only at another height, one with a line inside it, one with a line
-// found only in the picture (the weaker kinds, in that order), or none.
-enum class SearchedKind : std::uint8_t { none, lane, other_height, line_inside, from_picture };
 
 // The picks on the solve's own lane's lines.
 int own_lane_picks(const SolveResult& r, std::span<const Pick> picks) {
@@ -219,35 +213,14 @@ LaneEstimator::Attempt LaneEstimator::search(const ImageView& image, const std::
     }
   }
   // The lane: the best ranked of the poses' lanes at the height where one first was, then
-  // the first of each weaker kind; of those a lone solve did not give, if any
-  // (solved_attitudes.hpp: a hollow of clutter one or two starting poses fell into, where
-  // most of the search's solves reached another attitude), else of all.
-  int lane_pose = -1, other_height = -1, line_inside = -1, from_picture = -1;
-  for (const bool lone_too : {false, true}) {
-    const auto taken = [&](int p, SearchedKind what) {
-      return kinds[static_cast<std::size_t>(p)] == what && (lone_too || !attitudes.lone(p));
-    };
-    std::optional<LaneRank> lane_rank;
-    int lane_picks = 0;  // the most own-lane picks of a lane taken
-    for (int p = 0; p < k; ++p) {
-      const std::optional<LaneRank>& rank = ranks[static_cast<std::size_t>(p)];
-      if (taken(p, SearchedKind::lane) && ranks_above(*rank, lane_rank, lane_picks)) {
-        lane_picks = std::max(rank->own_picks, lane_picks);
-        lane_rank = rank;
-        lane_pose = p;
-      }
-      if (taken(p, SearchedKind::other_height) && other_height < 0) other_height = p;
-      if (taken(p, SearchedKind::line_inside) && line_inside < 0) line_inside = p;
-      if (taken(p, SearchedKind::from_picture) && from_picture < 0) from_picture = p;
-    }
-    if (lane_pose >= 0 || other_height >= 0 || line_inside >= 0 || from_picture >= 0) {
-      // Nor is a lone solve's lane evidence that another is two lanes.
-      if (!lone_too)
-        for (int p = 0; p < k; ++p)
-          if (attitudes.lone(p)) lanes.remove(p);
-      break;
-    }
-  }
+  // the first of each weaker kind, not a lone solve's while another pose gave one
+  // (search_choice.hpp); nor is a lone solve's lane then evidence that another is two lanes.
+  const SearchChoice choice = choose_searched<kMaxSearchPoses>(kinds, ranks, attitudes, k);
+  if (choice.lone_left_out)
+    for (int p = 0; p < k; ++p)
+      if (attitudes.lone(p)) lanes.remove(p);
+  int lane_pose = choice.lane, other_height = choice.other_height;
+  const int line_inside = choice.line_inside, from_picture = choice.from_picture;
   int last = k - 1;  // the pose the fit's buffers hold
   if (lane_pose >= 0) {
     // The fit's buffers hold the last pose's: look again, unless that was the lane's.
