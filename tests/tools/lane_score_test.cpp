@@ -81,6 +81,35 @@ TEST(LaneScore, EightyFivePercentRules) {
   EXPECT_EQ(none.false_lines, 0);
 }
 
+// Per lane, the line that hits most of its points and how far it passes each: a lane 7 px
+// right of the second of two lines reads line 1 and -7 px on every row (the line is left
+// of it); a lane no line comes near reads no line and no offsets.
+TEST(LaneScore, EachLaneSaysWhichLineHitsItAndByHowMuchItMisses) {
+  const Config c = default_config();
+  const CameraModel cam(c.camera, c.nominal_pose());
+  const RoadLine lines[] = {{1800, 0.0, 0.0}, {-1800, 0.0, 0.0}};
+  const AnnotatedLane lanes[] = {lane_along(cam, lines[1], 7.0, 420, 560),
+                                 lane_along(cam, {-9000, 0.0, 0.0}, 0.0, 430, 440)};
+  ASSERT_GT(lanes[0].points.size(), 100u);
+  LanePointHits hits;
+  score_frame(lanes, c.camera.Nu, cam, lines, {}, &hits);
+  ASSERT_EQ(hits.size(), 2u);
+  EXPECT_EQ(hits[0].line, 1);
+  ASSERT_EQ(hits[0].offset_px.size(), lanes[0].points.size());
+  ASSERT_EQ(hits[0].hit.size(), lanes[0].points.size());
+  for (std::size_t p = 0; p < lanes[0].points.size(); ++p) {
+    ASSERT_TRUE(hits[0].offset_px[p]) << p;
+    EXPECT_NEAR(*hits[0].offset_px[p], -7.0, 1e-6) << p;
+    EXPECT_TRUE(hits[0].hit[p]) << p;
+  }
+  EXPECT_EQ(hits[1].line, -1);
+  ASSERT_EQ(hits[1].offset_px.size(), lanes[1].points.size());
+  for (std::size_t p = 0; p < lanes[1].points.size(); ++p) {
+    EXPECT_FALSE(hits[1].offset_px[p]);
+    EXPECT_FALSE(hits[1].hit[p]);
+  }
+}
+
 // TuSimple's own benchmark (lane.py's LaneEval.bench) on hand-made lanes: every sampled
 // row counts, a row where neither lane nor line has a point is a hit, a line's point where
 // the lane has none is a miss; lanes without a match are FN, lines matching no lane FP;

@@ -384,6 +384,30 @@ test::ProcessResult measure_ten_stills(const test::TempDir& tmp, const std::stri
   return test::run_process(argv);
 }
 
+// The line --misses prints of where the lost own lines' lines miss them, from `ccdlane
+// score`'s JSON of the nominal row: each own lane not found, by the line that hits most of
+// its points (none: "no line") and whether most of the rows that line misses lie below
+// the row of its nearest mark ("beyond its marks") or not ("along its marks").
+std::string lost_own_summary(const nlohmann::json& scored) {
+  int beyond = 0, along = 0, no_line = 0;
+  for (const nlohmann::json& f : scored["frames"])
+    for (const nlohmann::json& lane : f["lane_results"]) {
+      if (!lane["ego"].get<bool>() || lane["found"].get<bool>()) continue;
+      if (lane["line"].is_null()) {
+        ++no_line;
+        continue;
+      }
+      const nlohmann::json& nearest = f["line_results"][lane["line"].get<std::size_t>()]["nearest_mark_row"];
+      const std::vector<int> missed = lane["missed_rows"].get<std::vector<int>>();
+      const auto below = std::count_if(missed.begin(), missed.end(),
+                                       [&](int row) { return nearest.is_number() && row > nearest.get<double>(); });
+      (2 * below > static_cast<long>(missed.size()) ? beyond : along) += 1;
+    }
+  return "own lines lost by where their line misses them: beyond its marks " + std::to_string(beyond) +
+         ", along its marks " + std::to_string(along) + ", no line " + std::to_string(no_line) + " (of " +
+         std::to_string(beyond + along + no_line) + ")\n";
+}
+
 // --misses lists, of the nominal row, exactly the stills `ccdlane score` says lost an own
 // line or reported a false one, with their own lines found, each false line's points on
 // a lane and where it leaves it; and the stills at least half of the rows lost an own
@@ -437,6 +461,7 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
   const std::size_t body = r.out.find('\n', r.out.find('\n', list) + 1) + 1;  // after the title and header
   EXPECT_EQ(r.out.substr(body, expected.size()), expected) << r.out;
   EXPECT_NE(r.out.find("(of " + std::to_string(false_lines) + ")\n", body), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(lost_own_summary(nominal), body), std::string::npos) << r.out;
 
   // The stills lost in at least half of the mount rows measured (each a kept replay; the
   // jittered pictures' replays, condition_*, are other pictures, not other mounts).
@@ -458,6 +483,64 @@ TEST(MeasureReal, TheMissesAreTheNominalRowsStillsThatLostAnOwnLineOrReportedAFa
                        " rows: " + (often.empty() ? "none" : often) + "\n"),
             std::string::npos)
       << r.out;
+}
+
+// An own lane whose labelled points below its line's nearest mark are moved 150 px out
+// (as a lane would run that bends away where the line is only drawn on from its farther
+// marks) is lost "beyond its marks", and only those: --misses counts each such lane
+// there, and nothing else moves.
+TEST(MeasureReal, AnOwnLaneLostBelowItsLinesNearestMarkIsLostBeyondItsMarks) {
+  test::TempDir tmp;
+  const std::string data = tmp.file("data"), stills = tmp.file("stills"), work = tmp.file("work");
+  std::filesystem::create_directories(data);
+  std::filesystem::copy(kStills, stills, std::filesystem::copy_options::recursive);
+  const auto measure = [&](const std::string& keep) {
+    return test::run_process({"python3", kMeasureReal, data, "--tusimple", stills, "--ccdlane", CCDLANE_TOOL,
+                              "--misses", "--nominal-only", "--keep", keep});
+  };
+  const test::ProcessResult before = measure(work);
+  ASSERT_EQ(before.exit_status, 0) << before.out << before.err;
+  const nlohmann::json scored = score_json(work + "/tusimple/nominal");
+
+  // Per still (in the labels' order), the own lanes found whose line's nearest mark lies
+  // above a fifth or more of their points: those points are moved.
+  std::vector<nlohmann::json> labels = test::json_lines(test::read_file(stills + "/labels.jsonl"));
+  int moved = 0;
+  for (const nlohmann::json& f : scored["frames"]) {
+    nlohmann::json& label = labels.at(f["frame"].get<std::size_t>());
+    for (const nlohmann::json& lane : f["lane_results"]) {
+      if (!lane["ego"].get<bool>() || !lane["found"].get<bool>() || lane["line"].is_null()) continue;
+      const nlohmann::json& nearest = f["line_results"][lane["line"].get<std::size_t>()]["nearest_mark_row"];
+      if (!nearest.is_number()) continue;
+      auto& xs = label["lanes"][lane["level"].get<std::size_t>() - 1];
+      const auto& rows = label["h_samples"];
+      int points = 0, below = 0;
+      for (std::size_t i = 0; i < xs.size(); ++i)
+        if (xs[i].get<int>() >= 0) ++points, below += rows[i].get<int>() + 1 > nearest.get<double>();
+      if (5 * below < points) continue;
+      const int out = lane["x_bottom_px"].get<double>() < 640.0 ? -150 : 150;
+      for (std::size_t i = 0; i < xs.size(); ++i)
+        if (xs[i].get<int>() >= 0 && rows[i].get<int>() + 1 > nearest.get<double>())
+          xs[i] = std::max(0, xs[i].get<int>() + out);
+      ++moved;
+    }
+  }
+  ASSERT_GT(moved, 0) << "some own line of the ten stills is drawn on below its nearest mark";
+  std::ofstream rewritten(stills + "/labels.jsonl");
+  for (const nlohmann::json& l : labels) rewritten << l.dump() << "\n";
+  rewritten.close();
+
+  const test::ProcessResult after = measure(tmp.file("work-after"));
+  ASSERT_EQ(after.exit_status, 0) << after.out << after.err;
+  const std::regex summary(R"(own lines lost by where their line misses them: beyond its marks (\d+), along its )"
+                           R"(marks (\d+), no line (\d+) \(of (\d+)\))");
+  std::smatch was, is;
+  ASSERT_TRUE(std::regex_search(before.out, was, summary)) << before.out;
+  ASSERT_TRUE(std::regex_search(after.out, is, summary)) << after.out;
+  EXPECT_EQ(std::stoi(is[1]), std::stoi(was[1]) + moved) << after.out;
+  EXPECT_EQ(is[2], was[2]);
+  EXPECT_EQ(is[3], was[3]);
+  EXPECT_EQ(std::stoi(is[4]), std::stoi(was[4]) + moved);
 }
 
 // --conditions: each row is the score of the stills replayed with its condition at the

@@ -20,6 +20,21 @@ TEST(ReplayLine, ReadsASolvedFrame) {
   ASSERT_EQ(r.lines.size(), 1u);
   EXPECT_EQ(r.lines[0].y0_mm, -1800.0);
   EXPECT_EQ(r.lines[0].c_per_mm, 1e-7);
+  ASSERT_EQ(r.near_mm.size(), 1u);
+  EXPECT_FALSE(r.near_mm[0]) << "written before view ranges were: not said";
+}
+
+TEST(ReplayLine, ReadsWhereEachLinesNearestMarkIs) {
+  ReplayLine r;
+  ASSERT_EQ(parse_replay_line(R"({"frame": 7, "psi_deg": 1.5, "theta_deg": 0.5, "phi_deg": -0.25,
+                                  "lines": [{"y0_mm": 1700, "m": 0, "c_per_mm": 0, "near_mm": 6250.5},
+                                            {"y0_mm": -1800, "m": 0, "c_per_mm": 0, "near_mm": null}]})",
+                              r),
+            "");
+  ASSERT_EQ(r.near_mm.size(), 2u);
+  ASSERT_TRUE(r.near_mm[0]);
+  EXPECT_EQ(*r.near_mm[0], 6250.5);
+  EXPECT_FALSE(r.near_mm[1]);
 }
 
 TEST(ReplayLine, ReadsTheHeightTheLinesAreAt) {
@@ -61,6 +76,12 @@ TEST(ReplayLine, DamageIsOneMessageNamingTheField) {
        "lines[1]: not an object"},
       {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1, "lines": [{"y0_mm": 1, "m": null}]})",
        "lines[0].m: not a number"},
+      {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1,
+           "lines": [{"y0_mm": 1, "m": 0, "c_per_mm": 0, "near_mm": "near"}]})",
+       "lines[0].near_mm: not a distance"},
+      {R"({"frame": 1, "psi_deg": 1, "theta_deg": 1, "phi_deg": 1,
+           "lines": [{"y0_mm": 1, "m": 0, "c_per_mm": 0, "near_mm": -5}]})",
+       "lines[0].near_mm: not a distance"},
   };
   for (const auto& [text, why] : cases) {
     ReplayLine r;

@@ -175,6 +175,21 @@ TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {
       hit += l["hit_points"].get<std::size_t>();
       EXPECT_EQ(l["missed_rows"].size(), l["points"].get<std::size_t>() - l["hit_points"].get<std::size_t>())
           << l.dump();
+      // The line that hits it most, and by how much it passes each point: the points it
+      // misses are those it passes farther off than the threshold, or does not reach.
+      const Json& offsets = l["offsets_px"];
+      ASSERT_EQ(offsets.size(), l["points"].get<std::size_t>()) << l.dump();
+      std::size_t off = 0;
+      for (const Json& o : offsets) off += o.is_null() || std::abs(o.get<double>()) > s["threshold_px"].get<double>();
+      EXPECT_EQ(off, l["missed_rows"].size()) << l.dump();
+      if (l["line"].is_null()) {
+        EXPECT_EQ(l["hit_points"], 0) << l.dump();
+      } else {
+        EXPECT_LT(l["line"].get<std::size_t>(), f["line_results"].size()) << l.dump();
+      }
+      if (l["found"].get<bool>()) {
+        EXPECT_FALSE(l["line"].is_null()) << l.dump();
+      }
     }
     EXPECT_EQ(found, f["found"].get<int>());
     EXPECT_EQ(ego, f["ego_lanes"].get<int>());
@@ -188,6 +203,10 @@ TEST_F(ScoreCommand, AShiftedLaneIsMissedAndTheLineOnThePaintIsFalse) {
       reported += line_points > 0;
       false_lines += l["false"].get<bool>();
       EXPECT_EQ(l["off_rows"].size(), line_points - on) << l.dump();
+      // Replay says where each line's nearest mark is: a row of the picture (600 high).
+      ASSERT_TRUE(l["nearest_mark_row"].is_number()) << l.dump();
+      EXPECT_GE(l["nearest_mark_row"].get<double>(), 0.5) << l.dump();
+      EXPECT_LE(l["nearest_mark_row"].get<double>(), 600.5) << l.dump();
       EXPECT_EQ(l["false"].get<bool>(), static_cast<double>(on) < 0.85 * static_cast<double>(line_points)) << l.dump();
     }
     EXPECT_EQ(reported, f["reported_lines"].get<int>());

@@ -143,8 +143,18 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
           std::count_if(lane.points.begin(), lane.points.end(), [&](const Vec2& p) { return hit(k, p); }));
       if (hits > best || best_line == lines.size()) best = hits, best_line = k;
     }
-    if (point_hits)
-      for (const Vec2& p : lane.points) (*point_hits)[i].push_back(best_line < lines.size() && hit(best_line, p));
+    if (point_hits) {
+      LaneHits& h = (*point_hits)[i];
+      if (best > 0) h.line = static_cast<int>(best_line);
+      for (const Vec2& p : lane.points) {
+        h.hit.push_back(best > 0 && hit(best_line, p));
+        std::optional<double> offset;
+        if (best > 0)
+          if (const auto it = columns[best_line].find(static_cast<int>(p.y())); it != columns[best_line].end())
+            offset = it->second - p.x();
+        h.offset_px.push_back(offset);
+      }
+    }
     const bool found = rules.lane_found(best, lane.points.size());
     score.points += lane.points.size();
     score.hit_points += best;

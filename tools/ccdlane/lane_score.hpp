@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -75,12 +76,22 @@ struct FrameScore {
 // (and the line is in the picture); it is false when fewer than true_fraction of them
 // are within the threshold of a lane point on that row. A line on no annotated row is
 // neither counted nor false.
-// `point_hits`, when given, gets per lane (in `lanes`' order) which of its points the
-// line that hits most of them hits, in the lane's point order: what an overlay shows.
+// `point_hits`, when given, gets per lane (in `lanes`' order) the line that hits most of
+// its points, which of them it hits and by how far it passes each, in the lane's point
+// order: what an overlay shows, and whether a lost lane's line misses it inside or
+// outside, near the car or far.
 // `line_results`, when given, gets per reported line (in `lines`' order) its points, those
 // on a lane, and the rows (1-based) where it is on none: where a false line leaves the
 // lanes, near or far.
-using LanePointHits = std::vector<std::vector<bool>>;
+struct LaneHits {
+  int line = -1;          // the reported line that hits most of the lane's points; -1: none hits one
+  std::vector<bool> hit;  // per point: hit by that line
+  // Per point: that line's column on the point's row minus the point's (pixels, + is
+  // right); empty where the line does not cross that row within the picture, or there is
+  // no such line.
+  std::vector<std::optional<double>> offset_px;
+};
+using LanePointHits = std::vector<LaneHits>;
 struct ReportedLineResult {
   std::size_t points = 0, on_lane = 0;  // no points: on no annotated row, not counted
   bool false_line = false;

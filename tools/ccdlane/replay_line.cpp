@@ -51,7 +51,14 @@ std::string parse_replay_line(std::string_view text, ReplayLine& out) {
     if (!number_at(l, "y0_mm", p.y0_mm)) return at + ".y0_mm: not a number";
     if (!number_at(l, "m", p.m)) return at + ".m: not a number";
     if (!number_at(l, "c_per_mm", p.c_per_mm)) return at + ".c_per_mm: not a number";
+    std::optional<double> near;
+    if (const auto n = l.find("near_mm"); n != l.end() && !n->is_null()) {
+      double mm = 0.0;
+      if (!number_at(l, "near_mm", mm) || !(mm > 0.0)) return at + ".near_mm: not a distance";
+      near = mm;
+    }
     out.lines.push_back(p);
+    out.near_mm.push_back(near);
   }
   return "";
 }

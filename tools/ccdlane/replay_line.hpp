@@ -23,10 +23,14 @@ struct ReplayLine {
   std::uint64_t frame = 0;
   std::optional<ReplayAttitude> attitude;  // empty: not solved (no psi_deg)
   std::vector<RoadLine> lines;            // read only with an attitude
+  // Per line, where its nearest mark is on the road (`near_mm`, its view range's near
+  // end); empty where the line does not say (replays before view ranges were written).
+  std::vector<std::optional<double>> near_mm;
 };
 
 // "" and `out`, or the problem naming the field: "not a JSON object", "frame: not a frame
-// number", "theta_deg: not a number", "lines[1].m: not a number", "lines: not an array".
+// number", "theta_deg: not a number", "lines[1].m: not a number", "lines: not an array",
+// "lines[0].near_mm: not a distance" (present, but not a number above 0).
 std::string parse_replay_line(std::string_view text, ReplayLine& out);
 
 }  // namespace ccdlane::cli

@@ -63,32 +63,43 @@ Json score_json(const FrameScore& s) {
 Json lane_results_json(std::span<const AnnotatedLane> lanes, const LanePointHits& hits) {
   Json out = Json::array();
   for (std::size_t i = 0; i < lanes.size() && i < hits.size(); ++i) {
-    const auto hit = std::count(hits[i].begin(), hits[i].end(), true);
+    const LaneHits& h = hits[i];
+    const auto hit = std::count(h.hit.begin(), h.hit.end(), true);
     const auto points = lanes[i].points.size();
     std::vector<int> missed_rows;
-    for (std::size_t j = 0; j < points && j < hits[i].size(); ++j)
-      if (!hits[i][j]) missed_rows.push_back(static_cast<int>(lanes[i].points[j].y()));
+    Json offsets = Json::array();
+    for (std::size_t j = 0; j < points && j < h.hit.size(); ++j) {
+      if (!h.hit[j]) missed_rows.push_back(static_cast<int>(lanes[i].points[j].y()));
+      offsets.push_back(h.offset_px[j] ? json_number(*h.offset_px[j]) : Json());
+    }
     out.push_back(Json{{"level", lanes[i].level},
                        {"ego", lanes[i].ego},
                        {"x_bottom_px", json_number(lanes[i].x_bottom)},
                        {"points", points},
                        {"hit_points", hit},
                        {"found", ScoreRules{}.lane_found(static_cast<std::size_t>(hit), points)},
-                       {"missed_rows", missed_rows}});
+                       {"missed_rows", missed_rows},
+                       {"line", h.line >= 0 ? Json(h.line) : Json()},
+                       {"offsets_px", std::move(offsets)}});
   }
   return out;
 }
 
 // Each reported line of a frame, in the replay's order: its points (its columns on the
-// annotated rows), those on a lane, whether it is false, and the rows where it is off.
-Json line_results_json(std::span<const ReportedLineResult> lines) {
+// annotated rows), those on a lane, whether it is false, the rows where it is off, and
+// the row its nearest mark is on (`nearest_mark_row`, null where the replay does not say):
+// below it the line is drawn on from its marks farther off, through a dash gap or where
+// nothing was found.
+Json line_results_json(std::span<const ReportedLineResult> lines, std::span<const std::optional<double>> nearest_rows) {
   Json out = Json::array();
   for (std::size_t k = 0; k < lines.size(); ++k)
-    out.push_back(Json{{"line", k},
-                       {"points", lines[k].points},
-                       {"on_lane_points", lines[k].on_lane},
-                       {"false", lines[k].false_line},
-                       {"off_rows", lines[k].off_rows}});
+    out.push_back(Json{
+        {"line", k},
+        {"points", lines[k].points},
+        {"on_lane_points", lines[k].on_lane},
+        {"false", lines[k].false_line},
+        {"off_rows", lines[k].off_rows},
+        {"nearest_mark_row", k < nearest_rows.size() && nearest_rows[k] ? json_number(*nearest_rows[k]) : Json()}});
   return out;
 }
 
@@ -174,6 +185,17 @@ CameraModel replayed_camera(const ReplayLine& e, const Config& config) {
 // The lines replay reported for one frame (none when it was not solved).
 std::span<const RoadLine> replayed_lines(const ReplayLine& e) {
   return e.attitude ? std::span<const RoadLine>(e.lines) : std::span<const RoadLine>{};
+}
+
+// The picture row (1-based) of each line's nearest mark, where the replay gave its view
+// range and the point is in front of the camera.
+std::vector<std::optional<double>> nearest_mark_rows(const ReplayLine& e, const CameraModel& camera) {
+  const std::span<const RoadLine> lines = replayed_lines(e);
+  std::vector<std::optional<double>> rows(lines.size());
+  for (std::size_t k = 0; k < lines.size() && k < e.near_mm.size(); ++k)
+    if (const std::optional<double> x = e.near_mm[k])
+      if (const auto px = camera.pixel_from_point(Vec3(*x, lines[k].y_at(*x), 0.0))) rows[k] = px->y();
+  return rows;
 }
 
 // TuSimple's benchmark summed over frames (lane.py's bench_one_submit divides by them).
@@ -262,8 +284,8 @@ class ScoreOverlays {
     for (std::size_t k = 0; k < lines.size(); ++k)
       o.draw_road_line_by_rows(camera, lines[k], rules.near_mm, rules.far_mm, static_cast<int>(k));
     for (std::size_t i = 0; i < lanes.size() && i < hits.size(); ++i)
-      for (std::size_t p = 0; p < lanes[i].points.size() && p < hits[i].size(); ++p)
-        o.draw_lane_point(lanes[i].points[p], hits[i][p], lanes[i].ego);
+      for (std::size_t p = 0; p < lanes[i].points.size() && p < hits[i].hit.size(); ++p)
+        o.draw_lane_point(lanes[i].points[p], hits[i].hit[p], lanes[i].ego);
     char name[32];
     std::snprintf(name, sizeof name, "/%06llu.png", static_cast<unsigned long long>(frame));
     try {
@@ -361,7 +383,7 @@ CommandAction setup_score(CLI::App& sub) {
         j.update(score_json(s));
         if (eval) j["lane_eval"] = lane_eval_json(*eval);
         j["lane_results"] = lane_results_json(labelled->lanes, hits);
-        j["line_results"] = line_results_json(line_results);
+        j["line_results"] = line_results_json(line_results, nearest_mark_rows(e, camera));
         frames.push_back(std::move(j));
       } else {
         std::cout << "frame " << frame << " (" << file->second << "): " << score_text(s) << '\n';
