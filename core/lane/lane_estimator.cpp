@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/lane/gap_markers.hpp"
 #include "core/lane/lane_metrics.hpp"
 #include "core/lane/observability.hpp"
 #include "core/ldw/lane_measurement.hpp"
@@ -270,7 +271,28 @@ const SolveResult* LaneEstimator::detect_and_fit(const ImageView& image, const s
   }
   if (!a.solve) return fail(a.why);
   if (a.why == EstimateFailure::rank_deficient) failure_ = a.why;  // what was determined is still shown
+  if (a.why == EstimateFailure::none && a.solve->converged) return with_gap_markers(*a.solve, gyro);
   return a.solve;
+}
+
+const SolveResult* LaneEstimator::with_gap_markers(const SolveResult& r, const std::optional<Gx1Angles>& gyro) {
+  const std::span<const RoadLine> lines(r.lines.data(), static_cast<std::size_t>(r.num_lines));
+  const OwnLaneLines own = own_lane_lines(lines);
+  const CameraModel camera(config_.camera, r.pose);
+  std::array<Pick, kMaxGapMarkers> found{};
+  int n = 0;
+  for (const int j : {own.left, own.right})
+    if (j >= 0)
+      n += gap_markers(fit_.detection().marks, fit_.picks(), camera, lines[static_cast<std::size_t>(j)], j,
+                       std::span<Pick>(found).subspan(static_cast<std::size_t>(n)));
+  if (n == 0) return &r;
+  // The solve's storage is the next solve's: its pose is kept first.
+  const CameraPose from = r.pose;
+  const int added = fit_.add_picks({found.data(), static_cast<std::size_t>(n)});
+  const SolveResult& with_markers = solve(from, gyro);
+  if (with_markers.converged) return &with_markers;
+  fit_.remove_last_picks(added);
+  return &solve(from, gyro);
 }
 
 void LaneEstimator::track(const SolveResult& r, const VehicleInputs& vehicle) {

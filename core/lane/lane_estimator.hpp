@@ -125,6 +125,11 @@ class LaneEstimator {
   // The stages, in the order estimate() runs them.
   const SolveResult* detect_and_fit(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                     const VehicleInputs& vehicle);
+  // The solve `r` (the fit's last) again with the raised markers in the own lines' gaps
+  // near the car as picks of their lines (gap_markers.hpp), when there are any and it
+  // converges; else `r` as it was.
+  const SolveResult* with_gap_markers(const SolveResult& r, const std::optional<Gx1Angles>& gyro);
+  static constexpr int kMaxGapMarkers = 16;
   // A detect and fit from detection_pose_: the solve when it converged (rank deficient
   // or not), and why not otherwise; nothing is committed.
   struct Attempt {

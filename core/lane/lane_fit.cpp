@@ -52,6 +52,16 @@ bool LaneFit::take(const DetectionResult& d, bool own_priors) {
   return num_lines_ > 0 && enough_picks();
 }
 
+int LaneFit::add_picks(std::span<const Pick> more) {
+  int n = 0;
+  for (const Pick& p : more) {
+    if (num_picks_ == static_cast<int>(picks_.size())) break;
+    picks_[static_cast<std::size_t>(num_picks_++)] = p;
+    ++n;
+  }
+  return n;
+}
+
 SolveRequest LaneFit::request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const {
   SolveRequest req;
   req.mode = options_.solver.mode;

@@ -3,6 +3,7 @@
 // that do not fit dropped, and the solved lane checked for the support a real one gives.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <span>
@@ -81,6 +82,10 @@ class LaneFit {
   // Per solver line: the tracker's prior it continues (-1: none).
   std::span<const int> prior_index() const { return {prior_index_.data(), static_cast<std::size_t>(num_lines_)}; }
   void clear() { num_picks_ = 0; }
+  // Appends `more` to the problem's picks, as far as there is room; returns how many were
+  // appended. remove_last_picks(n) takes the last n appended out again.
+  int add_picks(std::span<const Pick> more);
+  void remove_last_picks(int n) { num_picks_ = std::max(0, num_picks_ - n); }
 
  private:
   SolveRequest request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const;
