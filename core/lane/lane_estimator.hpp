@@ -125,9 +125,10 @@ class LaneEstimator {
   // The stages, in the order estimate() runs them.
   const SolveResult* detect_and_fit(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                     const VehicleInputs& vehicle);
-  // The solve `r` (the fit's last) again with the raised markers in the own lines' gaps
-  // near the car as picks of their lines (gap_markers.hpp), when there are any and it
-  // converges; else `r` as it was.
+  // The solve `r` (the fit's last, as track() takes it) again with the raised markers in
+  // the own lines' gaps near the car as picks of their lines (gap_markers.hpp), when there
+  // are any and that converges; else `r`, or (the solver's storage having held the try)
+  // the same picks solved again from its pose.
   const SolveResult* with_gap_markers(const SolveResult& r, const std::optional<Gx1Angles>& gyro);
   static constexpr int kMaxGapMarkers = 16;
   // A detect and fit from detection_pose_: the solve when it converged (rank deficient
