@@ -133,10 +133,14 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     const AnnotatedLane& lane = lanes[i];
     const double lane_threshold = threshold * lane.threshold_scale;
-    const auto hit = [&](std::size_t k, const Vec2& p) {
+    // Line k's column on point p's row minus the point's; empty where it has none there.
+    const auto offset = [&](std::size_t k, const Vec2& p) -> std::optional<double> {
       const auto it = columns[k].find(static_cast<int>(p.y()));
-      return it != columns[k].end() && std::abs(it->second - p.x()) <= lane_threshold;
+      if (it == columns[k].end()) return std::nullopt;
+      return it->second - p.x();
     };
+    const auto within = [&](const std::optional<double>& o) { return o && std::abs(*o) <= lane_threshold; };
+    const auto hit = [&](std::size_t k, const Vec2& p) { return within(offset(k, p)); };
     std::size_t best = 0, best_line = lines.size();
     for (std::size_t k = 0; k < lines.size(); ++k) {
       const auto hits = static_cast<std::size_t>(
@@ -147,12 +151,9 @@ FrameScore score_frame(std::span<const AnnotatedLane> lanes, int width, const Ca
       LaneHits& h = (*point_hits)[i];
       if (best > 0) h.line = static_cast<int>(best_line);
       for (const Vec2& p : lane.points) {
-        h.hit.push_back(best > 0 && hit(best_line, p));
-        std::optional<double> offset;
-        if (best > 0)
-          if (const auto it = columns[best_line].find(static_cast<int>(p.y())); it != columns[best_line].end())
-            offset = it->second - p.x();
-        h.offset_px.push_back(offset);
+        const std::optional<double> o = best > 0 ? offset(best_line, p) : std::nullopt;
+        h.hit.push_back(within(o));
+        h.offset_px.push_back(o);
       }
     }
     const bool found = rules.lane_found(best, lane.points.size());
