@@ -2,11 +2,12 @@
 #include "tools/ccdlane/road_line_picture.hpp"
 
 namespace ccdlane::cli {
-namespace {
 
-std::optional<Vec2> pixel_at(const CameraModel& camera, const RoadLine& line, double x_mm) {
+std::optional<Vec2> road_line_pixel(const CameraModel& camera, const RoadLine& line, double x_mm) {
   return camera.pixel_from_point(Vec3(x_mm, line.y_at(x_mm), 0.0));
 }
+
+namespace {
 
 // The first distance in (near_mm, far_mm] whose point projects, where near_mm's does not
 // and far_mm's does. A pincushion lens (k_px2 > 0) has no observed pixel for a point
@@ -16,7 +17,7 @@ double first_projected_mm(const CameraModel& camera, const RoadLine& line, doubl
   double lo = near_mm, hi = far_mm;  // lo does not project, hi does
   for (int i = 0; i < 60; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (pixel_at(camera, line, mid) ? hi : lo) = mid;
+    (road_line_pixel(camera, line, mid) ? hi : lo) = mid;
   }
   return hi;
 }
@@ -27,18 +28,19 @@ std::vector<std::optional<Vec2>> road_line_pixels(const CameraModel& camera, con
                                                   double far_mm, int samples) {
   std::vector<std::optional<Vec2>> out;
   out.reserve(static_cast<std::size_t>(samples) + 1);
-  for (int i = 0; i <= samples; ++i) out.push_back(pixel_at(camera, line, near_mm + (far_mm - near_mm) * i / samples));
+  for (int i = 0; i <= samples; ++i)
+    out.push_back(road_line_pixel(camera, line, near_mm + (far_mm - near_mm) * i / samples));
   return out;
 }
 
 std::optional<double> road_line_column_at_row(const CameraModel& camera, const RoadLine& line, double row_px,
                                               double near_mm, double far_mm) {
-  const auto far = pixel_at(camera, line, far_mm);
+  const auto far = road_line_pixel(camera, line, far_mm);
   if (!far) return std::nullopt;
-  auto near = pixel_at(camera, line, near_mm);
+  auto near = road_line_pixel(camera, line, near_mm);
   if (!near) {
     near_mm = first_projected_mm(camera, line, near_mm, far_mm);
-    near = pixel_at(camera, line, near_mm);
+    near = road_line_pixel(camera, line, near_mm);
     if (!near) return std::nullopt;
   }
   const double near_side = near->y() - row_px;
@@ -47,11 +49,11 @@ std::optional<double> road_line_column_at_row(const CameraModel& camera, const R
   // 60 halvings bring even a 300 m span below a micrometre.
   for (int i = 0; i < 60; ++i) {
     const double mid = 0.5 * (lo + hi);
-    const auto p = pixel_at(camera, line, mid);
+    const auto p = road_line_pixel(camera, line, mid);
     if (!p) return std::nullopt;
     ((p->y() - row_px) * near_side > 0.0 ? lo : hi) = mid;
   }
-  const auto p = pixel_at(camera, line, 0.5 * (lo + hi));
+  const auto p = road_line_pixel(camera, line, 0.5 * (lo + hi));
   if (!p) return std::nullopt;
   return p->x();
 }

@@ -10,6 +10,10 @@
 
 namespace ccdlane::cli {
 
+// The line's point x_mm ahead as an observed (distorted) 1-based pixel; empty when it
+// is not in front of the lens or beyond the distortion model's field.
+std::optional<Vec2> road_line_pixel(const CameraModel& camera, const RoadLine& line, double x_mm);
+
 // The line from near_mm to far_mm ahead, sampled at `samples` + 1 evenly spaced
 // distances, as observed (distorted) 1-based pixels; empty entries where a point is not
 // in front of the lens.

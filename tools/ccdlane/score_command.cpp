@@ -20,6 +20,7 @@
 #include "tools/ccdlane/lane_score.hpp"
 #include "tools/ccdlane/overlay_png.hpp"
 #include "tools/ccdlane/replay_line.hpp"
+#include "tools/ccdlane/road_line_picture.hpp"
 #include "tools/ccdlane/tusimple_labels.hpp"
 #include "tools/ccdlane/video_recording.hpp"
 
@@ -194,7 +195,7 @@ std::vector<std::optional<double>> nearest_mark_rows(const ReplayLine& e, const 
   std::vector<std::optional<double>> rows(lines.size());
   for (std::size_t k = 0; k < lines.size() && k < e.near_mm.size(); ++k)
     if (const std::optional<double> x = e.near_mm[k])
-      if (const auto px = camera.pixel_from_point(Vec3(*x, lines[k].y_at(*x), 0.0))) rows[k] = px->y();
+      if (const auto px = road_line_pixel(camera, lines[k], *x)) rows[k] = px->y();
   return rows;
 }
 
