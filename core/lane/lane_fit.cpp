@@ -275,12 +275,17 @@ bool LaneFit::has_dash_support(const LineSupport& support, int j, double lane_wi
   return check_dash_support(dash, options_.detection, GroupingParams{}, lane_width_mm);
 }
 
-LaneClutter LaneFit::own_lane_clutter(const OwnLane& own, InsidePieces* line_inside) const {
+LaneClutter LaneFit::own_lane_clutter(const OwnLane& own, InsidePieces* line_inside, double faint_share) const {
   const int left = detection_line_[static_cast<std::size_t>(own.left)];
   const int right = detection_line_[static_cast<std::size_t>(own.right)];
   return lane_clutter(detection_->marks, detection_->lines[static_cast<std::size_t>(left)].fit, left,
                       detection_->lines[static_cast<std::size_t>(right)].fit, right,
-                      options_.detection.max_mark_width_mm, line_inside);
+                      options_.detection.max_mark_width_mm, line_inside, faint_share);
+}
+
+bool LaneFit::continues_track(const OwnLane& own) const {
+  return prior_index_[static_cast<std::size_t>(own.left)] >= 0 &&
+         prior_index_[static_cast<std::size_t>(own.right)] >= 0;
 }
 
 bool LaneFit::line_inside_lane(const OwnLane& own) const {
@@ -308,7 +313,9 @@ SupportProblem LaneFit::lane_support_problem(const SolveResult& r, const OwnLane
   if (const SupportProblem p = line_support_problem(r, own.left, own.right, own.lane_width_mm);
       p != SupportProblem::none)
     return p;
-  if (const SupportProblem p = check_clutter(own_lane_clutter(own)); p != SupportProblem::none) return p;
+  const double faint_share = continues_track(own) ? kTrackedFaintClutterShare : 0.0;
+  if (const SupportProblem p = check_clutter(own_lane_clutter(own, nullptr, faint_share)); p != SupportProblem::none)
+    return p;
   // The own lane's width against the configured lane width (the solve's own prior may
   // span several lanes); the attitude against the priors this solve had (the gyro's).
   SolverPriors priors = solve_priors_;

@@ -91,7 +91,9 @@ class LaneFit {
   SolveRequest request(const CameraPose& initial, const std::optional<Gx1Angles>& gyro) const;
   void measure_residuals(const SolveResult& r);
   SupportProblem line_support_problem(const SolveResult& r, int left, int right, double lane_width_mm) const;
-  LaneClutter own_lane_clutter(const OwnLane& own, InsidePieces* line_inside = nullptr) const;
+  LaneClutter own_lane_clutter(const OwnLane& own, InsidePieces* line_inside = nullptr, double faint_share = 0.0) const;
+  // Whether both of `own`'s lines continue a tracked lane's (the tracker's priors).
+  bool continues_track(const OwnLane& own) const;
   // Solved line j's support as a full line: marks over enough of the searched road
   // (`support`, its line_support) and not placed only as a parallel of the others, which
   // is at most a dash's support whatever the number of its marks.

@@ -220,10 +220,24 @@ InsidePieces most_pieces_in_a_band(std::span<InsideMark> inside) {
   return most;
 }
 
+// The median contrast of the marks lines `left_line` and `right_line` took (the first
+// kMaxClutterMarks of them); 0 when they took none.
+double lines_median_contrast(std::span<const MarkCandidate> marks, int left_line, int right_line) {
+  std::array<double, kMaxClutterMarks> contrast;
+  std::size_t n = 0;
+  for (const MarkCandidate& m : marks)
+    if (m.X >= 0.0 && (m.line == left_line || m.line == right_line) && n < contrast.size()) contrast[n++] = m.contrast;
+  if (n == 0) return 0.0;
+  const auto middle = contrast.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(contrast.begin(), middle, contrast.begin() + static_cast<std::ptrdiff_t>(n));
+  return *middle;
+}
+
 }  // namespace
 
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
-                         const RoadLine& right, int right_line, double margin_mm, InsidePieces* line_inside) {
+                         const RoadLine& right, int right_line, double margin_mm, InsidePieces* line_inside,
+                         double faint_share) {
   std::uint64_t inside = 0, on_lines = 0;  // one bit per bin
   const auto bin_of = [](double X) { return std::uint64_t{1} << std::min(63, static_cast<int>(X / kClutterBinMm)); };
   std::array<std::uint32_t, kMaxClutterMarks> inside_marks{};
@@ -265,6 +279,7 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
   }
   const std::span<const std::uint32_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
   measure_runs(marks, found, run_rows);
+  const double faint = faint_share > 0.0 ? faint_share * lines_median_contrast(marks, left_line, right_line) : 0.0;
   for (int k = 0; k < num_inside; ++k) {
     const MarkCandidate& m = marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])];
     const bool stands = run_rows[static_cast<std::size_t>(k)] >= kMinStandingRows;
@@ -272,6 +287,10 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
     if (in_dash || m.dot) add_piece(m, in_dash ? InsideMark::dash : InsideMark::dot);
     if (stands) {
       ++c.standing_marks;
+      continue;
+    }
+    if (m.contrast < faint) {
+      ++c.faint_marks;
       continue;
     }
     inside |= bin_of(m.X);

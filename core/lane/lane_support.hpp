@@ -87,6 +87,16 @@ constexpr double kMaxClutterMarksPerLineMark = 0.5;
 // as clutter.
 constexpr int kMinStandingRows = 4;
 constexpr int kMaxClutterMarks = 1024;
+// A field of bars makes its chance lines of the same bars it fills the lane with: the
+// noise lanes that reach this check hold inside marks about as strong as their lines'
+// (median contrast). A lane in a noisy picture holds the noise too, as bars far fainter
+// than its paint (segB with pixel noise of sigma 6: the inside marks' median a ninth of
+// the lines'), and was refused frame after frame. Not on a search: some noise lanes
+// (bright bars, whose lines are a few strong bars in a field of weak ones) are like that
+// too, and only their clutter refused them. A lane whose two lines continue a tracked
+// lane's was found supported before; there, inside marks fainter than this share of its
+// lines' median contrast are not clutter (docs/real-roads.md "Clutter inside the lane").
+constexpr double kTrackedFaintClutterShare = 0.25;
 // A lane has no lane line inside it. Two lanes look like one of a lane's width when the
 // height the picture is seen from is taken half as high as it is (the same picture shows
 // a lane of width W from height H and one of 2W from 2H, and a search tries heights a
@@ -200,11 +210,15 @@ struct LaneClutter {
   int inside_marks = 0;
   int line_marks = 0;
   int standing_marks = 0;  // inside, but running on as one bar (not counted above)
+  int faint_marks = 0;     // inside, but fainter than `faint_share` of the lines' (not counted above)
 };
 // With `line_inside`, also the most pieces of one line inside the lane there (a search's
-// question, kMinInsideLineDashes; a tracking frame's clutter check does without).
+// question, kMinInsideLineDashes; a tracking frame's clutter check does without). Inside
+// marks fainter than `faint_share` times the median contrast of the two lines' marks are
+// counted apart (faint_marks); 0 counts every one.
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
-                         const RoadLine& right, int right_line, double margin_mm, InsidePieces* line_inside = nullptr);
+                         const RoadLine& right, int right_line, double margin_mm, InsidePieces* line_inside = nullptr,
+                         double faint_share = 0.0);
 SupportProblem check_clutter(const LaneClutter& clutter);
 // Whether pieces at one offset inside a lane make a line (kMinInsideLineDashes).
 bool is_line_inside(const InsidePieces& pieces);

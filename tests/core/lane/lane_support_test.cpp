@@ -285,6 +285,45 @@ TEST(LaneSupport, SparseBarsAlongTheLaneAreARoadDenseOnesAreNot) {
   EXPECT_EQ(check_clutter(lane_clutter(marks, left, 0, right, 1, 300.0)), SupportProblem::cluttered_lane);
 }
 
+// A noisy picture fills a lane with faint bars, a field of bars with bars as strong as the
+// chance lines it makes of them. Inside a lane whose lines continue a tracked lane's
+// (faint_share), marks fainter than a quarter of the lines' median contrast are the
+// picture's noise, not clutter; as strong as that, they still are.
+TEST(LaneSupport, FaintBarsInsideATrackedLaneAreThePicturesNoiseNotClutter) {
+  const RoadLine left{1800.0, 0.0, 0.0}, right{-1800.0, 0.0, 0.0};
+  std::vector<MarkCandidate> marks;
+  const auto add = [&marks](int line, double X, double Y, double contrast) {
+    MarkCandidate m;
+    m.line = static_cast<std::int16_t>(line);
+    m.X = X;
+    m.Y = Y;
+    m.contrast = contrast;
+    marks.push_back(m);
+  };
+  for (double x = 4000.0; x < 40000.0; x += 500.0) {  // 18 bins, 144 marks; median contrast 120
+    add(0, x, 1800.0, 100.0 + 40.0 * (static_cast<int>(x / 500.0) % 2));
+    add(1, x, -1800.0, 110.0 + 20.0 * (static_cast<int>(x / 500.0) % 2));
+  }
+  add(0, 20250.0, 1800.0, 120.0);  // one more: the median is 120, not between two
+  for (double x = 4100.0; x < 40000.0; x += 400.0) add(-1, x, 600.0 * std::sin(x), 29.0);  // 90 faint bars
+  const double tracked = kTrackedFaintClutterShare;
+  LaneClutter c = lane_clutter(marks, left, 0, right, 1, 300.0);
+  EXPECT_EQ(c.inside_marks, 90);
+  EXPECT_EQ(c.faint_marks, 0);
+  EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane) << "on a search every bar counts";
+  c = lane_clutter(marks, left, 0, right, 1, 300.0, nullptr, tracked);
+  EXPECT_EQ(c.inside_marks, 0);
+  EXPECT_EQ(c.faint_marks, 90);
+  EXPECT_EQ(check_clutter(c), SupportProblem::none);
+  // A quarter of 120 is 30: bars of that contrast are clutter, tracked or not.
+  for (MarkCandidate& m : marks)
+    if (m.line < 0) m.contrast = 30.0;
+  c = lane_clutter(marks, left, 0, right, 1, 300.0, nullptr, tracked);
+  EXPECT_EQ(c.inside_marks, 90);
+  EXPECT_EQ(c.faint_marks, 0);
+  EXPECT_EQ(check_clutter(c), SupportProblem::cluttered_lane);
+}
+
 // A truck ahead in the lane: its upright edges project onto the lane's far half as bars,
 // one on every scan row, each overlapping the one on the row before (TuSimple stills 43
 // and 75). That is one thing standing in the lane, not a field of bars; the same bars
