@@ -252,11 +252,20 @@ bool LaneEstimator::jumped_from_track(const SolveResult& r, const OwnLane& own,
   return false;
 }
 
+namespace {
+// The least time a tracked frame's roll walk is given: frames whose times repeat (a
+// replay's made-up ones) walk as at 100 frames a second.
+constexpr double kMinRollWalkS = 0.01;
+}  // namespace
+
 const SolveResult* LaneEstimator::detect_and_fit(const ImageView& image, const std::optional<Gx1Angles>& gyro,
                                                  const VehicleInputs& vehicle) {
   Attempt a;
+  fit_.set_previous_roll(std::nullopt);
   if (have_last_) {
     detection_pose_ = guess_pose(gyro);
+    const double dt_s = std::max(kMinRollWalkS, 1e-9 * static_cast<double>(frame_t_ns_ - tracked_t_ns_));
+    fit_.set_previous_roll(Prior{rad_to_deg(last_pose_.attitude.phi), kRollWalkDegPerSqrtS * std::sqrt(dt_s)});
     a = attempt(image, gyro);
     // A rank-deficient solve is the frame's (roll without a gyro), not the priors'. A
     // lane with a line inside it or a line found only in the picture is still the lane

@@ -24,6 +24,16 @@ std::optional<Prior> gyro_prior(const std::optional<Prior>& configured, double g
   return Prior{rad_to_deg(gyro_rad), sigma_deg};
 }
 
+// Both Gaussians at once (their product, normalised): the configured prior and what the
+// previous frame says.
+Prior both(const std::optional<Prior>& configured, const Prior& previous) {
+  if (!configured || !(configured->sigma > 0.0)) return previous;
+  const double w_configured = 1.0 / (configured->sigma * configured->sigma);
+  const double w_previous = 1.0 / (previous.sigma * previous.sigma);
+  const double w = w_configured + w_previous;
+  return Prior{(w_configured * configured->mean + w_previous * previous.mean) / w, 1.0 / std::sqrt(w)};
+}
+
 }  // namespace
 
 LaneFit::LaneFit(const LaneEstimatorOptions& options)
@@ -97,6 +107,7 @@ SolveRequest LaneFit::request(const CameraPose& initial, const std::optional<Gx1
     // sigmas): solved so, the line is reported, and a search looks again from its pose.
     req.priors.theta_deg = Prior{rad_to_deg(initial.attitude.theta), kSearchPitchErrorDeg / 2.0};
   }
+  if (previous_roll_ && !gyro && continues_a_track()) req.priors.phi_deg = both(req.priors.phi_deg, *previous_roll_);
   if (gyro) {
     const Attitude a = camera_attitude_from_gx1(*gyro);
     req.priors.theta_deg = gyro_prior(p.theta_deg, a.theta, options_.gyro_sigma_deg);
@@ -281,6 +292,10 @@ LaneClutter LaneFit::own_lane_clutter(const OwnLane& own, InsidePieces* line_ins
   return lane_clutter(detection_->marks, detection_->lines[static_cast<std::size_t>(left)].fit, left,
                       detection_->lines[static_cast<std::size_t>(right)].fit, right,
                       options_.detection.max_mark_width_mm, line_inside, faint_share);
+}
+
+bool LaneFit::continues_a_track() const {
+  return std::any_of(prior_index_.begin(), prior_index_.begin() + num_lines_, [](int k) { return k >= 0; });
 }
 
 bool LaneFit::continues_track(const OwnLane& own) const {

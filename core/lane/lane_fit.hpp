@@ -38,6 +38,11 @@ class LaneFit {
 
   // Solves the problem taken, from `initial`; `gyro` gives roll and pitch priors.
   const SolveResult& solve(const CameraPose& initial, const std::optional<Gx1Angles>& gyro);
+  // The roll the tracked frame before solved, and how far the camera may have rolled
+  // since (lane_estimator.hpp, kRollWalkDegPerSqrtS): without a gyro, a solve whose lines
+  // continue a track holds its roll by it as well as by the configured prior. Nullopt:
+  // none (a search, the first frame).
+  void set_previous_roll(const std::optional<Prior>& roll) { previous_roll_ = roll; }
 
   // After a converged solve that fits badly: drops the lines and then the picks that miss
   // their marks, keeping the solved lines as the next initial ones; false when nothing
@@ -94,6 +99,8 @@ class LaneFit {
   LaneClutter own_lane_clutter(const OwnLane& own, InsidePieces* line_inside = nullptr, double faint_share = 0.0) const;
   // Whether both of `own`'s lines continue a tracked lane's (the tracker's priors).
   bool continues_track(const OwnLane& own) const;
+  // Whether any line of the problem continues a tracked line.
+  bool continues_a_track() const;
   // Solved line j's support as a full line: marks over enough of the searched road
   // (`support`, its line_support) and not placed only as a parallel of the others, which
   // is at most a dash's support whatever the number of its marks.
@@ -123,6 +130,7 @@ class LaneFit {
   std::vector<double> residual_px_;                  // per pick, of the last solve
   mutable std::vector<double> scratch_;  // a median's values: the residuals', a line's paint widths'
   SolverPriors solve_priors_;  // of the last solve
+  std::optional<Prior> previous_roll_;
 };
 
 }  // namespace ccdlane

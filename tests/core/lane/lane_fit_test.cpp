@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <initializer_list>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -331,6 +332,49 @@ TEST(LaneFit, ASingleLineIsSolvedAtThePitchItWasLookedFrom) {
   ASSERT_TRUE(r.converged) << to_string(r.status);
   EXPECT_NEAR(rad_to_deg(r.pose.attitude.theta), -1.0, 0.05);
   EXPECT_LT(r.rms_px, 2.0 * o.solver.pixel_sigma) << "the line lies on its marks";
+}
+
+// Without a gyro, a solve whose lines continue a track holds its roll by the frame
+// before's as well as by the configured prior (LaneFit::set_previous_roll): their product,
+// a Gaussian. Two lines with the lane-width prior leave the roll loosely held; the
+// previous frame's roll 1 degree off the truth pulls the solve by what the Gaussians say,
+// to first order its weight times the solve's own variance: 1 / 0.5^2 * sigma_phi^2
+// degrees. A search's solve (no line continues a track) and a solve with a gyro are
+// left as they were.
+TEST(LaneFit, ATrackedSolveWithoutAGyroHoldsTheRollTheFrameBeforeSolved) {
+  LaneEstimatorOptions o = options_without_gyro();
+  o.priors.lane_width_mm = Prior{3660.0, 300.0};
+  const CameraPose truth = truth_pose(o);
+  std::mt19937_64 rng(31);
+  std::vector<Pick> picks;
+  DetectionResult d =
+      detection_of_lines(o, truth, {{1830.0, 6000.0, 40000.0, 1700.0}, {-1830.0, 6000.0, 40000.0, 1700.0}}, rng, picks);
+  const Prior previous{1.0, 0.5};
+  const auto solved_roll = [&](const DetectionResult& detected, bool with_previous,
+                               const std::optional<Gx1Angles>& gyro, double* sigma = nullptr) {
+    LaneFit fit(o);
+    EXPECT_TRUE(fit.take(detected));
+    if (with_previous) fit.set_previous_roll(previous);
+    const SolveResult& r = fit.solve(truth, gyro);
+    EXPECT_TRUE(r.converged) << to_string(r.status);
+    if (sigma) *sigma = r.sigma.phi_deg;
+    return rad_to_deg(r.pose.attitude.phi);
+  };
+  // A search's lines: the frame before says nothing.
+  EXPECT_DOUBLE_EQ(solved_roll(d, true, std::nullopt), solved_roll(d, false, std::nullopt));
+  // Tracked lines.
+  d.lines[0].prior_index = 0;
+  d.lines[1].prior_index = 1;
+  double sigma = 0.0;
+  const double held = solved_roll(d, true, std::nullopt, &sigma), free = solved_roll(d, false, std::nullopt);
+  ASSERT_GT(sigma, 0.0);
+  ASSERT_LT(sigma, 0.5);
+  const double expected_pull = (previous.mean - free) * sigma * sigma / (previous.sigma * previous.sigma);
+  EXPECT_GT(held - free, 0.05) << "the frame before pulls the roll";
+  EXPECT_NEAR(held - free, expected_pull, 0.2 * expected_pull) << "sigma_phi " << sigma;
+  // A gyro measures the roll: the frame before is not asked.
+  const Gx1Angles gyro{0.0, -rad_to_deg(truth.attitude.theta), 0.0};
+  EXPECT_DOUBLE_EQ(solved_roll(d, true, gyro), solved_roll(d, false, gyro));
 }
 
 }  // namespace
