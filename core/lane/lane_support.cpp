@@ -220,19 +220,6 @@ InsidePieces most_pieces_in_a_band(std::span<InsideMark> inside) {
   return most;
 }
 
-// The median contrast of the marks lines `left_line` and `right_line` took (the first
-// kMaxClutterMarks of them); 0 when they took none.
-double lines_median_contrast(std::span<const MarkCandidate> marks, int left_line, int right_line) {
-  std::array<double, kMaxClutterMarks> contrast;
-  std::size_t n = 0;
-  for (const MarkCandidate& m : marks)
-    if (m.X >= 0.0 && (m.line == left_line || m.line == right_line) && n < contrast.size()) contrast[n++] = m.contrast;
-  if (n == 0) return 0.0;
-  const auto middle = contrast.begin() + static_cast<std::ptrdiff_t>(n / 2);
-  std::nth_element(contrast.begin(), middle, contrast.begin() + static_cast<std::ptrdiff_t>(n));
-  return *middle;
-}
-
 }  // namespace
 
 LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& left, int left_line,
@@ -254,6 +241,9 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
   };
   std::array<std::uint8_t, kMaxClutterMarks> run_rows{};
   int num_inside = 0;
+  // The lines' marks' contrasts (the first kMaxClutterMarks), when faint marks are told.
+  std::array<double, kMaxClutterMarks> line_contrast;
+  std::size_t num_line_contrasts = 0;
   LaneClutter c;
   for (std::size_t i = 0; i < marks.size(); ++i) {
     const MarkCandidate& m = marks[i];
@@ -268,6 +258,8 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
     if (m.line == left_line || m.line == right_line) {
       on_lines |= bin;
       ++c.line_marks;
+      if (faint_share > 0.0 && num_line_contrasts < line_contrast.size())
+        line_contrast[num_line_contrasts++] = m.contrast;
     } else if (m.Y < left.y_at(m.X) - margin_mm && m.Y > right.y_at(m.X) + margin_mm) {
       if (num_inside < kMaxClutterMarks) {
         inside_marks[static_cast<std::size_t>(num_inside++)] = static_cast<std::uint32_t>(i);
@@ -279,7 +271,8 @@ LaneClutter lane_clutter(std::span<const MarkCandidate> marks, const RoadLine& l
   }
   const std::span<const std::uint32_t> found(inside_marks.data(), static_cast<std::size_t>(num_inside));
   measure_runs(marks, found, run_rows);
-  const double faint = faint_share > 0.0 ? faint_share * lines_median_contrast(marks, left_line, right_line) : 0.0;
+  const double faint =
+      num_line_contrasts > 0 ? faint_share * median_in_place(std::span(line_contrast).first(num_line_contrasts)) : 0.0;
   for (int k = 0; k < num_inside; ++k) {
     const MarkCandidate& m = marks[static_cast<std::size_t>(found[static_cast<std::size_t>(k)])];
     const bool stands = run_rows[static_cast<std::size_t>(k)] >= kMinStandingRows;
